@@ -1,0 +1,163 @@
+# mscgs — build, run, test, bench, install.
+#
+#   make            build every service and the mscgs tool into build/
+#   make run        install missing packages, build, run the default exercise
+#   make test       install missing packages, build under ASan+UBSan, run every test
+#   make bench      build optimised, run the benchmarks
+#   make install    install binaries and deploy files (PREFIX, DESTDIR)
+#   make clean      remove build/
+#   make format     clang-format every C, C++ and header file
+#
+# Out-of-tree: objects, generated protobuf-c code and binaries go under $(O).
+
+PREFIX  ?= /usr/local
+DESTDIR ?=
+O       ?= build
+SAN     ?= 0
+
+CC      ?= cc
+CXX     ?= c++
+PKGS     = libzmq libprotobuf-c geographiclib gdal inih libsystemd
+PKG_CFLAGS := $(shell pkg-config --cflags $(PKGS) 2>/dev/null)
+PKG_LIBS   := $(shell pkg-config --libs $(PKGS) 2>/dev/null)
+CMOCKA_LIBS := $(shell pkg-config --libs cmocka 2>/dev/null)
+
+WARN     = -Wall -Wextra -Werror -Wno-format-truncation  # snprintf truncation is intended
+CPPFLAGS = -D_GNU_SOURCE -Icommon -I$(O)/gen $(PKG_CFLAGS) -MMD -MP
+CFLAGS   = -std=c11 $(WARN) -g
+CXXFLAGS = -std=c++17 $(WARN) -g
+LDLIBS   = $(PKG_LIBS) -lstdc++ -lm -lpthread
+
+ifeq ($(SAN),1)
+  SANFLAGS = -fsanitize=address,undefined -fno-sanitize-recover=undefined -fno-omit-frame-pointer
+  CFLAGS   += -O1 $(SANFLAGS)
+  CXXFLAGS += -O1 $(SANFLAGS)
+  LDFLAGS  += $(SANFLAGS)
+else
+  CFLAGS   += -O2
+  CXXFLAGS += -O2
+endif
+
+# Compilers may be overridden from the environment; "cc" default is fine on Debian.
+ifeq ($(origin CC),default)
+  CC = cc
+endif
+ifeq ($(origin CXX),default)
+  CXX = g++
+endif
+
+PROTOS      := $(wildcard proto/*.proto)
+PROTO_C     := $(patsubst proto/%.proto,$(O)/gen/%.pb-c.c,$(PROTOS))
+PROTO_H     := $(PROTO_C:.c=.h)
+COMMON_C    := $(wildcard common/*.c)
+COMMON_CXX  := $(wildcard common/*.cpp)
+LIB_OBJS    := $(patsubst %.c,$(O)/obj/%.o,$(COMMON_C)) \
+               $(patsubst %.cpp,$(O)/obj/%.o,$(COMMON_CXX)) \
+               $(patsubst $(O)/gen/%.c,$(O)/obj/gen/%.o,$(PROTO_C))
+LIB         := $(O)/lib/libcgs.a
+
+SERVICES    := $(patsubst services/%/main.c,%,$(wildcard services/*/main.c))
+BINS        := $(addprefix $(O)/bin/,$(SERVICES))
+
+UNIT_SRCS   := $(wildcard tests/unit/test_*.c)
+UNIT_BINS   := $(patsubst tests/unit/%.c,$(O)/tests/unit/%,$(UNIT_SRCS))
+INTEG_SRCS  := $(wildcard tests/integration/*.c)
+INTEG_BINS  := $(patsubst tests/integration/%.c,$(O)/tests/integration/%,$(INTEG_SRCS))
+BENCH_SRCS  := $(wildcard tests/bench/*.c)
+BENCH_BINS  := $(patsubst tests/bench/%.c,$(O)/bench/%,$(BENCH_SRCS))
+
+# Each service's core objects: every .c in its folder but main.c, linked into
+# the service and into the unit tests.
+SVC_CORE_C    := $(filter-out services/%/main.c,$(wildcard services/*/*.c))
+SVC_CORE_OBJS := $(patsubst %.c,$(O)/obj/%.o,$(SVC_CORE_C))
+SVC_LIB       := $(if $(SVC_CORE_OBJS),$(O)/lib/libcgs_services.a)
+
+.PHONY: all run test test-build bench install clean format deps help
+.DEFAULT_GOAL := all
+
+all: $(BINS)
+
+help:
+	@sed -n '2,12p' Makefile | sed 's/^# \{0,1\}//'
+
+deps:
+	@scripts/install-deps
+
+run: deps
+	@$(MAKE) --no-print-directory all
+	$(O)/bin/mscgs run --exercise deploy/exercises/default.ini --out $(O)/run $(RUN_ARGS)
+
+# The test build lives in its own folder so it never mixes with release objects.
+test: deps
+	@$(MAKE) --no-print-directory O=build/asan SAN=1 test-build
+	@tests/run build/asan
+
+test-build: $(BINS) $(UNIT_BINS) $(INTEG_BINS)
+
+bench: deps
+	@$(MAKE) --no-print-directory O=build/release SAN=0 $(addprefix build/release/bench/,$(notdir $(BENCH_BINS))) $(addprefix build/release/bin/,$(SERVICES))
+	@tests/bench/run build/release
+
+install: all
+	install -d $(DESTDIR)$(PREFIX)/bin $(DESTDIR)$(PREFIX)/share/mscgs
+	install -m 0755 $(BINS) $(DESTDIR)$(PREFIX)/bin/
+	cp -r deploy/. $(DESTDIR)$(PREFIX)/share/mscgs/
+
+clean:
+	rm -rf build
+
+format:
+	clang-format -i $$(git ls-files '*.c' '*.h' '*.cpp')
+
+# --- generated protobuf-c code -------------------------------------------------
+# One protoc-c run makes every file; the stamp keeps parallel builds from
+# running it once per output.
+$(O)/gen/.stamp: $(PROTOS)
+	@mkdir -p $(O)/gen
+	protoc-c --proto_path=proto --c_out=$(O)/gen $(PROTOS)
+	@touch $@
+
+$(PROTO_C) $(PROTO_H): $(O)/gen/.stamp ;
+
+# --- objects -------------------------------------------------------------------
+$(O)/obj/gen/%.o: $(O)/gen/%.c | $(O)/gen/.stamp
+	@mkdir -p $(dir $@)
+	$(CC) $(CPPFLAGS) $(CFLAGS) -c $< -o $@
+
+$(O)/obj/%.o: %.c | $(O)/gen/.stamp
+	@mkdir -p $(dir $@)
+	$(CC) $(CPPFLAGS) $(CFLAGS) -c $< -o $@
+
+$(O)/obj/%.o: %.cpp | $(O)/gen/.stamp
+	@mkdir -p $(dir $@)
+	$(CXX) $(CPPFLAGS) $(CXXFLAGS) -c $< -o $@
+
+$(LIB): $(LIB_OBJS)
+	@mkdir -p $(dir $@)
+	rm -f $@ && ar rcs $@ $^
+
+ifneq ($(SVC_LIB),)
+$(SVC_LIB): $(SVC_CORE_OBJS)
+	@mkdir -p $(dir $@)
+	rm -f $@ && ar rcs $@ $^
+endif
+
+# --- binaries ------------------------------------------------------------------
+.SECONDEXPANSION:
+$(O)/bin/%: $$(patsubst %.c,$(O)/obj/%.o,$$(wildcard services/$$*/*.c)) $(LIB)
+	@mkdir -p $(dir $@)
+	$(CC) $(LDFLAGS) $^ -o $@ $(LDLIBS)
+
+$(O)/tests/unit/%: $(O)/obj/tests/unit/%.o $(SVC_LIB) $(LIB)
+	@mkdir -p $(dir $@)
+	$(CC) $(LDFLAGS) $^ -o $@ $(CMOCKA_LIBS) $(LDLIBS)
+
+$(O)/tests/integration/%: $(O)/obj/tests/integration/%.o $(SVC_LIB) $(LIB)
+	@mkdir -p $(dir $@)
+	$(CC) $(LDFLAGS) $^ -o $@ $(LDLIBS)
+
+$(O)/bench/%: $(O)/obj/tests/bench/%.o $(SVC_LIB) $(LIB)
+	@mkdir -p $(dir $@)
+	$(CC) $(LDFLAGS) $^ -o $@ $(LDLIBS)
+
+-include $(shell find $(O)/obj -name '*.d' 2>/dev/null)

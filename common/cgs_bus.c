@@ -1,0 +1,498 @@
+/* cgs_bus — ZeroMQ publisher and subscriber with stamped headers and
+ * sequence-gap counting. */
+#include "cgs_bus.h"
+#include "cgs_topics.h"
+
+#include <errno.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/random.h>
+#include <sys/stat.h>
+#include <time.h>
+#include <zmq.h>
+
+#define S_SOURCE_MAX 64
+
+double cgs_bus_wall_time (void)
+{
+    struct timespec ts;
+    clock_gettime (CLOCK_REALTIME, &ts);
+    return (double) ts.tv_sec + ts.tv_nsec * 1e-9;
+}
+
+static int s_mkdir_p (const char *dir)
+{
+    char tmp[4096];
+    size_t n = strlen (dir);
+    if (n == 0 || n >= sizeof tmp)
+        return n ? -ENAMETOOLONG : 0;
+    memcpy (tmp, dir, n + 1);
+    for (char *p = tmp + 1; *p; p++) {
+        if (*p == '/') {
+            *p = '\0';
+            if (mkdir (tmp, 0755) < 0 && errno != EEXIST)
+                return -errno;
+            *p = '/';
+        }
+    }
+    if (mkdir (tmp, 0755) < 0 && errno != EEXIST)
+        return -errno;
+    return 0;
+}
+
+int cgs_bus_prepare_endpoint (const char *endpoint)
+{
+    if (strncmp (endpoint, "ipc://", 6) != 0)
+        return 0;
+    const char *path = endpoint + 6;
+    const char *slash = strrchr (path, '/');
+    if (!slash || slash == path || path[0] == '@')
+        return 0;  // no folder, or an abstract socket
+    char dir[4096];
+    size_t n = (size_t) (slash - path);
+    if (n >= sizeof dir)
+        return -ENAMETOOLONG;
+    memcpy (dir, path, n);
+    dir[n] = '\0';
+    return s_mkdir_p (dir);
+}
+
+static uint64_t s_new_epoch (void)
+{
+    uint64_t r = 0;
+    if (getrandom (&r, sizeof r, 0) != (ssize_t) sizeof r) {
+        struct timespec ts;
+        clock_gettime (CLOCK_REALTIME, &ts);
+        r = (uint64_t) ts.tv_sec * 1000000000ull + (uint64_t) ts.tv_nsec;
+    }
+    return r ? r : 1;
+}
+
+/* ---- publisher ------------------------------------------------------------------ */
+
+typedef struct {
+    cgs_topic_stats_t stats;
+    uint64_t seq;  // last sequence number sent
+} s_pub_topic_t;
+
+struct cgs_pub {
+    void *socket;
+    char source[S_SOURCE_MAX];
+    uint32_t exercise_id;
+    uint64_t epoch;
+    int block_ms;         // wait for room at the HWM, 0 = drop
+    s_pub_topic_t *topics;
+    size_t ntopics, captopics;
+    size_t last;          // index of the last topic used (cache)
+    uint8_t *buf;         // encode buffer, grown as needed
+    size_t bufcap;
+    uint64_t sent, drops;
+};
+
+cgs_pub_t *cgs_pub_new (void *ctx, const char *source, uint32_t exercise_id)
+{
+    cgs_pub_t *self = calloc (1, sizeof *self);
+    if (!self)
+        return NULL;
+    snprintf (self->source, sizeof self->source, "%s", source ? source : "");
+    self->exercise_id = exercise_id;
+    self->epoch = s_new_epoch ();
+    self->socket = zmq_socket (ctx, ZMQ_PUB);
+    if (!self->socket)
+        goto fail;
+    int linger = 0;
+    zmq_setsockopt (self->socket, ZMQ_LINGER, &linger, sizeof linger);
+    cgs_pub_set_hwm (self, CGS_BUS_DEFAULT_SNDHWM);
+    self->bufcap = 4096;
+    self->buf = malloc (self->bufcap);
+    if (!self->buf)
+        goto fail;
+    return self;
+fail:;
+    int saved = errno;
+    cgs_pub_destroy (&self);
+    errno = saved;
+    return NULL;
+}
+
+void cgs_pub_destroy (cgs_pub_t **self_p)
+{
+    if (!self_p || !*self_p)
+        return;
+    cgs_pub_t *self = *self_p;
+    if (self->socket)
+        zmq_close (self->socket);
+    free (self->topics);
+    free (self->buf);
+    free (self);
+    *self_p = NULL;
+}
+
+void cgs_pub_set_hwm (cgs_pub_t *self, int messages)
+{
+    zmq_setsockopt (self->socket, ZMQ_SNDHWM, &messages, sizeof messages);
+}
+
+void cgs_pub_set_block (cgs_pub_t *self, int timeout_ms)
+{
+    // Blocking mode refuses at the HWM instead of dropping for one subscriber,
+    // so the wait (and a drop after it) applies to every subscriber at once.
+    int nodrop = timeout_ms > 0;
+    zmq_setsockopt (self->socket, ZMQ_XPUB_NODROP, &nodrop, sizeof nodrop);
+    if (timeout_ms > 0)
+        zmq_setsockopt (self->socket, ZMQ_SNDTIMEO, &timeout_ms, sizeof timeout_ms);
+    self->block_ms = timeout_ms;
+}
+
+int cgs_pub_bind (cgs_pub_t *self, const char *endpoint)
+{
+    int rc = cgs_bus_prepare_endpoint (endpoint);
+    if (rc < 0)
+        return rc;
+    if (zmq_bind (self->socket, endpoint) < 0)
+        return -zmq_errno ();
+    return 0;
+}
+
+uint64_t cgs_pub_epoch (const cgs_pub_t *self) { return self->epoch; }
+void *cgs_pub_socket (cgs_pub_t *self) { return self->socket; }
+size_t cgs_pub_topic_count (const cgs_pub_t *self) { return self->ntopics; }
+const cgs_topic_stats_t *cgs_pub_topic_stats (const cgs_pub_t *self, size_t i)
+{
+    return i < self->ntopics ? &self->topics[i].stats : NULL;
+}
+uint64_t cgs_pub_sent (const cgs_pub_t *self) { return self->sent; }
+uint64_t cgs_pub_drops (const cgs_pub_t *self) { return self->drops; }
+
+static s_pub_topic_t *s_pub_topic (cgs_pub_t *self, const char *topic)
+{
+    if (self->last < self->ntopics && strcmp (self->topics[self->last].stats.topic, topic) == 0)
+        return &self->topics[self->last];
+    for (size_t i = 0; i < self->ntopics; i++)
+        if (strcmp (self->topics[i].stats.topic, topic) == 0) {
+            self->last = i;
+            return &self->topics[i];
+        }
+    if (strlen (topic) >= CGS_TOPIC_MAX || !*topic)
+        return NULL;
+    if (self->ntopics == self->captopics) {
+        size_t cap = self->captopics ? self->captopics * 2 : 8;
+        s_pub_topic_t *t = realloc (self->topics, cap * sizeof *t);
+        if (!t)
+            return NULL;
+        self->topics = t;
+        self->captopics = cap;
+    }
+    s_pub_topic_t *t = &self->topics[self->ntopics];
+    memset (t, 0, sizeof *t);
+    snprintf (t->stats.topic, sizeof t->stats.topic, "%s", topic);
+    self->last = self->ntopics++;
+    return t;
+}
+
+int cgs_pub_send (cgs_pub_t *self, const char *topic, ProtobufCMessage *msg, double sim_time_s)
+{
+    Cgs__Header **slot = cgs_msg_header_slot (msg);
+    if (!slot)
+        return -EINVAL;
+    s_pub_topic_t *t = s_pub_topic (self, topic);
+    if (!t)
+        return strlen (topic) >= CGS_TOPIC_MAX || !*topic ? -EINVAL : -ENOMEM;
+
+    // The publisher's own header replaces the caller's for the call, so the
+    // caller's message is left as it was.
+    Cgs__Header own = CGS__HEADER__INIT;
+    Cgs__Header *saved = *slot;
+    Cgs__Header *h = &own;
+    h->source = self->source;
+    h->exercise_id = self->exercise_id;
+    h->epoch = self->epoch;
+    h->seq = ++t->seq;  // a dropped message keeps its number: subscribers see the gap
+    h->sim_time_s = sim_time_s;
+    h->wall_time_s = cgs_bus_wall_time ();
+    *slot = h;
+
+    size_t need = cgs_msg_size (msg);
+    if (need > self->bufcap) {
+        size_t cap = self->bufcap;
+        while (cap < need)
+            cap *= 2;
+        uint8_t *nb = realloc (self->buf, cap);
+        if (!nb) {
+            *slot = saved;
+            return -ENOMEM;
+        }
+        self->buf = nb;
+        self->bufcap = cap;
+    }
+    size_t len = cgs_msg_encode (msg, self->buf);
+    *slot = saved;
+
+    size_t tlen = strlen (topic);
+    int flags = self->block_ms > 0 ? 0 : ZMQ_DONTWAIT;
+    if (zmq_send (self->socket, topic, tlen, flags | ZMQ_SNDMORE) < 0) {
+        int e = zmq_errno ();
+        if (e == EAGAIN) {
+            t->stats.drops++;
+            self->drops++;
+        }
+        return -e;
+    }
+    // The first frame was accepted, so the rest of the message will be too.
+    if (zmq_send (self->socket, self->buf, len, 0) < 0)
+        return -zmq_errno ();
+    t->stats.messages++;
+    self->sent++;
+    return 0;
+}
+
+/* ---- subscriber ----------------------------------------------------------------- */
+
+typedef struct {
+    char source[S_SOURCE_MAX];
+    uint64_t epoch;
+    uint64_t seq;
+} s_source_t;
+
+typedef struct {
+    cgs_topic_stats_t stats;
+    size_t tlen;
+    const ProtobufCMessageDescriptor *desc;
+    cgs_sub_fn *fn;
+    void *arg;
+    s_source_t *sources;
+    size_t nsources, capsources;
+    size_t last;  // index of the last source seen (cache)
+} s_sub_topic_t;
+
+struct cgs_sub {
+    void *socket;
+    s_sub_topic_t *topics;
+    size_t ntopics, captopics;
+    cgs_msg_arena_t *arena;
+    uint64_t received, malformed_unrouted;
+};
+
+cgs_sub_t *cgs_sub_new (void *ctx)
+{
+    cgs_sub_t *self = calloc (1, sizeof *self);
+    if (!self)
+        return NULL;
+    self->socket = zmq_socket (ctx, ZMQ_SUB);
+    if (!self->socket)
+        goto fail;
+    int linger = 0;
+    zmq_setsockopt (self->socket, ZMQ_LINGER, &linger, sizeof linger);
+    cgs_sub_set_hwm (self, CGS_BUS_DEFAULT_RCVHWM);
+    self->arena = cgs_msg_arena_new (64 * 1024);
+    if (!self->arena)
+        goto fail;
+    return self;
+fail:;
+    int saved = errno;
+    cgs_sub_destroy (&self);
+    errno = saved ? saved : ENOMEM;
+    return NULL;
+}
+
+void cgs_sub_destroy (cgs_sub_t **self_p)
+{
+    if (!self_p || !*self_p)
+        return;
+    cgs_sub_t *self = *self_p;
+    if (self->socket)
+        zmq_close (self->socket);
+    for (size_t i = 0; i < self->ntopics; i++)
+        free (self->topics[i].sources);
+    free (self->topics);
+    cgs_msg_arena_destroy (&self->arena);
+    free (self);
+    *self_p = NULL;
+}
+
+void cgs_sub_set_hwm (cgs_sub_t *self, int messages)
+{
+    zmq_setsockopt (self->socket, ZMQ_RCVHWM, &messages, sizeof messages);
+}
+
+int cgs_sub_connect (cgs_sub_t *self, const char *endpoint)
+{
+    if (zmq_connect (self->socket, endpoint) < 0)
+        return -zmq_errno ();
+    return 0;
+}
+
+int cgs_sub_on_type (cgs_sub_t *self, const char *topic, const ProtobufCMessageDescriptor *desc,
+                     cgs_sub_fn *fn, void *arg)
+{
+    if (!topic || !*topic || strlen (topic) >= CGS_TOPIC_MAX || !desc || !fn)
+        return -EINVAL;
+    for (size_t i = 0; i < self->ntopics; i++)
+        if (strcmp (self->topics[i].stats.topic, topic) == 0)
+            return -EEXIST;
+    if (self->ntopics == self->captopics) {
+        size_t cap = self->captopics ? self->captopics * 2 : 8;
+        s_sub_topic_t *t = realloc (self->topics, cap * sizeof *t);
+        if (!t)
+            return -ENOMEM;
+        self->topics = t;
+        self->captopics = cap;
+    }
+    s_sub_topic_t *t = &self->topics[self->ntopics];
+    memset (t, 0, sizeof *t);
+    snprintf (t->stats.topic, sizeof t->stats.topic, "%s", topic);
+    t->tlen = strlen (topic);
+    t->desc = desc;
+    t->fn = fn;
+    t->arg = arg;
+    // ZeroMQ filters by prefix: "mti" also lets "mti.scan" through, which
+    // dispatch then matches exactly.
+    if (zmq_setsockopt (self->socket, ZMQ_SUBSCRIBE, topic, t->tlen) < 0)
+        return -zmq_errno ();
+    self->ntopics++;
+    return 0;
+}
+
+int cgs_sub_on (cgs_sub_t *self, const char *topic, cgs_sub_fn *fn, void *arg)
+{
+    const cgs_topic_t *t = cgs_topics_find (topic);
+    if (!t)
+        return -ENOENT;
+    return cgs_sub_on_type (self, topic, t->message, fn, arg);
+}
+
+void *cgs_sub_socket (cgs_sub_t *self) { return self->socket; }
+size_t cgs_sub_topic_count (const cgs_sub_t *self) { return self->ntopics; }
+const cgs_topic_stats_t *cgs_sub_topic_stats (const cgs_sub_t *self, size_t i)
+{
+    return i < self->ntopics ? &self->topics[i].stats : NULL;
+}
+uint64_t cgs_sub_received (const cgs_sub_t *self) { return self->received; }
+
+#define S_SUM(field)                                                                               \
+    uint64_t n = 0;                                                                                \
+    for (size_t i = 0; i < self->ntopics; i++)                                                     \
+        n += self->topics[i].stats.field;                                                          \
+    return n
+
+uint64_t cgs_sub_gaps (const cgs_sub_t *self) { S_SUM (gaps); }
+uint64_t cgs_sub_restarts (const cgs_sub_t *self) { S_SUM (restarts); }
+uint64_t cgs_sub_malformed (const cgs_sub_t *self)
+{
+    uint64_t n = self->malformed_unrouted;
+    for (size_t i = 0; i < self->ntopics; i++)
+        n += self->topics[i].stats.malformed;
+    return n;
+}
+
+static s_sub_topic_t *s_sub_route (cgs_sub_t *self, const void *data, size_t len)
+{
+    for (size_t i = 0; i < self->ntopics; i++)
+        if (self->topics[i].tlen == len && memcmp (self->topics[i].stats.topic, data, len) == 0)
+            return &self->topics[i];
+    return NULL;
+}
+
+typedef enum { S_SEQ_DELIVER, S_SEQ_STALE, S_SEQ_FAIL } s_seq_t;
+
+/* Account for a header's sequence number: deliver, drop a repeat, or fail. */
+static s_seq_t s_sub_sequence (s_sub_topic_t *t, const Cgs__Header *h)
+{
+    const char *src = h->source ? h->source : "";
+    s_source_t *s = NULL;
+    if (t->last < t->nsources && strcmp (t->sources[t->last].source, src) == 0)
+        s = &t->sources[t->last];
+    for (size_t i = 0; !s && i < t->nsources; i++)
+        if (strcmp (t->sources[i].source, src) == 0) {
+            s = &t->sources[i];
+            t->last = i;
+        }
+    if (!s) {
+        if (t->nsources == t->capsources) {
+            size_t cap = t->capsources ? t->capsources * 2 : 4;
+            s_source_t *ns = realloc (t->sources, cap * sizeof *ns);
+            if (!ns)
+                return S_SEQ_FAIL;
+            t->sources = ns;
+            t->capsources = cap;
+        }
+        s = &t->sources[t->nsources];
+        snprintf (s->source, sizeof s->source, "%s", src);
+        s->epoch = h->epoch;
+        s->seq = h->seq;
+        t->last = t->nsources++;
+        return S_SEQ_DELIVER;
+    }
+    if (s->epoch != h->epoch) {
+        t->stats.restarts++;
+        s->epoch = h->epoch;
+    } else if (h->seq > s->seq + 1) {
+        t->stats.gaps += h->seq - s->seq - 1;
+    } else if (h->seq <= s->seq) {
+        t->stats.stale++;  // a repeat or reordering: not delivered twice
+        return S_SEQ_STALE;
+    }
+    s->seq = h->seq;
+    return S_SEQ_DELIVER;
+}
+
+int cgs_sub_dispatch (cgs_sub_t *self, int max)
+{
+    int count = 0;
+    zmq_msg_t topic, payload;
+    zmq_msg_init (&topic);
+    zmq_msg_init (&payload);
+    while (count < max) {
+        if (zmq_msg_recv (&topic, self->socket, ZMQ_DONTWAIT) < 0) {
+            int e = zmq_errno ();
+            zmq_msg_close (&topic);
+            zmq_msg_close (&payload);
+            return e == EAGAIN ? count : (count ? count : -e);
+        }
+        count++;
+        self->received++;
+        if (!zmq_msg_more (&topic)) {
+            self->malformed_unrouted++;  // a single frame: not ours
+            continue;
+        }
+        zmq_msg_recv (&payload, self->socket, 0);
+        bool extra = zmq_msg_more (&payload);
+        while (zmq_msg_more (&payload))  // drain a message with too many frames
+            zmq_msg_recv (&payload, self->socket, 0);
+        s_sub_topic_t *t = s_sub_route (self, zmq_msg_data (&topic), zmq_msg_size (&topic));
+        if (!t)
+            continue;  // a longer topic that shares our prefix
+        ProtobufCMessage *m = NULL;
+        const Cgs__Header *h = NULL;
+        s_seq_t verdict = S_SEQ_FAIL;
+        if (!extra &&
+            cgs_msg_decode (t->desc, zmq_msg_data (&payload), zmq_msg_size (&payload),
+                            self->arena, &m) == 0 &&
+            (h = cgs_msg_header (m)) != NULL)
+            verdict = s_sub_sequence (t, h);
+        if (verdict != S_SEQ_DELIVER) {
+            if (verdict == S_SEQ_FAIL)
+                t->stats.malformed++;
+            cgs_msg_arena_reset (self->arena);
+            continue;
+        }
+        t->stats.messages++;
+        t->fn (t->arg, t->stats.topic, m, h);
+        cgs_msg_arena_reset (self->arena);
+    }
+    zmq_msg_close (&topic);
+    zmq_msg_close (&payload);
+    return count;
+}
+
+int cgs_sub_poll (cgs_sub_t *self, int timeout_ms)
+{
+    zmq_pollitem_t item = {self->socket, 0, ZMQ_POLLIN, 0};
+    int rc = zmq_poll (&item, 1, timeout_ms);
+    if (rc < 0)
+        return -zmq_errno ();
+    if (rc == 0)
+        return 0;
+    return cgs_sub_dispatch (self, 1000000);
+}

@@ -1,0 +1,77 @@
+/* cgs_cmd — the command channel: DEALER (client) to ROUTER (server), never
+ * PUB/SUB. Every command carries the client's id and a command number; the
+ * client waits for an explicit reply, retries on timeout over a fresh socket
+ * (lazy pirate), and gives a clear error when the server stays silent. The
+ * server hands each new command to the service's handler, which applies it
+ * and persists it before returning; the reply is stored (and written to the
+ * state directory) before it is sent, so a duplicate — a retry, or a retry
+ * after the server was restarted — is answered from the stored reply and never
+ * applied twice. Pure of logging and global state. */
+#ifndef CGS_CMD_H
+#define CGS_CMD_H
+
+#include "cgs_msg.h"
+#include <stddef.h>
+#include <stdint.h>
+
+#define CGS_CMD_DEFAULT_TIMEOUT_MS 1000
+#define CGS_CMD_DEFAULT_ATTEMPTS 5
+
+/* ---- client --------------------------------------------------------------------- */
+
+typedef struct cgs_cmd_client cgs_cmd_client_t;
+
+/* Client of the server at endpoint. client_id NULL makes a unique one
+ * (program@host:pid:random); NULL with errno on failure. */
+cgs_cmd_client_t *cgs_cmd_client_new (void *ctx, const char *endpoint, const char *client_id);
+/* Close and free; accepts NULL; nulls the pointer. */
+void cgs_cmd_client_destroy (cgs_cmd_client_t **self_p);
+/* The client's id. */
+const char *cgs_cmd_client_id (const cgs_cmd_client_t *self);
+/* Hook to configure each new socket (e.g. CURVE keys) before it connects. */
+void cgs_cmd_client_set_socket_hook (cgs_cmd_client_t *self, int (*hook) (void *socket, void *arg),
+                                     void *arg);
+/* Send cmd (its body set by the caller; id and number are filled here) and
+ * wait up to timeout_ms per attempt, for up to attempts attempts. On a reply
+ * (whatever its status) 0 and *ret_reply, freed by cgs_cmd_reply_free. On
+ * silence -ETIMEDOUT with a message in err naming the endpoint; -EPROTO when
+ * the reply is malformed; -EINTR when a signal interrupted the wait. */
+int cgs_cmd_client_call (cgs_cmd_client_t *self, Cgs__Command *cmd, int timeout_ms, int attempts,
+                         Cgs__Reply **ret_reply, char *err, size_t errlen);
+/* Free a reply; accepts NULL; nulls the pointer. */
+void cgs_cmd_reply_free (Cgs__Reply **reply_p);
+/* Name of a command's body ("designate", "ping", ...), "none" when unset. */
+const char *cgs_cmd_name (const Cgs__Command *cmd);
+
+/* ---- server --------------------------------------------------------------------- */
+
+typedef struct cgs_cmd_server cgs_cmd_server_t;
+
+/* Apply a new command: fill reply->status (OK by default), ->detail or
+ * ->error (strings the handler owns, valid until it is next called). Persist
+ * what the command changed before returning. */
+typedef void(cgs_cmd_handler_fn) (void *arg, const Cgs__Command *cmd, Cgs__Reply *reply);
+
+/* Server named name (put in every reply). cache_path: file in the state
+ * directory for the stored replies, or NULL to keep them in memory only; an
+ * existing file is loaded (a damaged one is set aside as cache_path.bad and
+ * reported by cgs_cmd_server_load_error). NULL with errno on failure. */
+cgs_cmd_server_t *cgs_cmd_server_new (void *ctx, const char *name, const char *cache_path,
+                                      cgs_cmd_handler_fn *handler, void *arg);
+/* Close and free; accepts NULL; nulls the pointer. */
+void cgs_cmd_server_destroy (cgs_cmd_server_t **self_p);
+/* Bind the ROUTER socket (creates the folder of an ipc:// path); 0 or -errno. */
+int cgs_cmd_server_bind (cgs_cmd_server_t *self, const char *endpoint);
+/* Handle up to max waiting commands without blocking; returns how many, or -errno. */
+int cgs_cmd_server_dispatch (cgs_cmd_server_t *self, int max);
+/* The underlying socket, for zmq_poll and options such as CURVE. */
+void *cgs_cmd_server_socket (cgs_cmd_server_t *self);
+/* "" or why the stored replies could not be loaded at start. */
+const char *cgs_cmd_server_load_error (const cgs_cmd_server_t *self);
+/* Counters: commands applied, duplicates answered, malformed refused, cache write failures. */
+uint64_t cgs_cmd_server_applied (const cgs_cmd_server_t *self);
+uint64_t cgs_cmd_server_duplicates (const cgs_cmd_server_t *self);
+uint64_t cgs_cmd_server_malformed (const cgs_cmd_server_t *self);
+uint64_t cgs_cmd_server_write_errors (const cgs_cmd_server_t *self);
+
+#endif

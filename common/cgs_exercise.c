@@ -1,0 +1,485 @@
+/* cgs_exercise — reads and checks the exercise file every host shares.
+ *
+ * Paths: `scenario`, `params` and `secret_key_file` are relative to the
+ * exercise file's folder (as every path in a config file is); `state_dir` is
+ * a runtime location, so a relative one is taken from the current working
+ * directory of the process that loads the file. All four are made absolute.
+ * The scenario need not exist when the exercise is loaded. A [curve] section
+ * is left to the CURVE module; any other section, or an unknown key, is an
+ * error. Pure: no logging. */
+#include "cgs_exercise.h"
+
+#include "cgs_topics.h"
+
+#include <assert.h>
+#include <ctype.h>
+#include <errno.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+struct cgs_exercise {
+    cgs_config_t *config;    // the parsed file
+    char name[CGS_NAME_MAX]; // exercise name, default the file's base name
+    uint32_t id;             // 1..255, also the DIS exercise id
+    cgs_geodetic_t origin;   // origin of the local ENU frame
+    double time_scale;       // simulation seconds per wall second
+    uint64_t seed;           // seed of every model's random generator
+    char *state_dir;         // absolute
+    char *scenario;          // absolute, "" when none
+    cgs_instance_t *instances;
+    size_t count;
+};
+
+#define S_SERVICE  "service"
+#define S_ENDPOINT "an endpoint starting with tcp://, ipc:// or inproc://"
+
+static void s_err (char *err, size_t errlen, const char *fmt, ...)
+    __attribute__ ((format (printf, 3, 4)));
+
+static void s_err (char *err, size_t errlen, const char *fmt, ...)
+{
+    if (!err || errlen == 0)
+        return;
+    va_list ap;
+    va_start (ap, fmt);
+    vsnprintf (err, errlen, fmt, ap);
+    va_end (ap);
+}
+
+// path made absolute from the working directory into a new string; -ENOMEM or getcwd's error.
+static int s_absolute (const char *path, char **ret)
+{
+    char *abs;
+    if (path[0] == '/')
+        abs = strdup (path);
+    else {
+        char *cwd = getcwd (NULL, 0);
+        if (!cwd)
+            return -errno;
+        while (path[0] == '.' && path[1] == '/')
+            path += 2;
+        if (asprintf (&abs, "%s%s%s", cwd, strcmp (cwd, "/") == 0 ? "" : "/", path) < 0)
+            abs = NULL;
+        free (cwd);
+    }
+    if (!abs)
+        return -ENOMEM;
+    *ret = abs;
+    return 0;
+}
+
+// A path key of a section, absolute, copied into buf ("" when absent or empty).
+static int s_get_path (cgs_exercise_t *self, const char *section, const char *key, char *buf,
+                       size_t size, char *err, size_t errlen)
+{
+    const char *value;
+    int rc = cgs_config_get_path (self->config, section, key, NULL, &value, err, errlen);
+    if (rc < 0)
+        return rc;
+    if (!value || !*value) {
+        buf[0] = '\0';
+        return 0;
+    }
+    char *abs;
+    rc = s_absolute (value, &abs);
+    if (rc < 0)
+        return cgs_config_error (self->config, section, key, 0, err, errlen,
+                                 "cannot make '%s' absolute: %s", value, strerror (-rc));
+    if (strlen (abs) >= size) {
+        free (abs);
+        return cgs_config_error (self->config, section, key, 0, err, errlen,
+                                 "path too long (at most %zu characters)", size - 1);
+    }
+    strcpy (buf, abs);
+    free (abs);
+    return 0;
+}
+
+// Letters, digits, '.', '-', '_' (dots only if dots), starting with a letter or digit.
+static bool s_name_ok (const char *s, bool dots)
+{
+    if (!isalnum ((unsigned char)s[0]))
+        return false;
+    for (; *s; s++)
+        if (!isalnum ((unsigned char)*s) && *s != '-' && *s != '_' && !(dots && *s == '.'))
+            return false;
+    return true;
+}
+
+// A name-like key into buf: checked against s_name_ok and the size; "" when absent.
+static int s_get_name (cgs_exercise_t *self, const char *section, const char *key, const char *def,
+                       bool dots, char *buf, size_t size, char *err, size_t errlen)
+{
+    const char *value;
+    int rc = cgs_config_get_string (self->config, section, key, def, &value, err, errlen);
+    if (rc < 0)
+        return rc;
+    if (!value)
+        value = "";
+    if (*value && (!s_name_ok (value, dots) || strlen (value) >= size))
+        return cgs_config_error (self->config, section, key, 0, err, errlen,
+                                 "expected a name of at most %zu letters, digits, %s'-' or '_', "
+                                 "got '%s'",
+                                 size - 1, dots ? "'.', " : "", value);
+    strcpy (buf, value);
+    return 0;
+}
+
+static int s_get_endpoint (cgs_exercise_t *self, const char *section, const char *key, char *buf,
+                           char *err, size_t errlen)
+{
+    static const char *const schemes[] = {"tcp://", "ipc://", "inproc://"};
+    const char *value;
+    int rc = cgs_config_get_string (self->config, section, key, "", &value, err, errlen);
+    if (rc < 0)
+        return rc;
+    bool ok = !*value;
+    for (size_t i = 0; !ok && i < sizeof schemes / sizeof schemes[0]; i++) {
+        size_t n = strlen (schemes[i]);
+        ok = strncmp (value, schemes[i], n) == 0 && value[n] != '\0';
+    }
+    if (!ok)
+        return cgs_config_error (self->config, section, key, 0, err, errlen,
+                                 "expected " S_ENDPOINT ", got '%s'", value);
+    if (strlen (value) >= CGS_ENDPOINT_MAX)
+        return cgs_config_error (self->config, section, key, 0, err, errlen,
+                                 "endpoint too long (at most %d characters)", CGS_ENDPOINT_MAX - 1);
+    strcpy (buf, value);
+    return 0;
+}
+
+static bool s_z85_ok (const char *s)
+{
+    static const char z85[] = "0123456789abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ"
+                              ".-:+=^!/*?&<>()[]{}@%$#";
+    return strlen (s) == CGS_KEY_MAX - 1 && strspn (s, z85) == CGS_KEY_MAX - 1;
+}
+
+// The [exercise] section.
+static int s_load_exercise (cgs_exercise_t *self, char *err, size_t errlen)
+{
+    cgs_config_t *cfg = self->config;
+    const char *sec = "exercise";
+    long id;
+    int rc = cgs_config_get_int (cfg, sec, "id", 1, 1, 255, &id, err, errlen);
+    if (rc < 0)
+        return rc;
+    self->id = (uint32_t)id;
+
+    // name: default the file's base name without ".ini"
+    char base[CGS_NAME_MAX];
+    const char *path = cgs_config_path (cfg);
+    const char *slash = strrchr (path, '/');
+    snprintf (base, sizeof base, "%s", slash ? slash + 1 : path);
+    size_t n = strlen (base);
+    if (n > 4 && strcmp (base + n - 4, ".ini") == 0)
+        base[n - 4] = '\0';
+    const char *name;
+    rc = cgs_config_get_string (cfg, sec, "name", base, &name, err, errlen);
+    if (rc < 0)
+        return rc;
+    if (!*name || strlen (name) >= sizeof self->name)
+        return cgs_config_error (cfg, sec, "name", 0, err, errlen,
+                                 "expected a name of 1 to %zu characters, got '%s'",
+                                 sizeof self->name - 1, name);
+    strcpy (self->name, name);
+
+    // origin: required, geodetic (local metres would be relative to itself)
+    rc = cgs_config_require (cfg, sec, "origin",
+                             "the exercise origin, e.g. `origin = geo 35.96 -121.23 0`", err,
+                             errlen);
+    if (rc < 0)
+        return -EINVAL;
+    const char *origin;
+    rc = cgs_config_get_string (cfg, sec, "origin", NULL, &origin, err, errlen);
+    if (rc < 0)
+        return rc;
+    char why[512];
+    if (cgs_config_parse_geodetic (origin, &self->origin, why, sizeof why) < 0)
+        return cgs_config_error (cfg, sec, "origin", 0, err, errlen, "%s", why);
+
+    rc = cgs_config_get_double (cfg, sec, "time_scale", 1.0, 0.0, 1000.0, &self->time_scale, err,
+                                errlen);
+    if (rc < 0)
+        return rc;
+    if (self->time_scale <= 0.0)
+        return cgs_config_error (cfg, sec, "time_scale", 0, err, errlen,
+                                 "expected a number in (0, 1000], got '%s'",
+                                 cgs_config_get_nth (cfg, sec, "time_scale", 0));
+    rc = cgs_config_get_uint64 (cfg, sec, "seed", 1, &self->seed, err, errlen);
+    if (rc < 0)
+        return rc;
+
+    // state_dir: a runtime location, so relative to the working directory
+    const char *state_dir;
+    rc = cgs_config_get_string (cfg, sec, "state_dir", "state", &state_dir, err, errlen);
+    if (rc < 0)
+        return rc;
+    if (!*state_dir)
+        return cgs_config_error (cfg, sec, "state_dir", 0, err, errlen,
+                                 "expected a directory, got ''");
+    rc = s_absolute (state_dir, &self->state_dir);
+    if (rc < 0)
+        return cgs_config_error (cfg, sec, "state_dir", 0, err, errlen,
+                                 "cannot make '%s' absolute: %s", state_dir, strerror (-rc));
+
+    char scenario[4096];
+    rc = s_get_path (self, sec, "scenario", scenario, sizeof scenario, err, errlen);
+    if (rc < 0)
+        return rc;
+    self->scenario = strdup (scenario);
+    if (!self->scenario) {
+        s_err (err, errlen, "%s: out of memory", path);
+        return -ENOMEM;
+    }
+    return 0;
+}
+
+// One [service NAME] section, the i-th of the file, into inst.
+static int s_load_instance (cgs_exercise_t *self, size_t i, cgs_instance_t *inst, char *err,
+                            size_t errlen)
+{
+    cgs_config_t *cfg = self->config;
+    const char *sec = cgs_config_section_name (cfg, i);
+    const char *name = sec + strlen (S_SERVICE);
+    if (*name == ' ')
+        name++;
+    if (!*name || !s_name_ok (name, true) || strlen (name) >= sizeof inst->name)
+        return cgs_config_error (cfg, sec, NULL, 0, err, errlen,
+                                 "expected [service NAME] with NAME an instance name of at most "
+                                 "%zu letters, digits, '.', '-' or '_', e.g. [service mtid.uav1]",
+                                 sizeof inst->name - 1);
+    strcpy (inst->name, name);
+
+    // program: the instance name up to its first '.', unless given
+    char program[CGS_NAME_MAX];
+    snprintf (program, sizeof program, "%.*s", (int)strcspn (name, "."), name);
+    int rc = s_get_name (self, sec, "program", program, false, inst->program, sizeof inst->program,
+                         err, errlen);
+    if (rc < 0)
+        return rc;
+    if (!*inst->program)
+        return cgs_config_error (cfg, sec, "program", 0, err, errlen,
+                                 "expected a program name, got ''");
+    rc = s_get_endpoint (self, sec, "publish", inst->publish, err, errlen);
+    if (rc < 0)
+        return rc;
+    rc = s_get_endpoint (self, sec, "command", inst->command, err, errlen);
+    if (rc < 0)
+        return rc;
+
+    const char *host;
+    rc = cgs_config_get_string (cfg, sec, "host", "localhost", &host, err, errlen);
+    if (rc < 0)
+        return rc;
+    if (!*host || strlen (host) >= sizeof inst->host || strcspn (host, " \t") != strlen (host))
+        return cgs_config_error (cfg, sec, "host", 0, err, errlen,
+                                 "expected a host name of at most %zu characters, got '%s'",
+                                 sizeof inst->host - 1, host);
+    strcpy (inst->host, host);
+
+    rc = s_get_name (self, sec, "uav", "", true, inst->uav, sizeof inst->uav, err, errlen);
+    if (rc < 0)
+        return rc;
+    rc = s_get_path (self, sec, "params", inst->params, sizeof inst->params, err, errlen);
+    if (rc < 0)
+        return rc;
+
+    const char *key;
+    rc = cgs_config_get_string (cfg, sec, "public_key", "", &key, err, errlen);
+    if (rc < 0)
+        return rc;
+    if (*key && !s_z85_ok (key))
+        return cgs_config_error (cfg, sec, "public_key", 0, err, errlen,
+                                 "expected a CURVE public key of %d Z85 characters, got '%s'",
+                                 CGS_KEY_MAX - 1, key);
+    strcpy (inst->public_key, key);
+    rc = s_get_path (self, sec, "secret_key_file", inst->secret_key_file,
+                     sizeof inst->secret_key_file, err, errlen);
+    if (rc < 0)
+        return rc;
+    return cgs_config_get_bool (cfg, sec, "enabled", true, &inst->enabled, err, errlen);
+}
+
+// No two instances may bind the same endpoint: the later one is the error.
+static int s_check_endpoints (cgs_exercise_t *self, char *err, size_t errlen)
+{
+    static const char *const keys[] = {"publish", "command"};
+    for (size_t i = 0; i < self->count; i++) {
+        const cgs_instance_t *a = &self->instances[i];
+        const char *ends_a[] = {a->publish, a->command};
+        for (size_t ka = 0; ka < 2; ka++) {
+            if (!*ends_a[ka])
+                continue;
+            // every endpoint before this one, in file order
+            for (size_t j = 0; j <= i; j++) {
+                const cgs_instance_t *b = &self->instances[j];
+                const char *ends_b[] = {b->publish, b->command};
+                for (size_t kb = 0; kb < 2 && (j < i || kb < ka); kb++) {
+                    if (strcmp (ends_a[ka], ends_b[kb]) != 0)
+                        continue;
+                    char sec_a[CGS_NAME_MAX + 8], sec_b[CGS_NAME_MAX + 8];
+                    snprintf (sec_a, sizeof sec_a, S_SERVICE " %s", a->name);
+                    snprintf (sec_b, sizeof sec_b, S_SERVICE " %s", b->name);
+                    return cgs_config_error (self->config, sec_a, keys[ka], 0, err, errlen,
+                                             "endpoint '%s' is already used by [%s] %s at line %d",
+                                             ends_a[ka], sec_b, keys[kb],
+                                             cgs_config_line (self->config, sec_b, keys[kb], 0));
+                }
+            }
+        }
+    }
+    return 0;
+}
+
+static int s_load_services (cgs_exercise_t *self, char *err, size_t errlen)
+{
+    cgs_config_t *cfg = self->config;
+    size_t n = 0;
+    for (size_t i = 0; i < cgs_config_section_count (cfg); i++)
+        n += strncmp (cgs_config_section_name (cfg, i), S_SERVICE, strlen (S_SERVICE)) == 0;
+    self->instances = calloc (n ? n : 1, sizeof *self->instances);
+    if (!self->instances) {
+        s_err (err, errlen, "%s: out of memory", cgs_config_path (cfg));
+        return -ENOMEM;
+    }
+    for (size_t i = 0; i < cgs_config_section_count (cfg); i++) {
+        const char *sec = cgs_config_section_name (cfg, i);
+        // "service NAME"; "servicex" is some other (unknown) section
+        if (strncmp (sec, S_SERVICE, strlen (S_SERVICE)) != 0)
+            continue;
+        char after = sec[strlen (S_SERVICE)];
+        if (after != '\0' && after != ' ')
+            continue;
+        int rc = s_load_instance (self, i, &self->instances[self->count], err, errlen);
+        if (rc < 0)
+            return rc;
+        self->count++;
+    }
+    return s_check_endpoints (self, err, errlen);
+}
+
+int cgs_exercise_load (const char *path, cgs_exercise_t **ret_ex, char *err, size_t errlen)
+{
+    assert (path && ret_ex);
+    cgs_exercise_t *self = calloc (1, sizeof *self);
+    if (!self) {
+        s_err (err, errlen, "%s: out of memory", path);
+        return -ENOMEM;
+    }
+    int rc = cgs_config_load (path, &self->config, err, errlen);
+    if (rc < 0)
+        goto fail;
+    rc = s_load_exercise (self, err, errlen);
+    if (rc < 0)
+        goto fail;
+    rc = s_load_services (self, err, errlen);
+    if (rc < 0)
+        goto fail;
+    cgs_config_mark_section (self->config, "curve"); // read by the CURVE module
+    rc = cgs_config_check_unused (self->config, err, errlen);
+    if (rc < 0)
+        goto fail;
+    *ret_ex = self;
+    return 0;
+fail:
+    cgs_exercise_destroy (&self);
+    return rc;
+}
+
+void cgs_exercise_destroy (cgs_exercise_t **self_p)
+{
+    if (!self_p || !*self_p)
+        return;
+    cgs_exercise_t *self = *self_p;
+    cgs_config_destroy (&self->config);
+    free (self->state_dir);
+    free (self->scenario);
+    free (self->instances);
+    free (self);
+    *self_p = NULL;
+}
+
+const char *cgs_exercise_path (const cgs_exercise_t *self)
+{
+    return cgs_config_path (self->config);
+}
+
+const char *cgs_exercise_name (const cgs_exercise_t *self)
+{
+    return self->name;
+}
+
+uint32_t cgs_exercise_id (const cgs_exercise_t *self)
+{
+    return self->id;
+}
+
+cgs_geodetic_t cgs_exercise_origin (const cgs_exercise_t *self)
+{
+    return self->origin;
+}
+
+double cgs_exercise_time_scale (const cgs_exercise_t *self)
+{
+    return self->time_scale;
+}
+
+uint64_t cgs_exercise_seed (const cgs_exercise_t *self)
+{
+    return self->seed;
+}
+
+const char *cgs_exercise_state_dir (const cgs_exercise_t *self)
+{
+    return self->state_dir;
+}
+
+const char *cgs_exercise_scenario (const cgs_exercise_t *self)
+{
+    return self->scenario;
+}
+
+cgs_config_t *cgs_exercise_config (cgs_exercise_t *self)
+{
+    return self->config;
+}
+
+size_t cgs_exercise_instance_count (const cgs_exercise_t *self)
+{
+    return self->count;
+}
+
+const cgs_instance_t *cgs_exercise_instance (const cgs_exercise_t *self, size_t i)
+{
+    return i < self->count ? &self->instances[i] : NULL;
+}
+
+const cgs_instance_t *cgs_exercise_find (const cgs_exercise_t *self, const char *name)
+{
+    for (size_t i = 0; i < self->count; i++)
+        if (strcmp (self->instances[i].name, name) == 0)
+            return &self->instances[i];
+    return NULL;
+}
+
+/* Instances without a publish endpoint cannot publish and are left out;
+ * disabled instances are kept (they may be started by hand). */
+size_t cgs_exercise_publishers_of (const cgs_exercise_t *self, const char *topic,
+                                   const cgs_instance_t **ret, size_t max)
+{
+    const cgs_topic_t *t = cgs_topics_find (topic);
+    size_t n = 0;
+    for (size_t i = 0; t && i < self->count; i++) {
+        const cgs_instance_t *inst = &self->instances[i];
+        if (!*inst->publish || !cgs_topics_published_by (t, inst->program))
+            continue;
+        if (ret && n < max)
+            ret[n] = inst;
+        n++;
+    }
+    return n;
+}

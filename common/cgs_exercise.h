@@ -1,0 +1,77 @@
+/* cgs_exercise — the exercise file every host shares: exercise id, origin,
+ * time scale, seed, state directory, default scenario, and for every service
+ * instance its publish and command endpoints (and, optionally, CURVE keys).
+ *
+ *   [exercise]
+ *   id = 1                       ; DIS exercise id too, 1..255
+ *   name = default
+ *   origin = geo 36.5950 -121.8740 0
+ *   time_scale = 1
+ *   seed = 1
+ *   state_dir = /var/lib/mscgs   ; relative: from the working directory, not the file
+ *   scenario = ../scenarios/default.ini
+ *
+ *   [service uavsim]             ; instance name; program is the part before '.'
+ *   publish = ipc:///tmp/mscgs/uavsim.pub
+ *   command = ipc:///tmp/mscgs/uavsim.cmd
+ *   host = localhost             ; where it runs (used by deploy tooling)
+ *
+ * Pure: no logging. */
+#ifndef CGS_EXERCISE_H
+#define CGS_EXERCISE_H
+
+#include "cgs_config.h"
+#include "cgs_geo.h"
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#define CGS_NAME_MAX 64
+#define CGS_ENDPOINT_MAX 256
+#define CGS_KEY_MAX 41  // Z85 CURVE key, 40 characters and a NUL
+
+typedef struct {
+    char name[CGS_NAME_MAX];         // instance, e.g. "mtid.uav1"
+    char program[CGS_NAME_MAX];      // executable, e.g. "mtid" (or `program =`)
+    char publish[CGS_ENDPOINT_MAX];  // PUB endpoint it binds, "" if none
+    char command[CGS_ENDPOINT_MAX];  // ROUTER endpoint it binds, "" if none
+    char host[CGS_NAME_MAX];         // host it runs on (default "localhost")
+    char uav[CGS_NAME_MAX];          // UAV it serves, for per-UAV services ("" if none)
+    char params[4096];               // model parameter file, absolute ("" if none)
+    char public_key[CGS_KEY_MAX];    // CURVE server public key ("" without CURVE)
+    char secret_key_file[4096];      // file holding its secret key ("" without CURVE)
+    bool enabled;                    // `enabled = no` leaves it out of `mscgs run`
+} cgs_instance_t;
+
+typedef struct cgs_exercise cgs_exercise_t;
+
+/* Read and validate an exercise file; 0, or negative errno with
+ * "file:line: reason" in err. Endpoints must be tcp://, ipc:// or inproc://
+ * and unique; instance names unique. */
+int cgs_exercise_load (const char *path, cgs_exercise_t **ret_ex, char *err, size_t errlen);
+/* Free; accepts NULL; sets *self_p to NULL. */
+void cgs_exercise_destroy (cgs_exercise_t **self_p);
+
+const char *cgs_exercise_path (const cgs_exercise_t *self);
+const char *cgs_exercise_name (const cgs_exercise_t *self);
+uint32_t cgs_exercise_id (const cgs_exercise_t *self);
+cgs_geodetic_t cgs_exercise_origin (const cgs_exercise_t *self);
+double cgs_exercise_time_scale (const cgs_exercise_t *self);
+uint64_t cgs_exercise_seed (const cgs_exercise_t *self);
+/* State directory, absolute. */
+const char *cgs_exercise_state_dir (const cgs_exercise_t *self);
+/* Default scenario file, absolute, "" when none. */
+const char *cgs_exercise_scenario (const cgs_exercise_t *self);
+/* The parsed file, for sections other modules own (e.g. [curve]). */
+cgs_config_t *cgs_exercise_config (cgs_exercise_t *self);
+
+size_t cgs_exercise_instance_count (const cgs_exercise_t *self);
+const cgs_instance_t *cgs_exercise_instance (const cgs_exercise_t *self, size_t i);
+/* The instance of that name, or NULL. */
+const cgs_instance_t *cgs_exercise_find (const cgs_exercise_t *self, const char *name);
+/* Instances that publish topic (per cgs_topics), up to max into ret; returns the
+ * number found (may exceed max). */
+size_t cgs_exercise_publishers_of (const cgs_exercise_t *self, const char *topic,
+                                   const cgs_instance_t **ret, size_t max);
+
+#endif

@@ -1,0 +1,303 @@
+/* cgs_service — the shell shared by every service's main.c. */
+#include "cgs_service.h"
+#include "cgs_lifecycle.h"
+#include "cgs_log.h"
+#include "cgs_state.h"
+#include "cgs_topics.h"
+
+#include <errno.h>
+#include <getopt.h>
+#include <limits.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+#include <zmq.h>
+
+#define S_DEFAULT_EXERCISE "/etc/mscgs/exercise.ini"
+
+static void s_usage (const cgs_service_info_t *info, FILE *f)
+{
+    fprintf (f, "usage: %s [options]\n%s\n\n", info->program, info->summary);
+    fprintf (f,
+             "  --exercise FILE   exercise file (default $MSCGS_EXERCISE, else %s)\n"
+             "  --instance NAME   service instance in the exercise (default %s)\n"
+             "  --scenario FILE   scenario file (default: the exercise's)\n"
+             "  --params FILE     model parameter file (default: the instance's)\n"
+             "  --state-dir DIR   state folder (default: the exercise's)\n"
+             "  --check           read and check the configuration, then exit\n"
+             "  -v, --verbose     log debug messages\n"
+             "  -h, --help        show this help\n"
+             "  --version         show the version\n",
+             S_DEFAULT_EXERCISE, info->program);
+    for (const cgs_service_option_t *o = info->options; o && o->name; o++) {
+        char left[64];
+        snprintf (left, sizeof left, "--%s%s%s", o->name, o->has_arg ? " " : "",
+                  o->has_arg ? (o->arg_name ? o->arg_name : "VALUE") : "");
+        fprintf (f, "  %-17s %s\n", left, o->help);
+    }
+}
+
+static int s_parse (cgs_service_t *svc, int argc, char **argv)
+{
+    const cgs_service_info_t *info = svc->info;
+    enum { O_EXERCISE = 1000, O_INSTANCE, O_SCENARIO, O_PARAMS, O_STATE, O_CHECK, O_VERSION, O_EXTRA };
+    struct option opts[64];
+    size_t n = 0;
+    opts[n++] = (struct option) {"exercise", required_argument, NULL, O_EXERCISE};
+    opts[n++] = (struct option) {"instance", required_argument, NULL, O_INSTANCE};
+    opts[n++] = (struct option) {"scenario", required_argument, NULL, O_SCENARIO};
+    opts[n++] = (struct option) {"params", required_argument, NULL, O_PARAMS};
+    opts[n++] = (struct option) {"state-dir", required_argument, NULL, O_STATE};
+    opts[n++] = (struct option) {"check", no_argument, NULL, O_CHECK};
+    opts[n++] = (struct option) {"verbose", no_argument, NULL, 'v'};
+    opts[n++] = (struct option) {"help", no_argument, NULL, 'h'};
+    opts[n++] = (struct option) {"version", no_argument, NULL, O_VERSION};
+    size_t first_extra = n;
+    for (const cgs_service_option_t *o = info->options; o && o->name && n < 62; o++)
+        opts[n++] = (struct option) {o->name, o->has_arg ? required_argument : no_argument, NULL,
+                                     O_EXTRA + (int) (n - first_extra)};
+    opts[n] = (struct option) {NULL, 0, NULL, 0};
+
+    const char *env = getenv ("MSCGS_EXERCISE");
+    snprintf (svc->exercise_path, sizeof svc->exercise_path, "%s",
+              env && *env ? env : S_DEFAULT_EXERCISE);
+    snprintf (svc->instance_name, sizeof svc->instance_name, "%s", info->program);
+    optind = 1;
+    int c;
+    while ((c = getopt_long (argc, argv, "vh", opts, NULL)) != -1) {
+        switch (c) {
+        case O_EXERCISE: snprintf (svc->exercise_path, sizeof svc->exercise_path, "%s", optarg); break;
+        case O_INSTANCE: snprintf (svc->instance_name, sizeof svc->instance_name, "%s", optarg); break;
+        case O_SCENARIO: snprintf (svc->scenario, sizeof svc->scenario, "%s", optarg); break;
+        case O_PARAMS: snprintf (svc->params, sizeof svc->params, "%s", optarg); break;
+        case O_STATE: snprintf (svc->state_dir, sizeof svc->state_dir, "%s", optarg); break;
+        case O_CHECK: svc->check_only = true; break;
+        case 'v': svc->verbose++; break;
+        case 'h': s_usage (info, stdout); return 1;
+        case O_VERSION: printf ("%s (mscgs) %s\n", info->program, CGS_VERSION); return 1;
+        default:
+            if (c >= O_EXTRA && info->on_option) {
+                const cgs_service_option_t *o = &info->options[c - O_EXTRA];
+                char why[512] = "";
+                if (info->on_option (info->option_arg, o->name, optarg, why, sizeof why) < 0) {
+                    fprintf (stderr, "%s: --%s: %s\n", info->program, o->name, why);
+                    return -EINVAL;
+                }
+                break;
+            }
+            fprintf (stderr, "Try '%s --help'.\n", info->program);
+            return -EINVAL;
+        }
+    }
+    if (optind < argc) {
+        fprintf (stderr, "%s: unexpected argument '%s'\nTry '%s --help'.\n", info->program,
+                 argv[optind], info->program);
+        return -EINVAL;
+    }
+    return 0;
+}
+
+int cgs_service_init (cgs_service_t *svc, const cgs_service_info_t *info, int argc, char **argv)
+{
+    memset (svc, 0, sizeof *svc);
+    svc->info = info;
+    int rc = s_parse (svc, argc, argv);
+    if (rc != 0)
+        return rc;
+    cgs_log_init (svc->instance_name, svc->verbose ? LOG_DEBUG : LOG_INFO);
+
+    char err[1024] = "";
+    rc = cgs_exercise_load (svc->exercise_path, &svc->exercise, err, sizeof err);
+    if (rc < 0) {
+        cgs_log (LOG_ERR, "%s", err);
+        return rc;
+    }
+    svc->instance = cgs_exercise_find (svc->exercise, svc->instance_name);
+    if (!svc->instance) {
+        cgs_log (LOG_ERR, "%s: no [service %s] section; the instances are:",
+                 svc->exercise_path, svc->instance_name);
+        for (size_t i = 0; i < cgs_exercise_instance_count (svc->exercise); i++)
+            cgs_log (LOG_ERR, "  %s", cgs_exercise_instance (svc->exercise, i)->name);
+        return -ENOENT;
+    }
+    if (strcmp (svc->instance->program, info->program) != 0) {
+        cgs_log (LOG_ERR, "%s: [service %s] is a %s, not a %s", svc->exercise_path,
+                 svc->instance_name, svc->instance->program, info->program);
+        return -EINVAL;
+    }
+    if (!*svc->scenario)
+        snprintf (svc->scenario, sizeof svc->scenario, "%s", cgs_exercise_scenario (svc->exercise));
+    if (!*svc->params)
+        snprintf (svc->params, sizeof svc->params, "%s", svc->instance->params);
+    if (!*svc->state_dir)
+        snprintf (svc->state_dir, sizeof svc->state_dir, "%s", cgs_exercise_state_dir (svc->exercise));
+    if (svc->check_only)
+        return 0;
+    if ((rc = cgs_state_mkdir (svc->state_dir)) < 0) {
+        cgs_log (LOG_ERR, "cannot create state folder %s: %s", svc->state_dir, strerror (-rc));
+        return rc;
+    }
+    if ((rc = cgs_lifecycle_init ()) < 0) {
+        cgs_log (LOG_ERR, "cannot install signal handlers: %s", strerror (-rc));
+        return rc;
+    }
+    svc->ctx = zmq_ctx_new ();
+    svc->loop = cgs_loop_new ();
+    svc->health = cgs_health_new (info->program, svc->instance_name, CGS_VERSION);
+    if (!svc->ctx || !svc->loop || !svc->health) {
+        cgs_log (LOG_ERR, "out of memory");
+        return -ENOMEM;
+    }
+    if (*svc->instance->publish) {
+        svc->pub = cgs_pub_new (svc->ctx, svc->instance_name, cgs_exercise_id (svc->exercise));
+        if (!svc->pub)
+            return -errno;
+        if ((rc = cgs_pub_bind (svc->pub, svc->instance->publish)) < 0) {
+            cgs_log (LOG_ERR, "cannot bind %s: %s", svc->instance->publish, zmq_strerror (-rc));
+            return rc;
+        }
+        cgs_health_watch_pub (svc->health, svc->pub);
+    }
+    cgs_log (LOG_INFO, "exercise %s (id %u), instance %s, publishing on %s",
+             cgs_exercise_name (svc->exercise), cgs_exercise_id (svc->exercise), svc->instance_name,
+             *svc->instance->publish ? svc->instance->publish : "(nothing)");
+    return 0;
+}
+
+static void s_on_sub (void *arg)
+{
+    cgs_service_t *svc = arg;
+    cgs_sub_dispatch (svc->sub, 1000);
+}
+
+int cgs_service_subscribe (cgs_service_t *svc, const char *topic, cgs_sub_fn *fn, void *arg)
+{
+    if (!svc->sub) {
+        svc->sub = cgs_sub_new (svc->ctx);
+        if (!svc->sub)
+            return -errno;
+        cgs_health_watch_sub (svc->health, svc->sub);
+        cgs_loop_add_socket (svc->loop, cgs_sub_socket (svc->sub), s_on_sub, svc);
+    }
+    int rc = cgs_sub_on (svc->sub, topic, fn, arg);
+    if (rc < 0) {
+        cgs_log (LOG_ERR, "cannot subscribe to %s: %s", topic, strerror (-rc));
+        return rc;
+    }
+    const cgs_instance_t *pubs[64];
+    size_t n = cgs_exercise_publishers_of (svc->exercise, topic, pubs, 64);
+    if (n > 64)
+        n = 64;
+    for (size_t i = 0; i < n; i++) {
+        const char *ep = pubs[i]->publish;
+        if (!*ep)
+            continue;
+        bool seen = false;
+        for (size_t k = 0; k < svc->nconnected && !seen; k++)
+            seen = strcmp (svc->connected[k], ep) == 0;
+        if (seen || svc->nconnected == 64)
+            continue;
+        if ((rc = cgs_sub_connect (svc->sub, ep)) < 0) {
+            cgs_log (LOG_ERR, "cannot connect to %s (%s): %s", ep, pubs[i]->name, zmq_strerror (-rc));
+            return rc;
+        }
+        snprintf (svc->connected[svc->nconnected++], CGS_ENDPOINT_MAX, "%s", ep);
+    }
+    if (n == 0)
+        cgs_log (LOG_WARNING, "no instance in %s publishes %s", svc->exercise_path, topic);
+    return 0;
+}
+
+static void s_on_cmd (void *arg)
+{
+    cgs_service_t *svc = arg;
+    cgs_cmd_server_dispatch (svc->cmd, 100);
+}
+
+int cgs_service_serve_commands (cgs_service_t *svc, cgs_cmd_handler_fn *handler, void *arg)
+{
+    if (!*svc->instance->command) {
+        cgs_log (LOG_ERR, "%s: [service %s] has no command endpoint", svc->exercise_path,
+                 svc->instance_name);
+        return -EINVAL;
+    }
+    char cache[4200];
+    snprintf (cache, sizeof cache, "%s/%s.replies", svc->state_dir, svc->instance_name);
+    svc->cmd = cgs_cmd_server_new (svc->ctx, svc->instance_name, cache, handler, arg);
+    if (!svc->cmd)
+        return -errno;
+    if (*cgs_cmd_server_load_error (svc->cmd)) {
+        cgs_log (LOG_WARNING, "stored replies ignored: %s", cgs_cmd_server_load_error (svc->cmd));
+        cgs_health_set_error (svc->health, cgs_cmd_server_load_error (svc->cmd));
+    }
+    int rc = cgs_cmd_server_bind (svc->cmd, svc->instance->command);
+    if (rc < 0) {
+        cgs_log (LOG_ERR, "cannot bind %s: %s", svc->instance->command, zmq_strerror (-rc));
+        return rc;
+    }
+    cgs_health_watch_cmd (svc->health, svc->cmd);
+    return cgs_loop_add_socket (svc->loop, cgs_cmd_server_socket (svc->cmd), s_on_cmd, svc);
+}
+
+int cgs_service_publish (cgs_service_t *svc, const char *topic, ProtobufCMessage *msg)
+{
+    if (!svc->pub)
+        return -ENOTCONN;
+    int rc = cgs_pub_send (svc->pub, topic, msg, svc->sim_time_s);
+    if (rc < 0 && rc != -EAGAIN) {
+        char why[256];
+        snprintf (why, sizeof why, "publish %s: %s", topic, zmq_strerror (-rc));
+        cgs_health_set_error (svc->health, why);
+    }
+    return rc;
+}
+
+static void s_on_health (void *arg)
+{
+    cgs_service_t *svc = arg;
+    if (svc->pub)
+        cgs_health_publish (svc->health, svc->pub, svc->sim_time_s);
+}
+
+static void s_on_watchdog (void *arg)
+{
+    (void) arg;
+    cgs_notify_watchdog ();
+}
+
+int cgs_service_run (cgs_service_t *svc)
+{
+    cgs_loop_add_timer (svc->loop, 1.0, s_on_health, svc);
+    uint64_t wd = cgs_notify_watchdog_usec ();
+    if (wd > 0)
+        cgs_loop_add_timer (svc->loop, (double) wd / 2e6, s_on_watchdog, svc);
+    cgs_health_set_state (svc->health, CGS__SERVICE_STATE__SERVICE_STATE_RUNNING);
+    s_on_health (svc);
+    cgs_notify_ready ("running");
+    int rc = cgs_loop_run (svc->loop);
+    cgs_notify_stopping ();
+    cgs_health_set_state (svc->health, CGS__SERVICE_STATE__SERVICE_STATE_STOPPING);
+    s_on_health (svc);
+    if (rc < 0) {
+        cgs_log (LOG_ERR, "event loop failed: %s", zmq_strerror (-rc));
+        return 1;
+    }
+    int sig = cgs_lifecycle_stop_signal ();
+    cgs_log (LOG_INFO, "stopping%s%s", sig ? " on " : "", sig ? strsignal (sig) : "");
+    return 0;
+}
+
+void cgs_service_fini (cgs_service_t *svc)
+{
+    cgs_cmd_server_destroy (&svc->cmd);
+    cgs_sub_destroy (&svc->sub);
+    cgs_pub_destroy (&svc->pub);
+    cgs_health_destroy (&svc->health);
+    cgs_loop_destroy (&svc->loop);
+    cgs_exercise_destroy (&svc->exercise);
+    if (svc->ctx) {
+        zmq_ctx_term (svc->ctx);
+        svc->ctx = NULL;
+    }
+}

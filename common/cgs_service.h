@@ -1,0 +1,85 @@
+/* cgs_service — the thin shell every service's main.c shares: standard
+ * options, the exercise file, the instance's publisher, subscriptions to every
+ * publisher of a topic, the command server, the 1 Hz health message, signals,
+ * systemd notification and the watchdog, all around one cgs_loop. Unlike the
+ * rest of common/, this is main-program code: it logs (through cgs_log) and
+ * prints usage.
+ *
+ * Standard options: --exercise FILE (default $MSCGS_EXERCISE, else
+ * /etc/mscgs/exercise.ini), --instance NAME (default: the program's name),
+ * --scenario FILE, --params FILE, --state-dir DIR, --check (validate the
+ * configuration and exit), -v/--verbose, -h/--help, --version. */
+#ifndef CGS_SERVICE_H
+#define CGS_SERVICE_H
+
+#include "cgs_bus.h"
+#include "cgs_cmd.h"
+#include "cgs_exercise.h"
+#include "cgs_health.h"
+#include "cgs_loop.h"
+
+#include <stdbool.h>
+
+#define CGS_VERSION "0.1.0"
+
+/* One service-specific long option. */
+typedef struct {
+    const char *name;  // without the dashes
+    bool has_arg;
+    const char *arg_name;  // for help, e.g. "N"
+    const char *help;
+} cgs_service_option_t;
+
+/* What a service tells the shell about itself. */
+typedef struct {
+    const char *program;                   // e.g. "uavsim"
+    const char *summary;                   // one line for --help
+    const cgs_service_option_t *options;   // extra options, ended by {NULL}; may be NULL
+    /* Called for each extra option given; return 0, or -EINVAL after filling why. */
+    int (*on_option) (void *arg, const char *name, const char *value, char *why, size_t whylen);
+    void *option_arg;
+} cgs_service_info_t;
+
+typedef struct {
+    const cgs_service_info_t *info;
+    char instance_name[CGS_NAME_MAX];
+    char exercise_path[4096];
+    char scenario[4096];       // "" when none given (and none in the exercise)
+    char params[4096];         // "" when none given (and none in the instance)
+    char state_dir[4096];      // absolute, created
+    bool check_only;           // --check: validate and exit
+    int verbose;
+    void *ctx;                 // ZeroMQ context
+    cgs_exercise_t *exercise;
+    const cgs_instance_t *instance;
+    cgs_loop_t *loop;
+    cgs_pub_t *pub;            // NULL when the instance has no publish endpoint
+    cgs_sub_t *sub;            // created by the first cgs_service_subscribe
+    cgs_cmd_server_t *cmd;     // created by cgs_service_serve_commands
+    cgs_health_t *health;
+    double sim_time_s;         // latest simulation time, stamped on health
+    char connected[64][CGS_ENDPOINT_MAX];  // endpoints the subscriber connected to
+    size_t nconnected;
+} cgs_service_t;
+
+/* Parse options, read the exercise, find the instance, create the state
+ * folder, the loop and the publisher (bound). Returns 0 to go on, 1 when
+ * --help or --version was printed (exit 0), or a negative errno after logging
+ * why (exit non-zero). */
+int cgs_service_init (cgs_service_t *svc, const cgs_service_info_t *info, int argc, char **argv);
+/* Subscribe to topic with fn, connecting to every publisher of it named in
+ * the exercise; 0 or -errno (logged). */
+int cgs_service_subscribe (cgs_service_t *svc, const char *topic, cgs_sub_fn *fn, void *arg);
+/* Serve commands on the instance's command endpoint, storing replies in the
+ * state folder; 0 or -errno (logged). */
+int cgs_service_serve_commands (cgs_service_t *svc, cgs_cmd_handler_fn *handler, void *arg);
+/* Publish msg on topic stamped with svc->sim_time_s; a failure is counted and
+ * becomes the health's last error. */
+int cgs_service_publish (cgs_service_t *svc, const char *topic, ProtobufCMessage *msg);
+/* Run the loop until stopped: READY to systemd, health at 1 Hz, the watchdog
+ * from the loop. Returns the process exit code. */
+int cgs_service_run (cgs_service_t *svc);
+/* Free everything; safe on a half-initialised service. */
+void cgs_service_fini (cgs_service_t *svc);
+
+#endif

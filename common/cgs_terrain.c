@@ -1,0 +1,1124 @@
+/* cgs_terrain — the terrain database every service queries: a regular float
+ * height grid in the exercise's local east-north-up frame, generated as fBm
+ * from a seed or resampled from a DEM through GDAL, with bilinear heights,
+ * normals and a line of sight that is exact for the bilinear surface.
+ * Pure: no globals, no logging (GDAL's own messages are silenced while a DEM
+ * loads and folded into the caller's error text). */
+#include "cgs_terrain.h"
+
+#include <assert.h>
+#include <errno.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+
+#include <cpl_conv.h>
+#include <cpl_error.h>
+#include <cpl_string.h>
+#include <cpl_vsi.h>
+#include <gdal.h>
+#include <ogr_srs_api.h>
+
+/* fBm must come out the same everywhere: no fused multiply-adds. GCC keeps
+ * them off in ISO C mode (-std=c11) and does not know this pragma; clang needs it. */
+#if defined(__clang__)
+#pragma STDC FP_CONTRACT OFF
+#endif
+
+#define CGS_TERRAIN_MAX_NODES      ((size_t)1 << 26) // most nodes in one grid
+#define CGS_TERRAIN_MAX_READ_BYTES ((size_t)1 << 28) // most raster bytes read at once
+#define CGS_TERRAIN_EDGE_SAMPLES   256 // points per raster edge when mapping its footprint
+
+struct cgs_terrain {
+    int cols;     // nodes west to east
+    int rows;     // nodes south to north
+    double e0_m;  // east of node (0, 0), metres
+    double n0_m;  // north of node (0, 0), metres
+    double res_m; // node spacing, metres
+    double min_m; // lowest node, metres (local up)
+    double max_m; // highest node, metres (local up)
+    float *h_m;   // rows * cols heights, row 0 southernmost, metres (local up)
+};
+
+/* --- grid ------------------------------------------------------------------ */
+
+/* An empty grid of the given shape; NULL on bad shape or no memory. */
+static cgs_terrain_t *s_new (int cols, int rows, double e0_m, double n0_m, double res_m)
+{
+    if (cols < 2 || rows < 2 || (size_t)cols * (size_t)rows > CGS_TERRAIN_MAX_NODES)
+        return NULL;
+    if (!isfinite (e0_m) || !isfinite (n0_m) || !isfinite (res_m) || res_m <= 0)
+        return NULL;
+    cgs_terrain_t *self = calloc (1, sizeof *self);
+    if (!self)
+        goto fail;
+    self->cols = cols;
+    self->rows = rows;
+    self->e0_m = e0_m;
+    self->n0_m = n0_m;
+    self->res_m = res_m;
+    self->h_m = calloc ((size_t)cols * (size_t)rows, sizeof *self->h_m);
+    if (!self->h_m)
+        goto fail;
+    return self;
+fail:
+    cgs_terrain_destroy (&self);
+    return NULL;
+}
+
+/* Record the height range once the nodes are filled in. */
+static void s_finish (cgs_terrain_t *self)
+{
+    size_t n = (size_t)self->cols * (size_t)self->rows;
+    float lo = self->h_m[0], hi = self->h_m[0];
+    for (size_t i = 1; i < n; i++) {
+        if (self->h_m[i] < lo)
+            lo = self->h_m[i];
+        if (self->h_m[i] > hi)
+            hi = self->h_m[i];
+    }
+    self->min_m = lo;
+    self->max_m = hi;
+}
+
+cgs_terrain_t *cgs_terrain_new_grid (int cols, int rows, double e0_m, double n0_m, double res_m,
+                                     const float *heights_m)
+{
+    if (!heights_m)
+        return NULL;
+    cgs_terrain_t *self = s_new (cols, rows, e0_m, n0_m, res_m);
+    if (!self)
+        return NULL;
+    size_t n = (size_t)cols * (size_t)rows;
+    for (size_t i = 0; i < n; i++) {
+        if (!isfinite (heights_m[i]))
+            goto fail;
+        self->h_m[i] = heights_m[i];
+    }
+    s_finish (self);
+    return self;
+fail:
+    cgs_terrain_destroy (&self);
+    return NULL;
+}
+
+void cgs_terrain_destroy (cgs_terrain_t **self_p)
+{
+    if (!self_p || !*self_p)
+        return;
+    cgs_terrain_t *self = *self_p;
+    free (self->h_m);
+    free (self);
+    *self_p = NULL;
+}
+
+static inline double s_node (const cgs_terrain_t *self, int c, int r)
+{
+    return self->h_m[(size_t)r * (size_t)self->cols + (size_t)c];
+}
+
+/* Bilinear height at grid coordinates (x, y) (node units), which must lie in
+ * [0, cols-1] x [0, rows-1]. */
+static double s_bilinear (const cgs_terrain_t *self, double x, double y)
+{
+    int c = (int)floor (x), r = (int)floor (y);
+    if (c > self->cols - 2)
+        c = self->cols - 2;
+    if (r > self->rows - 2)
+        r = self->rows - 2;
+    if (c < 0)
+        c = 0;
+    if (r < 0)
+        r = 0;
+    double u = x - c, v = y - r;
+    double h00 = s_node (self, c, r), h10 = s_node (self, c + 1, r);
+    double h01 = s_node (self, c, r + 1), h11 = s_node (self, c + 1, r + 1);
+    return (h00 * (1 - u) + h10 * u) * (1 - v) + (h01 * (1 - u) + h11 * u) * v;
+}
+
+static double s_clamp (double x, double lo, double hi)
+{
+    return x < lo ? lo : x > hi ? hi : x;
+}
+
+int cgs_terrain_height (const cgs_terrain_t *self, double e_m, double n_m, double *ret_h_m)
+{
+    assert (self);
+    double x = (e_m - self->e0_m) / self->res_m, y = (n_m - self->n0_m) / self->res_m;
+    double max_e, max_n;
+    cgs_terrain_bounds (self, NULL, NULL, &max_e, &max_n);
+    if (!(e_m >= self->e0_m && e_m <= max_e && n_m >= self->n0_m && n_m <= max_n))
+        return -ERANGE; // also NaN
+    double h = s_bilinear (self, s_clamp (x, 0, self->cols - 1), s_clamp (y, 0, self->rows - 1));
+    if (ret_h_m)
+        *ret_h_m = h;
+    return 0;
+}
+
+double cgs_terrain_height_clamped (const cgs_terrain_t *self, double e_m, double n_m)
+{
+    assert (self);
+    double x = (e_m - self->e0_m) / self->res_m, y = (n_m - self->n0_m) / self->res_m;
+    if (isnan (x))
+        x = 0;
+    if (isnan (y))
+        y = 0;
+    return s_bilinear (self, s_clamp (x, 0, self->cols - 1), s_clamp (y, 0, self->rows - 1));
+}
+
+/* Central differences one node spacing either side, one-sided at the edges. */
+cgs_enu_t cgs_terrain_normal (const cgs_terrain_t *self, double e_m, double n_m)
+{
+    assert (self);
+    double min_e, min_n, max_e, max_n;
+    cgs_terrain_bounds (self, &min_e, &min_n, &max_e, &max_n);
+    double e = s_clamp (e_m, min_e, max_e), n = s_clamp (n_m, min_n, max_n);
+    double e_lo = fmax (e - self->res_m, min_e), e_hi = fmin (e + self->res_m, max_e);
+    double n_lo = fmax (n - self->res_m, min_n), n_hi = fmin (n + self->res_m, max_n);
+    double dh_de =
+        (cgs_terrain_height_clamped (self, e_hi, n) - cgs_terrain_height_clamped (self, e_lo, n)) /
+        (e_hi - e_lo);
+    double dh_dn =
+        (cgs_terrain_height_clamped (self, e, n_hi) - cgs_terrain_height_clamped (self, e, n_lo)) /
+        (n_hi - n_lo);
+    double len = sqrt (dh_de * dh_de + dh_dn * dh_dn + 1);
+    return (cgs_enu_t){-dh_de / len, -dh_dn / len, 1 / len};
+}
+
+int cgs_terrain_cols (const cgs_terrain_t *self)
+{
+    assert (self);
+    return self->cols;
+}
+
+int cgs_terrain_rows (const cgs_terrain_t *self)
+{
+    assert (self);
+    return self->rows;
+}
+
+double cgs_terrain_resolution (const cgs_terrain_t *self)
+{
+    assert (self);
+    return self->res_m;
+}
+
+void cgs_terrain_bounds (const cgs_terrain_t *self, double *ret_min_e, double *ret_min_n,
+                         double *ret_max_e, double *ret_max_n)
+{
+    assert (self);
+    if (ret_min_e)
+        *ret_min_e = self->e0_m;
+    if (ret_min_n)
+        *ret_min_n = self->n0_m;
+    if (ret_max_e)
+        *ret_max_e = self->e0_m + (self->cols - 1) * self->res_m;
+    if (ret_max_n)
+        *ret_max_n = self->n0_m + (self->rows - 1) * self->res_m;
+}
+
+void cgs_terrain_height_range (const cgs_terrain_t *self, double *ret_min_m, double *ret_max_m)
+{
+    assert (self);
+    if (ret_min_m)
+        *ret_min_m = self->min_m;
+    if (ret_max_m)
+        *ret_max_m = self->max_m;
+}
+
+float cgs_terrain_node (const cgs_terrain_t *self, int col, int row)
+{
+    assert (self);
+    assert (col >= 0 && col < self->cols && row >= 0 && row < self->rows);
+    return self->h_m[(size_t)row * (size_t)self->cols + (size_t)col];
+}
+
+/* --- line of sight ----------------------------------------------------------
+ * The segment is p(t) = a + t (b - a), t in [0, 1]. In grid coordinates
+ * (node units) it is clipped to the grid, then walked cell by cell
+ * (Amanatides-Woo: the next crossing of a column line and of a row line).
+ * Inside one cell the bilinear surface along a straight line is a quadratic in
+ * t and the segment's height is linear, so the smallest clearance over the
+ * piece is at an end of the piece or at the quadratic's vertex: exact, not
+ * sampled. Endpoints are not treated specially: a point exactly on the ground
+ * touches it and so blocks; callers raise their endpoints (a vehicle's sensor
+ * or antenna, e.g. 2 m above the ground). */
+
+typedef struct {
+    double xa, ya, za; // start, grid coordinates and height (metres)
+    double dx, dy, dz; // b - a, in the same units
+} s_seg_t;
+
+/* Smallest (segment - surface) over t in [ta, tb], all within one cell. */
+static double s_piece_min (const cgs_terrain_t *self, const s_seg_t *s, double ta, double tb)
+{
+    double tm = 0.5 * (ta + tb);
+    double xm = s->xa + s->dx * tm, ym = s->ya + s->dy * tm, zm = s->za + s->dz * tm;
+    int c = (int)floor (xm), r = (int)floor (ym);
+    c = c < 0 ? 0 : c > self->cols - 2 ? self->cols - 2 : c;
+    r = r < 0 ? 0 : r > self->rows - 2 ? self->rows - 2 : r;
+    double h00 = s_node (self, c, r), h10 = s_node (self, c + 1, r);
+    double h01 = s_node (self, c, r + 1), h11 = s_node (self, c + 1, r + 1);
+    double A = h10 - h00, B = h01 - h00, C = h00 - h10 - h01 + h11;
+    double um = xm - c, vm = ym - r;
+    // Surface along the piece, in s = t - tm: H0 + H1 s + H2 s^2.
+    double H0 = h00 + A * um + B * vm + C * um * vm;
+    double H1 = A * s->dx + B * s->dy + C * (um * s->dy + vm * s->dx);
+    double H2 = C * s->dx * s->dy;
+    // Clearance f(s) = q0 + q1 s + q2 s^2.
+    double q0 = zm - H0, q1 = s->dz - H1, q2 = -H2;
+    double sa = ta - tm, sb = tb - tm;
+    double fa = q0 + (q1 + q2 * sa) * sa, fb = q0 + (q1 + q2 * sb) * sb;
+    double f = fmin (fa, fb);
+    if (q2 > 0) {
+        double sv = -q1 / (2 * q2);
+        if (sv > sa && sv < sb)
+            f = fmin (f, q0 + (q1 + q2 * sv) * sv);
+    }
+    return f;
+}
+
+/* Clip t in [*t0, *t1] to lo <= x0 + d t <= hi; false when nothing is left. */
+static bool s_clip (double x0, double d, double lo, double hi, double *t0, double *t1)
+{
+    if (d == 0)
+        return x0 >= lo && x0 <= hi;
+    double ta = (lo - x0) / d, tb = (hi - x0) / d;
+    if (ta > tb) {
+        double tmp = ta;
+        ta = tb;
+        tb = tmp;
+    }
+    if (ta > *t0)
+        *t0 = ta;
+    if (tb < *t1)
+        *t1 = tb;
+    return *t0 <= *t1;
+}
+
+/* Smallest clearance along a-b over the grid (+INFINITY when the segment
+ * misses the grid); with stop_blocked, returns as soon as it is <= 0. */
+static double s_los (const cgs_terrain_t *self, cgs_enu_t a, cgs_enu_t b, bool stop_blocked)
+{
+    s_seg_t s = {
+        .xa = (a.e_m - self->e0_m) / self->res_m,
+        .ya = (a.n_m - self->n0_m) / self->res_m,
+        .za = a.u_m,
+        .dx = (b.e_m - a.e_m) / self->res_m,
+        .dy = (b.n_m - a.n_m) / self->res_m,
+        .dz = b.u_m - a.u_m,
+    };
+    if (!isfinite (s.xa) || !isfinite (s.ya) || !isfinite (s.za) || !isfinite (s.dx) ||
+        !isfinite (s.dy) || !isfinite (s.dz))
+        return NAN;
+    double t0 = 0, t1 = 1;
+    if (!s_clip (s.xa, s.dx, 0, self->cols - 1, &t0, &t1) ||
+        !s_clip (s.ya, s.dy, 0, self->rows - 1, &t0, &t1))
+        return INFINITY;
+
+    // First column / row line crossed after t0, as integers.
+    double x0 = s.xa + s.dx * t0, y0 = s.ya + s.dy * t0;
+    int sx = s.dx > 0 ? 1 : -1, sy = s.dy > 0 ? 1 : -1;
+    double kx = s.dx > 0 ? floor (x0) + 1 : ceil (x0) - 1;
+    double ky = s.dy > 0 ? floor (y0) + 1 : ceil (y0) - 1;
+    double best = INFINITY, ta = t0;
+    for (;;) {
+        double tx = s.dx != 0 ? (kx - s.xa) / s.dx : INFINITY;
+        double ty = s.dy != 0 ? (ky - s.ya) / s.dy : INFINITY;
+        double tb = fmin (fmin (tx, ty), t1);
+        if (tb >= ta) {
+            best = fmin (best, s_piece_min (self, &s, ta, tb));
+            if (stop_blocked && best <= 0)
+                return best;
+            ta = tb;
+        }
+        if (tb >= t1)
+            break;
+        if (tx <= tb)
+            kx += sx;
+        if (ty <= tb)
+            ky += sy;
+    }
+    return best;
+}
+
+bool cgs_terrain_los_clearance (const cgs_terrain_t *self, cgs_enu_t a, cgs_enu_t b,
+                                double *ret_clearance_m)
+{
+    assert (self);
+    double c = s_los (self, a, b, false);
+    if (ret_clearance_m)
+        *ret_clearance_m = c;
+    return c > 0; // false for NaN (non-finite input)
+}
+
+bool cgs_terrain_los (const cgs_terrain_t *self, cgs_enu_t a, cgs_enu_t b)
+{
+    assert (self);
+    return s_los (self, a, b, true) > 0;
+}
+
+/* --- procedural terrain -----------------------------------------------------
+ * Gradient (Perlin) noise on an integer lattice whose gradients come from a
+ * hash of the lattice point, the seed and the octave: no permutation table,
+ * so no period. Every step is IEEE add/multiply/floor on doubles and integer
+ * hashing, so the same seed gives the same grid on every platform (the file
+ * is built without -ffast-math and without fused multiply-adds, see the top). */
+
+static uint64_t s_mix64 (uint64_t z)
+{
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+    return z ^ (z >> 31);
+}
+
+/* splitmix64: the generator that draws each octave's key and offset. */
+static uint64_t s_splitmix64 (uint64_t *state)
+{
+    *state += 0x9e3779b97f4a7c15ULL;
+    return s_mix64 (*state);
+}
+
+#define S_DIAG 0.70710678118654752440
+static const double s_gradients[8][2] = {{1, 0},
+                                         {-1, 0},
+                                         {0, 1},
+                                         {0, -1},
+                                         {S_DIAG, S_DIAG},
+                                         {-S_DIAG, S_DIAG},
+                                         {S_DIAG, -S_DIAG},
+                                         {-S_DIAG, -S_DIAG}};
+
+static double s_grad_dot (uint64_t key, int64_t ix, int64_t iy, double fx, double fy)
+{
+    uint64_t h = s_mix64 (s_mix64 (key ^ (uint64_t)ix) ^ (uint64_t)iy);
+    const double *g = s_gradients[h >> 61];
+    return g[0] * fx + g[1] * fy;
+}
+
+static double s_fade (double t)
+{
+    return t * t * t * (t * (t * 6 - 15) + 10);
+}
+
+/* Perlin gradient noise at (x, y), lattice units; about [-0.7, 0.7]. */
+static double s_perlin (uint64_t key, double x, double y)
+{
+    double x0 = floor (x), y0 = floor (y);
+    int64_t ix = (int64_t)x0, iy = (int64_t)y0;
+    double fx = x - x0, fy = y - y0;
+    double n00 = s_grad_dot (key, ix, iy, fx, fy);
+    double n10 = s_grad_dot (key, ix + 1, iy, fx - 1, fy);
+    double n01 = s_grad_dot (key, ix, iy + 1, fx, fy - 1);
+    double n11 = s_grad_dot (key, ix + 1, iy + 1, fx - 1, fy - 1);
+    double u = s_fade (fx), v = s_fade (fy);
+    double nx0 = n00 + u * (n10 - n00), nx1 = n01 + u * (n11 - n01);
+    return nx0 + v * (nx1 - nx0);
+}
+
+void cgs_terrain_fbm_defaults (cgs_terrain_fbm_t *p)
+{
+    assert (p);
+    *p = (cgs_terrain_fbm_t){
+        .seed = 0,
+        .size_m = 20000,
+        .resolution_m = 30,
+        .relief_m = 200,
+        .base_height_m = 0,
+        .feature_m = 4000,
+        .octaves = 6,
+        .persistence = 0.5,
+    };
+}
+
+/* The grid is floor(size / resolution) + 1 nodes a side (so it never exceeds
+ * size_m), centred on the origin. */
+cgs_terrain_t *cgs_terrain_new_fbm (const cgs_terrain_fbm_t *p)
+{
+    if (!p || !isfinite (p->size_m) || !isfinite (p->resolution_m) || !isfinite (p->relief_m) ||
+        !isfinite (p->base_height_m) || !isfinite (p->feature_m) || !isfinite (p->persistence))
+        return NULL;
+    if (p->size_m <= 0 || p->resolution_m <= 0 || p->relief_m < 0 || p->feature_m <= 0)
+        return NULL;
+    if (p->octaves < 1 || p->octaves > 16 || !(p->persistence > 0 && p->persistence <= 1))
+        return NULL;
+    double n_d = floor (p->size_m / p->resolution_m + 1e-9) + 1;
+    if (n_d < 2 || n_d * n_d > (double)CGS_TERRAIN_MAX_NODES)
+        return NULL;
+    // Keep lattice coordinates far inside int64 and exact in a double.
+    if (p->size_m / p->feature_m * ldexp (1, p->octaves) > ldexp (1, 40))
+        return NULL;
+    if (!isfinite (p->base_height_m + p->relief_m))
+        return NULL;
+
+    int n = (int)n_d;
+    double half_m = 0.5 * (n - 1) * p->resolution_m;
+    cgs_terrain_t *self = s_new (n, n, -half_m, -half_m, p->resolution_m);
+    if (!self)
+        return NULL;
+
+    uint64_t state = p->seed, key[16];
+    double off_x[16], off_y[16], freq[16], amp[16];
+    for (int k = 0; k < p->octaves; k++) {
+        key[k] = s_splitmix64 (&state);
+        off_x[k] = (double)(s_splitmix64 (&state) >> 11) * 0x1p-53 * 1024;
+        off_y[k] = (double)(s_splitmix64 (&state) >> 11) * 0x1p-53 * 1024;
+        freq[k] = ldexp (1, k) / p->feature_m;
+        amp[k] = k == 0 ? 1 : amp[k - 1] * p->persistence;
+    }
+    for (int r = 0; r < n; r++) {
+        double n_m = self->n0_m + r * self->res_m;
+        for (int c = 0; c < n; c++) {
+            double e_m = self->e0_m + c * self->res_m, sum = 0;
+            for (int k = 0; k < p->octaves; k++)
+                sum +=
+                    amp[k] * s_perlin (key[k], e_m * freq[k] + off_x[k], n_m * freq[k] + off_y[k]);
+            self->h_m[(size_t)r * n + c] = (float)sum;
+        }
+    }
+    // Rescale so the lowest node is base exactly and the highest base + relief.
+    s_finish (self);
+    double lo = self->min_m, span = self->max_m - self->min_m;
+    for (size_t i = 0; i < (size_t)n * n; i++) {
+        double f = span > 0 ? (self->h_m[i] - lo) / span : 0;
+        self->h_m[i] = (float)(p->base_height_m + p->relief_m * f);
+    }
+    s_finish (self);
+    return self;
+}
+
+/* --- DEM through GDAL ---------------------------------------------------------
+ * Raster pixels are samples at their centres; the raster's usable area is the
+ * rectangle between the outermost pixel centres, where a bilinear sample has
+ * all four neighbours. Its footprint in the local frame (boundary mapped
+ * through WGS84) bounds the local grid; the grid is the largest rectangle of
+ * lattice nodes (at multiples of the resolution from the origin) that contains
+ * the origin and whose nodes all fall in the usable area, so every node is a
+ * real sample. Heights are read as heights above the ellipsoid: the geoid
+ * separation (tens of metres, nearly constant over an exercise area) is
+ * ignored, which shifts the whole surface but not the lines of sight. */
+
+typedef struct {
+    const char *path;
+    GDALDatasetH ds;
+    GDALRasterBandH band;
+    OGRSpatialReferenceH wgs84, srs;
+    OGRCoordinateTransformationH to_raster; // WGS84 lon/lat -> raster CRS
+    OGRCoordinateTransformationH to_wgs84;  // raster CRS -> WGS84 lon/lat
+    double gt[6], inv_gt[6];                // geotransform and its inverse
+    int width, height;                      // raster size, pixels
+    double scale;                           // metres per raster unit (scale * unit)
+    double offset_m;                        // added after scaling, metres
+    int wx0, wy0, ww, wh;                   // window held in memory, pixels
+    float *win;                             // ww * wh heights, metres, no-data filled
+} s_dem_t;
+
+/* Fill the caller's error buffer (may be NULL). */
+static void s_err (char *err, size_t errlen, const char *fmt, ...)
+    __attribute__ ((format (printf, 3, 4)));
+
+static void s_err (char *err, size_t errlen, const char *fmt, ...)
+{
+    if (!err || errlen == 0)
+        return;
+    va_list ap;
+    va_start (ap, fmt);
+    vsnprintf (err, errlen, fmt, ap);
+    va_end (ap);
+}
+
+/* GDAL's last message, or a fallback. */
+static const char *s_gdal_msg (const char *fallback)
+{
+    const char *m = CPLGetLastErrorMsg ();
+    return m && *m ? m : fallback;
+}
+
+static void s_dem_close (s_dem_t *d)
+{
+    free (d->win);
+    d->win = NULL;
+    if (d->to_raster)
+        OCTDestroyCoordinateTransformation (d->to_raster);
+    if (d->to_wgs84)
+        OCTDestroyCoordinateTransformation (d->to_wgs84);
+    if (d->srs)
+        OSRRelease (d->srs);
+    if (d->wgs84)
+        OSRRelease (d->wgs84);
+    if (d->ds)
+        GDALClose (d->ds);
+    d->to_raster = d->to_wgs84 = NULL;
+    d->srs = d->wgs84 = NULL;
+    d->ds = NULL;
+}
+
+/* Metres per unit of the band's height unit; 0 when unknown. */
+static double s_unit_m (const char *unit)
+{
+    if (!unit || !*unit || !strcasecmp (unit, "m") || !strcasecmp (unit, "metre") ||
+        !strcasecmp (unit, "meter") || !strcasecmp (unit, "metres") || !strcasecmp (unit, "meters"))
+        return 1;
+    if (!strcasecmp (unit, "ft") || !strcasecmp (unit, "foot") || !strcasecmp (unit, "feet") ||
+        !strcasecmp (unit, "international foot"))
+        return 0.3048;
+    if (!strcasecmp (unit, "ftUS") || !strcasecmp (unit, "US survey foot"))
+        return 1200.0 / 3937.0;
+    return 0;
+}
+
+/* Open the raster, its band 1, georeferencing and the transformations. */
+static int s_dem_open (s_dem_t *d, char *err, size_t errlen)
+{
+    VSIStatBufL st;
+    if (VSIStatL (d->path, &st) != 0) {
+        s_err (err, errlen, "%s: no such file", d->path);
+        return -ENOENT;
+    }
+    GDALAllRegister ();
+    CPLErrorReset ();
+    d->ds = GDALOpenEx (d->path, GDAL_OF_RASTER | GDAL_OF_READONLY | GDAL_OF_VERBOSE_ERROR, NULL,
+                        NULL, NULL);
+    if (!d->ds) {
+        s_err (err, errlen, "%s: not a raster GDAL can read (%s)", d->path,
+               s_gdal_msg ("unknown format"));
+        return -EINVAL;
+    }
+    if (GDALGetRasterCount (d->ds) < 1) {
+        s_err (err, errlen, "%s: has no raster band", d->path);
+        return -EINVAL;
+    }
+    d->width = GDALGetRasterXSize (d->ds);
+    d->height = GDALGetRasterYSize (d->ds);
+    if (d->width < 2 || d->height < 2) {
+        s_err (err, errlen, "%s: raster is %d x %d pixels, need at least 2 x 2", d->path, d->width,
+               d->height);
+        return -EINVAL;
+    }
+    if (GDALGetGeoTransform (d->ds, d->gt) != CE_None) {
+        s_err (err, errlen, "%s: not georeferenced (no geotransform)", d->path);
+        return -EINVAL;
+    }
+    if (!GDALInvGeoTransform (d->gt, d->inv_gt)) {
+        s_err (err, errlen, "%s: degenerate geotransform", d->path);
+        return -EINVAL;
+    }
+    // No guessing: a raster without a CRS may be in degrees or in any metres.
+    OGRSpatialReferenceH srs = GDALGetSpatialRef (d->ds);
+    if (!srs) {
+        s_err (err, errlen,
+               "%s: no coordinate system (give the raster one, e.g. a .prj file or "
+               "gdal_edit.py -a_srs EPSG:4326)",
+               d->path);
+        return -EINVAL;
+    }
+    d->srs = OSRClone (srs);
+    d->wgs84 = OSRNewSpatialReference (NULL);
+    if (!d->srs || !d->wgs84) {
+        s_err (err, errlen, "%s: out of memory", d->path);
+        return -ENOMEM;
+    }
+    if (OSRSetWellKnownGeogCS (d->wgs84, "WGS84") != OGRERR_NONE) {
+        s_err (err, errlen, "%s: cannot set up WGS84 (%s)", d->path, s_gdal_msg ("PROJ error"));
+        return -EINVAL;
+    }
+    // x = longitude or easting, y = latitude or northing, whatever the CRS says.
+    OSRSetAxisMappingStrategy (d->srs, OAMS_TRADITIONAL_GIS_ORDER);
+    OSRSetAxisMappingStrategy (d->wgs84, OAMS_TRADITIONAL_GIS_ORDER);
+    d->to_raster = OCTNewCoordinateTransformation (d->wgs84, d->srs);
+    d->to_wgs84 = OCTNewCoordinateTransformation (d->srs, d->wgs84);
+    if (!d->to_raster || !d->to_wgs84) {
+        s_err (err, errlen,
+               "%s: cannot transform between WGS84 and the raster's coordinate "
+               "system (%s)",
+               d->path, s_gdal_msg ("PROJ error"));
+        return -EINVAL;
+    }
+    d->band = GDALGetRasterBand (d->ds, 1);
+    double unit = s_unit_m (GDALGetRasterUnitType (d->band));
+    if (unit == 0) {
+        s_err (err, errlen, "%s: band 1 heights are in an unknown unit '%s'", d->path,
+               GDALGetRasterUnitType (d->band));
+        return -EINVAL;
+    }
+    int has = 0;
+    double scale = GDALGetRasterScale (d->band, &has);
+    if (!has || !isfinite (scale) || scale == 0)
+        scale = 1;
+    double offset = GDALGetRasterOffset (d->band, &has);
+    if (!has || !isfinite (offset))
+        offset = 0;
+    d->scale = scale * unit;
+    d->offset_m = offset * unit;
+    return 0;
+}
+
+/* WGS84 lon/lat (degrees) in x, y to pixel/line, in place, for n points;
+ * ok[i] is 0 where the transformation fails. */
+static void s_dem_to_pixel (const s_dem_t *d, int n, double *x, double *y, int *ok)
+{
+    for (int i = 0; i < n; i++)
+        ok[i] = 0;
+    OCTTransformEx (d->to_raster, n, x, y, NULL, ok);
+    const double *g = d->inv_gt;
+    for (int i = 0; i < n; i++) {
+        if (!ok[i] || !isfinite (x[i]) || !isfinite (y[i])) {
+            ok[i] = 0;
+            continue;
+        }
+        double X = x[i], Y = y[i];
+        x[i] = g[0] + g[1] * X + g[2] * Y;
+        y[i] = g[3] + g[4] * X + g[5] * Y;
+    }
+}
+
+/* Pixel/line to WGS84 lon/lat (degrees), in place, for n points. */
+static void s_dem_to_lonlat (const s_dem_t *d, int n, double *x, double *y, int *ok)
+{
+    const double *g = d->gt;
+    for (int i = 0; i < n; i++) {
+        double px = x[i], py = y[i];
+        x[i] = g[0] + g[1] * px + g[2] * py;
+        y[i] = g[3] + g[4] * px + g[5] * py;
+        ok[i] = 0;
+    }
+    OCTTransformEx (d->to_wgs84, n, x, y, NULL, ok);
+    for (int i = 0; i < n; i++)
+        if (!isfinite (x[i]) || !isfinite (y[i]) || fabs (y[i]) > 90)
+            ok[i] = 0;
+}
+
+/* True when pixel/line (px, py) lies between the outermost pixel centres. */
+static bool s_dem_usable (const s_dem_t *d, double px, double py)
+{
+    const double eps = 1e-9;
+    return px >= 0.5 - eps && px <= d->width - 0.5 + eps && py >= 0.5 - eps &&
+           py <= d->height - 0.5 + eps;
+}
+
+/* Bilinear sample of the window at pixel/line (px, py); false outside it. */
+static bool s_dem_sample (const s_dem_t *d, double px, double py, double *ret_h_m)
+{
+    const double eps = 1e-6;
+    double x = px - 0.5 - d->wx0, y = py - 0.5 - d->wy0;
+    if (!(x >= -eps && x <= d->ww - 1 + eps && y >= -eps && y <= d->wh - 1 + eps))
+        return false;
+    x = s_clamp (x, 0, d->ww - 1);
+    y = s_clamp (y, 0, d->wh - 1);
+    int i = (int)floor (x), j = (int)floor (y);
+    if (i > d->ww - 2)
+        i = d->ww - 2;
+    if (j > d->wh - 2)
+        j = d->wh - 2;
+    double u = x - i, v = y - j;
+    const float *p = d->win + (size_t)j * d->ww + i;
+    *ret_h_m = (p[0] * (1 - u) + p[1] * u) * (1 - v) + (p[d->ww] * (1 - u) + p[d->ww + 1] * u) * v;
+    return true;
+}
+
+/* Read pixels [x0, x1] x [y0, y1] of band 1 into d->win, in metres, with
+ * no-data (GDAL's mask, or not finite) set to the band's lowest valid height. */
+static int s_dem_read (s_dem_t *d, int x0, int y0, int x1, int y1, char *err, size_t errlen)
+{
+    d->wx0 = x0;
+    d->wy0 = y0;
+    d->ww = x1 - x0 + 1;
+    d->wh = y1 - y0 + 1;
+    size_t n = (size_t)d->ww * (size_t)d->wh;
+    if (n * sizeof (float) > CGS_TERRAIN_MAX_READ_BYTES) {
+        s_err (err, errlen,
+               "%s: the area to read is %d x %d pixels (over %zu MiB); give a half extent", d->path,
+               d->ww, d->wh, CGS_TERRAIN_MAX_READ_BYTES >> 20);
+        return -EINVAL;
+    }
+    d->win = malloc (n * sizeof *d->win);
+    unsigned char *mask = NULL;
+    int flags = GDALGetMaskFlags (d->band);
+    if (!(flags & GMF_ALL_VALID))
+        mask = malloc (n);
+    if (!d->win || (!(flags & GMF_ALL_VALID) && !mask)) {
+        free (mask);
+        s_err (err, errlen, "%s: out of memory reading %d x %d pixels", d->path, d->ww, d->wh);
+        return -ENOMEM;
+    }
+    CPLErrorReset ();
+    if (GDALRasterIO (d->band, GF_Read, x0, y0, d->ww, d->wh, d->win, d->ww, d->wh, GDT_Float32, 0,
+                      0) != CE_None ||
+        (mask && GDALRasterIO (GDALGetMaskBand (d->band), GF_Read, x0, y0, d->ww, d->wh, mask,
+                               d->ww, d->wh, GDT_Byte, 0, 0) != CE_None)) {
+        free (mask);
+        s_err (err, errlen, "%s: cannot read band 1 (%s)", d->path, s_gdal_msg ("read error"));
+        return -EINVAL;
+    }
+    double lo = INFINITY;
+    size_t holes = 0;
+    for (size_t i = 0; i < n; i++) {
+        double h = d->win[i] * d->scale + d->offset_m;
+        bool valid = isfinite (h) && (!mask || mask[i]);
+        d->win[i] = valid ? (float)h : NAN;
+        holes += !valid;
+        if (valid && d->win[i] < lo)
+            lo = d->win[i];
+    }
+    free (mask);
+    if (holes == 0)
+        return 0;
+    // Holes take the band's lowest valid height, not the window's, so the
+    // same place gets the same height whatever extent is asked for. This
+    // reads the whole band once (GDAL skips its no-data value and NaN).
+    double mm[2];
+    CPLErrorReset ();
+    if (GDALComputeRasterMinMax (d->band, FALSE, mm) == CE_None && isfinite (mm[0]) &&
+        isfinite (mm[1])) {
+        double a = mm[0] * d->scale + d->offset_m, b = mm[1] * d->scale + d->offset_m;
+        lo = fmin (lo, fmin (a, b)); // a negative scale swaps them
+    }
+    if (!isfinite (lo)) {
+        s_err (err, errlen, "%s: band 1 has no valid heights", d->path);
+        return -EINVAL;
+    }
+    for (size_t i = 0; i < n; i++)
+        if (isnan (d->win[i]))
+            d->win[i] = (float)lo;
+    return 0;
+}
+
+/* The largest rectangle of set nodes in mask (cols x rows) that contains the
+ * set node (c0, r0): for each top row, a histogram of set runs per column,
+ * widened from c0 outwards as the height steps down. O(cols * rows). */
+static int s_best_rect (const unsigned char *mask, int cols, int rows, int c0, int r0,
+                        int ret_lo[2], int ret_hi[2])
+{
+    int *run = calloc ((size_t)cols, sizeof *run); // set nodes ending at row r, per column
+    if (!run)
+        return -ENOMEM;
+    double best = 0;
+    int lo[2] = {c0, r0}, hi[2] = {c0, r0};
+    for (int r = 0; r < rows; r++) {
+        for (int c = 0; c < cols; c++)
+            run[c] = mask[(size_t)r * cols + c] ? run[c] + 1 : 0;
+        if (r < r0)
+            continue;
+        int need = r - r0 + 1; // the rectangle must reach down to row r0
+        if (run[c0] < need)
+            break; // column c0 is cut between r0 and r: no taller rectangle either
+        int left = c0, right = c0, h = run[c0];
+        for (;;) {
+            while (left > 0 && run[left - 1] >= h)
+                left--;
+            while (right < cols - 1 && run[right + 1] >= h)
+                right++;
+            double area = (double)h * (right - left + 1);
+            if (area > best) {
+                best = area;
+                lo[0] = left;
+                lo[1] = r - h + 1;
+                hi[0] = right;
+                hi[1] = r;
+            }
+            int next = -1;
+            if (left > 0)
+                next = run[left - 1];
+            if (right < cols - 1 && run[right + 1] > next)
+                next = run[right + 1];
+            if (next < need)
+                break;
+            h = next;
+        }
+    }
+    free (run);
+    ret_lo[0] = lo[0];
+    ret_lo[1] = lo[1];
+    ret_hi[0] = hi[0];
+    ret_hi[1] = hi[1];
+    return 0;
+}
+
+/* Per-row scratch arrays for the node passes. */
+typedef struct {
+    double *lat, *lon, *x, *y, *u;
+    int *ok;
+} s_rowbuf_t;
+
+static void s_rowbuf_free (s_rowbuf_t *b)
+{
+    free (b->lat);
+    free (b->lon);
+    free (b->x);
+    free (b->y);
+    free (b->u);
+    free (b->ok);
+    memset (b, 0, sizeof *b);
+}
+
+static int s_rowbuf_alloc (s_rowbuf_t *b, int n)
+{
+    size_t m = n > 0 ? (size_t)n : 1;
+    b->lat = malloc (m * sizeof (double));
+    b->lon = malloc (m * sizeof (double));
+    b->x = malloc (m * sizeof (double));
+    b->y = malloc (m * sizeof (double));
+    b->u = malloc (m * sizeof (double));
+    b->ok = malloc (m * sizeof (int));
+    if (!b->lat || !b->lon || !b->x || !b->y || !b->u || !b->ok) {
+        s_rowbuf_free (b);
+        return -ENOMEM;
+    }
+    return 0;
+}
+
+/* Pixel/line of local points (e_m[i] or e0 + i*res, n, u) in b->x, b->y;
+ * lat/lon in b->lat, b->lon. */
+static void s_local_to_pixel (const s_dem_t *d, const cgs_geo_t *frame, int count, double e0_m,
+                              double res_m, double n_m, const double *u_m, s_rowbuf_t *b)
+{
+    for (int i = 0; i < count; i++) {
+        cgs_geodetic_t g = {NAN, NAN, NAN};
+        cgs_enu_t p = {e0_m + i * res_m, n_m, u_m ? u_m[i] : 0};
+        if (cgs_geo_enu_to_geodetic (frame, p, &g) != 0)
+            g.lat_deg = g.lon_deg = NAN;
+        b->lat[i] = g.lat_deg;
+        b->lon[i] = g.lon_deg;
+        b->x[i] = g.lon_deg;
+        b->y[i] = g.lat_deg;
+    }
+    s_dem_to_pixel (d, count, b->x, b->y, b->ok);
+}
+
+/* Local-frame bounding box of the raster's usable area. */
+static int s_footprint (const s_dem_t *d, const cgs_geo_t *frame, double box[4], char *err,
+                        size_t errlen)
+{
+    enum { N = CGS_TERRAIN_EDGE_SAMPLES };
+    double x[4 * N], y[4 * N];
+    int ok[4 * N];
+    double x0 = 0.5, x1 = d->width - 0.5, y0 = 0.5, y1 = d->height - 0.5;
+    for (int i = 0; i < N; i++) {
+        double f = (double)i / N;
+        x[i] = x0 + f * (x1 - x0), y[i] = y0;                 // top, west to east
+        x[N + i] = x1, y[N + i] = y0 + f * (y1 - y0);         // east, top to bottom
+        x[2 * N + i] = x1 - f * (x1 - x0), y[2 * N + i] = y1; // bottom, east to west
+        x[3 * N + i] = x0, y[3 * N + i] = y1 - f * (y1 - y0); // west, bottom to top
+    }
+    s_dem_to_lonlat (d, 4 * N, x, y, ok);
+    box[0] = box[1] = INFINITY;
+    box[2] = box[3] = -INFINITY;
+    for (int i = 0; i < 4 * N; i++) {
+        cgs_enu_t p;
+        if (!ok[i] || cgs_geo_geodetic_to_enu (frame, (cgs_geodetic_t){y[i], x[i], 0}, &p) != 0)
+            continue;
+        box[0] = fmin (box[0], p.e_m);
+        box[1] = fmin (box[1], p.n_m);
+        box[2] = fmax (box[2], p.e_m);
+        box[3] = fmax (box[3], p.n_m);
+    }
+    if (!(box[0] <= box[2] && box[1] <= box[3])) {
+        s_err (err, errlen, "%s: cannot map the raster's edges to WGS84 (%s)", d->path,
+               s_gdal_msg ("transformation failed"));
+        return -EINVAL;
+    }
+    return 0;
+}
+
+/* Metres per pixel at the origin: the smaller of the two pixel sides. */
+static int s_pixel_size_m (const s_dem_t *d, const cgs_geo_t *frame, double px, double py,
+                           double *ret_res_m, char *err, size_t errlen)
+{
+    double x[4] = {px - 0.5, px + 0.5, px, px}, y[4] = {py, py, py - 0.5, py + 0.5};
+    int ok[4];
+    cgs_enu_t p[4];
+    s_dem_to_lonlat (d, 4, x, y, ok);
+    for (int i = 0; i < 4; i++)
+        if (!ok[i] ||
+            cgs_geo_geodetic_to_enu (frame, (cgs_geodetic_t){y[i], x[i], 0}, &p[i]) != 0) {
+            s_err (err, errlen, "%s: cannot work out the pixel size at the origin", d->path);
+            return -EINVAL;
+        }
+    double dx = hypot (p[1].e_m - p[0].e_m, p[1].n_m - p[0].n_m);
+    double dy = hypot (p[3].e_m - p[2].e_m, p[3].n_m - p[2].n_m);
+    double res = fmin (dx, dy);
+    if (!(res > 0 && isfinite (res))) {
+        s_err (err, errlen, "%s: cannot work out the pixel size at the origin", d->path);
+        return -EINVAL;
+    }
+    *ret_res_m = res;
+    return 0;
+}
+
+/* Build the local grid from an open DEM. */
+static int s_dem_build (s_dem_t *d, const cgs_geo_t *frame, double res_m, double half_m,
+                        cgs_terrain_t **ret_t, char *err, size_t errlen)
+{
+    cgs_terrain_t *t = NULL;
+    unsigned char *mask = NULL;
+    s_rowbuf_t b = {0};
+    int rc;
+
+    // The origin must be in the usable area.
+    cgs_geodetic_t o = cgs_geo_origin (frame);
+    double ox = o.lon_deg, oy = o.lat_deg;
+    int ook = 0;
+    s_dem_to_pixel (d, 1, &ox, &oy, &ook);
+    if (!ook || !s_dem_usable (d, ox, oy)) {
+        s_err (err, errlen, "%s: the exercise origin (%.6f, %.6f) is outside the raster", d->path,
+               o.lat_deg, o.lon_deg);
+        return -EINVAL;
+    }
+    if (res_m == 0 && (rc = s_pixel_size_m (d, frame, ox, oy, &res_m, err, errlen)) != 0)
+        return rc;
+    if (half_m > 0 && half_m < res_m) {
+        s_err (err, errlen, "%s: half extent %g m is less than the resolution %g m", d->path,
+               half_m, res_m);
+        return -EINVAL;
+    }
+
+    // Lattice of nodes at multiples of res_m over the footprint's bounding box.
+    double box[4];
+    if ((rc = s_footprint (d, frame, box, err, errlen)) != 0)
+        return rc;
+    if (half_m > 0) {
+        box[0] = fmax (box[0], -half_m);
+        box[1] = fmax (box[1], -half_m);
+        box[2] = fmin (box[2], half_m);
+        box[3] = fmin (box[3], half_m);
+    }
+    double k_lo[2], k_hi[2];
+    for (int i = 0; i < 2; i++) {
+        k_lo[i] = fmin (ceil (box[i] / res_m - 1e-9), 0);
+        k_hi[i] = fmax (floor (box[2 + i] / res_m + 1e-9), 0);
+    }
+    double cols_d = k_hi[0] - k_lo[0] + 1, rows_d = k_hi[1] - k_lo[1] + 1;
+    if (!(cols_d * rows_d <= (double)CGS_TERRAIN_MAX_NODES)) {
+        s_err (err, errlen,
+               "%s: a grid over %.0f x %.0f m at %g m would have over 2^26 nodes; give a coarser "
+               "resolution or a half extent",
+               d->path, box[2] - box[0], box[3] - box[1], res_m);
+        return -EINVAL;
+    }
+    int cols = (int)cols_d, rows = (int)rows_d;
+    int c0 = (int)-k_lo[0], r0 = (int)-k_lo[1];
+
+    // Pass 1: which nodes fall in the usable area, and the pixels they need.
+    mask = calloc ((size_t)cols * (size_t)rows, 1);
+    if (!mask || s_rowbuf_alloc (&b, cols) != 0) {
+        s_err (err, errlen, "%s: out of memory for a %d x %d grid", d->path, cols, rows);
+        rc = -ENOMEM;
+        goto out;
+    }
+    double px_lo = INFINITY, py_lo = INFINITY, px_hi = -INFINITY, py_hi = -INFINITY;
+    for (int r = 0; r < rows; r++) {
+        s_local_to_pixel (d, frame, cols, k_lo[0] * res_m, res_m, (k_lo[1] + r) * res_m, NULL, &b);
+        for (int c = 0; c < cols; c++) {
+            if (!b.ok[c] || !s_dem_usable (d, b.x[c], b.y[c]))
+                continue;
+            mask[(size_t)r * cols + c] = 1;
+            px_lo = fmin (px_lo, b.x[c]);
+            px_hi = fmax (px_hi, b.x[c]);
+            py_lo = fmin (py_lo, b.y[c]);
+            py_hi = fmax (py_hi, b.y[c]);
+        }
+    }
+    if (!mask[(size_t)r0 * cols + c0]) {
+        s_err (err, errlen, "%s: the exercise origin (%.6f, %.6f) is outside the raster", d->path,
+               o.lat_deg, o.lon_deg);
+        rc = -EINVAL;
+        goto out;
+    }
+    int lo[2], hi[2];
+    if ((rc = s_best_rect (mask, cols, rows, c0, r0, lo, hi)) != 0) {
+        s_err (err, errlen, "%s: out of memory", d->path);
+        goto out;
+    }
+    if (hi[0] - lo[0] < 1 || hi[1] - lo[1] < 1) {
+        s_err (err, errlen, "%s: the raster covers less than one %g m grid cell about the origin",
+               d->path, res_m);
+        rc = -EINVAL;
+        goto out;
+    }
+
+    // The window of pixels the nodes need, with a margin for the refinement
+    // below (it moves a sample by u * distance / R: metres, a few pixels at most).
+    const double margin = 8;
+    int x0 = (int)fmax (floor (px_lo - 0.5) - margin, 0);
+    int y0 = (int)fmax (floor (py_lo - 0.5) - margin, 0);
+    int x1 = (int)fmin (ceil (px_hi - 0.5) + margin, d->width - 1);
+    int y1 = (int)fmin (ceil (py_hi - 0.5) + margin, d->height - 1);
+    if ((rc = s_dem_read (d, x0, y0, x1, y1, err, errlen)) != 0)
+        goto out;
+
+    // Pass 2: sample. A node's height is first taken below the point (e, n, 0);
+    // the local up axis leans away from the ellipsoid normal by distance/R, so
+    // a second sample below (e, n, u) puts the node where the surface really
+    // is at (e, n).
+    int gc = hi[0] - lo[0] + 1, gr = hi[1] - lo[1] + 1;
+    double e0_m = (k_lo[0] + lo[0]) * res_m, n0_m = (k_lo[1] + lo[1]) * res_m;
+    t = s_new (gc, gr, e0_m, n0_m, res_m);
+    if (!t) {
+        s_err (err, errlen, "%s: out of memory for a %d x %d grid", d->path, gc, gr);
+        rc = -ENOMEM;
+        goto out;
+    }
+    for (int r = 0; r < gr; r++) {
+        double n_m = n0_m + r * res_m;
+        for (int pass = 0; pass < 2; pass++) {
+            s_local_to_pixel (d, frame, gc, e0_m, res_m, n_m, pass ? b.u : NULL, &b);
+            for (int c = 0; c < gc; c++) {
+                double h;
+                cgs_enu_t p;
+                bool ok = b.ok[c] && s_dem_sample (d, b.x[c], b.y[c], &h) &&
+                          cgs_geo_geodetic_to_enu (frame, (cgs_geodetic_t){b.lat[c], b.lon[c], h},
+                                                   &p) == 0;
+                if (ok)
+                    b.u[c] = p.u_m;
+                else if (pass == 0) {
+                    s_err (err, errlen, "%s: cannot sample the raster at local (%g, %g)", d->path,
+                           e0_m + c * res_m, n_m);
+                    rc = -EINVAL;
+                    goto out;
+                } // else keep the first sample
+            }
+        }
+        for (int c = 0; c < gc; c++)
+            t->h_m[(size_t)r * gc + c] = (float)b.u[c];
+    }
+    s_finish (t);
+    *ret_t = t;
+    t = NULL;
+    rc = 0;
+out:
+    cgs_terrain_destroy (&t);
+    s_rowbuf_free (&b);
+    free (mask);
+    return rc;
+}
+
+int cgs_terrain_load (const char *path, const cgs_geo_t *frame, double resolution_m,
+                      double half_extent_m, cgs_terrain_t **ret_t, char *err, size_t errlen)
+{
+    if (err && errlen)
+        err[0] = '\0';
+    if (!path || !frame || !ret_t) {
+        s_err (err, errlen, "%s: no file, frame or result given", path ? path : "(null)");
+        return -EINVAL;
+    }
+    if (!isfinite (resolution_m) || resolution_m < 0 || !isfinite (half_extent_m) ||
+        half_extent_m < 0) {
+        s_err (err, errlen, "%s: resolution and half extent must be finite and >= 0", path);
+        return -EINVAL;
+    }
+    // GDAL reports through a per-thread handler stack: keep it off stderr.
+    CPLPushErrorHandler (CPLQuietErrorHandler);
+    s_dem_t d = {.path = path};
+    cgs_terrain_t *t = NULL;
+    int rc = s_dem_open (&d, err, errlen);
+    if (rc == 0)
+        rc = s_dem_build (&d, frame, resolution_m, half_extent_m, &t, err, errlen);
+    s_dem_close (&d);
+    CPLPopErrorHandler ();
+    if (rc == 0)
+        *ret_t = t;
+    return rc;
+}

@@ -1,0 +1,362 @@
+/* Unit tests of cgs_msg and cgs_bus: JSON printing, the arena, header
+ * stamping, exact topic routing, gap and restart counting, malformed payloads. */
+#include "cgs_bus.h"
+#include "cgs_topics.h"
+
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <cmocka.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+#include <zmq.h>
+
+static void test_json_prints_fields_enums_and_oneofs (void **state)
+{
+    (void)state;
+    Cgs__Enu pos = CGS__ENU__INIT;
+    pos.east_m = 1.5;
+    pos.north_m = -2;
+    Cgs__Entity e = CGS__ENTITY__INIT;
+    e.entity_id = 7;
+    e.marking = "T72 \"A\"";
+    e.force = CGS__FORCE__FORCE_HOSTILE;
+    e.position = &pos;
+    e.bcis_transponder = true;
+    char *json = NULL;
+    assert_int_equal (cgs_msg_to_json (&e.base, &json), 0);
+    assert_string_equal (
+        json, "{\"entity_id\":7,\"marking\":\"T72 \\\"A\\\"\",\"force\":\"FORCE_HOSTILE\","
+              "\"position\":{\"east_m\":1.5,\"north_m\":-2},\"bcis_transponder\":true}");
+    free (json);
+
+    Cgs__Designate d = CGS__DESIGNATE__INIT;
+    d.target_case = CGS__DESIGNATE__TARGET_TRACK_ID;
+    d.track_id = 17;
+    Cgs__Command c = CGS__COMMAND__INIT;
+    c.command_number = 12345678901234ull;
+    c.body_case = CGS__COMMAND__BODY_DESIGNATE;
+    c.designate = &d;
+    assert_int_equal (cgs_msg_to_json (&c.base, &json), 0);
+    assert_string_equal (json,
+                         "{\"command_number\":\"12345678901234\",\"designate\":{\"track_id\":17}}");
+    free (json);
+
+    uint8_t bytes[] = {0xff, 0x00, 0x10, 'a'};
+    Cgs__Blob b = CGS__BLOB__INIT;
+    b.data.data = bytes;
+    b.data.len = sizeof bytes;
+    assert_int_equal (cgs_msg_to_json (&b.base, &json), 0);
+    assert_string_equal (json, "{\"data\":\"/wAQYQ==\"}"); // base64 of ff 00 10 61
+    free (json);
+}
+
+static void test_arena_decodes_and_resets (void **state)
+{
+    (void)state;
+    Cgs__Track t = CGS__TRACK__INIT;
+    t.track_id = 99;
+    Cgs__TrackHistoryPoint pts[300], *pp[300];
+    Cgs__Enu where = CGS__ENU__INIT;
+    where.east_m = 10;
+    for (int i = 0; i < 300; i++) {
+        cgs__track_history_point__init (&pts[i]);
+        pts[i].position = &where;
+        pts[i].scan_number = (uint32_t)i;
+        pp[i] = &pts[i];
+    }
+    t.n_history = 300;
+    t.history = pp;
+    uint8_t *buf = NULL;
+    size_t len = 0;
+    assert_int_equal (cgs_msg_encode_alloc (&t.base, &buf, &len), 0);
+    cgs_msg_arena_t *arena = cgs_msg_arena_new (256); // small: forces overflow blocks
+    assert_non_null (arena);
+    for (int round = 0; round < 3; round++) {
+        ProtobufCMessage *m = NULL;
+        assert_int_equal (cgs_msg_decode (&cgs__track__descriptor, buf, len, arena, &m), 0);
+        Cgs__Track *d = (Cgs__Track *)m;
+        assert_int_equal (d->track_id, 99);
+        assert_int_equal (d->n_history, 300);
+        assert_int_equal (d->history[299]->scan_number, 299);
+        assert_true (d->history[5]->position->east_m == 10.0);
+        cgs_msg_arena_reset (arena);
+    }
+    ProtobufCMessage *m = NULL;
+    uint8_t junk[] = {0xff, 0xff, 0xff};
+    assert_int_equal (cgs_msg_decode (&cgs__track__descriptor, junk, sizeof junk, arena, &m),
+                      -EPROTO);
+    cgs_msg_arena_destroy (&arena);
+    assert_null (arena);
+    cgs_msg_arena_destroy (&arena);
+    free (buf);
+}
+
+static void test_header_slot (void **state)
+{
+    (void)state;
+    Cgs__Clock clock = CGS__CLOCK__INIT;
+    assert_non_null (cgs_msg_header_slot (&clock.base));
+    Cgs__Command cmd = CGS__COMMAND__INIT;
+    assert_null (cgs_msg_header_slot (&cmd.base));
+    // Every catalogue topic's type has the common header as field 1.
+    for (size_t i = 0; i < cgs_topics_count (); i++) {
+        const ProtobufCMessageDescriptor *d = cgs_topics_at (i)->message;
+        ProtobufCMessage *m = calloc (1, d->sizeof_message);
+        d->message_init (m);
+        assert_non_null (cgs_msg_header_slot (m));
+        free (m);
+    }
+}
+
+/* ---- pub/sub over inproc ---- */
+
+typedef struct {
+    int n;
+    uint64_t last_seq;
+    double last_sim;
+    char source[64];
+    char topic[32];
+    uint64_t tick_sum;
+} s_rx_t;
+
+static void s_on_clock (void *arg, const char *topic, const ProtobufCMessage *msg,
+                        const Cgs__Header *h)
+{
+    s_rx_t *rx = arg;
+    const Cgs__Clock *c = (const Cgs__Clock *)msg;
+    rx->n++;
+    rx->last_seq = h->seq;
+    rx->last_sim = h->sim_time_s;
+    rx->tick_sum += c->tick;
+    snprintf (rx->source, sizeof rx->source, "%s", h->source);
+    snprintf (rx->topic, sizeof rx->topic, "%s", topic);
+}
+
+static void s_drain (cgs_sub_t *sub, int want_total, s_rx_t *rx)
+{
+    for (int i = 0; i < 200 && rx->n < want_total; i++)
+        cgs_sub_poll (sub, 10);
+}
+
+/* Send until the subscriber sees one (the slow-joiner handshake). */
+static void s_handshake (cgs_pub_t *pub, cgs_sub_t *sub, s_rx_t *rx)
+{
+    Cgs__Clock c = CGS__CLOCK__INIT;
+    for (int i = 0; i < 500 && rx->n == 0; i++) {
+        cgs_pub_send (pub, "clock", &c.base, 0);
+        cgs_sub_poll (sub, 5);
+    }
+    assert_true (rx->n > 0);
+    cgs_sub_poll (sub, 20);
+}
+
+static void test_pubsub_stamps_and_routes_exactly (void **state)
+{
+    (void)state;
+    void *ctx = zmq_ctx_new ();
+    cgs_pub_t *pub = cgs_pub_new (ctx, "uavsim", 3);
+    assert_non_null (pub);
+    assert_int_equal (cgs_pub_bind (pub, "inproc://t1"), 0);
+    cgs_sub_t *sub = cgs_sub_new (ctx);
+    assert_int_equal (cgs_sub_connect (sub, "inproc://t1"), 0);
+    s_rx_t rx = {0};
+    assert_int_equal (cgs_sub_on (sub, "clock", s_on_clock, &rx), 0);
+    assert_int_equal (cgs_sub_on (sub, "clock", s_on_clock, &rx), -EEXIST);
+    assert_int_equal (cgs_sub_on (sub, "no.such.topic", s_on_clock, &rx), -ENOENT);
+    s_handshake (pub, sub, &rx);
+    rx = (s_rx_t){0};
+    uint64_t base_seq = cgs_pub_topic_stats (pub, 0)->messages;
+
+    Cgs__Clock c = CGS__CLOCK__INIT;
+    for (int i = 1; i <= 100; i++) {
+        c.tick = (uint64_t)i;
+        assert_int_equal (cgs_pub_send (pub, "clock", &c.base, i * 0.5), 0);
+        // "clockwork" shares the prefix "clock": the subscriber must not take it.
+        assert_int_equal (cgs_pub_send (pub, "clockwork", &c.base, 0), 0);
+    }
+    assert_null (c.header); // the caller's message is left as it was
+    s_drain (sub, 100, &rx);
+    assert_int_equal (rx.n, 100);
+    assert_int_equal (rx.tick_sum, 5050);
+    assert_int_equal (rx.last_seq, base_seq + 100);
+    assert_true (rx.last_sim == 50.0);
+    assert_string_equal (rx.source, "uavsim");
+    assert_string_equal (rx.topic, "clock");
+    assert_int_equal (cgs_sub_gaps (sub), 0);
+    assert_int_equal (cgs_sub_malformed (sub), 0);
+
+    // A message type without a header cannot be published.
+    Cgs__Command cmd = CGS__COMMAND__INIT;
+    assert_int_equal (cgs_pub_send (pub, "clock", &cmd.base, 0), -EINVAL);
+    cgs_sub_destroy (&sub);
+    cgs_pub_destroy (&pub);
+    assert_null (pub);
+    cgs_pub_destroy (&pub);
+    zmq_ctx_term (ctx);
+}
+
+static void test_malformed_payloads_are_counted_and_dropped (void **state)
+{
+    (void)state;
+    void *ctx = zmq_ctx_new ();
+    void *raw = zmq_socket (ctx, ZMQ_PUB);
+    assert_int_equal (zmq_bind (raw, "inproc://t2"), 0);
+    cgs_sub_t *sub = cgs_sub_new (ctx);
+    assert_int_equal (cgs_sub_connect (sub, "inproc://t2"), 0);
+    s_rx_t rx = {0};
+    assert_int_equal (cgs_sub_on (sub, "clock", s_on_clock, &rx), 0);
+    usleep (50000);
+    const uint8_t junk[] = {0x0a, 0xff, 0xff, 0xff, 0xff}; // field 1, absurd length
+    zmq_send (raw, "clock", 5, ZMQ_SNDMORE);
+    zmq_send (raw, junk, sizeof junk, 0);
+    zmq_send (raw, "clock", 5, ZMQ_SNDMORE); // valid payload but no header
+    zmq_send (raw, "", 0, 0);
+    zmq_send (raw, "clock", 5, 0);           // a single frame
+    zmq_send (raw, "clock", 5, ZMQ_SNDMORE); // three frames
+    zmq_send (raw, "", 0, ZMQ_SNDMORE);
+    zmq_send (raw, "", 0, 0);
+    // Then a good one, which must still arrive.
+    Cgs__Header h = CGS__HEADER__INIT;
+    h.source = "x";
+    h.seq = 1;
+    h.epoch = 5;
+    Cgs__Clock c = CGS__CLOCK__INIT;
+    c.header = &h;
+    c.tick = 42;
+    uint8_t buf[256];
+    size_t len = cgs_msg_encode (&c.base, buf);
+    zmq_send (raw, "clock", 5, ZMQ_SNDMORE);
+    zmq_send (raw, buf, len, 0);
+    for (int i = 0; i < 100 && rx.n == 0; i++)
+        cgs_sub_poll (sub, 10);
+    assert_int_equal (rx.n, 1);
+    assert_int_equal (rx.tick_sum, 42);
+    assert_int_equal (cgs_sub_malformed (sub), 4);
+    cgs_sub_destroy (&sub);
+    zmq_close (raw);
+    zmq_ctx_term (ctx);
+}
+
+/* Gaps: a publisher whose numbers skip (as when a subscriber falls behind and
+ * messages are lost) and a publisher restart (new epoch). */
+static void test_gaps_and_restarts_are_counted (void **state)
+{
+    (void)state;
+    void *ctx = zmq_ctx_new ();
+    void *raw = zmq_socket (ctx, ZMQ_PUB);
+    assert_int_equal (zmq_bind (raw, "inproc://t3"), 0);
+    cgs_sub_t *sub = cgs_sub_new (ctx);
+    assert_int_equal (cgs_sub_connect (sub, "inproc://t3"), 0);
+    s_rx_t rx = {0};
+    assert_int_equal (cgs_sub_on (sub, "clock", s_on_clock, &rx), 0);
+    usleep (50000);
+    struct {
+        const char *src;
+        uint64_t epoch, seq;
+    } seqs[] = {
+        {"a", 1, 10}, {"a", 1, 11}, {"a", 1, 15}, /* 3 missed */
+        {"b", 9, 1},  {"a", 1, 16}, {"b", 9, 3},  /* 1 missed */
+        {"a", 2, 1},                              /* restart of a: not a gap */
+        {"a", 2, 2},  {"a", 2, 2},                /* repeat: stale */
+        {"a", 2, 10},                             /* 7 missed */
+    };
+    for (size_t i = 0; i < sizeof seqs / sizeof seqs[0]; i++) {
+        Cgs__Header h = CGS__HEADER__INIT;
+        h.source = (char *)seqs[i].src;
+        h.epoch = seqs[i].epoch;
+        h.seq = seqs[i].seq;
+        Cgs__Clock c = CGS__CLOCK__INIT;
+        c.header = &h;
+        uint8_t buf[128];
+        size_t len = cgs_msg_encode (&c.base, buf);
+        zmq_send (raw, "clock", 5, ZMQ_SNDMORE);
+        zmq_send (raw, buf, len, 0);
+    }
+    s_drain (sub, 9, &rx);
+    assert_int_equal (rx.n, 9); // the stale repeat is counted, not delivered
+    assert_int_equal (cgs_sub_gaps (sub), 3 + 1 + 7);
+    assert_int_equal (cgs_sub_restarts (sub), 1);
+    assert_int_equal (cgs_sub_topic_stats (sub, 0)->stale, 1);
+    cgs_sub_destroy (&sub);
+    zmq_close (raw);
+    zmq_ctx_term (ctx);
+}
+
+/* A subscriber that does not read while the publisher floods loses messages
+ * at its high-water mark and counts exactly those as gaps. */
+static void test_slow_subscriber_counts_its_losses (void **state)
+{
+    (void)state;
+    void *ctx = zmq_ctx_new ();
+    cgs_pub_t *pub = cgs_pub_new (ctx, "p", 1);
+    cgs_pub_set_hwm (pub, 100);
+    assert_int_equal (cgs_pub_bind (pub, "inproc://t4"), 0);
+    cgs_sub_t *sub = cgs_sub_new (ctx);
+    cgs_sub_set_hwm (sub, 100);
+    assert_int_equal (cgs_sub_connect (sub, "inproc://t4"), 0);
+    s_rx_t rx = {0};
+    assert_int_equal (cgs_sub_on (sub, "clock", s_on_clock, &rx), 0);
+    s_handshake (pub, sub, &rx);
+    rx = (s_rx_t){0};
+    uint64_t first = cgs_pub_topic_stats (pub, 0)->messages + 1;
+    Cgs__Clock c = CGS__CLOCK__INIT;
+    const int N = 5000;
+    for (int i = 0; i < N; i++)
+        assert_int_equal (cgs_pub_send (pub, "clock", &c.base, 0), 0);
+    for (int i = 0; i < 50; i++)
+        cgs_sub_poll (sub, 2);
+    assert_int_equal (cgs_pub_send (pub, "clock", &c.base, 0), 0); // a last one after the drain
+    for (int i = 0; i < 50; i++)
+        cgs_sub_poll (sub, 2);
+    uint64_t last = first + (uint64_t)N;
+    assert_int_equal (rx.last_seq, last);
+    assert_true (cgs_sub_gaps (sub) > 0);
+    // Everything sent after the first is either received or counted missing.
+    assert_int_equal ((uint64_t)rx.n + cgs_sub_gaps (sub), last - first + 1);
+    cgs_sub_destroy (&sub);
+    cgs_pub_destroy (&pub);
+    zmq_ctx_term (ctx);
+}
+
+static void test_prepare_endpoint_creates_ipc_folder (void **state)
+{
+    (void)state;
+    char dir[] = "/tmp/cgs-bus-XXXXXX";
+    assert_non_null (mkdtemp (dir));
+    char ep[256];
+    snprintf (ep, sizeof ep, "ipc://%s/a/b/pub", dir);
+    assert_int_equal (cgs_bus_prepare_endpoint (ep), 0);
+    char sub[256];
+    snprintf (sub, sizeof sub, "%s/a/b", dir);
+    assert_int_equal (access (sub, W_OK), 0);
+    void *ctx = zmq_ctx_new ();
+    cgs_pub_t *pub = cgs_pub_new (ctx, "p", 1);
+    assert_int_equal (cgs_pub_bind (pub, ep), 0);
+    cgs_pub_t *pub2 = cgs_pub_new (ctx, "p", 1);
+    assert_true (cgs_pub_bind (pub2, "tcp://not a host:1") < 0);
+    assert_true (cgs_pub_epoch (pub) != cgs_pub_epoch (pub2));
+    cgs_pub_destroy (&pub);
+    cgs_pub_destroy (&pub2);
+    zmq_ctx_term (ctx);
+    char cmd[300];
+    snprintf (cmd, sizeof cmd, "rm -rf %s", dir);
+    assert_int_equal (system (cmd), 0);
+}
+
+int main (void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test (test_json_prints_fields_enums_and_oneofs),
+        cmocka_unit_test (test_arena_decodes_and_resets),
+        cmocka_unit_test (test_header_slot),
+        cmocka_unit_test (test_pubsub_stamps_and_routes_exactly),
+        cmocka_unit_test (test_malformed_payloads_are_counted_and_dropped),
+        cmocka_unit_test (test_gaps_and_restarts_are_counted),
+        cmocka_unit_test (test_slow_subscriber_counts_its_losses),
+        cmocka_unit_test (test_prepare_endpoint_creates_ipc_folder),
+    };
+    return cmocka_run_group_tests (tests, NULL, NULL);
+}

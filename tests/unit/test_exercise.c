@@ -1,0 +1,419 @@
+/* Unit tests of cgs_exercise: the default exercise file, defaults, paths,
+ * publishers of a topic, and every kind of rejected file. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include <cmocka.h>
+
+#include "cgs_exercise.h"
+
+#include <errno.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+typedef struct {
+    char dir[64];   // a fresh temporary folder
+    char path[128]; // dir/ex.ini
+} s_tmp_t;
+
+static int s_setup (void **state)
+{
+    s_tmp_t *t = calloc (1, sizeof *t);
+    if (!t)
+        return -1;
+    snprintf (t->dir, sizeof t->dir, "/tmp/test_exercise.XXXXXX");
+    if (!mkdtemp (t->dir)) {
+        free (t);
+        return -1;
+    }
+    snprintf (t->path, sizeof t->path, "%s/ex.ini", t->dir);
+    *state = t;
+    return 0;
+}
+
+static int s_teardown (void **state)
+{
+    s_tmp_t *t = *state;
+    unlink (t->path);
+    rmdir (t->dir);
+    free (t);
+    return 0;
+}
+
+// Write text to the temporary exercise file and load it.
+static int s_load (s_tmp_t *t, const char *text, cgs_exercise_t **ret, char *err, size_t errlen)
+{
+    FILE *f = fopen (t->path, "w");
+    assert_non_null (f);
+    fputs (text, f);
+    fclose (f);
+    return cgs_exercise_load (t->path, ret, err, errlen);
+}
+
+// Loading text fails with -EINVAL and the message "<path>:" followed by expected.
+static void s_load_fails (s_tmp_t *t, const char *text, const char *expected)
+{
+    char err[512] = "", want[512];
+    cgs_exercise_t *ex = NULL;
+    assert_int_equal (s_load (t, text, &ex, err, sizeof err), -EINVAL);
+    assert_null (ex);
+    snprintf (want, sizeof want, "%s%s", t->path, expected);
+    assert_string_equal (err, want);
+}
+
+#define S_HEAD "[exercise]\norigin = geo 35.96 -121.23 0\n"
+
+// The working directory joined with a relative path, as a runtime location is resolved.
+static void s_from_cwd (const char *rel, char *buf, size_t size)
+{
+    char *cwd = getcwd (NULL, 0);
+    assert_non_null (cwd);
+    snprintf (buf, size, "%s%s%s", cwd, strcmp (cwd, "/") == 0 ? "" : "/", rel);
+    free (cwd);
+}
+
+static void test_default_exercise (void **state)
+{
+    (void)state;
+    const char *root = getenv ("CGS_ROOT");
+    char path[1024], want[1100];
+    snprintf (path, sizeof path, "%s/deploy/exercises/default.ini", root ? root : ".");
+    char err[512] = "";
+    cgs_exercise_t *ex = NULL;
+    int rc = cgs_exercise_load (path, &ex, err, sizeof err);
+    if (rc != 0)
+        fail_msg ("%s", err);
+    assert_string_equal (cgs_exercise_path (ex), path);
+    assert_string_equal (cgs_exercise_name (ex), "default");
+    assert_int_equal (cgs_exercise_id (ex), 1);
+    cgs_geodetic_t o = cgs_exercise_origin (ex);
+    assert_true (o.lat_deg > 35.9 && o.lat_deg < 36.0); // Fort Hunter Liggett
+    assert_true (o.lon_deg > -121.3 && o.lon_deg < -121.2);
+    assert_true (cgs_exercise_time_scale (ex) == 1.0);
+    assert_true (cgs_exercise_seed (ex) == 1);
+    s_from_cwd ("state", want, sizeof want);
+    assert_string_equal (cgs_exercise_state_dir (ex), want);
+    // relative to the exercise file, absolute, and not required to exist
+    const char *scenario = cgs_exercise_scenario (ex);
+    assert_true (scenario[0] == '/');
+    const char *tail = "deploy/exercises/../scenarios/default.ini";
+    assert_true (strlen (scenario) > strlen (tail));
+    assert_string_equal (scenario + strlen (scenario) - strlen (tail), tail);
+    assert_non_null (cgs_exercise_config (ex));
+
+    const char *names[] = {"uavsim",    "mtid.uav1",    "bcisd.uav1", "trackerd",
+                           "guidanced", "imagerd.uav1", "gateway",    "stationd"};
+    const char *programs[] = {"uavsim",    "mtid",    "bcisd",   "trackerd",
+                              "guidanced", "imagerd", "gateway", "stationd"};
+    assert_int_equal (cgs_exercise_instance_count (ex), 8);
+    for (size_t i = 0; i < 8; i++) {
+        const cgs_instance_t *inst = cgs_exercise_instance (ex, i);
+        assert_non_null (inst);
+        assert_string_equal (inst->name, names[i]);
+        assert_string_equal (inst->program, programs[i]);
+        assert_ptr_equal (cgs_exercise_find (ex, names[i]), inst);
+        snprintf (want, sizeof want, "ipc:///tmp/mscgs/%s.pub", names[i]);
+        assert_string_equal (inst->publish, want);
+        bool commands = strcmp (names[i], "uavsim") == 0 || strcmp (names[i], "guidanced") == 0;
+        snprintf (want, sizeof want, "ipc:///tmp/mscgs/%s.cmd", names[i]);
+        assert_string_equal (inst->command, commands ? want : "");
+        assert_string_equal (inst->uav, strstr (names[i], ".uav1") ? "uav1" : "");
+        assert_string_equal (inst->host, "localhost");
+        assert_string_equal (inst->params, "");
+        assert_string_equal (inst->public_key, "");
+        assert_true (inst->enabled);
+    }
+    assert_null (cgs_exercise_instance (ex, 8));
+    assert_null (cgs_exercise_find (ex, "mtid.uav2"));
+
+    const cgs_instance_t *pubs[16];
+    assert_int_equal (cgs_exercise_publishers_of (ex, "mti", pubs, 16), 1);
+    assert_string_equal (pubs[0]->name, "mtid.uav1");
+    assert_int_equal (cgs_exercise_publishers_of (ex, "health", pubs, 16), 8);
+    for (size_t i = 0; i < 8; i++)
+        assert_string_equal (pubs[i]->name, names[i]);
+    assert_int_equal (cgs_exercise_publishers_of (ex, "entity", pubs, 16), 2);
+    assert_string_equal (pubs[0]->name, "uavsim");
+    assert_string_equal (pubs[1]->name, "gateway");
+    assert_int_equal (cgs_exercise_publishers_of (ex, "intercept", pubs, 16), 1);
+    assert_string_equal (pubs[0]->name, "guidanced");
+    assert_int_equal (cgs_exercise_publishers_of (ex, "no.such.topic", pubs, 16), 0);
+    // more than max: counted, not written past max
+    pubs[2] = NULL;
+    assert_int_equal (cgs_exercise_publishers_of (ex, "health", pubs, 2), 8);
+    assert_null (pubs[2]);
+    assert_int_equal (cgs_exercise_publishers_of (ex, "health", NULL, 0), 8);
+
+    cgs_exercise_destroy (&ex);
+    assert_null (ex);
+    cgs_exercise_destroy (&ex);
+    cgs_exercise_destroy (NULL);
+}
+
+static void test_defaults (void **state)
+{
+    s_tmp_t *t = *state;
+    char err[512] = "";
+    cgs_exercise_t *ex = NULL;
+    if (s_load (t, S_HEAD "[service trackerd]\n", &ex, err, sizeof err) != 0)
+        fail_msg ("%s", err);
+    assert_string_equal (cgs_exercise_name (ex), "ex");
+    assert_int_equal (cgs_exercise_id (ex), 1);
+    assert_true (cgs_exercise_time_scale (ex) == 1.0);
+    assert_true (cgs_exercise_seed (ex) == 1);
+    assert_string_equal (cgs_exercise_scenario (ex), "");
+    assert_int_equal (cgs_exercise_instance_count (ex), 1);
+    const cgs_instance_t *inst = cgs_exercise_instance (ex, 0);
+    assert_string_equal (inst->name, "trackerd");
+    assert_string_equal (inst->program, "trackerd");
+    assert_string_equal (inst->publish, "");
+    assert_string_equal (inst->command, "");
+    assert_string_equal (inst->host, "localhost");
+    assert_true (inst->enabled);
+    // no publish endpoint: publishes nothing
+    assert_int_equal (cgs_exercise_publishers_of (ex, "track", NULL, 0), 0);
+    cgs_exercise_destroy (&ex);
+}
+
+static void test_every_key (void **state)
+{
+    s_tmp_t *t = *state;
+    char err[512] = "", want[512];
+    cgs_exercise_t *ex = NULL;
+    const char *key = "rq{B)6.gA?0xZ5&pv:PKj&SDT$p<@-W^M?y5x8xP"; // 40 Z85 characters
+    char text[2048];
+    snprintf (text, sizeof text,
+              "[exercise]\n"
+              "id = 255\n"
+              "name = lab-test\n"
+              "origin = 35.96N 121.23W 250\n"
+              "time_scale = 20\n"
+              "seed = 12345678901234567890\n"
+              "state_dir = /var/lib/mscgs\n"
+              "scenario = scenarios/hills.ini\n"
+              "\n"
+              "[service mtid.uav2]\n"
+              "program = mtid_debug\n"
+              "publish = tcp://10.0.0.5:6001\n"
+              "command = inproc://mtid2\n"
+              "host = lab-b\n"
+              "uav = uav2\n"
+              "params = params/mti.ini\n"
+              "public_key = %s\n"
+              "secret_key_file = /etc/mscgs/mtid.uav2.key\n"
+              "enabled = no\n"
+              "\n"
+              "[curve]\n"
+              "whatever = the CURVE module decides\n",
+              key);
+    if (s_load (t, text, &ex, err, sizeof err) != 0)
+        fail_msg ("%s", err);
+    assert_int_equal (cgs_exercise_id (ex), 255);
+    assert_string_equal (cgs_exercise_name (ex), "lab-test");
+    cgs_geodetic_t o = cgs_exercise_origin (ex);
+    assert_true (o.lat_deg == 35.96 && o.lon_deg == -121.23 && o.height_m == 250);
+    assert_true (cgs_exercise_time_scale (ex) == 20);
+    assert_true (cgs_exercise_seed (ex) == 12345678901234567890ull);
+    assert_string_equal (cgs_exercise_state_dir (ex), "/var/lib/mscgs");
+    snprintf (want, sizeof want, "%s/scenarios/hills.ini", t->dir);
+    assert_string_equal (cgs_exercise_scenario (ex), want);
+    const cgs_instance_t *inst = cgs_exercise_find (ex, "mtid.uav2");
+    assert_non_null (inst);
+    assert_string_equal (inst->program, "mtid_debug");
+    assert_string_equal (inst->publish, "tcp://10.0.0.5:6001");
+    assert_string_equal (inst->command, "inproc://mtid2");
+    assert_string_equal (inst->host, "lab-b");
+    assert_string_equal (inst->uav, "uav2");
+    snprintf (want, sizeof want, "%s/params/mti.ini", t->dir);
+    assert_string_equal (inst->params, want);
+    assert_string_equal (inst->public_key, key);
+    assert_string_equal (inst->secret_key_file, "/etc/mscgs/mtid.uav2.key");
+    assert_false (inst->enabled);
+    // the program, not the instance name, decides what it publishes
+    assert_int_equal (cgs_exercise_publishers_of (ex, "mti", NULL, 0), 0);
+    assert_int_equal (cgs_exercise_publishers_of (ex, "health", NULL, 0), 1);
+    assert_string_equal (cgs_config_get_nth (cgs_exercise_config (ex), "curve", "whatever", 0),
+                         "the CURVE module decides");
+    cgs_exercise_destroy (&ex);
+
+    // a relative state_dir is taken from the working directory
+    if (s_load (t, S_HEAD "state_dir = run/state\n", &ex, err, sizeof err) != 0)
+        fail_msg ("%s", err);
+    s_from_cwd ("run/state", want, sizeof want);
+    assert_string_equal (cgs_exercise_state_dir (ex), want);
+    cgs_exercise_destroy (&ex);
+}
+
+static void test_duplicate_endpoint (void **state)
+{
+    s_tmp_t *t = *state;
+    s_load_fails (t,
+                  S_HEAD "\n"
+                         "[service a]\n"
+                         "publish = ipc:///tmp/x.pub\n"
+                         "\n"
+                         "[service b]\n"
+                         "command = ipc:///tmp/b.cmd\n"
+                         "publish = ipc:///tmp/x.pub\n",
+                  ":9: [service b] publish: endpoint 'ipc:///tmp/x.pub' is already used by "
+                  "[service a] publish at line 5");
+    // publish against command, and within one instance
+    s_load_fails (t,
+                  S_HEAD "[service a]\n"
+                         "command = tcp://127.0.0.1:7000\n"
+                         "[service b]\n"
+                         "publish = tcp://127.0.0.1:7000\n",
+                  ":6: [service b] publish: endpoint 'tcp://127.0.0.1:7000' is already used by "
+                  "[service a] command at line 4");
+    s_load_fails (t,
+                  S_HEAD "[service a]\n"
+                         "publish = inproc://a\n"
+                         "command = inproc://a\n",
+                  ":5: [service a] command: endpoint 'inproc://a' is already used by [service a] "
+                  "publish at line 4");
+    // a service named twice merges, so its keys are given twice
+    s_load_fails (t,
+                  S_HEAD "[service a]\n"
+                         "publish = inproc://a\n"
+                         "[service a]\n"
+                         "publish = inproc://b\n",
+                  ":6: [service a] publish: given twice (first at line 4)");
+}
+
+static void test_bad_endpoint (void **state)
+{
+    s_tmp_t *t = *state;
+    s_load_fails (t, S_HEAD "[service a]\npublish = udp://1.2.3.4:5\n",
+                  ":4: [service a] publish: expected an endpoint starting with tcp://, ipc:// or "
+                  "inproc://, got 'udp://1.2.3.4:5'");
+    s_load_fails (t, S_HEAD "[service a]\ncommand = tcp://\n",
+                  ":4: [service a] command: expected an endpoint starting with tcp://, ipc:// or "
+                  "inproc://, got 'tcp://'");
+    s_load_fails (t, S_HEAD "[service a]\ncommand = /tmp/a.cmd\n",
+                  ":4: [service a] command: expected an endpoint starting with tcp://, ipc:// or "
+                  "inproc://, got '/tmp/a.cmd'");
+}
+
+static void test_origin (void **state)
+{
+    s_tmp_t *t = *state;
+    s_load_fails (t, "[exercise]\nid = 2\n[service a]\n",
+                  ": [exercise]: missing key 'origin' (expected the exercise origin, e.g. "
+                  "`origin = geo 35.96 -121.23 0`)");
+    s_load_fails (t, "[service a]\n",
+                  ": [exercise]: missing key 'origin' (expected the exercise origin, e.g. "
+                  "`origin = geo 35.96 -121.23 0`)");
+    s_load_fails (t, "[exercise]\norigin = 1200 -350\n",
+                  ":2: [exercise] origin: expected a geodetic position as `geo LAT LON [H]`, "
+                  "`LAT{N|S} LON{E|W} [H]` or `mgrs GRID` (local metres have no meaning here), "
+                  "got '1200 -350'");
+    s_load_fails (t, "[exercise]\norigin = geo 91 0\n",
+                  ":2: [exercise] origin: latitude 91 is outside [-90, 90] in 'geo 91 0'");
+
+    // MGRS works too
+    char err[512] = "";
+    cgs_exercise_t *ex = NULL;
+    if (s_load (t, "[exercise]\norigin = mgrs 10SFF 00000 00000\n", &ex, err, sizeof err) != 0)
+        fail_msg ("%s", err);
+    cgs_geodetic_t o = cgs_exercise_origin (ex);
+    assert_true (o.lat_deg > 35 && o.lat_deg < 37 && o.height_m == 0);
+    cgs_exercise_destroy (&ex);
+}
+
+static void test_bad_values (void **state)
+{
+    s_tmp_t *t = *state;
+    s_load_fails (t, S_HEAD "id = 0\n",
+                  ":3: [exercise] id: expected an integer in [1, 255], got '0'");
+    s_load_fails (t, S_HEAD "time_scale = 0\n",
+                  ":3: [exercise] time_scale: expected a number in (0, 1000], got '0'");
+    s_load_fails (t, S_HEAD "time_scale = 2000\n",
+                  ":3: [exercise] time_scale: expected a number in [0, 1000], got '2000'");
+    s_load_fails (t, S_HEAD "seed = -1\n",
+                  ":3: [exercise] seed: expected an integer in [0, 18446744073709551615], got "
+                  "'-1'");
+    s_load_fails (t, S_HEAD "state_dir =\n",
+                  ":3: [exercise] state_dir: expected a directory, got ''");
+    s_load_fails (t, S_HEAD "[service a]\nenabled = perhaps\n",
+                  ":4: [service a] enabled: expected true/false, yes/no, on/off or 1/0, got "
+                  "'perhaps'");
+    s_load_fails (t, S_HEAD "[service a]\npublic_key = short\n",
+                  ":4: [service a] public_key: expected a CURVE public key of 40 Z85 characters, "
+                  "got 'short'");
+    s_load_fails (t, S_HEAD "[service a]\nuav = uav 1\n",
+                  ":4: [service a] uav: expected a name of at most 63 letters, digits, '.', '-' "
+                  "or '_', got 'uav 1'");
+    s_load_fails (t, S_HEAD "[service a]\nprogram = mtid.x\n",
+                  ":4: [service a] program: expected a name of at most 63 letters, digits, '-' "
+                  "or '_', got 'mtid.x'");
+}
+
+static void test_bad_instance_name (void **state)
+{
+    s_tmp_t *t = *state;
+    const char *why = " expected [service NAME] with NAME an instance name of at most 63 "
+                      "letters, digits, '.', '-' or '_', e.g. [service mtid.uav1]";
+    char want[512];
+    snprintf (want, sizeof want, ":3: [service]%s", why);
+    s_load_fails (t, S_HEAD "[service]\npublish = inproc://a\n", want);
+    snprintf (want, sizeof want, ":3: [service mtid/uav1]%s", why);
+    s_load_fails (t, S_HEAD "[service mtid/uav1]\n", want);
+    snprintf (want, sizeof want, ":3: [service .uav1]%s", why);
+    s_load_fails (t, S_HEAD "[service .uav1]\n", want);
+    char text[512], name[80];
+    memset (name, 'x', 64);
+    name[64] = '\0';
+    snprintf (text, sizeof text, S_HEAD "[service %s]\n", name);
+    snprintf (want, sizeof want, ":3: [service %s]%s", name, why);
+    s_load_fails (t, text, want);
+    // 63 characters is fine
+    name[63] = '\0';
+    snprintf (text, sizeof text, S_HEAD "[service %s]\n", name);
+    char err[512] = "";
+    cgs_exercise_t *ex = NULL;
+    if (s_load (t, text, &ex, err, sizeof err) != 0)
+        fail_msg ("%s", err);
+    assert_string_equal (cgs_exercise_instance (ex, 0)->name, name);
+    cgs_exercise_destroy (&ex);
+}
+
+static void test_unknown (void **state)
+{
+    s_tmp_t *t = *state;
+    s_load_fails (t, S_HEAD "[service a]\npublish = inproc://a\npublsh = inproc://b\n",
+                  ":5: [service a] unknown key 'publsh'");
+    s_load_fails (t, S_HEAD "colour = red\n[service a]\n", ":3: [exercise] unknown key 'colour'");
+    s_load_fails (t, S_HEAD "[services a]\npublish = inproc://a\n",
+                  ":3: unknown section [services a]");
+    s_load_fails (t, "top = 1\n" S_HEAD, ":1: unknown key 'top' (before any section)");
+    s_load_fails (t, S_HEAD "[service a]\nno equals sign\n",
+                  ":4: syntax error (expected `key = value` or `[section]`)");
+
+    char err[512] = "", want[512];
+    cgs_exercise_t *ex = (cgs_exercise_t *)0x1;
+    snprintf (want, sizeof want, "%s/none.ini", t->dir);
+    assert_int_equal (cgs_exercise_load (want, &ex, err, sizeof err), -ENOENT);
+    assert_ptr_equal (ex, (cgs_exercise_t *)0x1);
+    strcat (want, ": No such file or directory");
+    assert_string_equal (err, want);
+}
+
+int main (void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test (test_default_exercise),
+        cmocka_unit_test_setup_teardown (test_defaults, s_setup, s_teardown),
+        cmocka_unit_test_setup_teardown (test_every_key, s_setup, s_teardown),
+        cmocka_unit_test_setup_teardown (test_duplicate_endpoint, s_setup, s_teardown),
+        cmocka_unit_test_setup_teardown (test_bad_endpoint, s_setup, s_teardown),
+        cmocka_unit_test_setup_teardown (test_origin, s_setup, s_teardown),
+        cmocka_unit_test_setup_teardown (test_bad_values, s_setup, s_teardown),
+        cmocka_unit_test_setup_teardown (test_bad_instance_name, s_setup, s_teardown),
+        cmocka_unit_test_setup_teardown (test_unknown, s_setup, s_teardown),
+    };
+    return cmocka_run_group_tests (tests, NULL, NULL);
+}
