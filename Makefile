@@ -28,7 +28,12 @@ CFLAGS   = -std=c11 $(WARN) -g
 CXXFLAGS = -std=c++17 $(WARN) -g
 LDLIBS   = $(PKG_LIBS) -lstdc++ -lm -lpthread
 
-ifeq ($(SAN),1)
+ifeq ($(SAN),fuzz)
+  WARN    += -Wno-unknown-warning-option
+  SANFLAGS = -fsanitize=address,undefined,fuzzer-no-link -fno-omit-frame-pointer
+  CFLAGS   += -O1 $(SANFLAGS)
+  CXXFLAGS += -O1 $(SANFLAGS)
+else ifeq ($(SAN),1)
   SANFLAGS = -fsanitize=address,undefined -fno-sanitize-recover=undefined -fno-omit-frame-pointer
   CFLAGS   += -O1 $(SANFLAGS)
   CXXFLAGS += -O1 $(SANFLAGS)
@@ -65,6 +70,9 @@ INTEG_SRCS  := $(wildcard tests/integration/*.c)
 INTEG_BINS  := $(patsubst tests/integration/%.c,$(O)/tests/integration/%,$(INTEG_SRCS))
 BENCH_SRCS  := $(wildcard tests/bench/*.c)
 BENCH_BINS  := $(patsubst tests/bench/%.c,$(O)/bench/%,$(BENCH_SRCS))
+FUZZ_SRCS   := $(wildcard tests/fuzz/fuzz_*.c)
+FUZZ_BINS   := $(patsubst tests/fuzz/%.c,$(O)/fuzz/%,$(FUZZ_SRCS))
+FUZZ_SECONDS ?= 60
 
 # Each service's core objects: every .c in its folder but main.c, linked into
 # the service and into the unit tests.
@@ -72,7 +80,7 @@ SVC_CORE_C    := $(filter-out services/%/main.c,$(wildcard services/*/*.c))
 SVC_CORE_OBJS := $(patsubst %.c,$(O)/obj/%.o,$(SVC_CORE_C))
 SVC_LIB       := $(if $(SVC_CORE_OBJS),$(O)/lib/libcgs_services.a)
 
-.PHONY: all run test test-build bench install clean format deps help
+.PHONY: all run test test-build bench fuzz fuzz-build install clean format deps help
 .DEFAULT_GOAL := all
 
 all: $(BINS)
@@ -97,6 +105,17 @@ test-build: $(BINS) $(UNIT_BINS) $(INTEG_BINS)
 bench: deps
 	@$(MAKE) --no-print-directory O=build/release SAN=0 $(addprefix build/release/bench/,$(notdir $(BENCH_BINS))) $(addprefix build/release/bin/,$(SERVICES))
 	@tests/bench/run build/release
+
+# Coverage-guided fuzzing of the parsers (opt-in: not part of `make test`).
+fuzz: deps
+	@$(MAKE) --no-print-directory O=build/fuzz SAN=fuzz CC=clang CXX=clang++ fuzz-build
+	@set -e; for f in $(patsubst tests/fuzz/%.c,build/fuzz/fuzz/%,$(FUZZ_SRCS)); do \
+	    mkdir -p build/fuzz/corpus/$$(basename $$f); \
+	    echo "fuzzing $$(basename $$f) for $(FUZZ_SECONDS) s"; \
+	    $$f -max_total_time=$(FUZZ_SECONDS) -print_final_stats=1 build/fuzz/corpus/$$(basename $$f) 2>&1 | tail -5; \
+	done
+
+fuzz-build: $(FUZZ_BINS)
 
 install: all
 	install -d $(DESTDIR)$(PREFIX)/bin $(DESTDIR)$(PREFIX)/share/mscgs
@@ -144,7 +163,7 @@ endif
 
 # --- binaries ------------------------------------------------------------------
 .SECONDEXPANSION:
-$(O)/bin/%: $$(patsubst %.c,$(O)/obj/%.o,$$(wildcard services/$$*/*.c)) $(LIB)
+$(O)/bin/%: $$(foreach f,$$(wildcard services/$$*/*.c),$(O)/obj/$$(basename $$(f)).o) $(LIB)
 	@mkdir -p $(dir $@)
 	$(CC) $(LDFLAGS) $^ -o $@ $(LDLIBS)
 
@@ -159,5 +178,9 @@ $(O)/tests/integration/%: $(O)/obj/tests/integration/%.o $(SVC_LIB) $(LIB)
 $(O)/bench/%: $(O)/obj/tests/bench/%.o $(SVC_LIB) $(LIB)
 	@mkdir -p $(dir $@)
 	$(CC) $(LDFLAGS) $^ -o $@ $(LDLIBS)
+
+$(O)/fuzz/%: $(O)/obj/tests/fuzz/%.o $(LIB)
+	@mkdir -p $(dir $@)
+	$(CXX) $(LDFLAGS) -fsanitize=address,undefined,fuzzer $^ -o $@ $(LDLIBS)
 
 -include $(shell find $(O)/obj -name '*.d' 2>/dev/null)

@@ -25,6 +25,7 @@ static void s_usage (const cgs_service_info_t *info, FILE *f)
              "  --scenario FILE   scenario file (default: the exercise's)\n"
              "  --params FILE     model parameter file (default: the instance's)\n"
              "  --state-dir DIR   state folder (default: the exercise's)\n"
+             "  --time-scale X    simulation seconds per wall second (default: the exercise's)\n"
              "  --check           read and check the configuration, then exit\n"
              "  -v, --verbose     log debug messages\n"
              "  -h, --help        show this help\n"
@@ -41,7 +42,7 @@ static void s_usage (const cgs_service_info_t *info, FILE *f)
 static int s_parse (cgs_service_t *svc, int argc, char **argv)
 {
     const cgs_service_info_t *info = svc->info;
-    enum { O_EXERCISE = 1000, O_INSTANCE, O_SCENARIO, O_PARAMS, O_STATE, O_CHECK, O_VERSION, O_EXTRA };
+    enum { O_EXERCISE = 1000, O_INSTANCE, O_SCENARIO, O_PARAMS, O_STATE, O_CHECK, O_VERSION, O_SCALE, O_EXTRA };
     struct option opts[64];
     size_t n = 0;
     opts[n++] = (struct option) {"exercise", required_argument, NULL, O_EXERCISE};
@@ -50,13 +51,15 @@ static int s_parse (cgs_service_t *svc, int argc, char **argv)
     opts[n++] = (struct option) {"params", required_argument, NULL, O_PARAMS};
     opts[n++] = (struct option) {"state-dir", required_argument, NULL, O_STATE};
     opts[n++] = (struct option) {"check", no_argument, NULL, O_CHECK};
+    opts[n++] = (struct option) {"time-scale", required_argument, NULL, O_SCALE};
     opts[n++] = (struct option) {"verbose", no_argument, NULL, 'v'};
     opts[n++] = (struct option) {"help", no_argument, NULL, 'h'};
     opts[n++] = (struct option) {"version", no_argument, NULL, O_VERSION};
     size_t first_extra = n;
-    for (const cgs_service_option_t *o = info->options; o && o->name && n < 62; o++)
-        opts[n++] = (struct option) {o->name, o->has_arg ? required_argument : no_argument, NULL,
-                                     O_EXTRA + (int) (n - first_extra)};
+    for (const cgs_service_option_t *o = info->options; o && o->name && n < 62; o++) {
+        int val = O_EXTRA + (int) (n - first_extra);
+        opts[n++] = (struct option) {o->name, o->has_arg ? required_argument : no_argument, NULL, val};
+    }
     opts[n] = (struct option) {NULL, 0, NULL, 0};
 
     const char *env = getenv ("MSCGS_EXERCISE");
@@ -73,6 +76,16 @@ static int s_parse (cgs_service_t *svc, int argc, char **argv)
         case O_PARAMS: snprintf (svc->params, sizeof svc->params, "%s", optarg); break;
         case O_STATE: snprintf (svc->state_dir, sizeof svc->state_dir, "%s", optarg); break;
         case O_CHECK: svc->check_only = true; break;
+        case O_SCALE: {
+            char *end = NULL;
+            svc->time_scale = strtod (optarg, &end);
+            if (!end || *end || !(svc->time_scale > 0) || svc->time_scale > 1000) {
+                fprintf (stderr, "%s: --time-scale: expected a number in (0, 1000], got '%s'\n",
+                         info->program, optarg);
+                return -EINVAL;
+            }
+            break;
+        }
         case 'v': svc->verbose++; break;
         case 'h': s_usage (info, stdout); return 1;
         case O_VERSION: printf ("%s (mscgs) %s\n", info->program, CGS_VERSION); return 1;
@@ -130,6 +143,8 @@ int cgs_service_init (cgs_service_t *svc, const cgs_service_info_t *info, int ar
         snprintf (svc->scenario, sizeof svc->scenario, "%s", cgs_exercise_scenario (svc->exercise));
     if (!*svc->params)
         snprintf (svc->params, sizeof svc->params, "%s", svc->instance->params);
+    if (!(svc->time_scale > 0))
+        svc->time_scale = cgs_exercise_time_scale (svc->exercise);
     if (!*svc->state_dir)
         snprintf (svc->state_dir, sizeof svc->state_dir, "%s", cgs_exercise_state_dir (svc->exercise));
     if (svc->check_only)

@@ -7,7 +7,8 @@
  *
  * Standard options: --exercise FILE (default $MSCGS_EXERCISE, else
  * /etc/mscgs/exercise.ini), --instance NAME (default: the program's name),
- * --scenario FILE, --params FILE, --state-dir DIR, --check (validate the
+ * --scenario FILE, --params FILE, --state-dir DIR, --time-scale X (the
+ * exercise's time scale, for the service that owns time), --check (validate the
  * configuration and exit), -v/--verbose, -h/--help, --version. */
 #ifndef CGS_SERVICE_H
 #define CGS_SERVICE_H
@@ -47,6 +48,7 @@ typedef struct {
     char scenario[4096];       // "" when none given (and none in the exercise)
     char params[4096];         // "" when none given (and none in the instance)
     char state_dir[4096];      // absolute, created
+    double time_scale;         // --time-scale, else the exercise's
     bool check_only;           // --check: validate and exit
     int verbose;
     void *ctx;                 // ZeroMQ context

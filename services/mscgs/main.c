@@ -1,0 +1,824 @@
+/* mscgs — the command-line tool: run an exercise on this machine, echo a
+ * topic, show every service's health. Later issues add operator commands.
+ *
+ *   mscgs run [--exercise F] [--scenario F] [--speed X] [--duration S] [--out DIR]
+ *   mscgs echo TOPIC [--json] [--count N] [--timeout S] [--exercise F]
+ *   mscgs status [--wait S] [--exercise F]
+ *   mscgs ping INSTANCE [--exercise F]
+ *   mscgs topics
+ */
+#include "cgs_bus.h"
+#include "cgs_cmd.h"
+#include "cgs_exercise.h"
+#include "cgs_lifecycle.h"
+#include "cgs_loop.h"
+#include "cgs_service.h"
+#include "cgs_state.h"
+#include "cgs_topics.h"
+
+#include <errno.h>
+#include <fcntl.h>
+#include <getopt.h>
+#include <limits.h>
+#include <math.h>
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <time.h>
+#include <unistd.h>
+#include <zmq.h>
+
+#define S_MAX_INSTANCES 64
+
+static char s_exe_dir[PATH_MAX];
+
+static void s_usage (FILE *f)
+{
+    fprintf (f,
+             "usage: mscgs COMMAND [options]\n"
+             "The mscgs multisensor Common Ground Station simulation.\n\n"
+             "commands:\n"
+             "  run      start every built service of the exercise on this machine\n"
+             "           --exercise F   exercise file\n"
+             "           --scenario F   scenario file (default: the exercise's)\n"
+             "           --speed X      time scale, simulation seconds per second\n"
+             "           --duration S   stop after S seconds of simulation time\n"
+             "                          (wall time while no clock is published)\n"
+             "           --out DIR      logs, state and outputs (default ./out)\n"
+             "  echo     print the messages of a topic: echo TOPIC [--json] [--count N]\n"
+             "           [--timeout S]\n"
+             "  status   a table of every service's health [--wait S]\n"
+             "  ping     ask a service's command endpoint for a reply: ping INSTANCE\n"
+             "  topics   list the bus topics\n\n"
+             "The exercise file is --exercise F, else $MSCGS_EXERCISE, else\n"
+             "/etc/mscgs/exercise.ini, else the source tree's deploy/exercises/default.ini.\n");
+}
+
+/* ---- shared helpers ------------------------------------------------------------- */
+
+static void s_find_exe_dir (void)
+{
+    ssize_t n = readlink ("/proc/self/exe", s_exe_dir, sizeof s_exe_dir - 1);
+    if (n <= 0) {
+        snprintf (s_exe_dir, sizeof s_exe_dir, ".");
+        return;
+    }
+    s_exe_dir[n] = '\0';
+    char *slash = strrchr (s_exe_dir, '/');
+    if (slash)
+        *slash = '\0';
+}
+
+/* The exercise path from the option, the environment, /etc, or the source tree. */
+static const char *s_exercise_path (const char *given, char *buf, size_t size)
+{
+    if (given)
+        return given;
+    const char *env = getenv ("MSCGS_EXERCISE");
+    if (env && *env)
+        return env;
+    if (access ("/etc/mscgs/exercise.ini", R_OK) == 0)
+        return "/etc/mscgs/exercise.ini";
+    // build/<variant>/bin/mscgs or build/bin/mscgs in a source tree.
+    const char *up[] = {"/../../deploy/exercises/default.ini", "/../../../deploy/exercises/default.ini"};
+    for (size_t i = 0; i < 2; i++) {
+        snprintf (buf, size, "%s%s", s_exe_dir, up[i]);
+        if (access (buf, R_OK) == 0)
+            return buf;
+    }
+    return "/etc/mscgs/exercise.ini";
+}
+
+static cgs_exercise_t *s_load_exercise (const char *given)
+{
+    char buf[PATH_MAX];
+    const char *path = s_exercise_path (given, buf, sizeof buf);
+    char err[1024];
+    cgs_exercise_t *ex = NULL;
+    if (cgs_exercise_load (path, &ex, err, sizeof err) < 0) {
+        fprintf (stderr, "mscgs: %s\n", err);
+        return NULL;
+    }
+    return ex;
+}
+
+/* Connect sub to every publisher of topic; returns how many. */
+static size_t s_connect_publishers (cgs_sub_t *sub, const cgs_exercise_t *ex, const char *topic)
+{
+    const cgs_instance_t *pubs[S_MAX_INSTANCES];
+    size_t n = cgs_exercise_publishers_of (ex, topic, pubs, S_MAX_INSTANCES);
+    if (n > S_MAX_INSTANCES)
+        n = S_MAX_INSTANCES;
+    for (size_t i = 0; i < n; i++)
+        if (cgs_sub_connect (sub, pubs[i]->publish) < 0)
+            fprintf (stderr, "mscgs: cannot connect to %s (%s)\n", pubs[i]->publish, pubs[i]->name);
+    return n;
+}
+
+static double s_parse_positive (const char *opt, const char *text)
+{
+    char *end = NULL;
+    double v = strtod (text, &end);
+    if (!end || *end || !(v > 0) || !isfinite (v)) {
+        fprintf (stderr, "mscgs: %s: expected a positive number, got '%s'\n", opt, text);
+        exit (2);
+    }
+    return v;
+}
+
+/* ---- health table (status and run) ------------------------------------------------ */
+
+typedef struct {
+    char instance[CGS_NAME_MAX];
+    char program[CGS_NAME_MAX];
+    bool enabled;
+    bool seen;
+    double seen_at;  // monotonic
+    Cgs__ServiceState state;
+    char host[64];
+    uint32_t pid;
+    double uptime_s, in_per_s, out_per_s;
+    uint64_t gaps, drops, malformed, commands;
+    char last_error[256];
+} s_row_t;
+
+typedef struct {
+    s_row_t rows[S_MAX_INSTANCES];
+    size_t nrows;
+    double sim_time_s;
+    double time_scale;
+    bool paused;
+    bool have_clock;
+} s_table_t;
+
+static void s_table_init (s_table_t *t, const cgs_exercise_t *ex)
+{
+    memset (t, 0, sizeof *t);
+    for (size_t i = 0; i < cgs_exercise_instance_count (ex) && t->nrows < S_MAX_INSTANCES; i++) {
+        const cgs_instance_t *in = cgs_exercise_instance (ex, i);
+        s_row_t *r = &t->rows[t->nrows++];
+        snprintf (r->instance, sizeof r->instance, "%s", in->name);
+        snprintf (r->program, sizeof r->program, "%s", in->program);
+        r->enabled = in->enabled;
+    }
+}
+
+static void s_on_health (void *arg, const char *topic, const ProtobufCMessage *msg,
+                         const Cgs__Header *hdr)
+{
+    (void) topic;
+    (void) hdr;
+    s_table_t *t = arg;
+    const Cgs__Health *h = (const Cgs__Health *) msg;
+    s_row_t *r = NULL;
+    for (size_t i = 0; i < t->nrows && !r; i++)
+        if (strcmp (t->rows[i].instance, h->instance) == 0)
+            r = &t->rows[i];
+    if (!r && t->nrows < S_MAX_INSTANCES) {  // not in the exercise file: show it anyway
+        r = &t->rows[t->nrows++];
+        snprintf (r->instance, sizeof r->instance, "%s", h->instance);
+        snprintf (r->program, sizeof r->program, "%s", h->program);
+    }
+    if (!r)
+        return;
+    r->seen = true;
+    r->seen_at = cgs_loop_now ();
+    r->state = h->state;
+    snprintf (r->host, sizeof r->host, "%s", h->host);
+    r->pid = h->pid;
+    r->uptime_s = h->uptime_s;
+    r->in_per_s = h->msgs_in_per_s;
+    r->out_per_s = h->msgs_out_per_s;
+    r->gaps = h->gaps;
+    r->drops = h->drops;
+    r->malformed = h->malformed;
+    r->commands = h->commands;
+    snprintf (r->last_error, sizeof r->last_error, "%s", h->last_error);
+}
+
+static void s_on_clock (void *arg, const char *topic, const ProtobufCMessage *msg,
+                        const Cgs__Header *hdr)
+{
+    (void) topic;
+    (void) hdr;
+    s_table_t *t = arg;
+    const Cgs__Clock *c = (const Cgs__Clock *) msg;
+    t->sim_time_s = c->sim_time_s;
+    t->time_scale = c->time_scale;
+    t->paused = c->paused;
+    t->have_clock = true;
+}
+
+static const char *s_state_name (const s_row_t *r, double now)
+{
+    if (!r->seen)
+        return "down";
+    if (now - r->seen_at > 3.0)
+        return "silent";
+    switch (r->state) {
+    case CGS__SERVICE_STATE__SERVICE_STATE_STARTING: return "starting";
+    case CGS__SERVICE_STATE__SERVICE_STATE_RUNNING: return "up";
+    case CGS__SERVICE_STATE__SERVICE_STATE_DEGRADED: return "degraded";
+    case CGS__SERVICE_STATE__SERVICE_STATE_STOPPING: return "stopping";
+    default: return "?";
+    }
+}
+
+static void s_table_print (const s_table_t *t, FILE *f)
+{
+    double now = cgs_loop_now ();
+    fprintf (f, "%-16s %-9s %-12s %8s %9s %9s %9s %7s %7s %9s  %s\n", "INSTANCE", "STATE", "HOST",
+             "PID", "UPTIME_S", "IN/S", "OUT/S", "GAPS", "DROPS", "MALFORMED", "LAST ERROR");
+    for (size_t i = 0; i < t->nrows; i++) {
+        const s_row_t *r = &t->rows[i];
+        if (!r->seen) {
+            fprintf (f, "%-16s %-9s%s\n", r->instance, r->enabled ? "down" : "disabled", "");
+            continue;
+        }
+        fprintf (f, "%-16s %-9s %-12.12s %8u %9.1f %9.1f %9.1f %7llu %7llu %9llu  %s\n", r->instance,
+                 s_state_name (r, now), r->host, r->pid, r->uptime_s, r->in_per_s, r->out_per_s,
+                 (unsigned long long) r->gaps, (unsigned long long) r->drops,
+                 (unsigned long long) r->malformed, r->last_error);
+    }
+}
+
+/* ---- status ------------------------------------------------------------------------ */
+
+static int s_cmd_status (int argc, char **argv)
+{
+    const char *exercise = NULL;
+    double wait_s = 2.5;
+    static const struct option opts[] = {{"exercise", required_argument, NULL, 'e'},
+                                         {"wait", required_argument, NULL, 'w'},
+                                         {"help", no_argument, NULL, 'h'},
+                                         {NULL, 0, NULL, 0}};
+    int c;
+    while ((c = getopt_long (argc, argv, "h", opts, NULL)) != -1) {
+        if (c == 'e')
+            exercise = optarg;
+        else if (c == 'w')
+            wait_s = s_parse_positive ("--wait", optarg);
+        else {
+            fprintf (c == 'h' ? stdout : stderr,
+                     "usage: mscgs status [--exercise F] [--wait S]\n"
+                     "Listen to every service's 1 Hz health for S seconds (default 2.5) and\n"
+                     "print a table. Exit 0 when every enabled instance is up, 3 if not.\n");
+            return c == 'h' ? 0 : 2;
+        }
+    }
+    cgs_exercise_t *ex = s_load_exercise (exercise);
+    if (!ex)
+        return 1;
+    void *ctx = zmq_ctx_new ();
+    cgs_sub_t *sub = cgs_sub_new (ctx);
+    static s_table_t table;
+    s_table_init (&table, ex);
+    cgs_sub_on (sub, "health", s_on_health, &table);
+    s_connect_publishers (sub, ex, "health");
+    double end = cgs_loop_now () + wait_s;
+    cgs_lifecycle_init ();
+    while (cgs_loop_now () < end && !cgs_lifecycle_stopping ()) {
+        bool all = true;
+        for (size_t i = 0; i < table.nrows; i++)
+            all = all && (table.rows[i].seen || !table.rows[i].enabled);
+        if (all)
+            break;
+        cgs_sub_poll (sub, 50);
+    }
+    printf ("exercise %s (id %u), %s\n", cgs_exercise_name (ex), cgs_exercise_id (ex),
+            cgs_exercise_path (ex));
+    s_table_print (&table, stdout);
+    int rc = 0;
+    for (size_t i = 0; i < table.nrows; i++)
+        if (table.rows[i].enabled && !table.rows[i].seen)
+            rc = 3;
+    cgs_sub_destroy (&sub);
+    zmq_ctx_term (ctx);
+    cgs_exercise_destroy (&ex);
+    return rc;
+}
+
+/* ---- echo -------------------------------------------------------------------------- */
+
+typedef struct {
+    bool json;
+    long count;
+    long seen;
+} s_echo_t;
+
+static void s_on_echo (void *arg, const char *topic, const ProtobufCMessage *msg,
+                       const Cgs__Header *hdr)
+{
+    s_echo_t *e = arg;
+    if (e->count > 0 && e->seen >= e->count)
+        return;
+    e->seen++;
+    if (e->json) {
+        cgs_msg_print_json (stdout, msg);
+    } else {
+        char *json = NULL;
+        if (cgs_msg_to_json (msg, &json) == 0) {
+            printf ("%s from %s #%llu sim %.3f s: %s\n", topic, hdr->source,
+                    (unsigned long long) hdr->seq, hdr->sim_time_s, json);
+            free (json);
+        }
+    }
+    fflush (stdout);
+}
+
+static int s_cmd_echo (int argc, char **argv)
+{
+    const char *exercise = NULL;
+    s_echo_t echo = {0};
+    double timeout_s = 0;
+    static const struct option opts[] = {{"exercise", required_argument, NULL, 'e'},
+                                         {"json", no_argument, NULL, 'j'},
+                                         {"count", required_argument, NULL, 'n'},
+                                         {"timeout", required_argument, NULL, 't'},
+                                         {"help", no_argument, NULL, 'h'},
+                                         {NULL, 0, NULL, 0}};
+    int c;
+    while ((c = getopt_long (argc, argv, "hjn:", opts, NULL)) != -1) {
+        switch (c) {
+        case 'e': exercise = optarg; break;
+        case 'j': echo.json = true; break;
+        case 'n': echo.count = (long) s_parse_positive ("--count", optarg); break;
+        case 't': timeout_s = s_parse_positive ("--timeout", optarg); break;
+        default:
+            fprintf (c == 'h' ? stdout : stderr,
+                     "usage: mscgs echo TOPIC [--json] [--count N] [--timeout S] [--exercise F]\n"
+                     "Print each message of TOPIC from every publisher of it, as text with its\n"
+                     "header, or as one line of JSON each. Stop after N messages, S seconds\n"
+                     "(exit 4 if fewer than N came), or Ctrl-C. `mscgs topics` lists topics.\n");
+            return c == 'h' ? 0 : 2;
+        }
+    }
+    if (optind >= argc) {
+        fprintf (stderr, "mscgs echo: which topic? (`mscgs topics` lists them)\n");
+        return 2;
+    }
+    const char *topic = argv[optind];
+    if (!cgs_topics_find (topic)) {
+        fprintf (stderr, "mscgs echo: unknown topic '%s'; the topics are:", topic);
+        for (size_t i = 0; i < cgs_topics_count (); i++)
+            fprintf (stderr, " %s", cgs_topics_at (i)->name);
+        fprintf (stderr, "\n");
+        return 2;
+    }
+    cgs_exercise_t *ex = s_load_exercise (exercise);
+    if (!ex)
+        return 1;
+    void *ctx = zmq_ctx_new ();
+    cgs_sub_t *sub = cgs_sub_new (ctx);
+    cgs_sub_on (sub, topic, s_on_echo, &echo);
+    if (s_connect_publishers (sub, ex, topic) == 0)
+        fprintf (stderr, "mscgs echo: no instance in %s publishes %s\n", cgs_exercise_path (ex), topic);
+    cgs_lifecycle_init ();
+    double end = timeout_s > 0 ? cgs_loop_now () + timeout_s : INFINITY;
+    while (!cgs_lifecycle_stopping () && cgs_loop_now () < end &&
+           !(echo.count > 0 && echo.seen >= echo.count))
+        cgs_sub_poll (sub, 100);
+    int rc = echo.count > 0 && echo.seen < echo.count ? 4 : 0;
+    if (cgs_sub_gaps (sub) || cgs_sub_malformed (sub))
+        fprintf (stderr, "mscgs echo: %llu messages missed (gaps), %llu malformed\n",
+                 (unsigned long long) cgs_sub_gaps (sub), (unsigned long long) cgs_sub_malformed (sub));
+    cgs_sub_destroy (&sub);
+    zmq_ctx_term (ctx);
+    cgs_exercise_destroy (&ex);
+    return rc;
+}
+
+/* ---- ping ---------------------------------------------------------------------------- */
+
+static int s_cmd_ping (int argc, char **argv)
+{
+    const char *exercise = NULL;
+    static const struct option opts[] = {{"exercise", required_argument, NULL, 'e'},
+                                         {"help", no_argument, NULL, 'h'},
+                                         {NULL, 0, NULL, 0}};
+    int c;
+    while ((c = getopt_long (argc, argv, "h", opts, NULL)) != -1) {
+        if (c == 'e')
+            exercise = optarg;
+        else {
+            fprintf (c == 'h' ? stdout : stderr,
+                     "usage: mscgs ping INSTANCE [--exercise F]\n"
+                     "Send a ping command to INSTANCE's command endpoint and print the reply.\n");
+            return c == 'h' ? 0 : 2;
+        }
+    }
+    if (optind >= argc) {
+        fprintf (stderr, "mscgs ping: which instance?\n");
+        return 2;
+    }
+    cgs_exercise_t *ex = s_load_exercise (exercise);
+    if (!ex)
+        return 1;
+    const cgs_instance_t *in = cgs_exercise_find (ex, argv[optind]);
+    if (!in || !*in->command) {
+        fprintf (stderr, "mscgs ping: %s %s\n", argv[optind],
+                 in ? "takes no commands (no command endpoint)" : "is not in the exercise");
+        cgs_exercise_destroy (&ex);
+        return 2;
+    }
+    void *ctx = zmq_ctx_new ();
+    cgs_cmd_client_t *cl = cgs_cmd_client_new (ctx, in->command, NULL);
+    Cgs__Ping ping = CGS__PING__INIT;
+    ping.text = "mscgs ping";
+    Cgs__Command cmd = CGS__COMMAND__INIT;
+    cmd.body_case = CGS__COMMAND__BODY_PING;
+    cmd.ping = &ping;
+    Cgs__Reply *reply = NULL;
+    char err[512];
+    double t0 = cgs_loop_now ();
+    cgs_lifecycle_init ();
+    int rc = cgs_cmd_client_call (cl, &cmd, 1000, 3, &reply, err, sizeof err);
+    if (rc < 0) {
+        fprintf (stderr, "mscgs ping: %s\n", err);
+        rc = 1;
+    } else {
+        printf ("%s: %s in %.1f ms%s%s\n", reply->server,
+                reply->status == CGS__REPLY_STATUS__REPLY_STATUS_OK ? "ok" : "error",
+                (cgs_loop_now () - t0) * 1e3, *reply->error ? ": " : "", reply->error);
+        rc = reply->status == CGS__REPLY_STATUS__REPLY_STATUS_OK ? 0 : 1;
+        cgs_cmd_reply_free (&reply);
+    }
+    cgs_cmd_client_destroy (&cl);
+    zmq_ctx_term (ctx);
+    cgs_exercise_destroy (&ex);
+    return rc;
+}
+
+/* ---- topics -------------------------------------------------------------------------- */
+
+static int s_cmd_topics (void)
+{
+    printf ("%-12s %-16s %-20s %s\n", "TOPIC", "MESSAGE", "PUBLISHED BY", "WHAT");
+    for (size_t i = 0; i < cgs_topics_count (); i++) {
+        const cgs_topic_t *t = cgs_topics_at (i);
+        printf ("%-12s %-16s %-20s %s\n", t->name, t->message->name,
+                strcmp (t->publishers, "*") == 0 ? "every service" : t->publishers, t->what);
+    }
+    return 0;
+}
+
+/* ---- run ------------------------------------------------------------------------------ */
+
+typedef struct {
+    const cgs_instance_t *instance;
+    char binary[PATH_MAX];
+    pid_t pid;
+    int restarts;
+    double next_start;    // monotonic; when to (re)start it
+    double started_at;
+    int quick_failures;   // exits within 10 s of starting, in a row
+    bool given_up;
+    int last_status;
+} s_child_t;
+
+typedef struct {
+    cgs_exercise_t *ex;
+    const char *exercise_path;
+    const char *scenario;
+    double speed;
+    double duration_s;
+    char out[PATH_MAX];
+    char logs[PATH_MAX + 8];
+    char state[PATH_MAX + 8];
+    s_child_t children[S_MAX_INSTANCES];
+    size_t nchildren;
+    s_table_t table;
+    cgs_sub_t *sub;
+    double start;
+    bool tty;
+} s_run_t;
+
+static void s_child_start (s_run_t *run, s_child_t *ch)
+{
+    char log[PATH_MAX + 80];
+    snprintf (log, sizeof log, "%s/%s.log", run->logs, ch->instance->name);
+    char speed[32];
+    snprintf (speed, sizeof speed, "%g", run->speed);
+    pid_t pid = fork ();
+    if (pid < 0) {
+        fprintf (stderr, "mscgs run: cannot start %s: %s\n", ch->instance->name, strerror (errno));
+        ch->next_start = cgs_loop_now () + 1.0;
+        return;
+    }
+    if (pid == 0) {
+        int fd = open (log, O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC, 0644);
+        if (fd >= 0) {
+            dup2 (fd, STDOUT_FILENO);
+            dup2 (fd, STDERR_FILENO);
+        }
+        int devnull = open ("/dev/null", O_RDONLY);
+        if (devnull >= 0)
+            dup2 (devnull, STDIN_FILENO);
+        setpgid (0, 0);  // Ctrl-C reaches mscgs, which stops the children in order
+        signal (SIGPIPE, SIG_DFL);
+        const char *argv[16];
+        int n = 0;
+        argv[n++] = ch->binary;
+        argv[n++] = "--exercise";
+        argv[n++] = run->exercise_path;
+        argv[n++] = "--instance";
+        argv[n++] = ch->instance->name;
+        argv[n++] = "--state-dir";
+        argv[n++] = run->state;
+        if (run->scenario) {
+            argv[n++] = "--scenario";
+            argv[n++] = run->scenario;
+        }
+        if (run->speed > 0) {
+            argv[n++] = "--time-scale";
+            argv[n++] = speed;
+        }
+        argv[n] = NULL;
+        execv (ch->binary, (char *const *) argv);
+        fprintf (stderr, "mscgs run: cannot execute %s: %s\n", ch->binary, strerror (errno));
+        _exit (127);
+    }
+    ch->pid = pid;
+    ch->started_at = cgs_loop_now ();
+}
+
+static void s_reap (s_run_t *run)
+{
+    int status;
+    pid_t pid;
+    while ((pid = waitpid (-1, &status, WNOHANG)) > 0) {
+        for (size_t i = 0; i < run->nchildren; i++) {
+            s_child_t *ch = &run->children[i];
+            if (ch->pid != pid)
+                continue;
+            ch->pid = 0;
+            ch->last_status = status;
+            if (cgs_lifecycle_stopping ())
+                break;
+            double now = cgs_loop_now ();
+            char how[64];
+            if (WIFEXITED (status))
+                snprintf (how, sizeof how, "exited with status %d", WEXITSTATUS (status));
+            else
+                snprintf (how, sizeof how, "was killed by %s", strsignal (WTERMSIG (status)));
+            ch->quick_failures = now - ch->started_at < 10.0 ? ch->quick_failures + 1 : 0;
+            // As systemd's start limit: five quick failures in a row, stop trying.
+            if (ch->quick_failures >= 5) {
+                ch->given_up = true;
+                fprintf (stderr, "mscgs run: %s %s; it failed 5 times in a row within 10 s of "
+                                 "starting, so it stays down (see %s/%s.log)\n",
+                         ch->instance->name, how, run->logs, ch->instance->name);
+                break;
+            }
+            double delay = ch->quick_failures > 0 ? fmin (10.0, 1.0 * (1 << ch->quick_failures)) : 1.0;
+            ch->restarts++;
+            ch->next_start = now + delay;
+            fprintf (stderr, "mscgs run: %s %s; restarting in %.0f s (restart %d, log %s/%s.log)\n",
+                     ch->instance->name, how, delay, ch->restarts, run->logs, ch->instance->name);
+        }
+    }
+}
+
+static void s_progress (s_run_t *run)
+{
+    double now = cgs_loop_now ();
+    size_t up = 0, running = 0;
+    double in = 0;
+    uint64_t gaps = 0, drops = 0, malformed = 0;
+    const char *error_from = NULL, *error = NULL;
+    for (size_t i = 0; i < run->table.nrows; i++) {
+        const s_row_t *r = &run->table.rows[i];
+        if (r->seen && now - r->seen_at < 3.0) {
+            up++;
+            in += r->in_per_s;
+            gaps += r->gaps;
+            drops += r->drops;
+            malformed += r->malformed;
+            if (*r->last_error) {
+                error_from = r->instance;
+                error = r->last_error;
+            }
+        }
+    }
+    for (size_t i = 0; i < run->nchildren; i++)
+        running += run->children[i].pid > 0;
+    char sim[64];
+    if (run->table.have_clock)
+        snprintf (sim, sizeof sim, "sim %.1f s x%.3g%s", run->table.sim_time_s, run->table.time_scale,
+                  run->table.paused ? " paused" : "");
+    else
+        snprintf (sim, sizeof sim, "no clock yet");
+    fprintf (stdout, "%s[%6.1f s] %s | %zu/%zu running, %zu reporting | in %.0f msg/s | gaps %llu drops %llu malformed %llu%s%s%s%s",
+             run->tty ? "\r\033[K" : "", now - run->start, sim, running, run->nchildren, up, in,
+             (unsigned long long) gaps, (unsigned long long) drops, (unsigned long long) malformed,
+             error ? " | " : "", error_from ? error_from : "", error ? ": " : "", error ? error : "");
+    if (!run->tty)
+        fputc ('\n', stdout);
+    fflush (stdout);
+}
+
+static void s_write_summary (s_run_t *run)
+{
+    char path[PATH_MAX + 16];
+    snprintf (path, sizeof path, "%s/summary.txt", run->out);
+    FILE *f = fopen (path, "w");
+    if (!f)
+        return;
+    fprintf (f, "mscgs run of exercise %s (%s)\n", cgs_exercise_name (run->ex), run->exercise_path);
+    fprintf (f, "wall time %.1f s", cgs_loop_now () - run->start);
+    if (run->table.have_clock)
+        fprintf (f, ", simulation time %.1f s", run->table.sim_time_s);
+    fprintf (f, "\n\nservices started:\n");
+    for (size_t i = 0; i < run->nchildren; i++)
+        fprintf (f, "  %-16s %s, %d restart%s%s\n", run->children[i].instance->name,
+                 run->children[i].binary, run->children[i].restarts,
+                 run->children[i].restarts == 1 ? "" : "s",
+                 run->children[i].given_up ? ", gave up" : "");
+    fprintf (f, "\nlast health:\n");
+    s_table_print (&run->table, f);
+    fclose (f);
+}
+
+static int s_cmd_run (int argc, char **argv)
+{
+    static s_run_t run;
+    const char *exercise = NULL;
+    snprintf (run.out, sizeof run.out, "out");
+    static const struct option opts[] = {{"exercise", required_argument, NULL, 'e'},
+                                         {"scenario", required_argument, NULL, 's'},
+                                         {"speed", required_argument, NULL, 'x'},
+                                         {"duration", required_argument, NULL, 'd'},
+                                         {"out", required_argument, NULL, 'o'},
+                                         {"help", no_argument, NULL, 'h'},
+                                         {NULL, 0, NULL, 0}};
+    int c;
+    while ((c = getopt_long (argc, argv, "h", opts, NULL)) != -1) {
+        switch (c) {
+        case 'e': exercise = optarg; break;
+        case 's': run.scenario = optarg; break;
+        case 'x': run.speed = s_parse_positive ("--speed", optarg); break;
+        case 'd': run.duration_s = s_parse_positive ("--duration", optarg); break;
+        case 'o': snprintf (run.out, sizeof run.out, "%s", optarg); break;
+        default:
+            fprintf (c == 'h' ? stdout : stderr,
+                     "usage: mscgs run [--exercise F] [--scenario F] [--speed X] [--duration S] "
+                     "[--out DIR]\n"
+                     "Start every enabled service of the exercise whose program is built (beside\n"
+                     "this mscgs), restart any that dies, show progress, and stop them all on\n"
+                     "Ctrl-C or after --duration. Logs go to DIR/logs, state to DIR/state, and a\n"
+                     "summary to DIR/summary.txt.\n");
+            return c == 'h' ? 0 : 2;
+        }
+    }
+    if (run.scenario && access (run.scenario, R_OK) != 0) {
+        fprintf (stderr, "mscgs run: --scenario %s: %s\n", run.scenario, strerror (errno));
+        return 2;
+    }
+    char buf[PATH_MAX];
+    const char *path = s_exercise_path (exercise, buf, sizeof buf);
+    static char abs_path[PATH_MAX];
+    if (!realpath (path, abs_path))
+        snprintf (abs_path, sizeof abs_path, "%s", path);
+    run.exercise_path = abs_path;
+    run.ex = s_load_exercise (abs_path);
+    if (!run.ex)
+        return 1;
+    static char abs_scenario[PATH_MAX];
+    if (run.scenario && realpath (run.scenario, abs_scenario))
+        run.scenario = abs_scenario;
+    if (cgs_state_mkdir (run.out) < 0 || !realpath (run.out, buf)) {
+        fprintf (stderr, "mscgs run: cannot create %s: %s\n", run.out, strerror (errno));
+        return 1;
+    }
+    snprintf (run.out, sizeof run.out, "%s", buf);
+    snprintf (run.logs, sizeof run.logs, "%s/logs", run.out);
+    snprintf (run.state, sizeof run.state, "%s/state", run.out);
+    cgs_state_mkdir (run.logs);
+    cgs_state_mkdir (run.state);
+
+    for (size_t i = 0; i < cgs_exercise_instance_count (run.ex) && run.nchildren < S_MAX_INSTANCES; i++) {
+        const cgs_instance_t *in = cgs_exercise_instance (run.ex, i);
+        if (!in->enabled || strcmp (in->program, "mscgs") == 0)
+            continue;
+        s_child_t *ch = &run.children[run.nchildren];
+        snprintf (ch->binary, sizeof ch->binary, "%s/%s", s_exe_dir, in->program);
+        if (access (ch->binary, X_OK) != 0)
+            continue;  // not built yet
+        ch->instance = in;
+        run.nchildren++;
+    }
+    printf ("mscgs run: exercise %s, %zu of %zu services built here; out %s\n",
+            cgs_exercise_name (run.ex), run.nchildren, cgs_exercise_instance_count (run.ex), run.out);
+    if (run.nchildren == 0)
+        printf ("mscgs run: no service program is built yet in %s; only watching the bus\n", s_exe_dir);
+
+    cgs_lifecycle_init ();
+    void *ctx = zmq_ctx_new ();
+    run.sub = cgs_sub_new (ctx);
+    s_table_init (&run.table, run.ex);
+    cgs_sub_on (run.sub, "health", s_on_health, &run.table);
+    cgs_sub_on (run.sub, "clock", s_on_clock, &run.table);
+    s_connect_publishers (run.sub, run.ex, "health");
+    run.start = cgs_loop_now ();
+    run.tty = isatty (STDOUT_FILENO);
+    for (size_t i = 0; i < run.nchildren; i++)
+        s_child_start (&run, &run.children[i]);
+
+    double next_progress = run.start + 1.0;
+    double progress_every = run.tty ? 1.0 : 5.0;
+    while (!cgs_lifecycle_stopping ()) {
+        cgs_sub_poll (run.sub, 100);
+        s_reap (&run);
+        double now = cgs_loop_now ();
+        for (size_t i = 0; i < run.nchildren; i++) {
+            s_child_t *ch = &run.children[i];
+            if (ch->pid == 0 && !ch->given_up && ch->next_start > 0 && now >= ch->next_start) {
+                ch->next_start = 0;
+                s_child_start (&run, ch);
+            }
+        }
+        if (now >= next_progress) {
+            s_progress (&run);
+            next_progress = now + progress_every;
+        }
+        if (run.duration_s > 0) {
+            double elapsed = run.table.have_clock ? run.table.sim_time_s : now - run.start;
+            if (elapsed >= run.duration_s)
+                break;
+        }
+    }
+    if (run.tty)
+        fputc ('\n', stdout);
+    printf ("mscgs run: stopping %zu services\n", run.nchildren);
+    for (size_t i = 0; i < run.nchildren; i++)
+        if (run.children[i].pid > 0)
+            kill (run.children[i].pid, SIGTERM);
+    double deadline = cgs_loop_now () + 10.0;
+    for (;;) {
+        size_t alive = 0;
+        for (size_t i = 0; i < run.nchildren; i++) {
+            s_child_t *ch = &run.children[i];
+            if (ch->pid > 0 && waitpid (ch->pid, &ch->last_status, WNOHANG) == ch->pid)
+                ch->pid = 0;
+            alive += ch->pid > 0;
+        }
+        if (alive == 0)
+            break;
+        if (cgs_loop_now () > deadline) {
+            for (size_t i = 0; i < run.nchildren; i++)
+                if (run.children[i].pid > 0) {
+                    fprintf (stderr, "mscgs run: %s did not stop in 10 s; killing it\n",
+                             run.children[i].instance->name);
+                    kill (run.children[i].pid, SIGKILL);
+                    waitpid (run.children[i].pid, NULL, 0);
+                    run.children[i].pid = 0;
+                }
+            break;
+        }
+        usleep (20000);
+    }
+    s_write_summary (&run);
+    printf ("mscgs run: done; logs in %s, summary in %s/summary.txt\n", run.logs, run.out);
+    cgs_sub_destroy (&run.sub);
+    zmq_ctx_term (ctx);
+    cgs_exercise_destroy (&run.ex);
+    return 0;
+}
+
+int main (int argc, char **argv)
+{
+    s_find_exe_dir ();
+    if (argc < 2) {
+        s_usage (stderr);
+        return 2;
+    }
+    const char *cmd = argv[1];
+    // Each command parses its own options from argv[1] on.
+    argc--;
+    argv++;
+    optind = 1;
+    if (strcmp (cmd, "run") == 0)
+        return s_cmd_run (argc, argv);
+    if (strcmp (cmd, "echo") == 0)
+        return s_cmd_echo (argc, argv);
+    if (strcmp (cmd, "status") == 0)
+        return s_cmd_status (argc, argv);
+    if (strcmp (cmd, "ping") == 0)
+        return s_cmd_ping (argc, argv);
+    if (strcmp (cmd, "topics") == 0)
+        return s_cmd_topics ();
+    if (strcmp (cmd, "help") == 0 || strcmp (cmd, "-h") == 0 || strcmp (cmd, "--help") == 0) {
+        s_usage (stdout);
+        return 0;
+    }
+    if (strcmp (cmd, "--version") == 0) {
+        printf ("mscgs %s\n", CGS_VERSION);
+        return 0;
+    }
+    fprintf (stderr, "mscgs: unknown command '%s'\n\n", cmd);
+    s_usage (stderr);
+    return 2;
+}
