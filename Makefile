@@ -80,6 +80,11 @@ SVC_CORE_C    := $(filter-out services/%/main.c,$(wildcard services/*/*.c))
 SVC_CORE_OBJS := $(patsubst %.c,$(O)/obj/%.o,$(SVC_CORE_C))
 SVC_LIB       := $(if $(SVC_CORE_OBJS),$(O)/lib/libcgs_services.a)
 
+JOBS    ?= $(shell nproc 2>/dev/null || echo 2)
+
+# Keep objects that pattern chains would otherwise delete as intermediates.
+.SECONDARY:
+
 .PHONY: all run test test-build bench fuzz fuzz-build install clean format deps help
 .DEFAULT_GOAL := all
 
@@ -92,23 +97,23 @@ deps:
 	@scripts/install-deps
 
 run: deps
-	@$(MAKE) --no-print-directory all
+	@$(MAKE) --no-print-directory -j$(JOBS) all
 	$(O)/bin/mscgs run --exercise deploy/exercises/default.ini --out $(O)/run $(RUN_ARGS)
 
 # The test build lives in its own folder so it never mixes with release objects.
 test: deps
-	@$(MAKE) --no-print-directory O=build/asan SAN=1 test-build
+	@$(MAKE) --no-print-directory -j$(JOBS) O=build/asan SAN=1 test-build
 	@tests/run build/asan
 
 test-build: $(BINS) $(UNIT_BINS) $(INTEG_BINS)
 
 bench: deps
-	@$(MAKE) --no-print-directory O=build/release SAN=0 $(addprefix build/release/bench/,$(notdir $(BENCH_BINS))) $(addprefix build/release/bin/,$(SERVICES))
+	@$(MAKE) --no-print-directory -j$(JOBS) O=build/release SAN=0 $(addprefix build/release/bench/,$(notdir $(BENCH_BINS))) $(addprefix build/release/bin/,$(SERVICES))
 	@tests/bench/run build/release
 
 # Coverage-guided fuzzing of the parsers (opt-in: not part of `make test`).
 fuzz: deps
-	@$(MAKE) --no-print-directory O=build/fuzz SAN=fuzz CC=clang CXX=clang++ fuzz-build
+	@$(MAKE) --no-print-directory -j$(JOBS) O=build/fuzz SAN=fuzz CC=clang CXX=clang++ fuzz-build
 	@set -e; for f in $(patsubst tests/fuzz/%.c,build/fuzz/fuzz/%,$(FUZZ_SRCS)); do \
 	    mkdir -p build/fuzz/corpus/$$(basename $$f); \
 	    echo "fuzzing $$(basename $$f) for $(FUZZ_SECONDS) s"; \

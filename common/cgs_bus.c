@@ -18,7 +18,7 @@ double cgs_bus_wall_time (void)
 {
     struct timespec ts;
     clock_gettime (CLOCK_REALTIME, &ts);
-    return (double) ts.tv_sec + ts.tv_nsec * 1e-9;
+    return (double)ts.tv_sec + ts.tv_nsec * 1e-9;
 }
 
 static int s_mkdir_p (const char *dir)
@@ -48,9 +48,9 @@ int cgs_bus_prepare_endpoint (const char *endpoint)
     const char *path = endpoint + 6;
     const char *slash = strrchr (path, '/');
     if (!slash || slash == path || path[0] == '@')
-        return 0;  // no folder, or an abstract socket
+        return 0; // no folder, or an abstract socket
     char dir[4096];
-    size_t n = (size_t) (slash - path);
+    size_t n = (size_t)(slash - path);
     if (n >= sizeof dir)
         return -ENAMETOOLONG;
     memcpy (dir, path, n);
@@ -61,10 +61,10 @@ int cgs_bus_prepare_endpoint (const char *endpoint)
 static uint64_t s_new_epoch (void)
 {
     uint64_t r = 0;
-    if (getrandom (&r, sizeof r, 0) != (ssize_t) sizeof r) {
+    if (getrandom (&r, sizeof r, 0) != (ssize_t)sizeof r) {
         struct timespec ts;
         clock_gettime (CLOCK_REALTIME, &ts);
-        r = (uint64_t) ts.tv_sec * 1000000000ull + (uint64_t) ts.tv_nsec;
+        r = (uint64_t)ts.tv_sec * 1000000000ull + (uint64_t)ts.tv_nsec;
     }
     return r ? r : 1;
 }
@@ -73,7 +73,7 @@ static uint64_t s_new_epoch (void)
 
 typedef struct {
     cgs_topic_stats_t stats;
-    uint64_t seq;  // last sequence number sent
+    uint64_t seq; // last sequence number sent
 } s_pub_topic_t;
 
 struct cgs_pub {
@@ -81,11 +81,11 @@ struct cgs_pub {
     char source[S_SOURCE_MAX];
     uint32_t exercise_id;
     uint64_t epoch;
-    int block_ms;         // wait for room at the HWM, 0 = drop
+    int block_ms; // wait for room at the HWM, 0 = drop
     s_pub_topic_t *topics;
     size_t ntopics, captopics;
-    size_t last;          // index of the last topic used (cache)
-    uint8_t *buf;         // encode buffer, grown as needed
+    size_t last;  // index of the last topic used (cache)
+    uint8_t *buf; // encode buffer, grown as needed
     size_t bufcap;
     uint64_t sent, drops;
 };
@@ -155,15 +155,30 @@ int cgs_pub_bind (cgs_pub_t *self, const char *endpoint)
     return 0;
 }
 
-uint64_t cgs_pub_epoch (const cgs_pub_t *self) { return self->epoch; }
-void *cgs_pub_socket (cgs_pub_t *self) { return self->socket; }
-size_t cgs_pub_topic_count (const cgs_pub_t *self) { return self->ntopics; }
+uint64_t cgs_pub_epoch (const cgs_pub_t *self)
+{
+    return self->epoch;
+}
+void *cgs_pub_socket (cgs_pub_t *self)
+{
+    return self->socket;
+}
+size_t cgs_pub_topic_count (const cgs_pub_t *self)
+{
+    return self->ntopics;
+}
 const cgs_topic_stats_t *cgs_pub_topic_stats (const cgs_pub_t *self, size_t i)
 {
     return i < self->ntopics ? &self->topics[i].stats : NULL;
 }
-uint64_t cgs_pub_sent (const cgs_pub_t *self) { return self->sent; }
-uint64_t cgs_pub_drops (const cgs_pub_t *self) { return self->drops; }
+uint64_t cgs_pub_sent (const cgs_pub_t *self)
+{
+    return self->sent;
+}
+uint64_t cgs_pub_drops (const cgs_pub_t *self)
+{
+    return self->drops;
+}
 
 static s_pub_topic_t *s_pub_topic (cgs_pub_t *self, const char *topic)
 {
@@ -208,7 +223,7 @@ int cgs_pub_send (cgs_pub_t *self, const char *topic, ProtobufCMessage *msg, dou
     h->source = self->source;
     h->exercise_id = self->exercise_id;
     h->epoch = self->epoch;
-    h->seq = ++t->seq;  // a dropped message keeps its number: subscribers see the gap
+    h->seq = ++t->seq; // a dropped message keeps its number: subscribers see the gap
     h->sim_time_s = sim_time_s;
     h->wall_time_s = cgs_bus_wall_time ();
     *slot = h;
@@ -263,7 +278,7 @@ typedef struct {
     void *arg;
     s_source_t *sources;
     size_t nsources, capsources;
-    size_t last;  // index of the last source seen (cache)
+    size_t last; // index of the last source seen (cache)
 } s_sub_topic_t;
 
 struct cgs_sub {
@@ -362,13 +377,22 @@ int cgs_sub_on (cgs_sub_t *self, const char *topic, cgs_sub_fn *fn, void *arg)
     return cgs_sub_on_type (self, topic, t->message, fn, arg);
 }
 
-void *cgs_sub_socket (cgs_sub_t *self) { return self->socket; }
-size_t cgs_sub_topic_count (const cgs_sub_t *self) { return self->ntopics; }
+void *cgs_sub_socket (cgs_sub_t *self)
+{
+    return self->socket;
+}
+size_t cgs_sub_topic_count (const cgs_sub_t *self)
+{
+    return self->ntopics;
+}
 const cgs_topic_stats_t *cgs_sub_topic_stats (const cgs_sub_t *self, size_t i)
 {
     return i < self->ntopics ? &self->topics[i].stats : NULL;
 }
-uint64_t cgs_sub_received (const cgs_sub_t *self) { return self->received; }
+uint64_t cgs_sub_received (const cgs_sub_t *self)
+{
+    return self->received;
+}
 
 #define S_SUM(field)                                                                               \
     uint64_t n = 0;                                                                                \
@@ -376,8 +400,14 @@ uint64_t cgs_sub_received (const cgs_sub_t *self) { return self->received; }
         n += self->topics[i].stats.field;                                                          \
     return n
 
-uint64_t cgs_sub_gaps (const cgs_sub_t *self) { S_SUM (gaps); }
-uint64_t cgs_sub_restarts (const cgs_sub_t *self) { S_SUM (restarts); }
+uint64_t cgs_sub_gaps (const cgs_sub_t *self)
+{
+    S_SUM (gaps);
+}
+uint64_t cgs_sub_restarts (const cgs_sub_t *self)
+{
+    S_SUM (restarts);
+}
 uint64_t cgs_sub_malformed (const cgs_sub_t *self)
 {
     uint64_t n = self->malformed_unrouted;
@@ -430,7 +460,7 @@ static s_seq_t s_sub_sequence (s_sub_topic_t *t, const Cgs__Header *h)
     } else if (h->seq > s->seq + 1) {
         t->stats.gaps += h->seq - s->seq - 1;
     } else if (h->seq <= s->seq) {
-        t->stats.stale++;  // a repeat or reordering: not delivered twice
+        t->stats.stale++; // a repeat or reordering: not delivered twice
         return S_SEQ_STALE;
     }
     s->seq = h->seq;
@@ -453,22 +483,22 @@ int cgs_sub_dispatch (cgs_sub_t *self, int max)
         count++;
         self->received++;
         if (!zmq_msg_more (&topic)) {
-            self->malformed_unrouted++;  // a single frame: not ours
+            self->malformed_unrouted++; // a single frame: not ours
             continue;
         }
         zmq_msg_recv (&payload, self->socket, 0);
         bool extra = zmq_msg_more (&payload);
-        while (zmq_msg_more (&payload))  // drain a message with too many frames
+        while (zmq_msg_more (&payload)) // drain a message with too many frames
             zmq_msg_recv (&payload, self->socket, 0);
         s_sub_topic_t *t = s_sub_route (self, zmq_msg_data (&topic), zmq_msg_size (&topic));
         if (!t)
-            continue;  // a longer topic that shares our prefix
+            continue; // a longer topic that shares our prefix
         ProtobufCMessage *m = NULL;
         const Cgs__Header *h = NULL;
         s_seq_t verdict = S_SEQ_FAIL;
         if (!extra &&
-            cgs_msg_decode (t->desc, zmq_msg_data (&payload), zmq_msg_size (&payload),
-                            self->arena, &m) == 0 &&
+            cgs_msg_decode (t->desc, zmq_msg_data (&payload), zmq_msg_size (&payload), self->arena,
+                            &m) == 0 &&
             (h = cgs_msg_header (m)) != NULL)
             verdict = s_sub_sequence (t, h);
         if (verdict != S_SEQ_DELIVER) {

@@ -13,19 +13,19 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#define CGS_BUS_DEFAULT_SNDHWM 100000  // messages queued per subscriber before drops
-#define CGS_BUS_DEFAULT_RCVHWM 100000  // messages queued in a subscriber before drops
-#define CGS_TOPIC_MAX 32               // longest topic name + 1
+#define CGS_BUS_DEFAULT_SNDHWM 100000 // messages queued per subscriber before drops
+#define CGS_BUS_DEFAULT_RCVHWM 100000 // messages queued in a subscriber before drops
+#define CGS_TOPIC_MAX          32     // longest topic name + 1
 
 /* Traffic on one topic. */
 typedef struct {
     char topic[CGS_TOPIC_MAX];
-    uint64_t messages;   // sent, or received and handled
-    uint64_t drops;      // outbound: refused at the high-water mark
-    uint64_t gaps;       // inbound: messages missed, by sequence number
-    uint64_t malformed;  // inbound: payloads that failed to decode
-    uint64_t restarts;   // inbound: publisher epochs that changed
-    uint64_t stale;      // inbound: repeated or out-of-order sequence numbers
+    uint64_t messages;  // sent, or received and handled
+    uint64_t drops;     // outbound: refused at the high-water mark
+    uint64_t gaps;      // inbound: messages missed, by sequence number
+    uint64_t malformed; // inbound: payloads that failed to decode
+    uint64_t restarts;  // inbound: publisher epochs that changed
+    uint64_t stale;     // inbound: repeated or out-of-order sequence numbers
 } cgs_topic_stats_t;
 
 /* ---- publisher ------------------------------------------------------------------ */
@@ -68,8 +68,8 @@ typedef struct cgs_sub cgs_sub_t;
 
 /* Called for every well-formed message on a subscribed topic. msg and hdr
  * live until the handler returns. */
-typedef void(cgs_sub_fn) (void *arg, const char *topic, const ProtobufCMessage *msg,
-                          const Cgs__Header *hdr);
+typedef void (cgs_sub_fn) (void *arg, const char *topic, const ProtobufCMessage *msg,
+                           const Cgs__Header *hdr);
 
 /* Subscriber; NULL with errno on failure. ctx is a zmq context the caller owns. */
 cgs_sub_t *cgs_sub_new (void *ctx);

@@ -13,34 +13,34 @@
 #include <unistd.h>
 #include <zmq.h>
 
-#define S_PER_CLIENT 16     // replies kept per client
-#define S_MAX_ENTRIES 4096  // replies kept in all
-#define S_CACHE_MAX (64u << 20)
+#define S_PER_CLIENT  16   // replies kept per client
+#define S_MAX_ENTRIES 4096 // replies kept in all
+#define S_CACHE_MAX   (64u << 20)
 
 static int64_t s_now_ms (void)
 {
     struct timespec ts;
     clock_gettime (CLOCK_MONOTONIC, &ts);
-    return (int64_t) ts.tv_sec * 1000 + ts.tv_nsec / 1000000;
+    return (int64_t)ts.tv_sec * 1000 + ts.tv_nsec / 1000000;
 }
 
 const char *cgs_cmd_name (const Cgs__Command *cmd)
 {
-    const ProtobufCFieldDescriptor *f =
-        protobuf_c_message_descriptor_get_field (&cgs__command__descriptor, (unsigned) cmd->body_case);
+    const ProtobufCFieldDescriptor *f = protobuf_c_message_descriptor_get_field (
+        &cgs__command__descriptor, (unsigned)cmd->body_case);
     return f && cmd->body_case != CGS__COMMAND__BODY__NOT_SET ? f->name : "none";
 }
 
 void cgs_cmd_reply_free (Cgs__Reply **reply_p)
 {
-    cgs_msg_free ((ProtobufCMessage **) reply_p);
+    cgs_msg_free ((ProtobufCMessage **)reply_p);
 }
 
 /* ---- client --------------------------------------------------------------------- */
 
 struct cgs_cmd_client {
     void *ctx;
-    void *socket;  // NULL between attempts after a timeout
+    void *socket; // NULL between attempts after a timeout
     char endpoint[256];
     char id[128];
     uint64_t next_number;
@@ -65,9 +65,9 @@ cgs_cmd_client_t *cgs_cmd_client_new (void *ctx, const char *endpoint, const cha
         char host[64] = "host";
         gethostname (host, sizeof host - 1);
         uint32_t r = 0;
-        if (getrandom (&r, sizeof r, 0) != (ssize_t) sizeof r)
-            r = (uint32_t) s_now_ms ();
-        snprintf (self->id, sizeof self->id, "%s:%ld:%08x", host, (long) getpid (), r);
+        if (getrandom (&r, sizeof r, 0) != (ssize_t)sizeof r)
+            r = (uint32_t)s_now_ms ();
+        snprintf (self->id, sizeof self->id, "%s:%ld:%08x", host, (long)getpid (), r);
     }
     self->next_number = 1;
     return self;
@@ -83,9 +83,13 @@ void cgs_cmd_client_destroy (cgs_cmd_client_t **self_p)
     *self_p = NULL;
 }
 
-const char *cgs_cmd_client_id (const cgs_cmd_client_t *self) { return self->id; }
+const char *cgs_cmd_client_id (const cgs_cmd_client_t *self)
+{
+    return self->id;
+}
 
-void cgs_cmd_client_set_socket_hook (cgs_cmd_client_t *self, int (*hook) (void *, void *), void *arg)
+void cgs_cmd_client_set_socket_hook (cgs_cmd_client_t *self, int (*hook) (void *, void *),
+                                     void *arg)
 {
     self->hook = hook;
     self->hook_arg = arg;
@@ -121,7 +125,7 @@ int cgs_cmd_client_call (cgs_cmd_client_t *self, Cgs__Command *cmd, int timeout_
     uint8_t *buf = NULL;
     size_t len = 0;
     int rc = cgs_msg_encode_alloc (&cmd->base, &buf, &len);
-    cmd->client_id = (char *) protobuf_c_empty_string;
+    cmd->client_id = (char *)protobuf_c_empty_string;
     if (rc < 0)
         return rc;
 
@@ -141,7 +145,7 @@ int cgs_cmd_client_call (cgs_cmd_client_t *self, Cgs__Command *cmd, int timeout_
             if (left <= 0)
                 break;
             zmq_pollitem_t item = {self->socket, 0, ZMQ_POLLIN, 0};
-            int n = zmq_poll (&item, 1, (long) left);
+            int n = zmq_poll (&item, 1, (long)left);
             if (n < 0) {
                 rc = -zmq_errno ();
                 snprintf (err, errlen, "interrupted waiting for %s", self->endpoint);
@@ -161,7 +165,7 @@ int cgs_cmd_client_call (cgs_cmd_client_t *self, Cgs__Command *cmd, int timeout_
                            : cgs_msg_decode (&cgs__reply__descriptor, zmq_msg_data (&m),
                                              zmq_msg_size (&m), NULL, &pm);
             zmq_msg_close (&m);
-            while (more) {  // drain frames of a malformed reply
+            while (more) { // drain frames of a malformed reply
                 zmq_msg_init (&m);
                 zmq_msg_recv (&m, self->socket, 0);
                 more = zmq_msg_more (&m);
@@ -172,10 +176,10 @@ int cgs_cmd_client_call (cgs_cmd_client_t *self, Cgs__Command *cmd, int timeout_
                 snprintf (err, errlen, "malformed reply from %s", self->endpoint);
                 goto done;
             }
-            Cgs__Reply *reply = (Cgs__Reply *) pm;
+            Cgs__Reply *reply = (Cgs__Reply *)pm;
             if (reply->command_number != cmd->command_number ||
                 strcmp (reply->client_id, self->id) != 0) {
-                cgs_cmd_reply_free (&reply);  // a late reply to an earlier command
+                cgs_cmd_reply_free (&reply); // a late reply to an earlier command
                 continue;
             }
             *ret_reply = reply;
@@ -187,7 +191,8 @@ int cgs_cmd_client_call (cgs_cmd_client_t *self, Cgs__Command *cmd, int timeout_
         self->socket = NULL;
     }
     rc = -ETIMEDOUT;
-    snprintf (err, errlen, "no reply from %s after %d attempt%s over %.1f s (is the service running?)",
+    snprintf (err, errlen,
+              "no reply from %s after %d attempt%s over %.1f s (is the service running?)",
               self->endpoint, attempts, attempts == 1 ? "" : "s", attempts * timeout_ms / 1000.0);
 done:
     free (buf);
@@ -197,8 +202,8 @@ done:
 /* ---- server --------------------------------------------------------------------- */
 
 typedef struct {
-    Cgs__Reply *reply;  // owned copy, as sent
-    uint64_t tick;      // last use, for eviction
+    Cgs__Reply *reply; // owned copy, as sent
+    uint64_t tick;     // last use, for eviction
 } s_entry_t;
 
 struct cgs_cmd_server {
@@ -254,12 +259,12 @@ static void s_cache_load (cgs_cmd_server_t *self)
                   self->cache_path, rc == -EPROTO ? "not a reply cache" : strerror (-rc), bad);
         return;
     }
-    Cgs__ReplyCache *cache = (Cgs__ReplyCache *) m;
+    Cgs__ReplyCache *cache = (Cgs__ReplyCache *)m;
     size_t n = cache->n_replies < S_MAX_ENTRIES ? cache->n_replies : S_MAX_ENTRIES;
     for (size_t i = 0; i < n; i++) {
         self->entries[self->nentries].reply = cache->replies[i];
         self->entries[self->nentries].tick = ++self->tick;
-        cache->replies[i] = NULL;  // ownership moves to the entry
+        cache->replies[i] = NULL; // ownership moves to the entry
         self->nentries++;
     }
     // Free the container and any replies past the limit.
@@ -316,12 +321,30 @@ int cgs_cmd_server_bind (cgs_cmd_server_t *self, const char *endpoint)
     return 0;
 }
 
-void *cgs_cmd_server_socket (cgs_cmd_server_t *self) { return self->socket; }
-const char *cgs_cmd_server_load_error (const cgs_cmd_server_t *self) { return self->load_error; }
-uint64_t cgs_cmd_server_applied (const cgs_cmd_server_t *self) { return self->applied; }
-uint64_t cgs_cmd_server_duplicates (const cgs_cmd_server_t *self) { return self->duplicates; }
-uint64_t cgs_cmd_server_malformed (const cgs_cmd_server_t *self) { return self->malformed; }
-uint64_t cgs_cmd_server_write_errors (const cgs_cmd_server_t *self) { return self->write_errors; }
+void *cgs_cmd_server_socket (cgs_cmd_server_t *self)
+{
+    return self->socket;
+}
+const char *cgs_cmd_server_load_error (const cgs_cmd_server_t *self)
+{
+    return self->load_error;
+}
+uint64_t cgs_cmd_server_applied (const cgs_cmd_server_t *self)
+{
+    return self->applied;
+}
+uint64_t cgs_cmd_server_duplicates (const cgs_cmd_server_t *self)
+{
+    return self->duplicates;
+}
+uint64_t cgs_cmd_server_malformed (const cgs_cmd_server_t *self)
+{
+    return self->malformed;
+}
+uint64_t cgs_cmd_server_write_errors (const cgs_cmd_server_t *self)
+{
+    return self->write_errors;
+}
 
 static s_entry_t *s_find (cgs_cmd_server_t *self, const char *client, uint64_t number)
 {
@@ -341,7 +364,7 @@ static int s_store (cgs_cmd_server_t *self, const uint8_t *packed, size_t len)
     int rc = cgs_msg_decode (&cgs__reply__descriptor, packed, len, NULL, &m);
     if (rc < 0)
         return rc;
-    Cgs__Reply *copy = (Cgs__Reply *) m;
+    Cgs__Reply *copy = (Cgs__Reply *)m;
     size_t mine = 0, oldest_mine = SIZE_MAX, oldest = 0;
     for (size_t i = 0; i < self->nentries; i++) {
         if (self->entries[i].tick < self->entries[oldest].tick)
@@ -388,7 +411,8 @@ static int s_cache_write (cgs_cmd_server_t *self)
     return rc;
 }
 
-static void s_send_reply (cgs_cmd_server_t *self, zmq_msg_t *identity, const uint8_t *buf, size_t len)
+static void s_send_reply (cgs_cmd_server_t *self, zmq_msg_t *identity, const uint8_t *buf,
+                          size_t len)
 {
     zmq_send (self->socket, zmq_msg_data (identity), zmq_msg_size (identity), ZMQ_SNDMORE);
     zmq_send (self->socket, buf, len, 0);
@@ -411,7 +435,7 @@ static void s_handle (cgs_cmd_server_t *self, zmq_msg_t *identity, zmq_msg_t *pa
         free (buf);
         return;
     }
-    Cgs__Command *cmd = (Cgs__Command *) m;
+    Cgs__Command *cmd = (Cgs__Command *)m;
     s_entry_t *e = s_find (self, cmd->client_id, cmd->command_number);
     if (e) {
         self->duplicates++;
@@ -462,14 +486,14 @@ int cgs_cmd_server_dispatch (cgs_cmd_server_t *self, int max)
             return e == EAGAIN ? count : (count ? count : -e);
         }
         count++;
-        if (!zmq_msg_more (&identity)) {  // cannot happen on ROUTER; be safe
+        if (!zmq_msg_more (&identity)) { // cannot happen on ROUTER; be safe
             zmq_msg_close (&identity);
             continue;
         }
         zmq_msg_init (&payload);
         zmq_msg_recv (&payload, self->socket, 0);
         bool extra = zmq_msg_more (&payload);
-        if (extra) {  // drain the frames of a malformed command
+        if (extra) { // drain the frames of a malformed command
             zmq_msg_t drain;
             zmq_msg_init (&drain);
             do

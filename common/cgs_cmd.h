@@ -15,7 +15,7 @@
 #include <stdint.h>
 
 #define CGS_CMD_DEFAULT_TIMEOUT_MS 1000
-#define CGS_CMD_DEFAULT_ATTEMPTS 5
+#define CGS_CMD_DEFAULT_ATTEMPTS   5
 
 /* ---- client --------------------------------------------------------------------- */
 
@@ -50,7 +50,7 @@ typedef struct cgs_cmd_server cgs_cmd_server_t;
 /* Apply a new command: fill reply->status (OK by default), ->detail or
  * ->error (strings the handler owns, valid until it is next called). Persist
  * what the command changed before returning. */
-typedef void(cgs_cmd_handler_fn) (void *arg, const Cgs__Command *cmd, Cgs__Reply *reply);
+typedef void (cgs_cmd_handler_fn) (void *arg, const Cgs__Command *cmd, Cgs__Reply *reply);
 
 /* Server named name (put in every reply). cache_path: file in the state
  * directory for the stored replies, or NULL to keep them in memory only; an

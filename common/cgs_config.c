@@ -10,6 +10,7 @@
  * syntax errors at once with the right line. A line longer than inih's buffer
  * is an error, except a comment, which is cut. Pure: no logging, no globals. */
 #include "cgs_config.h"
+#include "cgs_util.h"
 
 #include <ini.h>
 
@@ -57,19 +58,6 @@ struct cgs_config {
     "`E N [U]` or `local E N [U]` in metres, `geo LAT LON [H]`, `LAT{N|S} LON{E|W} [H]` or "       \
     "`mgrs GRID`"
 #define S_GEO_FORMS "`geo LAT LON [H]`, `LAT{N|S} LON{E|W} [H]` or `mgrs GRID`"
-
-static void s_err (char *err, size_t errlen, const char *fmt, ...)
-    __attribute__ ((format (printf, 3, 4)));
-
-static void s_err (char *err, size_t errlen, const char *fmt, ...)
-{
-    if (!err || errlen == 0)
-        return;
-    va_list ap;
-    va_start (ap, fmt);
-    vsnprintf (err, errlen, fmt, ap);
-    va_end (ap);
-}
 
 // --- storage ------------------------------------------------------------------
 
@@ -231,7 +219,7 @@ static bool s_next_line (s_parser_t *p)
             if (ferror (p->file)) {
                 int e = errno ? errno : EIO;
                 p->rc = -e;
-                s_err (p->err, p->errlen, "%s: %s", p->cfg->path, strerror (e));
+                cgs_errf (p->err, p->errlen, "%s: %s", p->cfg->path, strerror (e));
             }
             return false;
         }
@@ -245,7 +233,7 @@ static bool s_next_line (s_parser_t *p)
             char *raw = realloc (p->raw, n + 1);
             if (!raw) {
                 p->rc = -ENOMEM;
-                s_err (p->err, p->errlen, "%s: out of memory", p->cfg->path);
+                cgs_errf (p->err, p->errlen, "%s: out of memory", p->cfg->path);
                 return false;
             }
             p->raw = raw;
@@ -263,7 +251,7 @@ static bool s_next_line (s_parser_t *p)
 static void s_syntax_error (s_parser_t *p)
 {
     p->rc = -EINVAL;
-    s_err (p->err, p->errlen, "%s:%d: " S_SYNTAX, p->cfg->path, p->line);
+    cgs_errf (p->err, p->errlen, "%s:%d: " S_SYNTAX, p->cfg->path, p->line);
 }
 
 // inih's rule for where a name ends: at one of chars, or at a ';' comment after whitespace.
@@ -296,7 +284,7 @@ static void s_section_line (s_parser_t *p, const char *s)
     char *name = malloc ((size_t)(end - s));
     if (!name) {
         p->rc = -ENOMEM;
-        s_err (p->err, p->errlen, "%s: out of memory", p->cfg->path);
+        cgs_errf (p->err, p->errlen, "%s: out of memory", p->cfg->path);
         return;
     }
     size_t n = 0;
@@ -312,10 +300,10 @@ static void s_section_line (s_parser_t *p, const char *s)
     name[n] = '\0';
     if (n == 0) {
         p->rc = -EINVAL;
-        s_err (p->err, p->errlen, "%s:%d: empty section name", p->cfg->path, p->line);
+        cgs_errf (p->err, p->errlen, "%s:%d: empty section name", p->cfg->path, p->line);
     } else if (s_section_add (p->cfg, name, p->line, &p->section) < 0) {
         p->rc = -ENOMEM;
-        s_err (p->err, p->errlen, "%s: out of memory", p->cfg->path);
+        cgs_errf (p->err, p->errlen, "%s: out of memory", p->cfg->path);
     }
     free (name);
 }
@@ -337,9 +325,9 @@ static char *s_reader (char *str, int num, void *stream)
     if (len > (size_t)num - 1) {
         if (!comment) {
             p->rc = -EINVAL;
-            s_err (p->err, p->errlen,
-                   "%s:%d: line too long (at most %d characters, not counting indentation)",
-                   p->cfg->path, p->line, num - 1);
+            cgs_errf (p->err, p->errlen,
+                      "%s:%d: line too long (at most %d characters, not counting indentation)",
+                      p->cfg->path, p->line, num - 1);
             return NULL;
         }
         len = (size_t)num - 1;
@@ -377,7 +365,7 @@ static int s_handler (void *user, const char *section, const char *name, const c
     return 1;
 nomem:
     p->rc = -ENOMEM;
-    s_err (p->err, p->errlen, "%s: out of memory", p->cfg->path);
+    cgs_errf (p->err, p->errlen, "%s: out of memory", p->cfg->path);
     return 0;
 }
 
@@ -388,7 +376,7 @@ static int s_load (const char *name, FILE *file, const char *text, cgs_config_t 
     s_parser_t p = {.file = file, .text = text, .section = SIZE_MAX, .err = err, .errlen = errlen};
     p.cfg = s_new (name);
     if (!p.cfg) {
-        s_err (err, errlen, "%s: out of memory", name);
+        cgs_errf (err, errlen, "%s: out of memory", name);
         return -ENOMEM;
     }
     int rc = ini_parse_stream (s_reader, &p, s_handler, &p);
@@ -396,10 +384,10 @@ static int s_load (const char *name, FILE *file, const char *text, cgs_config_t 
     if (p.rc == 0 && rc > 0) {
         // The reader checks what inih would reject, so this is only a fallback.
         p.rc = -EINVAL;
-        s_err (err, errlen, "%s:%d: " S_SYNTAX, name, rc);
+        cgs_errf (err, errlen, "%s:%d: " S_SYNTAX, name, rc);
     } else if (p.rc == 0 && rc < 0) {
         p.rc = -ENOMEM;
-        s_err (err, errlen, "%s: out of memory", name);
+        cgs_errf (err, errlen, "%s: out of memory", name);
     }
     if (p.rc) {
         cgs_config_destroy (&p.cfg);
@@ -415,7 +403,7 @@ int cgs_config_load (const char *path, cgs_config_t **ret_cfg, char *err, size_t
     FILE *file = fopen (path, "r");
     if (!file) {
         int rc = -errno;
-        s_err (err, errlen, "%s: %s", path, strerror (errno));
+        cgs_errf (err, errlen, "%s: %s", path, strerror (errno));
         return rc;
     }
     int rc = s_load (path, file, NULL, ret_cfg, err, errlen);
@@ -747,7 +735,7 @@ int cgs_config_get_path (cgs_config_t *self, const char *section, const char *ke
     }
     const char *joined = s_join (self, value);
     if (!joined) {
-        s_err (err, errlen, "%s: out of memory", self->path);
+        cgs_errf (err, errlen, "%s: out of memory", self->path);
         return -ENOMEM;
     }
     if (e)
@@ -796,10 +784,10 @@ int cgs_config_require (const cgs_config_t *self, const char *section, const cha
     if (cgs_config_has (self, section, key))
         return 0;
     if (*section)
-        s_err (err, errlen, "%s: [%s]: missing key '%s' (expected %s)", self->path, section, key,
-               what);
+        cgs_errf (err, errlen, "%s: [%s]: missing key '%s' (expected %s)", self->path, section, key,
+                  what);
     else
-        s_err (err, errlen, "%s: missing key '%s' (expected %s)", self->path, key, what);
+        cgs_errf (err, errlen, "%s: missing key '%s' (expected %s)", self->path, key, what);
     return -ENOENT;
 }
 
@@ -840,13 +828,13 @@ int cgs_config_check_unused (const cgs_config_t *self, char *err, size_t errlen)
     if (!bad_sec)
         return 0;
     if (!*bad_sec->name)
-        s_err (err, errlen, "%s:%d: unknown key '%s' (before any section)", self->path, bad_line,
-               bad_key->key);
+        cgs_errf (err, errlen, "%s:%d: unknown key '%s' (before any section)", self->path, bad_line,
+                  bad_key->key);
     else if (!bad_sec->looked_at)
-        s_err (err, errlen, "%s:%d: unknown section [%s]", self->path, bad_line, bad_sec->name);
+        cgs_errf (err, errlen, "%s:%d: unknown section [%s]", self->path, bad_line, bad_sec->name);
     else
-        s_err (err, errlen, "%s:%d: [%s] unknown key '%s'", self->path, bad_line, bad_sec->name,
-               bad_key->key);
+        cgs_errf (err, errlen, "%s:%d: [%s] unknown key '%s'", self->path, bad_line, bad_sec->name,
+                  bad_key->key);
     return -EINVAL;
 }
 
@@ -888,18 +876,18 @@ static int s_geodetic_tokens (char **tok, size_t n, const char *text, cgs_geodet
     if (n < 2 || n > 3 || !s_coord (tok[0], 'N', 'S', &g.lat_deg, &letter) ||
         !s_coord (tok[1], 'E', 'W', &g.lon_deg, &letter) ||
         (n == 3 && !s_parse_double (tok[2], &g.height_m))) {
-        s_err (why, whylen,
-               "expected latitude and longitude in degrees and an optional height in metres "
-               "(`geo LAT LON [H]` or `LAT{N|S} LON{E|W} [H]`), got '%s'",
-               text);
+        cgs_errf (why, whylen,
+                  "expected latitude and longitude in degrees and an optional height in metres "
+                  "(`geo LAT LON [H]` or `LAT{N|S} LON{E|W} [H]`), got '%s'",
+                  text);
         return -EINVAL;
     }
     if (g.lat_deg < -90.0 || g.lat_deg > 90.0) {
-        s_err (why, whylen, "latitude %.15g is outside [-90, 90] in '%s'", g.lat_deg, text);
+        cgs_errf (why, whylen, "latitude %.15g is outside [-90, 90] in '%s'", g.lat_deg, text);
         return -EINVAL;
     }
     if (g.lon_deg < -180.0 || g.lon_deg > 180.0) {
-        s_err (why, whylen, "longitude %.15g is outside [-180, 180] in '%s'", g.lon_deg, text);
+        cgs_errf (why, whylen, "longitude %.15g is outside [-180, 180] in '%s'", g.lon_deg, text);
         return -EINVAL;
     }
     *ret = g;
@@ -921,7 +909,7 @@ static int s_parse_any (const char *text, bool *ret_is_local, cgs_enu_t *ret_loc
     char buf[256];
     size_t len = strlen (text);
     if (len >= sizeof buf) {
-        s_err (why, whylen, "position too long (%zu characters)", len);
+        cgs_errf (why, whylen, "position too long (%zu characters)", len);
         return -EINVAL;
     }
     memcpy (buf, text, len + 1);
@@ -960,8 +948,9 @@ static int s_parse_any (const char *text, bool *ret_is_local, cgs_enu_t *ret_loc
         if (cgs_geo_from_mgrs (grid, &g, NULL) < 0) {
             if (grid == text)
                 goto bad; // it only looked like MGRS: list every form
-            s_err (why, whylen,
-                   "'%s' is not an MGRS reference (expected e.g. `mgrs 10SEG 12345 67890`)", text);
+            cgs_errf (why, whylen,
+                      "'%s' is not an MGRS reference (expected e.g. `mgrs 10SEG 12345 67890`)",
+                      text);
             return -EINVAL;
         }
         *ret_is_local = false;
@@ -978,7 +967,7 @@ static int s_parse_any (const char *text, bool *ret_is_local, cgs_enu_t *ret_loc
         return 0;
     }
 bad:
-    s_err (why, whylen, "expected a position as " S_FORMS ", got '%s'", text);
+    cgs_errf (why, whylen, "expected a position as " S_FORMS ", got '%s'", text);
     return -EINVAL;
 }
 
@@ -997,11 +986,12 @@ int cgs_config_parse_position (const char *text, const cgs_geo_t *frame, cgs_enu
         return 0;
     }
     if (!frame) {
-        s_err (why, whylen, "'%s' is geodetic, but there is no exercise origin to place it", text);
+        cgs_errf (why, whylen, "'%s' is geodetic, but there is no exercise origin to place it",
+                  text);
         return -EINVAL;
     }
     if (cgs_geo_geodetic_to_enu (frame, g, &local) < 0) {
-        s_err (why, whylen, "cannot convert '%s' to local coordinates", text);
+        cgs_errf (why, whylen, "cannot convert '%s' to local coordinates", text);
         return -EINVAL;
     }
     *ret = local;
@@ -1018,10 +1008,10 @@ int cgs_config_parse_geodetic (const char *text, cgs_geodetic_t *ret, char *why,
     if (rc < 0)
         return rc;
     if (is_local) {
-        s_err (why, whylen,
-               "expected a geodetic position as " S_GEO_FORMS
-               " (local metres have no meaning here), got '%s'",
-               text);
+        cgs_errf (why, whylen,
+                  "expected a geodetic position as " S_GEO_FORMS
+                  " (local metres have no meaning here), got '%s'",
+                  text);
         return -EINVAL;
     }
     *ret = g;

@@ -67,7 +67,8 @@ int cgs_config_get_position (cgs_config_t *self, const char *section, const char
                              const cgs_geo_t *frame, cgs_enu_t def, cgs_enu_t *ret, char *err,
                              size_t errlen);
 /* The idx-th value of a repeated key, raw; marks it used; NULL when absent. */
-const char *cgs_config_get_nth (cgs_config_t *self, const char *section, const char *key, size_t idx);
+const char *cgs_config_get_nth (cgs_config_t *self, const char *section, const char *key,
+                                size_t idx);
 /* -ENOENT with "file: [section]: missing key 'key' (expected what)" unless the key is present. */
 int cgs_config_require (const cgs_config_t *self, const char *section, const char *key,
                         const char *what, char *err, size_t errlen);
@@ -89,8 +90,8 @@ int cgs_config_error (const cgs_config_t *self, const char *section, const char 
  *   "mgrs 10SEG 12345 67890" or "10SEG1234567890"   MGRS, height 0
  * Geodetic and MGRS positions become local ENU in frame (up is the frame's up
  * at that point). 0, or -EINVAL with the reason in why. */
-int cgs_config_parse_position (const char *text, const cgs_geo_t *frame, cgs_enu_t *ret,
-                               char *why, size_t whylen);
+int cgs_config_parse_position (const char *text, const cgs_geo_t *frame, cgs_enu_t *ret, char *why,
+                               size_t whylen);
 /* Parse a geodetic position (the geo, hemisphere or MGRS forms above; local
  * metres are rejected), e.g. an exercise origin. 0, or -EINVAL with the reason in why. */
 int cgs_config_parse_geodetic (const char *text, cgs_geodetic_t *ret, char *why, size_t whylen);

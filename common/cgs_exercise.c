@@ -8,6 +8,7 @@
  * is left to the CURVE module; any other section, or an unknown key, is an
  * error. Pure: no logging. */
 #include "cgs_exercise.h"
+#include "cgs_util.h"
 
 #include "cgs_topics.h"
 
@@ -35,19 +36,6 @@ struct cgs_exercise {
 
 #define S_SERVICE  "service"
 #define S_ENDPOINT "an endpoint starting with tcp://, ipc:// or inproc://"
-
-static void s_err (char *err, size_t errlen, const char *fmt, ...)
-    __attribute__ ((format (printf, 3, 4)));
-
-static void s_err (char *err, size_t errlen, const char *fmt, ...)
-{
-    if (!err || errlen == 0)
-        return;
-    va_list ap;
-    va_start (ap, fmt);
-    vsnprintf (err, errlen, fmt, ap);
-    va_end (ap);
-}
 
 // path made absolute from the working directory into a new string; -ENOMEM or getcwd's error.
 static int s_absolute (const char *path, char **ret)
@@ -232,7 +220,7 @@ static int s_load_exercise (cgs_exercise_t *self, char *err, size_t errlen)
         return rc;
     self->scenario = strdup (scenario);
     if (!self->scenario) {
-        s_err (err, errlen, "%s: out of memory", path);
+        cgs_errf (err, errlen, "%s: out of memory", path);
         return -ENOMEM;
     }
     return 0;
@@ -343,7 +331,7 @@ static int s_load_services (cgs_exercise_t *self, char *err, size_t errlen)
         n += strncmp (cgs_config_section_name (cfg, i), S_SERVICE, strlen (S_SERVICE)) == 0;
     self->instances = calloc (n ? n : 1, sizeof *self->instances);
     if (!self->instances) {
-        s_err (err, errlen, "%s: out of memory", cgs_config_path (cfg));
+        cgs_errf (err, errlen, "%s: out of memory", cgs_config_path (cfg));
         return -ENOMEM;
     }
     for (size_t i = 0; i < cgs_config_section_count (cfg); i++) {
@@ -367,7 +355,7 @@ int cgs_exercise_load (const char *path, cgs_exercise_t **ret_ex, char *err, siz
     assert (path && ret_ex);
     cgs_exercise_t *self = calloc (1, sizeof *self);
     if (!self) {
-        s_err (err, errlen, "%s: out of memory", path);
+        cgs_errf (err, errlen, "%s: out of memory", path);
         return -ENOMEM;
     }
     int rc = cgs_config_load (path, &self->config, err, errlen);

@@ -26,21 +26,21 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#define CGS_NAME_MAX 64
+#define CGS_NAME_MAX     64
 #define CGS_ENDPOINT_MAX 256
-#define CGS_KEY_MAX 41  // Z85 CURVE key, 40 characters and a NUL
+#define CGS_KEY_MAX      41 // Z85 CURVE key, 40 characters and a NUL
 
 typedef struct {
-    char name[CGS_NAME_MAX];         // instance, e.g. "mtid.uav1"
-    char program[CGS_NAME_MAX];      // executable, e.g. "mtid" (or `program =`)
-    char publish[CGS_ENDPOINT_MAX];  // PUB endpoint it binds, "" if none
-    char command[CGS_ENDPOINT_MAX];  // ROUTER endpoint it binds, "" if none
-    char host[CGS_NAME_MAX];         // host it runs on (default "localhost")
-    char uav[CGS_NAME_MAX];          // UAV it serves, for per-UAV services ("" if none)
-    char params[4096];               // model parameter file, absolute ("" if none)
-    char public_key[CGS_KEY_MAX];    // CURVE server public key ("" without CURVE)
-    char secret_key_file[4096];      // file holding its secret key ("" without CURVE)
-    bool enabled;                    // `enabled = no` leaves it out of `mscgs run`
+    char name[CGS_NAME_MAX];        // instance, e.g. "mtid.uav1"
+    char program[CGS_NAME_MAX];     // executable, e.g. "mtid" (or `program =`)
+    char publish[CGS_ENDPOINT_MAX]; // PUB endpoint it binds, "" if none
+    char command[CGS_ENDPOINT_MAX]; // ROUTER endpoint it binds, "" if none
+    char host[CGS_NAME_MAX];        // host it runs on (default "localhost")
+    char uav[CGS_NAME_MAX];         // UAV it serves, for per-UAV services ("" if none)
+    char params[4096];              // model parameter file, absolute ("" if none)
+    char public_key[CGS_KEY_MAX];   // CURVE server public key ("" without CURVE)
+    char secret_key_file[4096];     // file holding its secret key ("" without CURVE)
+    bool enabled;                   // `enabled = no` leaves it out of `mscgs run`
 } cgs_instance_t;
 
 typedef struct cgs_exercise cgs_exercise_t;

@@ -12,19 +12,19 @@ extern "C" {
 #endif
 
 typedef struct {
-    double lat_deg;   // latitude, degrees north
-    double lon_deg;   // longitude, degrees east
-    double height_m;  // height above the WGS84 ellipsoid, metres
+    double lat_deg;  // latitude, degrees north
+    double lon_deg;  // longitude, degrees east
+    double height_m; // height above the WGS84 ellipsoid, metres
 } cgs_geodetic_t;
 
 typedef struct {
-    double e_m;  // east of the exercise origin, metres
-    double n_m;  // north of the exercise origin, metres
-    double u_m;  // up from the exercise origin, metres
+    double e_m; // east of the exercise origin, metres
+    double n_m; // north of the exercise origin, metres
+    double u_m; // up from the exercise origin, metres
 } cgs_enu_t;
 
 typedef struct {
-    double x_m, y_m, z_m;  // WGS84 geocentric (ECEF), metres
+    double x_m, y_m, z_m; // WGS84 geocentric (ECEF), metres
 } cgs_ecef_t;
 
 /* DIS Euler angles (IEEE 1278.1): the entity's body axes (x forward, y right,
@@ -85,8 +85,9 @@ int cgs_geo_hpr_from_dis_euler (cgs_geodetic_t at, cgs_dis_euler_t e, double *re
 void cgs_geo_dis_euler_from_local (const cgs_geo_t *self, double heading_deg, double pitch_deg,
                                    double roll_deg, cgs_dis_euler_t *ret_e);
 /* The inverse of cgs_geo_dis_euler_from_local; heading in [0, 360). */
-void cgs_geo_local_from_dis_euler (const cgs_geo_t *self, cgs_dis_euler_t e, double *ret_heading_deg,
-                                   double *ret_pitch_deg, double *ret_roll_deg);
+void cgs_geo_local_from_dis_euler (const cgs_geo_t *self, cgs_dis_euler_t e,
+                                   double *ret_heading_deg, double *ret_pitch_deg,
+                                   double *ret_roll_deg);
 
 #ifdef __cplusplus
 }

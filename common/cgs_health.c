@@ -7,7 +7,7 @@
 #include <string.h>
 #include <unistd.h>
 
-#define S_MAX_SUBS 8
+#define S_MAX_SUBS   8
 #define S_MAX_TOPICS 64
 
 struct cgs_health {
@@ -20,9 +20,9 @@ struct cgs_health {
     size_t nsubs;
     const cgs_cmd_server_t *cmd;
     uint64_t extra_malformed;
-    double start, last;  // monotonic seconds
+    double start, last; // monotonic seconds
     uint64_t prev_in, prev_out;
-    uint64_t prev_topic[S_MAX_TOPICS];  // message counts at the last publish, in stats order
+    uint64_t prev_topic[S_MAX_TOPICS]; // message counts at the last publish, in stats order
 };
 
 cgs_health_t *cgs_health_new (const char *program, const char *instance, const char *version)
@@ -47,7 +47,10 @@ void cgs_health_destroy (cgs_health_t **self_p)
     *self_p = NULL;
 }
 
-void cgs_health_watch_pub (cgs_health_t *self, const cgs_pub_t *pub) { self->pub = pub; }
+void cgs_health_watch_pub (cgs_health_t *self, const cgs_pub_t *pub)
+{
+    self->pub = pub;
+}
 
 int cgs_health_watch_sub (cgs_health_t *self, const cgs_sub_t *sub)
 {
@@ -57,9 +60,18 @@ int cgs_health_watch_sub (cgs_health_t *self, const cgs_sub_t *sub)
     return 0;
 }
 
-void cgs_health_watch_cmd (cgs_health_t *self, const cgs_cmd_server_t *cmd) { self->cmd = cmd; }
-void cgs_health_set_state (cgs_health_t *self, Cgs__ServiceState state) { self->state = state; }
-void cgs_health_add_malformed (cgs_health_t *self, uint64_t n) { self->extra_malformed += n; }
+void cgs_health_watch_cmd (cgs_health_t *self, const cgs_cmd_server_t *cmd)
+{
+    self->cmd = cmd;
+}
+void cgs_health_set_state (cgs_health_t *self, Cgs__ServiceState state)
+{
+    self->state = state;
+}
+void cgs_health_add_malformed (cgs_health_t *self, uint64_t n)
+{
+    self->extra_malformed += n;
+}
 
 void cgs_health_set_error (cgs_health_t *self, const char *error)
 {
@@ -84,11 +96,11 @@ int cgs_health_publish (cgs_health_t *self, cgs_pub_t *pub, double sim_time_s)
             const cgs_topic_stats_t *s = cgs_pub_topic_stats (self->pub, i);
             Cgs__TopicStats *t = &ts[nt];
             cgs__topic_stats__init (t);
-            t->topic = (char *) s->topic;
+            t->topic = (char *)s->topic;
             t->outbound = true;
             t->messages = s->messages;
             t->drops = s->drops;
-            t->rate_hz = (double) (s->messages - self->prev_topic[nt]) / dt;
+            t->rate_hz = (double)(s->messages - self->prev_topic[nt]) / dt;
             self->prev_topic[nt] = s->messages;
             tp[nt] = t;
             nt++;
@@ -102,11 +114,11 @@ int cgs_health_publish (cgs_health_t *self, cgs_pub_t *pub, double sim_time_s)
             const cgs_topic_stats_t *s = cgs_sub_topic_stats (sub, i);
             Cgs__TopicStats *t = &ts[nt];
             cgs__topic_stats__init (t);
-            t->topic = (char *) s->topic;
+            t->topic = (char *)s->topic;
             t->messages = s->messages;
             t->gaps = s->gaps;
             t->malformed = s->malformed;
-            t->rate_hz = (double) (s->messages - self->prev_topic[nt]) / dt;
+            t->rate_hz = (double)(s->messages - self->prev_topic[nt]) / dt;
             self->prev_topic[nt] = s->messages;
             in += s->messages;
             tp[nt] = t;
@@ -120,13 +132,13 @@ int cgs_health_publish (cgs_health_t *self, cgs_pub_t *pub, double sim_time_s)
     h.instance = self->instance;
     h.version = self->version;
     h.host = self->host;
-    h.pid = (uint32_t) getpid ();
+    h.pid = (uint32_t)getpid ();
     h.state = self->state;
     h.uptime_s = now - self->start;
     h.msgs_in = in;
     h.msgs_out = out;
-    h.msgs_in_per_s = (double) (in - self->prev_in) / dt;
-    h.msgs_out_per_s = (double) (out - self->prev_out) / dt;
+    h.msgs_in_per_s = (double)(in - self->prev_in) / dt;
+    h.msgs_out_per_s = (double)(out - self->prev_out) / dt;
     h.drops = drops;
     h.gaps = gaps;
     h.malformed = malformed;

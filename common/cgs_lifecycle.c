@@ -36,9 +36,18 @@ int cgs_lifecycle_init (void)
     return 0;
 }
 
-bool cgs_lifecycle_stopping (void) { return s_stop != 0; }
-int cgs_lifecycle_stop_signal (void) { return (int) s_stop_signal; }
-void cgs_lifecycle_request_stop (void) { s_stop = 1; }
+bool cgs_lifecycle_stopping (void)
+{
+    return s_stop != 0;
+}
+int cgs_lifecycle_stop_signal (void)
+{
+    return (int)s_stop_signal;
+}
+void cgs_lifecycle_request_stop (void)
+{
+    s_stop = 1;
+}
 
 bool cgs_lifecycle_take_reload (void)
 {
@@ -63,8 +72,14 @@ void cgs_notify_status (const char *fmt, ...)
     sd_notifyf (0, "STATUS=%s", buf);
 }
 
-void cgs_notify_watchdog (void) { sd_notify (0, "WATCHDOG=1"); }
-void cgs_notify_stopping (void) { sd_notify (0, "STOPPING=1"); }
+void cgs_notify_watchdog (void)
+{
+    sd_notify (0, "WATCHDOG=1");
+}
+void cgs_notify_stopping (void)
+{
+    sd_notify (0, "STOPPING=1");
+}
 
 uint64_t cgs_notify_watchdog_usec (void)
 {

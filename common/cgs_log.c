@@ -24,8 +24,8 @@ void cgs_log (int priority, const char *fmt, ...)
     int n = snprintf (line, sizeof line, "<%d>%s: ", priority, s_ident);
     va_list ap;
     va_start (ap, fmt);
-    if (n > 0 && (size_t) n < sizeof line)
-        vsnprintf (line + n, sizeof line - (size_t) n, fmt, ap);
+    if (n > 0 && (size_t)n < sizeof line)
+        vsnprintf (line + n, sizeof line - (size_t)n, fmt, ap);
     va_end (ap);
     size_t len = strlen (line);
     if (len + 1 < sizeof line)
@@ -34,5 +34,5 @@ void cgs_log (int priority, const char *fmt, ...)
         line[sizeof line - 2] = '\n', len = sizeof line - 1;
     // One write per line, so lines from many processes sharing a log do not interleave.
     ssize_t w = write (STDERR_FILENO, line, len);
-    (void) w;
+    (void)w;
 }

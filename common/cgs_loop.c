@@ -20,7 +20,7 @@ typedef struct {
 typedef struct {
     int id;
     double interval_s;
-    double due;  // monotonic seconds
+    double due; // monotonic seconds
     cgs_loop_fn *fn;
     void *arg;
 } s_timer_t;
@@ -38,10 +38,13 @@ double cgs_loop_now (void)
 {
     struct timespec ts;
     clock_gettime (CLOCK_MONOTONIC, &ts);
-    return (double) ts.tv_sec + ts.tv_nsec * 1e-9;
+    return (double)ts.tv_sec + ts.tv_nsec * 1e-9;
 }
 
-cgs_loop_t *cgs_loop_new (void) { return calloc (1, sizeof (cgs_loop_t)); }
+cgs_loop_t *cgs_loop_new (void)
+{
+    return calloc (1, sizeof (cgs_loop_t));
+}
 
 void cgs_loop_destroy (cgs_loop_t **self_p)
 {
@@ -63,7 +66,7 @@ static int s_add_watch (cgs_loop_t *self, void *socket, int fd, cgs_loop_fn *fn,
         self->watches = w;
         self->capwatches = cap;
     }
-    self->watches[self->nwatches++] = (s_watch_t) {socket, fd, fn, arg};
+    self->watches[self->nwatches++] = (s_watch_t){socket, fd, fn, arg};
     return 0;
 }
 
@@ -103,7 +106,7 @@ int cgs_loop_add_timer (cgs_loop_t *self, double interval_s, cgs_loop_fn *fn, vo
     }
     int id = ++self->next_id;
     self->timers[self->ntimers++] =
-        (s_timer_t) {id, interval_s, cgs_loop_now () + interval_s, fn, arg};
+        (s_timer_t){id, interval_s, cgs_loop_now () + interval_s, fn, arg};
     return id;
 }
 
@@ -118,7 +121,10 @@ void cgs_loop_set_interval (cgs_loop_t *self, int timer_id, double interval_s)
         }
 }
 
-void cgs_loop_stop (cgs_loop_t *self) { self->stop = true; }
+void cgs_loop_stop (cgs_loop_t *self)
+{
+    self->stop = true;
+}
 
 int cgs_loop_run (cgs_loop_t *self)
 {
@@ -132,7 +138,7 @@ int cgs_loop_run (cgs_loop_t *self)
         for (size_t i = 0; i < self->ntimers; i++)
             if (self->timers[i].due < next)
                 next = self->timers[i].due;
-        long timeout_ms = (long) ceil ((next - now) * 1000.0);
+        long timeout_ms = (long)ceil ((next - now) * 1000.0);
         if (timeout_ms < 0)
             timeout_ms = 0;
         if (self->nwatches > capitems) {
@@ -146,8 +152,9 @@ int cgs_loop_run (cgs_loop_t *self)
         }
         size_t nitems = self->nwatches;
         for (size_t i = 0; i < nitems; i++)
-            items[i] = (zmq_pollitem_t) {self->watches[i].socket, self->watches[i].fd, ZMQ_POLLIN, 0};
-        int n = zmq_poll (items, (int) nitems, timeout_ms);
+            items[i] =
+                (zmq_pollitem_t){self->watches[i].socket, self->watches[i].fd, ZMQ_POLLIN, 0};
+        int n = zmq_poll (items, (int)nitems, timeout_ms);
         if (n < 0) {
             if (zmq_errno () == EINTR)
                 continue;

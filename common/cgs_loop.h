@@ -10,7 +10,7 @@
 typedef struct cgs_loop cgs_loop_t;
 
 /* Called when a socket or descriptor is readable, or a timer is due. */
-typedef void(cgs_loop_fn) (void *arg);
+typedef void (cgs_loop_fn) (void *arg);
 
 /* New empty loop; NULL on allocation failure. */
 cgs_loop_t *cgs_loop_new (void);

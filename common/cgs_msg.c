@@ -12,14 +12,14 @@
 
 typedef struct s_block {
     struct s_block *next;
-    size_t size;  // usable bytes after the header
+    size_t size; // usable bytes after the header
     size_t used;
     max_align_t data[];
 } s_block_t;
 
 struct cgs_msg_arena {
-    s_block_t *first;  // kept across resets
-    s_block_t *extra;  // overflow blocks, freed at reset
+    s_block_t *first; // kept across resets
+    s_block_t *extra; // overflow blocks, freed at reset
     ProtobufCAllocator allocator;
 };
 
@@ -47,15 +47,15 @@ static void *s_arena_alloc (void *data, size_t size)
         b->next = self->extra;
         self->extra = b;
     }
-    void *p = (char *) b->data + b->used;
+    void *p = (char *)b->data + b->used;
     b->used += size;
     return p;
 }
 
 static void s_arena_free (void *data, void *ptr)
 {
-    (void) data;
-    (void) ptr;  // freed all at once by cgs_msg_arena_reset
+    (void)data;
+    (void)ptr; // freed all at once by cgs_msg_arena_reset
 }
 
 cgs_msg_arena_t *cgs_msg_arena_new (size_t block_size)
@@ -118,7 +118,10 @@ void cgs_msg_free (ProtobufCMessage **msg_p)
     *msg_p = NULL;
 }
 
-size_t cgs_msg_size (const ProtobufCMessage *msg) { return protobuf_c_message_get_packed_size (msg); }
+size_t cgs_msg_size (const ProtobufCMessage *msg)
+{
+    return protobuf_c_message_get_packed_size (msg);
+}
 
 size_t cgs_msg_encode (const ProtobufCMessage *msg, uint8_t *buf)
 {
@@ -142,16 +145,17 @@ Cgs__Header **cgs_msg_header_slot (ProtobufCMessage *msg)
 {
     if (!msg)
         return NULL;
-    const ProtobufCFieldDescriptor *f = protobuf_c_message_descriptor_get_field (msg->descriptor, 1);
+    const ProtobufCFieldDescriptor *f =
+        protobuf_c_message_descriptor_get_field (msg->descriptor, 1);
     if (!f || f->type != PROTOBUF_C_TYPE_MESSAGE || f->descriptor != &cgs__header__descriptor ||
         f->label == PROTOBUF_C_LABEL_REPEATED)
         return NULL;
-    return (Cgs__Header **) ((char *) msg + f->offset);
+    return (Cgs__Header **)((char *)msg + f->offset);
 }
 
 const Cgs__Header *cgs_msg_header (const ProtobufCMessage *msg)
 {
-    Cgs__Header **slot = cgs_msg_header_slot ((ProtobufCMessage *) msg);
+    Cgs__Header **slot = cgs_msg_header_slot ((ProtobufCMessage *)msg);
     return slot ? *slot : NULL;
 }
 
@@ -184,7 +188,10 @@ static void s_put (s_out_t *o, const char *s, size_t n)
     o->buf[o->len] = '\0';
 }
 
-static void s_puts (s_out_t *o, const char *s) { s_put (o, s, strlen (s)); }
+static void s_puts (s_out_t *o, const char *s)
+{
+    s_put (o, s, strlen (s));
+}
 
 static void s_printf (s_out_t *o, const char *fmt, ...) __attribute__ ((format (printf, 2, 3)));
 static void s_printf (s_out_t *o, const char *fmt, ...)
@@ -195,25 +202,35 @@ static void s_printf (s_out_t *o, const char *fmt, ...)
     int n = vsnprintf (tmp, sizeof tmp, fmt, ap);
     va_end (ap);
     if (n > 0)
-        s_put (o, tmp, (size_t) n < sizeof tmp ? (size_t) n : sizeof tmp - 1);
+        s_put (o, tmp, (size_t)n < sizeof tmp ? (size_t)n : sizeof tmp - 1);
 }
 
 static void s_json_string (s_out_t *o, const char *s, size_t n)
 {
     s_puts (o, "\"");
     for (size_t i = 0; i < n; i++) {
-        unsigned char c = (unsigned char) s[i];
+        unsigned char c = (unsigned char)s[i];
         switch (c) {
-        case '"': s_puts (o, "\\\""); break;
-        case '\\': s_puts (o, "\\\\"); break;
-        case '\n': s_puts (o, "\\n"); break;
-        case '\r': s_puts (o, "\\r"); break;
-        case '\t': s_puts (o, "\\t"); break;
+        case '"':
+            s_puts (o, "\\\"");
+            break;
+        case '\\':
+            s_puts (o, "\\\\");
+            break;
+        case '\n':
+            s_puts (o, "\\n");
+            break;
+        case '\r':
+            s_puts (o, "\\r");
+            break;
+        case '\t':
+            s_puts (o, "\\t");
+            break;
         default:
             if (c < 0x20)
                 s_printf (o, "\\u%04x", c);
             else
-                s_put (o, (const char *) &s[i], 1);
+                s_put (o, (const char *)&s[i], 1);
         }
     }
     s_puts (o, "\"");
@@ -224,9 +241,9 @@ static void s_json_base64 (s_out_t *o, const uint8_t *d, size_t n)
     static const char tbl[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
     s_puts (o, "\"");
     for (size_t i = 0; i < n; i += 3) {
-        uint32_t v = (uint32_t) d[i] << 16;
+        uint32_t v = (uint32_t)d[i] << 16;
         if (i + 1 < n)
-            v |= (uint32_t) d[i + 1] << 8;
+            v |= (uint32_t)d[i + 1] << 8;
         if (i + 2 < n)
             v |= d[i + 2];
         char q[4] = {tbl[(v >> 18) & 63], tbl[(v >> 12) & 63], i + 1 < n ? tbl[(v >> 6) & 63] : '=',
@@ -254,21 +271,35 @@ static void s_json_value (s_out_t *o, const ProtobufCFieldDescriptor *f, const v
     switch (f->type) {
     case PROTOBUF_C_TYPE_INT32:
     case PROTOBUF_C_TYPE_SINT32:
-    case PROTOBUF_C_TYPE_SFIXED32: s_printf (o, "%" PRId32, *(const int32_t *) p); break;
+    case PROTOBUF_C_TYPE_SFIXED32:
+        s_printf (o, "%" PRId32, *(const int32_t *)p);
+        break;
     case PROTOBUF_C_TYPE_UINT32:
-    case PROTOBUF_C_TYPE_FIXED32: s_printf (o, "%" PRIu32, *(const uint32_t *) p); break;
+    case PROTOBUF_C_TYPE_FIXED32:
+        s_printf (o, "%" PRIu32, *(const uint32_t *)p);
+        break;
     case PROTOBUF_C_TYPE_INT64:
     case PROTOBUF_C_TYPE_SINT64:
-    case PROTOBUF_C_TYPE_SFIXED64: s_printf (o, "\"%" PRId64 "\"", *(const int64_t *) p); break;
+    case PROTOBUF_C_TYPE_SFIXED64:
+        s_printf (o, "\"%" PRId64 "\"", *(const int64_t *)p);
+        break;
     case PROTOBUF_C_TYPE_UINT64:
-    case PROTOBUF_C_TYPE_FIXED64: s_printf (o, "\"%" PRIu64 "\"", *(const uint64_t *) p); break;
-    case PROTOBUF_C_TYPE_FLOAT: s_json_double (o, *(const float *) p); break;
-    case PROTOBUF_C_TYPE_DOUBLE: s_json_double (o, *(const double *) p); break;
-    case PROTOBUF_C_TYPE_BOOL: s_puts (o, *(const protobuf_c_boolean *) p ? "true" : "false"); break;
+    case PROTOBUF_C_TYPE_FIXED64:
+        s_printf (o, "\"%" PRIu64 "\"", *(const uint64_t *)p);
+        break;
+    case PROTOBUF_C_TYPE_FLOAT:
+        s_json_double (o, *(const float *)p);
+        break;
+    case PROTOBUF_C_TYPE_DOUBLE:
+        s_json_double (o, *(const double *)p);
+        break;
+    case PROTOBUF_C_TYPE_BOOL:
+        s_puts (o, *(const protobuf_c_boolean *)p ? "true" : "false");
+        break;
     case PROTOBUF_C_TYPE_ENUM: {
-        int v = *(const int *) p;
-        const ProtobufCEnumValue *ev =
-            protobuf_c_enum_descriptor_get_value ((const ProtobufCEnumDescriptor *) f->descriptor, v);
+        int v = *(const int *)p;
+        const ProtobufCEnumValue *ev = protobuf_c_enum_descriptor_get_value (
+            (const ProtobufCEnumDescriptor *)f->descriptor, v);
         if (ev)
             s_json_string (o, ev->name, strlen (ev->name));
         else
@@ -276,7 +307,7 @@ static void s_json_value (s_out_t *o, const ProtobufCFieldDescriptor *f, const v
         break;
     }
     case PROTOBUF_C_TYPE_STRING: {
-        const char *s = *(char *const *) p;
+        const char *s = *(char *const *)p;
         s = s ? s : "";
         s_json_string (o, s, strlen (s));
         break;
@@ -287,7 +318,7 @@ static void s_json_value (s_out_t *o, const ProtobufCFieldDescriptor *f, const v
         break;
     }
     case PROTOBUF_C_TYPE_MESSAGE: {
-        const ProtobufCMessage *sub = *(ProtobufCMessage *const *) p;
+        const ProtobufCMessage *sub = *(ProtobufCMessage *const *)p;
         if (sub)
             s_json_message (o, sub);
         else
@@ -305,13 +336,20 @@ static size_t s_type_size (ProtobufCType t)
     case PROTOBUF_C_TYPE_SFIXED64:
     case PROTOBUF_C_TYPE_UINT64:
     case PROTOBUF_C_TYPE_FIXED64:
-    case PROTOBUF_C_TYPE_DOUBLE: return 8;
-    case PROTOBUF_C_TYPE_BOOL: return sizeof (protobuf_c_boolean);
-    case PROTOBUF_C_TYPE_ENUM: return sizeof (int);
-    case PROTOBUF_C_TYPE_STRING: return sizeof (char *);
-    case PROTOBUF_C_TYPE_BYTES: return sizeof (ProtobufCBinaryData);
-    case PROTOBUF_C_TYPE_MESSAGE: return sizeof (ProtobufCMessage *);
-    default: return 4;
+    case PROTOBUF_C_TYPE_DOUBLE:
+        return 8;
+    case PROTOBUF_C_TYPE_BOOL:
+        return sizeof (protobuf_c_boolean);
+    case PROTOBUF_C_TYPE_ENUM:
+        return sizeof (int);
+    case PROTOBUF_C_TYPE_STRING:
+        return sizeof (char *);
+    case PROTOBUF_C_TYPE_BYTES:
+        return sizeof (ProtobufCBinaryData);
+    case PROTOBUF_C_TYPE_MESSAGE:
+        return sizeof (ProtobufCMessage *);
+    default:
+        return 4;
     }
 }
 
@@ -320,13 +358,17 @@ static bool s_is_default (const ProtobufCFieldDescriptor *f, const void *p)
 {
     switch (f->type) {
     case PROTOBUF_C_TYPE_STRING: {
-        const char *s = *(char *const *) p;
+        const char *s = *(char *const *)p;
         return !s || !*s;
     }
-    case PROTOBUF_C_TYPE_BYTES: return ((const ProtobufCBinaryData *) p)->len == 0;
-    case PROTOBUF_C_TYPE_MESSAGE: return *(ProtobufCMessage *const *) p == NULL;
-    case PROTOBUF_C_TYPE_DOUBLE: return *(const double *) p == 0.0 && !signbit (*(const double *) p);
-    case PROTOBUF_C_TYPE_FLOAT: return *(const float *) p == 0.0f && !signbit (*(const float *) p);
+    case PROTOBUF_C_TYPE_BYTES:
+        return ((const ProtobufCBinaryData *)p)->len == 0;
+    case PROTOBUF_C_TYPE_MESSAGE:
+        return *(ProtobufCMessage *const *)p == NULL;
+    case PROTOBUF_C_TYPE_DOUBLE:
+        return *(const double *)p == 0.0 && !signbit (*(const double *)p);
+    case PROTOBUF_C_TYPE_FLOAT:
+        return *(const float *)p == 0.0f && !signbit (*(const float *)p);
     default: {
         uint8_t zero[8] = {0};
         return memcmp (p, zero, s_type_size (f->type)) == 0;
@@ -337,20 +379,20 @@ static bool s_is_default (const ProtobufCFieldDescriptor *f, const void *p)
 static void s_json_message (s_out_t *o, const ProtobufCMessage *m)
 {
     const ProtobufCMessageDescriptor *d = m->descriptor;
-    const char *base = (const char *) m;
+    const char *base = (const char *)m;
     bool first = true;
     s_puts (o, "{");
     for (unsigned i = 0; i < d->n_fields; i++) {
         const ProtobufCFieldDescriptor *f = &d->fields[i];
         const void *p = base + f->offset;
         if (f->label == PROTOBUF_C_LABEL_REPEATED) {
-            size_t n = *(const size_t *) (base + f->quantifier_offset);
+            size_t n = *(const size_t *)(base + f->quantifier_offset);
             if (n == 0)
                 continue;
             s_puts (o, first ? "\"" : ",\"");
             s_puts (o, f->name);
             s_puts (o, "\":[");
-            const char *arr = *(char *const *) p;
+            const char *arr = *(char *const *)p;
             for (size_t k = 0; k < n; k++) {
                 if (k)
                     s_puts (o, ",");
@@ -361,12 +403,12 @@ static void s_json_message (s_out_t *o, const ProtobufCMessage *m)
             continue;
         }
         if (f->flags & PROTOBUF_C_FIELD_FLAG_ONEOF) {
-            uint32_t which = *(const uint32_t *) (base + f->quantifier_offset);
+            uint32_t which = *(const uint32_t *)(base + f->quantifier_offset);
             if (which != f->id)
                 continue;
         } else if (f->label == PROTOBUF_C_LABEL_OPTIONAL && f->quantifier_offset &&
                    f->type != PROTOBUF_C_TYPE_MESSAGE && f->type != PROTOBUF_C_TYPE_STRING) {
-            if (!*(const protobuf_c_boolean *) (base + f->quantifier_offset))
+            if (!*(const protobuf_c_boolean *)(base + f->quantifier_offset))
                 continue;
         } else if (s_is_default (f, p)) {
             continue;

@@ -42,25 +42,36 @@ static void s_usage (const cgs_service_info_t *info, FILE *f)
 static int s_parse (cgs_service_t *svc, int argc, char **argv)
 {
     const cgs_service_info_t *info = svc->info;
-    enum { O_EXERCISE = 1000, O_INSTANCE, O_SCENARIO, O_PARAMS, O_STATE, O_CHECK, O_VERSION, O_SCALE, O_EXTRA };
+    enum {
+        O_EXERCISE = 1000,
+        O_INSTANCE,
+        O_SCENARIO,
+        O_PARAMS,
+        O_STATE,
+        O_CHECK,
+        O_VERSION,
+        O_SCALE,
+        O_EXTRA
+    };
     struct option opts[64];
     size_t n = 0;
-    opts[n++] = (struct option) {"exercise", required_argument, NULL, O_EXERCISE};
-    opts[n++] = (struct option) {"instance", required_argument, NULL, O_INSTANCE};
-    opts[n++] = (struct option) {"scenario", required_argument, NULL, O_SCENARIO};
-    opts[n++] = (struct option) {"params", required_argument, NULL, O_PARAMS};
-    opts[n++] = (struct option) {"state-dir", required_argument, NULL, O_STATE};
-    opts[n++] = (struct option) {"check", no_argument, NULL, O_CHECK};
-    opts[n++] = (struct option) {"time-scale", required_argument, NULL, O_SCALE};
-    opts[n++] = (struct option) {"verbose", no_argument, NULL, 'v'};
-    opts[n++] = (struct option) {"help", no_argument, NULL, 'h'};
-    opts[n++] = (struct option) {"version", no_argument, NULL, O_VERSION};
+    opts[n++] = (struct option){"exercise", required_argument, NULL, O_EXERCISE};
+    opts[n++] = (struct option){"instance", required_argument, NULL, O_INSTANCE};
+    opts[n++] = (struct option){"scenario", required_argument, NULL, O_SCENARIO};
+    opts[n++] = (struct option){"params", required_argument, NULL, O_PARAMS};
+    opts[n++] = (struct option){"state-dir", required_argument, NULL, O_STATE};
+    opts[n++] = (struct option){"check", no_argument, NULL, O_CHECK};
+    opts[n++] = (struct option){"time-scale", required_argument, NULL, O_SCALE};
+    opts[n++] = (struct option){"verbose", no_argument, NULL, 'v'};
+    opts[n++] = (struct option){"help", no_argument, NULL, 'h'};
+    opts[n++] = (struct option){"version", no_argument, NULL, O_VERSION};
     size_t first_extra = n;
     for (const cgs_service_option_t *o = info->options; o && o->name && n < 62; o++) {
-        int val = O_EXTRA + (int) (n - first_extra);
-        opts[n++] = (struct option) {o->name, o->has_arg ? required_argument : no_argument, NULL, val};
+        int val = O_EXTRA + (int)(n - first_extra);
+        opts[n++] =
+            (struct option){o->name, o->has_arg ? required_argument : no_argument, NULL, val};
     }
-    opts[n] = (struct option) {NULL, 0, NULL, 0};
+    opts[n] = (struct option){NULL, 0, NULL, 0};
 
     const char *env = getenv ("MSCGS_EXERCISE");
     snprintf (svc->exercise_path, sizeof svc->exercise_path, "%s",
@@ -70,12 +81,24 @@ static int s_parse (cgs_service_t *svc, int argc, char **argv)
     int c;
     while ((c = getopt_long (argc, argv, "vh", opts, NULL)) != -1) {
         switch (c) {
-        case O_EXERCISE: snprintf (svc->exercise_path, sizeof svc->exercise_path, "%s", optarg); break;
-        case O_INSTANCE: snprintf (svc->instance_name, sizeof svc->instance_name, "%s", optarg); break;
-        case O_SCENARIO: snprintf (svc->scenario, sizeof svc->scenario, "%s", optarg); break;
-        case O_PARAMS: snprintf (svc->params, sizeof svc->params, "%s", optarg); break;
-        case O_STATE: snprintf (svc->state_dir, sizeof svc->state_dir, "%s", optarg); break;
-        case O_CHECK: svc->check_only = true; break;
+        case O_EXERCISE:
+            snprintf (svc->exercise_path, sizeof svc->exercise_path, "%s", optarg);
+            break;
+        case O_INSTANCE:
+            snprintf (svc->instance_name, sizeof svc->instance_name, "%s", optarg);
+            break;
+        case O_SCENARIO:
+            snprintf (svc->scenario, sizeof svc->scenario, "%s", optarg);
+            break;
+        case O_PARAMS:
+            snprintf (svc->params, sizeof svc->params, "%s", optarg);
+            break;
+        case O_STATE:
+            snprintf (svc->state_dir, sizeof svc->state_dir, "%s", optarg);
+            break;
+        case O_CHECK:
+            svc->check_only = true;
+            break;
         case O_SCALE: {
             char *end = NULL;
             svc->time_scale = strtod (optarg, &end);
@@ -86,9 +109,15 @@ static int s_parse (cgs_service_t *svc, int argc, char **argv)
             }
             break;
         }
-        case 'v': svc->verbose++; break;
-        case 'h': s_usage (info, stdout); return 1;
-        case O_VERSION: printf ("%s (mscgs) %s\n", info->program, CGS_VERSION); return 1;
+        case 'v':
+            svc->verbose++;
+            break;
+        case 'h':
+            s_usage (info, stdout);
+            return 1;
+        case O_VERSION:
+            printf ("%s (mscgs) %s\n", info->program, CGS_VERSION);
+            return 1;
         default:
             if (c >= O_EXTRA && info->on_option) {
                 const cgs_service_option_t *o = &info->options[c - O_EXTRA];
@@ -128,8 +157,8 @@ int cgs_service_init (cgs_service_t *svc, const cgs_service_info_t *info, int ar
     }
     svc->instance = cgs_exercise_find (svc->exercise, svc->instance_name);
     if (!svc->instance) {
-        cgs_log (LOG_ERR, "%s: no [service %s] section; the instances are:",
-                 svc->exercise_path, svc->instance_name);
+        cgs_log (LOG_ERR, "%s: no [service %s] section; the instances are:", svc->exercise_path,
+                 svc->instance_name);
         for (size_t i = 0; i < cgs_exercise_instance_count (svc->exercise); i++)
             cgs_log (LOG_ERR, "  %s", cgs_exercise_instance (svc->exercise, i)->name);
         return -ENOENT;
@@ -146,7 +175,8 @@ int cgs_service_init (cgs_service_t *svc, const cgs_service_info_t *info, int ar
     if (!(svc->time_scale > 0))
         svc->time_scale = cgs_exercise_time_scale (svc->exercise);
     if (!*svc->state_dir)
-        snprintf (svc->state_dir, sizeof svc->state_dir, "%s", cgs_exercise_state_dir (svc->exercise));
+        snprintf (svc->state_dir, sizeof svc->state_dir, "%s",
+                  cgs_exercise_state_dir (svc->exercise));
     if (svc->check_only)
         return 0;
     if ((rc = cgs_state_mkdir (svc->state_dir)) < 0) {
@@ -214,7 +244,8 @@ int cgs_service_subscribe (cgs_service_t *svc, const char *topic, cgs_sub_fn *fn
         if (seen || svc->nconnected == 64)
             continue;
         if ((rc = cgs_sub_connect (svc->sub, ep)) < 0) {
-            cgs_log (LOG_ERR, "cannot connect to %s (%s): %s", ep, pubs[i]->name, zmq_strerror (-rc));
+            cgs_log (LOG_ERR, "cannot connect to %s (%s): %s", ep, pubs[i]->name,
+                     zmq_strerror (-rc));
             return rc;
         }
         snprintf (svc->connected[svc->nconnected++], CGS_ENDPOINT_MAX, "%s", ep);
@@ -277,7 +308,7 @@ static void s_on_health (void *arg)
 
 static void s_on_watchdog (void *arg)
 {
-    (void) arg;
+    (void)arg;
     cgs_notify_watchdog ();
 }
 
@@ -286,7 +317,7 @@ int cgs_service_run (cgs_service_t *svc)
     cgs_loop_add_timer (svc->loop, 1.0, s_on_health, svc);
     uint64_t wd = cgs_notify_watchdog_usec ();
     if (wd > 0)
-        cgs_loop_add_timer (svc->loop, (double) wd / 2e6, s_on_watchdog, svc);
+        cgs_loop_add_timer (svc->loop, (double)wd / 2e6, s_on_watchdog, svc);
     cgs_health_set_state (svc->health, CGS__SERVICE_STATE__SERVICE_STATE_RUNNING);
     s_on_health (svc);
     cgs_notify_ready ("running");

@@ -25,17 +25,17 @@
 
 /* One service-specific long option. */
 typedef struct {
-    const char *name;  // without the dashes
+    const char *name; // without the dashes
     bool has_arg;
-    const char *arg_name;  // for help, e.g. "N"
+    const char *arg_name; // for help, e.g. "N"
     const char *help;
 } cgs_service_option_t;
 
 /* What a service tells the shell about itself. */
 typedef struct {
-    const char *program;                   // e.g. "uavsim"
-    const char *summary;                   // one line for --help
-    const cgs_service_option_t *options;   // extra options, ended by {NULL}; may be NULL
+    const char *program;                 // e.g. "uavsim"
+    const char *summary;                 // one line for --help
+    const cgs_service_option_t *options; // extra options, ended by {NULL}; may be NULL
     /* Called for each extra option given; return 0, or -EINVAL after filling why. */
     int (*on_option) (void *arg, const char *name, const char *value, char *why, size_t whylen);
     void *option_arg;
@@ -45,22 +45,22 @@ typedef struct {
     const cgs_service_info_t *info;
     char instance_name[CGS_NAME_MAX];
     char exercise_path[4096];
-    char scenario[4096];       // "" when none given (and none in the exercise)
-    char params[4096];         // "" when none given (and none in the instance)
-    char state_dir[4096];      // absolute, created
-    double time_scale;         // --time-scale, else the exercise's
-    bool check_only;           // --check: validate and exit
+    char scenario[4096];  // "" when none given (and none in the exercise)
+    char params[4096];    // "" when none given (and none in the instance)
+    char state_dir[4096]; // absolute, created
+    double time_scale;    // --time-scale, else the exercise's
+    bool check_only;      // --check: validate and exit
     int verbose;
-    void *ctx;                 // ZeroMQ context
+    void *ctx; // ZeroMQ context
     cgs_exercise_t *exercise;
     const cgs_instance_t *instance;
     cgs_loop_t *loop;
-    cgs_pub_t *pub;            // NULL when the instance has no publish endpoint
-    cgs_sub_t *sub;            // created by the first cgs_service_subscribe
-    cgs_cmd_server_t *cmd;     // created by cgs_service_serve_commands
+    cgs_pub_t *pub;        // NULL when the instance has no publish endpoint
+    cgs_sub_t *sub;        // created by the first cgs_service_subscribe
+    cgs_cmd_server_t *cmd; // created by cgs_service_serve_commands
     cgs_health_t *health;
-    double sim_time_s;         // latest simulation time, stamped on health
-    char connected[64][CGS_ENDPOINT_MAX];  // endpoints the subscriber connected to
+    double sim_time_s;                    // latest simulation time, stamped on health
+    char connected[64][CGS_ENDPOINT_MAX]; // endpoints the subscriber connected to
     size_t nconnected;
 } cgs_service_t;
 

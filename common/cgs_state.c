@@ -35,7 +35,7 @@ int cgs_state_mkdir (const char *dir)
 int cgs_state_path (char *buf, size_t size, const char *dir, const char *name)
 {
     int n = snprintf (buf, size, "%s/%s", dir, name);
-    return n < 0 || (size_t) n >= size ? -ENAMETOOLONG : 0;
+    return n < 0 || (size_t)n >= size ? -ENAMETOOLONG : 0;
 }
 
 static int s_fsync_dir (const char *path)
@@ -57,7 +57,7 @@ int cgs_state_write (const char *path, const void *data, size_t len)
     int rc = cgs_state_mkdir (dirname (dir));
     if (rc < 0)
         return rc;
-    if (snprintf (tmp, sizeof tmp, "%s.tmp.%ld", path, (long) getpid ()) >= (int) sizeof tmp)
+    if (snprintf (tmp, sizeof tmp, "%s.tmp.%ld", path, (long)getpid ()) >= (int)sizeof tmp)
         return -ENAMETOOLONG;
     int fd = open (tmp, O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
     if (fd < 0)
@@ -73,7 +73,7 @@ int cgs_state_write (const char *path, const void *data, size_t len)
             goto fail;
         }
         p += n;
-        left -= (size_t) n;
+        left -= (size_t)n;
     }
     if (fsync (fd) < 0) {
         rc = -errno;
@@ -108,11 +108,11 @@ int cgs_state_read (const char *path, size_t max, void **ret_data, size_t *ret_l
         close (fd);
         return e;
     }
-    if ((size_t) st.st_size > max) {
+    if ((size_t)st.st_size > max) {
         close (fd);
         return -EFBIG;
     }
-    size_t size = (size_t) st.st_size;
+    size_t size = (size_t)st.st_size;
     char *buf = malloc (size + 1);
     if (!buf) {
         close (fd);
@@ -125,7 +125,7 @@ int cgs_state_read (const char *path, size_t max, void **ret_data, size_t *ret_l
             continue;
         if (n <= 0)
             break;
-        got += (size_t) n;
+        got += (size_t)n;
     }
     close (fd);
     buf[got] = '\0';

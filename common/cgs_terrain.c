@@ -5,6 +5,7 @@
  * Pure: no globals, no logging (GDAL's own messages are silenced while a DEM
  * loads and folded into the caller's error text). */
 #include "cgs_terrain.h"
+#include "cgs_util.h"
 
 #include <assert.h>
 #include <errno.h>
@@ -516,20 +517,6 @@ typedef struct {
     float *win;                             // ww * wh heights, metres, no-data filled
 } s_dem_t;
 
-/* Fill the caller's error buffer (may be NULL). */
-static void s_err (char *err, size_t errlen, const char *fmt, ...)
-    __attribute__ ((format (printf, 3, 4)));
-
-static void s_err (char *err, size_t errlen, const char *fmt, ...)
-{
-    if (!err || errlen == 0)
-        return;
-    va_list ap;
-    va_start (ap, fmt);
-    vsnprintf (err, errlen, fmt, ap);
-    va_end (ap);
-}
-
 /* GDAL's last message, or a fallback. */
 static const char *s_gdal_msg (const char *fallback)
 {
@@ -575,7 +562,7 @@ static int s_dem_open (s_dem_t *d, char *err, size_t errlen)
 {
     VSIStatBufL st;
     if (VSIStatL (d->path, &st) != 0) {
-        s_err (err, errlen, "%s: no such file", d->path);
+        cgs_errf (err, errlen, "%s: no such file", d->path);
         return -ENOENT;
     }
     GDALAllRegister ();
@@ -583,46 +570,46 @@ static int s_dem_open (s_dem_t *d, char *err, size_t errlen)
     d->ds = GDALOpenEx (d->path, GDAL_OF_RASTER | GDAL_OF_READONLY | GDAL_OF_VERBOSE_ERROR, NULL,
                         NULL, NULL);
     if (!d->ds) {
-        s_err (err, errlen, "%s: not a raster GDAL can read (%s)", d->path,
-               s_gdal_msg ("unknown format"));
+        cgs_errf (err, errlen, "%s: not a raster GDAL can read (%s)", d->path,
+                  s_gdal_msg ("unknown format"));
         return -EINVAL;
     }
     if (GDALGetRasterCount (d->ds) < 1) {
-        s_err (err, errlen, "%s: has no raster band", d->path);
+        cgs_errf (err, errlen, "%s: has no raster band", d->path);
         return -EINVAL;
     }
     d->width = GDALGetRasterXSize (d->ds);
     d->height = GDALGetRasterYSize (d->ds);
     if (d->width < 2 || d->height < 2) {
-        s_err (err, errlen, "%s: raster is %d x %d pixels, need at least 2 x 2", d->path, d->width,
-               d->height);
+        cgs_errf (err, errlen, "%s: raster is %d x %d pixels, need at least 2 x 2", d->path,
+                  d->width, d->height);
         return -EINVAL;
     }
     if (GDALGetGeoTransform (d->ds, d->gt) != CE_None) {
-        s_err (err, errlen, "%s: not georeferenced (no geotransform)", d->path);
+        cgs_errf (err, errlen, "%s: not georeferenced (no geotransform)", d->path);
         return -EINVAL;
     }
     if (!GDALInvGeoTransform (d->gt, d->inv_gt)) {
-        s_err (err, errlen, "%s: degenerate geotransform", d->path);
+        cgs_errf (err, errlen, "%s: degenerate geotransform", d->path);
         return -EINVAL;
     }
     // No guessing: a raster without a CRS may be in degrees or in any metres.
     OGRSpatialReferenceH srs = GDALGetSpatialRef (d->ds);
     if (!srs) {
-        s_err (err, errlen,
-               "%s: no coordinate system (give the raster one, e.g. a .prj file or "
-               "gdal_edit.py -a_srs EPSG:4326)",
-               d->path);
+        cgs_errf (err, errlen,
+                  "%s: no coordinate system (give the raster one, e.g. a .prj file or "
+                  "gdal_edit.py -a_srs EPSG:4326)",
+                  d->path);
         return -EINVAL;
     }
     d->srs = OSRClone (srs);
     d->wgs84 = OSRNewSpatialReference (NULL);
     if (!d->srs || !d->wgs84) {
-        s_err (err, errlen, "%s: out of memory", d->path);
+        cgs_errf (err, errlen, "%s: out of memory", d->path);
         return -ENOMEM;
     }
     if (OSRSetWellKnownGeogCS (d->wgs84, "WGS84") != OGRERR_NONE) {
-        s_err (err, errlen, "%s: cannot set up WGS84 (%s)", d->path, s_gdal_msg ("PROJ error"));
+        cgs_errf (err, errlen, "%s: cannot set up WGS84 (%s)", d->path, s_gdal_msg ("PROJ error"));
         return -EINVAL;
     }
     // x = longitude or easting, y = latitude or northing, whatever the CRS says.
@@ -631,17 +618,17 @@ static int s_dem_open (s_dem_t *d, char *err, size_t errlen)
     d->to_raster = OCTNewCoordinateTransformation (d->wgs84, d->srs);
     d->to_wgs84 = OCTNewCoordinateTransformation (d->srs, d->wgs84);
     if (!d->to_raster || !d->to_wgs84) {
-        s_err (err, errlen,
-               "%s: cannot transform between WGS84 and the raster's coordinate "
-               "system (%s)",
-               d->path, s_gdal_msg ("PROJ error"));
+        cgs_errf (err, errlen,
+                  "%s: cannot transform between WGS84 and the raster's coordinate "
+                  "system (%s)",
+                  d->path, s_gdal_msg ("PROJ error"));
         return -EINVAL;
     }
     d->band = GDALGetRasterBand (d->ds, 1);
     double unit = s_unit_m (GDALGetRasterUnitType (d->band));
     if (unit == 0) {
-        s_err (err, errlen, "%s: band 1 heights are in an unknown unit '%s'", d->path,
-               GDALGetRasterUnitType (d->band));
+        cgs_errf (err, errlen, "%s: band 1 heights are in an unknown unit '%s'", d->path,
+                  GDALGetRasterUnitType (d->band));
         return -EINVAL;
     }
     int has = 0;
@@ -729,9 +716,9 @@ static int s_dem_read (s_dem_t *d, int x0, int y0, int x1, int y1, char *err, si
     d->wh = y1 - y0 + 1;
     size_t n = (size_t)d->ww * (size_t)d->wh;
     if (n * sizeof (float) > CGS_TERRAIN_MAX_READ_BYTES) {
-        s_err (err, errlen,
-               "%s: the area to read is %d x %d pixels (over %zu MiB); give a half extent", d->path,
-               d->ww, d->wh, CGS_TERRAIN_MAX_READ_BYTES >> 20);
+        cgs_errf (err, errlen,
+                  "%s: the area to read is %d x %d pixels (over %zu MiB); give a half extent",
+                  d->path, d->ww, d->wh, CGS_TERRAIN_MAX_READ_BYTES >> 20);
         return -EINVAL;
     }
     d->win = malloc (n * sizeof *d->win);
@@ -741,7 +728,7 @@ static int s_dem_read (s_dem_t *d, int x0, int y0, int x1, int y1, char *err, si
         mask = malloc (n);
     if (!d->win || (!(flags & GMF_ALL_VALID) && !mask)) {
         free (mask);
-        s_err (err, errlen, "%s: out of memory reading %d x %d pixels", d->path, d->ww, d->wh);
+        cgs_errf (err, errlen, "%s: out of memory reading %d x %d pixels", d->path, d->ww, d->wh);
         return -ENOMEM;
     }
     CPLErrorReset ();
@@ -750,7 +737,7 @@ static int s_dem_read (s_dem_t *d, int x0, int y0, int x1, int y1, char *err, si
         (mask && GDALRasterIO (GDALGetMaskBand (d->band), GF_Read, x0, y0, d->ww, d->wh, mask,
                                d->ww, d->wh, GDT_Byte, 0, 0) != CE_None)) {
         free (mask);
-        s_err (err, errlen, "%s: cannot read band 1 (%s)", d->path, s_gdal_msg ("read error"));
+        cgs_errf (err, errlen, "%s: cannot read band 1 (%s)", d->path, s_gdal_msg ("read error"));
         return -EINVAL;
     }
     double lo = INFINITY;
@@ -777,7 +764,7 @@ static int s_dem_read (s_dem_t *d, int x0, int y0, int x1, int y1, char *err, si
         lo = fmin (lo, fmin (a, b)); // a negative scale swaps them
     }
     if (!isfinite (lo)) {
-        s_err (err, errlen, "%s: band 1 has no valid heights", d->path);
+        cgs_errf (err, errlen, "%s: band 1 has no valid heights", d->path);
         return -EINVAL;
     }
     for (size_t i = 0; i < n; i++)
@@ -916,8 +903,8 @@ static int s_footprint (const s_dem_t *d, const cgs_geo_t *frame, double box[4],
         box[3] = fmax (box[3], p.n_m);
     }
     if (!(box[0] <= box[2] && box[1] <= box[3])) {
-        s_err (err, errlen, "%s: cannot map the raster's edges to WGS84 (%s)", d->path,
-               s_gdal_msg ("transformation failed"));
+        cgs_errf (err, errlen, "%s: cannot map the raster's edges to WGS84 (%s)", d->path,
+                  s_gdal_msg ("transformation failed"));
         return -EINVAL;
     }
     return 0;
@@ -934,14 +921,14 @@ static int s_pixel_size_m (const s_dem_t *d, const cgs_geo_t *frame, double px, 
     for (int i = 0; i < 4; i++)
         if (!ok[i] ||
             cgs_geo_geodetic_to_enu (frame, (cgs_geodetic_t){y[i], x[i], 0}, &p[i]) != 0) {
-            s_err (err, errlen, "%s: cannot work out the pixel size at the origin", d->path);
+            cgs_errf (err, errlen, "%s: cannot work out the pixel size at the origin", d->path);
             return -EINVAL;
         }
     double dx = hypot (p[1].e_m - p[0].e_m, p[1].n_m - p[0].n_m);
     double dy = hypot (p[3].e_m - p[2].e_m, p[3].n_m - p[2].n_m);
     double res = fmin (dx, dy);
     if (!(res > 0 && isfinite (res))) {
-        s_err (err, errlen, "%s: cannot work out the pixel size at the origin", d->path);
+        cgs_errf (err, errlen, "%s: cannot work out the pixel size at the origin", d->path);
         return -EINVAL;
     }
     *ret_res_m = res;
@@ -963,15 +950,15 @@ static int s_dem_build (s_dem_t *d, const cgs_geo_t *frame, double res_m, double
     int ook = 0;
     s_dem_to_pixel (d, 1, &ox, &oy, &ook);
     if (!ook || !s_dem_usable (d, ox, oy)) {
-        s_err (err, errlen, "%s: the exercise origin (%.6f, %.6f) is outside the raster", d->path,
-               o.lat_deg, o.lon_deg);
+        cgs_errf (err, errlen, "%s: the exercise origin (%.6f, %.6f) is outside the raster",
+                  d->path, o.lat_deg, o.lon_deg);
         return -EINVAL;
     }
     if (res_m == 0 && (rc = s_pixel_size_m (d, frame, ox, oy, &res_m, err, errlen)) != 0)
         return rc;
     if (half_m > 0 && half_m < res_m) {
-        s_err (err, errlen, "%s: half extent %g m is less than the resolution %g m", d->path,
-               half_m, res_m);
+        cgs_errf (err, errlen, "%s: half extent %g m is less than the resolution %g m", d->path,
+                  half_m, res_m);
         return -EINVAL;
     }
 
@@ -992,10 +979,11 @@ static int s_dem_build (s_dem_t *d, const cgs_geo_t *frame, double res_m, double
     }
     double cols_d = k_hi[0] - k_lo[0] + 1, rows_d = k_hi[1] - k_lo[1] + 1;
     if (!(cols_d * rows_d <= (double)CGS_TERRAIN_MAX_NODES)) {
-        s_err (err, errlen,
-               "%s: a grid over %.0f x %.0f m at %g m would have over 2^26 nodes; give a coarser "
-               "resolution or a half extent",
-               d->path, box[2] - box[0], box[3] - box[1], res_m);
+        cgs_errf (
+            err, errlen,
+            "%s: a grid over %.0f x %.0f m at %g m would have over 2^26 nodes; give a coarser "
+            "resolution or a half extent",
+            d->path, box[2] - box[0], box[3] - box[1], res_m);
         return -EINVAL;
     }
     int cols = (int)cols_d, rows = (int)rows_d;
@@ -1004,7 +992,7 @@ static int s_dem_build (s_dem_t *d, const cgs_geo_t *frame, double res_m, double
     // Pass 1: which nodes fall in the usable area, and the pixels they need.
     mask = calloc ((size_t)cols * (size_t)rows, 1);
     if (!mask || s_rowbuf_alloc (&b, cols) != 0) {
-        s_err (err, errlen, "%s: out of memory for a %d x %d grid", d->path, cols, rows);
+        cgs_errf (err, errlen, "%s: out of memory for a %d x %d grid", d->path, cols, rows);
         rc = -ENOMEM;
         goto out;
     }
@@ -1022,19 +1010,20 @@ static int s_dem_build (s_dem_t *d, const cgs_geo_t *frame, double res_m, double
         }
     }
     if (!mask[(size_t)r0 * cols + c0]) {
-        s_err (err, errlen, "%s: the exercise origin (%.6f, %.6f) is outside the raster", d->path,
-               o.lat_deg, o.lon_deg);
+        cgs_errf (err, errlen, "%s: the exercise origin (%.6f, %.6f) is outside the raster",
+                  d->path, o.lat_deg, o.lon_deg);
         rc = -EINVAL;
         goto out;
     }
     int lo[2], hi[2];
     if ((rc = s_best_rect (mask, cols, rows, c0, r0, lo, hi)) != 0) {
-        s_err (err, errlen, "%s: out of memory", d->path);
+        cgs_errf (err, errlen, "%s: out of memory", d->path);
         goto out;
     }
     if (hi[0] - lo[0] < 1 || hi[1] - lo[1] < 1) {
-        s_err (err, errlen, "%s: the raster covers less than one %g m grid cell about the origin",
-               d->path, res_m);
+        cgs_errf (err, errlen,
+                  "%s: the raster covers less than one %g m grid cell about the origin", d->path,
+                  res_m);
         rc = -EINVAL;
         goto out;
     }
@@ -1057,7 +1046,7 @@ static int s_dem_build (s_dem_t *d, const cgs_geo_t *frame, double res_m, double
     double e0_m = (k_lo[0] + lo[0]) * res_m, n0_m = (k_lo[1] + lo[1]) * res_m;
     t = s_new (gc, gr, e0_m, n0_m, res_m);
     if (!t) {
-        s_err (err, errlen, "%s: out of memory for a %d x %d grid", d->path, gc, gr);
+        cgs_errf (err, errlen, "%s: out of memory for a %d x %d grid", d->path, gc, gr);
         rc = -ENOMEM;
         goto out;
     }
@@ -1074,8 +1063,8 @@ static int s_dem_build (s_dem_t *d, const cgs_geo_t *frame, double res_m, double
                 if (ok)
                     b.u[c] = p.u_m;
                 else if (pass == 0) {
-                    s_err (err, errlen, "%s: cannot sample the raster at local (%g, %g)", d->path,
-                           e0_m + c * res_m, n_m);
+                    cgs_errf (err, errlen, "%s: cannot sample the raster at local (%g, %g)",
+                              d->path, e0_m + c * res_m, n_m);
                     rc = -EINVAL;
                     goto out;
                 } // else keep the first sample
@@ -1101,12 +1090,12 @@ int cgs_terrain_load (const char *path, const cgs_geo_t *frame, double resolutio
     if (err && errlen)
         err[0] = '\0';
     if (!path || !frame || !ret_t) {
-        s_err (err, errlen, "%s: no file, frame or result given", path ? path : "(null)");
+        cgs_errf (err, errlen, "%s: no file, frame or result given", path ? path : "(null)");
         return -EINVAL;
     }
     if (!isfinite (resolution_m) || resolution_m < 0 || !isfinite (half_extent_m) ||
         half_extent_m < 0) {
-        s_err (err, errlen, "%s: resolution and half extent must be finite and >= 0", path);
+        cgs_errf (err, errlen, "%s: resolution and half extent must be finite and >= 0", path);
         return -EINVAL;
     }
     // GDAL reports through a per-thread handler stack: keep it off stderr.

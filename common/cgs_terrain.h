@@ -15,14 +15,14 @@ typedef struct cgs_terrain cgs_terrain_t;
 
 /* Parameters of procedural terrain: a square centred on the origin. */
 typedef struct {
-    uint64_t seed;         // same seed, same terrain
-    double size_m;         // side of the square, metres (default 20000)
-    double resolution_m;   // grid spacing, metres (default 30)
-    double relief_m;       // highest minus lowest point, metres (default 200)
-    double base_height_m;  // height of the lowest point, metres (default 0)
-    double feature_m;      // wavelength of the largest hills, metres (default 4000)
-    int octaves;           // fBm octaves (default 6)
-    double persistence;    // amplitude ratio between octaves (default 0.5)
+    uint64_t seed;        // same seed, same terrain
+    double size_m;        // side of the square, metres (default 20000)
+    double resolution_m;  // grid spacing, metres (default 30)
+    double relief_m;      // highest minus lowest point, metres (default 200)
+    double base_height_m; // height of the lowest point, metres (default 0)
+    double feature_m;     // wavelength of the largest hills, metres (default 4000)
+    int octaves;          // fBm octaves (default 6)
+    double persistence;   // amplitude ratio between octaves (default 0.5)
 } cgs_terrain_fbm_t;
 
 /* Fill p with the documented defaults (seed 0). */

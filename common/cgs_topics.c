@@ -24,7 +24,10 @@ static const cgs_topic_t s_topics[] = {
     {"health", &cgs__health__descriptor, "*", "a service's health, 1 Hz"},
 };
 
-size_t cgs_topics_count (void) { return sizeof s_topics / sizeof s_topics[0]; }
+size_t cgs_topics_count (void)
+{
+    return sizeof s_topics / sizeof s_topics[0];
+}
 
 const cgs_topic_t *cgs_topics_at (size_t i)
 {
@@ -49,7 +52,7 @@ bool cgs_topics_published_by (const cgs_topic_t *topic, const char *program)
     const char *p = topic->publishers;
     while (*p) {
         const char *end = strchr (p, ' ');
-        size_t len = end ? (size_t) (end - p) : strlen (p);
+        size_t len = end ? (size_t)(end - p) : strlen (p);
         if (len == n && strncmp (p, program, n) == 0)
             return true;
         p += len;

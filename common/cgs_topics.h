@@ -9,10 +9,10 @@
 #include <stddef.h>
 
 typedef struct {
-    const char *name;                           // topic string, frame 1
-    const ProtobufCMessageDescriptor *message;  // payload type, frame 2
-    const char *publishers;                     // space-separated programs; "*" = every service
-    const char *what;                           // one line for help text
+    const char *name;                          // topic string, frame 1
+    const ProtobufCMessageDescriptor *message; // payload type, frame 2
+    const char *publishers;                    // space-separated programs; "*" = every service
+    const char *what;                          // one line for help text
 } cgs_topic_t;
 
 /* Number of topics. */

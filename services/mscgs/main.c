@@ -37,24 +37,23 @@ static char s_exe_dir[PATH_MAX];
 
 static void s_usage (FILE *f)
 {
-    fprintf (f,
-             "usage: mscgs COMMAND [options]\n"
-             "The mscgs multisensor Common Ground Station simulation.\n\n"
-             "commands:\n"
-             "  run      start every built service of the exercise on this machine\n"
-             "           --exercise F   exercise file\n"
-             "           --scenario F   scenario file (default: the exercise's)\n"
-             "           --speed X      time scale, simulation seconds per second\n"
-             "           --duration S   stop after S seconds of simulation time\n"
-             "                          (wall time while no clock is published)\n"
-             "           --out DIR      logs, state and outputs (default ./out)\n"
-             "  echo     print the messages of a topic: echo TOPIC [--json] [--count N]\n"
-             "           [--timeout S]\n"
-             "  status   a table of every service's health [--wait S]\n"
-             "  ping     ask a service's command endpoint for a reply: ping INSTANCE\n"
-             "  topics   list the bus topics\n\n"
-             "The exercise file is --exercise F, else $MSCGS_EXERCISE, else\n"
-             "/etc/mscgs/exercise.ini, else the source tree's deploy/exercises/default.ini.\n");
+    fprintf (f, "usage: mscgs COMMAND [options]\n"
+                "The mscgs multisensor Common Ground Station simulation.\n\n"
+                "commands:\n"
+                "  run      start every built service of the exercise on this machine\n"
+                "           --exercise F   exercise file\n"
+                "           --scenario F   scenario file (default: the exercise's)\n"
+                "           --speed X      time scale, simulation seconds per second\n"
+                "           --duration S   stop after S seconds of simulation time\n"
+                "                          (wall time while no clock is published)\n"
+                "           --out DIR      logs, state and outputs (default ./out)\n"
+                "  echo     print the messages of a topic: echo TOPIC [--json] [--count N]\n"
+                "           [--timeout S]\n"
+                "  status   a table of every service's health [--wait S]\n"
+                "  ping     ask a service's command endpoint for a reply: ping INSTANCE\n"
+                "  topics   list the bus topics\n\n"
+                "The exercise file is --exercise F, else $MSCGS_EXERCISE, else\n"
+                "/etc/mscgs/exercise.ini, else the source tree's deploy/exercises/default.ini.\n");
 }
 
 /* ---- shared helpers ------------------------------------------------------------- */
@@ -83,7 +82,8 @@ static const char *s_exercise_path (const char *given, char *buf, size_t size)
     if (access ("/etc/mscgs/exercise.ini", R_OK) == 0)
         return "/etc/mscgs/exercise.ini";
     // build/<variant>/bin/mscgs or build/bin/mscgs in a source tree.
-    const char *up[] = {"/../../deploy/exercises/default.ini", "/../../../deploy/exercises/default.ini"};
+    const char *up[] = {"/../../deploy/exercises/default.ini",
+                        "/../../../deploy/exercises/default.ini"};
     for (size_t i = 0; i < 2; i++) {
         snprintf (buf, size, "%s%s", s_exe_dir, up[i]);
         if (access (buf, R_OK) == 0)
@@ -136,7 +136,7 @@ typedef struct {
     char program[CGS_NAME_MAX];
     bool enabled;
     bool seen;
-    double seen_at;  // monotonic
+    double seen_at; // monotonic
     Cgs__ServiceState state;
     char host[64];
     uint32_t pid;
@@ -169,15 +169,15 @@ static void s_table_init (s_table_t *t, const cgs_exercise_t *ex)
 static void s_on_health (void *arg, const char *topic, const ProtobufCMessage *msg,
                          const Cgs__Header *hdr)
 {
-    (void) topic;
-    (void) hdr;
+    (void)topic;
+    (void)hdr;
     s_table_t *t = arg;
-    const Cgs__Health *h = (const Cgs__Health *) msg;
+    const Cgs__Health *h = (const Cgs__Health *)msg;
     s_row_t *r = NULL;
     for (size_t i = 0; i < t->nrows && !r; i++)
         if (strcmp (t->rows[i].instance, h->instance) == 0)
             r = &t->rows[i];
-    if (!r && t->nrows < S_MAX_INSTANCES) {  // not in the exercise file: show it anyway
+    if (!r && t->nrows < S_MAX_INSTANCES) { // not in the exercise file: show it anyway
         r = &t->rows[t->nrows++];
         snprintf (r->instance, sizeof r->instance, "%s", h->instance);
         snprintf (r->program, sizeof r->program, "%s", h->program);
@@ -202,10 +202,10 @@ static void s_on_health (void *arg, const char *topic, const ProtobufCMessage *m
 static void s_on_clock (void *arg, const char *topic, const ProtobufCMessage *msg,
                         const Cgs__Header *hdr)
 {
-    (void) topic;
-    (void) hdr;
+    (void)topic;
+    (void)hdr;
     s_table_t *t = arg;
-    const Cgs__Clock *c = (const Cgs__Clock *) msg;
+    const Cgs__Clock *c = (const Cgs__Clock *)msg;
     t->sim_time_s = c->sim_time_s;
     t->time_scale = c->time_scale;
     t->paused = c->paused;
@@ -219,11 +219,16 @@ static const char *s_state_name (const s_row_t *r, double now)
     if (now - r->seen_at > 3.0)
         return "silent";
     switch (r->state) {
-    case CGS__SERVICE_STATE__SERVICE_STATE_STARTING: return "starting";
-    case CGS__SERVICE_STATE__SERVICE_STATE_RUNNING: return "up";
-    case CGS__SERVICE_STATE__SERVICE_STATE_DEGRADED: return "degraded";
-    case CGS__SERVICE_STATE__SERVICE_STATE_STOPPING: return "stopping";
-    default: return "?";
+    case CGS__SERVICE_STATE__SERVICE_STATE_STARTING:
+        return "starting";
+    case CGS__SERVICE_STATE__SERVICE_STATE_RUNNING:
+        return "up";
+    case CGS__SERVICE_STATE__SERVICE_STATE_DEGRADED:
+        return "degraded";
+    case CGS__SERVICE_STATE__SERVICE_STATE_STOPPING:
+        return "stopping";
+    default:
+        return "?";
     }
 }
 
@@ -238,10 +243,10 @@ static void s_table_print (const s_table_t *t, FILE *f)
             fprintf (f, "%-16s %-9s%s\n", r->instance, r->enabled ? "down" : "disabled", "");
             continue;
         }
-        fprintf (f, "%-16s %-9s %-12.12s %8u %9.1f %9.1f %9.1f %7llu %7llu %9llu  %s\n", r->instance,
-                 s_state_name (r, now), r->host, r->pid, r->uptime_s, r->in_per_s, r->out_per_s,
-                 (unsigned long long) r->gaps, (unsigned long long) r->drops,
-                 (unsigned long long) r->malformed, r->last_error);
+        fprintf (f, "%-16s %-9s %-12.12s %8u %9.1f %9.1f %9.1f %7llu %7llu %9llu  %s\n",
+                 r->instance, s_state_name (r, now), r->host, r->pid, r->uptime_s, r->in_per_s,
+                 r->out_per_s, (unsigned long long)r->gaps, (unsigned long long)r->drops,
+                 (unsigned long long)r->malformed, r->last_error);
     }
 }
 
@@ -322,7 +327,7 @@ static void s_on_echo (void *arg, const char *topic, const ProtobufCMessage *msg
         char *json = NULL;
         if (cgs_msg_to_json (msg, &json) == 0) {
             printf ("%s from %s #%llu sim %.3f s: %s\n", topic, hdr->source,
-                    (unsigned long long) hdr->seq, hdr->sim_time_s, json);
+                    (unsigned long long)hdr->seq, hdr->sim_time_s, json);
             free (json);
         }
     }
@@ -334,19 +339,25 @@ static int s_cmd_echo (int argc, char **argv)
     const char *exercise = NULL;
     s_echo_t echo = {0};
     double timeout_s = 0;
-    static const struct option opts[] = {{"exercise", required_argument, NULL, 'e'},
-                                         {"json", no_argument, NULL, 'j'},
-                                         {"count", required_argument, NULL, 'n'},
-                                         {"timeout", required_argument, NULL, 't'},
-                                         {"help", no_argument, NULL, 'h'},
-                                         {NULL, 0, NULL, 0}};
+    static const struct option opts[] = {
+        {"exercise", required_argument, NULL, 'e'}, {"json", no_argument, NULL, 'j'},
+        {"count", required_argument, NULL, 'n'},    {"timeout", required_argument, NULL, 't'},
+        {"help", no_argument, NULL, 'h'},           {NULL, 0, NULL, 0}};
     int c;
     while ((c = getopt_long (argc, argv, "hjn:", opts, NULL)) != -1) {
         switch (c) {
-        case 'e': exercise = optarg; break;
-        case 'j': echo.json = true; break;
-        case 'n': echo.count = (long) s_parse_positive ("--count", optarg); break;
-        case 't': timeout_s = s_parse_positive ("--timeout", optarg); break;
+        case 'e':
+            exercise = optarg;
+            break;
+        case 'j':
+            echo.json = true;
+            break;
+        case 'n':
+            echo.count = (long)s_parse_positive ("--count", optarg);
+            break;
+        case 't':
+            timeout_s = s_parse_positive ("--timeout", optarg);
+            break;
         default:
             fprintf (c == 'h' ? stdout : stderr,
                      "usage: mscgs echo TOPIC [--json] [--count N] [--timeout S] [--exercise F]\n"
@@ -375,7 +386,8 @@ static int s_cmd_echo (int argc, char **argv)
     cgs_sub_t *sub = cgs_sub_new (ctx);
     cgs_sub_on (sub, topic, s_on_echo, &echo);
     if (s_connect_publishers (sub, ex, topic) == 0)
-        fprintf (stderr, "mscgs echo: no instance in %s publishes %s\n", cgs_exercise_path (ex), topic);
+        fprintf (stderr, "mscgs echo: no instance in %s publishes %s\n", cgs_exercise_path (ex),
+                 topic);
     cgs_lifecycle_init ();
     double end = timeout_s > 0 ? cgs_loop_now () + timeout_s : INFINITY;
     while (!cgs_lifecycle_stopping () && cgs_loop_now () < end &&
@@ -384,7 +396,8 @@ static int s_cmd_echo (int argc, char **argv)
     int rc = echo.count > 0 && echo.seen < echo.count ? 4 : 0;
     if (cgs_sub_gaps (sub) || cgs_sub_malformed (sub))
         fprintf (stderr, "mscgs echo: %llu messages missed (gaps), %llu malformed\n",
-                 (unsigned long long) cgs_sub_gaps (sub), (unsigned long long) cgs_sub_malformed (sub));
+                 (unsigned long long)cgs_sub_gaps (sub),
+                 (unsigned long long)cgs_sub_malformed (sub));
     cgs_sub_destroy (&sub);
     zmq_ctx_term (ctx);
     cgs_exercise_destroy (&ex);
@@ -472,9 +485,9 @@ typedef struct {
     char binary[PATH_MAX];
     pid_t pid;
     int restarts;
-    double next_start;    // monotonic; when to (re)start it
+    double next_start; // monotonic; when to (re)start it
     double started_at;
-    int quick_failures;   // exits within 10 s of starting, in a row
+    int quick_failures; // exits within 10 s of starting, in a row
     bool given_up;
     int last_status;
 } s_child_t;
@@ -517,7 +530,7 @@ static void s_child_start (s_run_t *run, s_child_t *ch)
         int devnull = open ("/dev/null", O_RDONLY);
         if (devnull >= 0)
             dup2 (devnull, STDIN_FILENO);
-        setpgid (0, 0);  // Ctrl-C reaches mscgs, which stops the children in order
+        setpgid (0, 0); // Ctrl-C reaches mscgs, which stops the children in order
         signal (SIGPIPE, SIG_DFL);
         const char *argv[16];
         int n = 0;
@@ -537,7 +550,7 @@ static void s_child_start (s_run_t *run, s_child_t *ch)
             argv[n++] = speed;
         }
         argv[n] = NULL;
-        execv (ch->binary, (char *const *) argv);
+        execv (ch->binary, (char *const *)argv);
         fprintf (stderr, "mscgs run: cannot execute %s: %s\n", ch->binary, strerror (errno));
         _exit (127);
     }
@@ -568,12 +581,14 @@ static void s_reap (s_run_t *run)
             // As systemd's start limit: five quick failures in a row, stop trying.
             if (ch->quick_failures >= 5) {
                 ch->given_up = true;
-                fprintf (stderr, "mscgs run: %s %s; it failed 5 times in a row within 10 s of "
-                                 "starting, so it stays down (see %s/%s.log)\n",
+                fprintf (stderr,
+                         "mscgs run: %s %s; it failed 5 times in a row within 10 s of "
+                         "starting, so it stays down (see %s/%s.log)\n",
                          ch->instance->name, how, run->logs, ch->instance->name);
                 break;
             }
-            double delay = ch->quick_failures > 0 ? fmin (10.0, 1.0 * (1 << ch->quick_failures)) : 1.0;
+            double delay =
+                ch->quick_failures > 0 ? fmin (10.0, 1.0 * (1 << ch->quick_failures)) : 1.0;
             ch->restarts++;
             ch->next_start = now + delay;
             fprintf (stderr, "mscgs run: %s %s; restarting in %.0f s (restart %d, log %s/%s.log)\n",
@@ -607,14 +622,17 @@ static void s_progress (s_run_t *run)
         running += run->children[i].pid > 0;
     char sim[64];
     if (run->table.have_clock)
-        snprintf (sim, sizeof sim, "sim %.1f s x%.3g%s", run->table.sim_time_s, run->table.time_scale,
-                  run->table.paused ? " paused" : "");
+        snprintf (sim, sizeof sim, "sim %.1f s x%.3g%s", run->table.sim_time_s,
+                  run->table.time_scale, run->table.paused ? " paused" : "");
     else
         snprintf (sim, sizeof sim, "no clock yet");
-    fprintf (stdout, "%s[%6.1f s] %s | %zu/%zu running, %zu reporting | in %.0f msg/s | gaps %llu drops %llu malformed %llu%s%s%s%s",
+    fprintf (stdout,
+             "%s[%6.1f s] %s | %zu/%zu running, %zu reporting | in %.0f msg/s | gaps %llu drops "
+             "%llu malformed %llu%s%s%s%s",
              run->tty ? "\r\033[K" : "", now - run->start, sim, running, run->nchildren, up, in,
-             (unsigned long long) gaps, (unsigned long long) drops, (unsigned long long) malformed,
-             error ? " | " : "", error_from ? error_from : "", error ? ": " : "", error ? error : "");
+             (unsigned long long)gaps, (unsigned long long)drops, (unsigned long long)malformed,
+             error ? " | " : "", error_from ? error_from : "", error ? ": " : "",
+             error ? error : "");
     if (!run->tty)
         fputc ('\n', stdout);
     fflush (stdout);
@@ -657,11 +675,21 @@ static int s_cmd_run (int argc, char **argv)
     int c;
     while ((c = getopt_long (argc, argv, "h", opts, NULL)) != -1) {
         switch (c) {
-        case 'e': exercise = optarg; break;
-        case 's': run.scenario = optarg; break;
-        case 'x': run.speed = s_parse_positive ("--speed", optarg); break;
-        case 'd': run.duration_s = s_parse_positive ("--duration", optarg); break;
-        case 'o': snprintf (run.out, sizeof run.out, "%s", optarg); break;
+        case 'e':
+            exercise = optarg;
+            break;
+        case 's':
+            run.scenario = optarg;
+            break;
+        case 'x':
+            run.speed = s_parse_positive ("--speed", optarg);
+            break;
+        case 'd':
+            run.duration_s = s_parse_positive ("--duration", optarg);
+            break;
+        case 'o':
+            snprintf (run.out, sizeof run.out, "%s", optarg);
+            break;
         default:
             fprintf (c == 'h' ? stdout : stderr,
                      "usage: mscgs run [--exercise F] [--scenario F] [--speed X] [--duration S] "
@@ -699,21 +727,24 @@ static int s_cmd_run (int argc, char **argv)
     cgs_state_mkdir (run.logs);
     cgs_state_mkdir (run.state);
 
-    for (size_t i = 0; i < cgs_exercise_instance_count (run.ex) && run.nchildren < S_MAX_INSTANCES; i++) {
+    for (size_t i = 0; i < cgs_exercise_instance_count (run.ex) && run.nchildren < S_MAX_INSTANCES;
+         i++) {
         const cgs_instance_t *in = cgs_exercise_instance (run.ex, i);
         if (!in->enabled || strcmp (in->program, "mscgs") == 0)
             continue;
         s_child_t *ch = &run.children[run.nchildren];
         snprintf (ch->binary, sizeof ch->binary, "%s/%s", s_exe_dir, in->program);
         if (access (ch->binary, X_OK) != 0)
-            continue;  // not built yet
+            continue; // not built yet
         ch->instance = in;
         run.nchildren++;
     }
     printf ("mscgs run: exercise %s, %zu of %zu services built here; out %s\n",
-            cgs_exercise_name (run.ex), run.nchildren, cgs_exercise_instance_count (run.ex), run.out);
+            cgs_exercise_name (run.ex), run.nchildren, cgs_exercise_instance_count (run.ex),
+            run.out);
     if (run.nchildren == 0)
-        printf ("mscgs run: no service program is built yet in %s; only watching the bus\n", s_exe_dir);
+        printf ("mscgs run: no service program is built yet in %s; only watching the bus\n",
+                s_exe_dir);
 
     cgs_lifecycle_init ();
     void *ctx = zmq_ctx_new ();

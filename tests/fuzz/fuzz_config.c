@@ -40,9 +40,9 @@ int LLVMFuzzerTestOneInput (const uint8_t *data, size_t size)
             cgs_config_get_enum (cfg, sec, "e", names, 0, &e, err, sizeof err);
             cgs_config_get_string (cfg, sec, "s", "", &s, err, sizeof err);
             cgs_config_get_path (cfg, sec, "path", "", &s, err, sizeof err);
-            cgs_config_get_position (cfg, sec, "p", frame, (cgs_enu_t) {0}, &p, err, sizeof err);
+            cgs_config_get_position (cfg, sec, "p", frame, (cgs_enu_t){0}, &p, err, sizeof err);
             for (size_t k = 0; k < cgs_config_count (cfg, sec, "point"); k++)
-                (void) cgs_config_get_nth (cfg, sec, "point", k);
+                (void)cgs_config_get_nth (cfg, sec, "point", k);
         }
         cgs_config_check_unused (cfg, err, sizeof err);
         cgs_config_destroy (&cfg);

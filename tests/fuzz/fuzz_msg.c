@@ -22,7 +22,7 @@ int LLVMFuzzerTestOneInput (const uint8_t *data, size_t size)
             char *json = NULL;
             if (cgs_msg_to_json (m, &json) == 0)
                 free (json);
-            (void) cgs_msg_header (m);
+            (void)cgs_msg_header (m);
         }
         cgs_msg_arena_reset (arena);
         if (cgs_msg_decode (d, data, size, NULL, &m) == 0)

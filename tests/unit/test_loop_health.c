@@ -1,0 +1,171 @@
+/* Unit tests of cgs_loop (timers, socket watches, stop) and cgs_health (the
+ * health message's counts and per-topic figures). */
+#include "cgs_health.h"
+#include "cgs_lifecycle.h"
+#include "cgs_loop.h"
+
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <cmocka.h>
+#include <string.h>
+#include <unistd.h>
+#include <zmq.h>
+
+typedef struct {
+    cgs_loop_t *loop;
+    int fast, slow, reads;
+    void *socket;
+} s_ctx_t;
+
+static void s_fast (void *arg)
+{
+    s_ctx_t *c = arg;
+    if (++c->fast == 5)
+        cgs_loop_stop (c->loop);
+}
+
+static void s_slow (void *arg)
+{
+    ((s_ctx_t *)arg)->slow++;
+}
+
+static void test_timers_fire_in_order_of_interval (void **state)
+{
+    (void)state;
+    s_ctx_t c = {.loop = cgs_loop_new ()};
+    assert_non_null (c.loop);
+    assert_true (cgs_loop_add_timer (c.loop, 0.005, s_fast, &c) > 0);
+    assert_true (cgs_loop_add_timer (c.loop, 60.0, s_slow, &c) > 0);
+    assert_int_equal (cgs_loop_add_timer (c.loop, 0, s_slow, &c), -EINVAL);
+    assert_int_equal (cgs_loop_add_timer (c.loop, -1, s_slow, &c), -EINVAL);
+    assert_int_equal (cgs_loop_run (c.loop), 0);
+    assert_int_equal (c.fast, 5); // stopped from inside the fifth call
+    assert_int_equal (c.slow, 0);
+    cgs_loop_destroy (&c.loop);
+    assert_null (c.loop);
+    cgs_loop_destroy (&c.loop);
+}
+
+static void s_on_read (void *arg)
+{
+    s_ctx_t *c = arg;
+    char buf[16];
+    while (zmq_recv (c->socket, buf, sizeof buf, ZMQ_DONTWAIT) >= 0)
+        c->reads++;
+    if (c->reads >= 3)
+        cgs_loop_stop (c->loop);
+}
+
+static void s_send_later (void *arg)
+{
+    void *out = arg;
+    zmq_send (out, "x", 1, 0);
+}
+
+static void test_socket_watch_and_remove (void **state)
+{
+    (void)state;
+    void *ctx = zmq_ctx_new ();
+    void *in = zmq_socket (ctx, ZMQ_PAIR), *out = zmq_socket (ctx, ZMQ_PAIR);
+    assert_int_equal (zmq_bind (in, "inproc://loop"), 0);
+    assert_int_equal (zmq_connect (out, "inproc://loop"), 0);
+    s_ctx_t c = {.loop = cgs_loop_new (), .socket = in};
+    assert_int_equal (cgs_loop_add_socket (c.loop, in, s_on_read, &c), 0);
+    assert_true (cgs_loop_add_timer (c.loop, 0.002, s_send_later, out) > 0);
+    assert_int_equal (cgs_loop_run (c.loop), 0);
+    assert_int_equal (c.reads, 3);
+    // Once removed, the socket no longer wakes the loop: a lifecycle stop ends it.
+    cgs_loop_remove (c.loop, in, -1);
+    zmq_send (out, "x", 1, 0);
+    cgs_lifecycle_request_stop ();
+    assert_int_equal (cgs_loop_run (c.loop), 0);
+    assert_int_equal (c.reads, 3);
+    cgs_loop_destroy (&c.loop);
+    zmq_close (in);
+    zmq_close (out);
+    zmq_ctx_term (ctx);
+}
+
+typedef struct {
+    int n;
+    Cgs__ServiceState state;
+    char instance[64], error[64];
+    uint64_t out, clock_msgs;
+    bool has_clock;
+    uint32_t pid;
+} s_seen_t;
+
+static void s_on_health (void *arg, const char *topic, const ProtobufCMessage *msg,
+                         const Cgs__Header *h)
+{
+    (void)topic;
+    (void)h;
+    s_seen_t *s = arg;
+    const Cgs__Health *hm = (const Cgs__Health *)msg;
+    s->n++;
+    s->state = hm->state;
+    snprintf (s->instance, sizeof s->instance, "%s", hm->instance);
+    snprintf (s->error, sizeof s->error, "%s", hm->last_error);
+    s->out = hm->msgs_out;
+    s->pid = hm->pid;
+    s->has_clock = false;
+    for (size_t i = 0; i < hm->n_topics; i++)
+        if (strcmp (hm->topics[i]->topic, "clock") == 0 && hm->topics[i]->outbound) {
+            s->has_clock = true;
+            s->clock_msgs = hm->topics[i]->messages;
+        }
+}
+
+static void test_health_reports_counts_state_and_error (void **state)
+{
+    (void)state;
+    void *ctx = zmq_ctx_new ();
+    cgs_pub_t *pub = cgs_pub_new (ctx, "svc.a", 1);
+    assert_int_equal (cgs_pub_bind (pub, "inproc://health"), 0);
+    cgs_sub_t *sub = cgs_sub_new (ctx);
+    assert_int_equal (cgs_sub_connect (sub, "inproc://health"), 0);
+    s_seen_t seen = {0};
+    assert_int_equal (cgs_sub_on (sub, "health", s_on_health, &seen), 0);
+    cgs_health_t *h = cgs_health_new ("svc", "svc.a", "1.0");
+    cgs_health_watch_pub (h, pub);
+    for (int i = 0; i < 200 && seen.n == 0; i++) {
+        cgs_health_publish (h, pub, 0);
+        cgs_sub_poll (sub, 5);
+    }
+    assert_true (seen.n > 0);
+    assert_int_equal (seen.state, CGS__SERVICE_STATE__SERVICE_STATE_STARTING);
+    Cgs__Clock c = CGS__CLOCK__INIT;
+    for (int i = 0; i < 7; i++)
+        assert_int_equal (cgs_pub_send (pub, "clock", &c.base, 0), 0);
+    cgs_health_set_state (h, CGS__SERVICE_STATE__SERVICE_STATE_DEGRADED);
+    cgs_health_set_error (h, "terrain.tif: no such file");
+    uint64_t health_sent = cgs_pub_topic_stats (pub, 0)->messages;
+    seen.n = 0;
+    assert_int_equal (cgs_health_publish (h, pub, 12.5), 0);
+    for (int i = 0; i < 100 && seen.n == 0; i++)
+        cgs_sub_poll (sub, 5);
+    assert_int_equal (seen.n, 1);
+    assert_string_equal (seen.instance, "svc.a");
+    assert_int_equal (seen.state, CGS__SERVICE_STATE__SERVICE_STATE_DEGRADED);
+    assert_string_equal (seen.error, "terrain.tif: no such file");
+    assert_true (seen.has_clock);
+    assert_int_equal (seen.clock_msgs, 7);
+    assert_int_equal (seen.out, health_sent + 7); // counted before this health went out
+    assert_int_equal (seen.pid, (uint32_t)getpid ());
+    cgs_health_destroy (&h);
+    assert_null (h);
+    cgs_sub_destroy (&sub);
+    cgs_pub_destroy (&pub);
+    zmq_ctx_term (ctx);
+}
+
+int main (void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test (test_timers_fire_in_order_of_interval),
+        cmocka_unit_test (test_socket_watch_and_remove),
+        cmocka_unit_test (test_health_reports_counts_state_and_error),
+    };
+    return cmocka_run_group_tests (tests, NULL, NULL);
+}
