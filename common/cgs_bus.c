@@ -10,6 +10,7 @@
 #include <sys/random.h>
 #include <sys/stat.h>
 #include <time.h>
+#include <unistd.h>
 #include <zmq.h>
 
 #define S_SOURCE_MAX 64
@@ -58,13 +59,15 @@ int cgs_bus_prepare_endpoint (const char *endpoint)
     return s_mkdir_p (dir);
 }
 
+/* A new epoch: 32 random bits (a short varint on the wire; two starts of one
+ * publisher share an epoch with odds of one in four billion). */
 static uint64_t s_new_epoch (void)
 {
-    uint64_t r = 0;
+    uint32_t r = 0;
     if (getrandom (&r, sizeof r, 0) != (ssize_t)sizeof r) {
         struct timespec ts;
         clock_gettime (CLOCK_REALTIME, &ts);
-        r = (uint64_t)ts.tv_sec * 1000000000ull + (uint64_t)ts.tv_nsec;
+        r = (uint32_t)ts.tv_nsec ^ (uint32_t)ts.tv_sec ^ ((uint32_t)getpid () << 16);
     }
     return r ? r : 1;
 }
@@ -215,34 +218,28 @@ int cgs_pub_send (cgs_pub_t *self, const char *topic, ProtobufCMessage *msg, dou
     if (!t)
         return strlen (topic) >= CGS_TOPIC_MAX || !*topic ? -EINVAL : -ENOMEM;
 
-    // The publisher's own header replaces the caller's for the call, so the
-    // caller's message is left as it was.
-    Cgs__Header own = CGS__HEADER__INIT;
-    Cgs__Header *saved = *slot;
-    Cgs__Header *h = &own;
-    h->source = self->source;
-    h->exercise_id = self->exercise_id;
-    h->epoch = self->epoch;
-    h->seq = ++t->seq; // a dropped message keeps its number: subscribers see the gap
-    h->sim_time_s = sim_time_s;
-    h->wall_time_s = cgs_bus_wall_time ();
-    *slot = h;
-
-    size_t need = cgs_msg_size (msg);
-    if (need > self->bufcap) {
+    Cgs__Header h = CGS__HEADER__INIT;
+    h.source = self->source;
+    h.exercise_id = self->exercise_id;
+    h.epoch = self->epoch;
+    h.seq = ++t->seq; // a dropped message keeps its number: subscribers see the gap
+    h.sim_time_s = sim_time_s;
+    h.wall_time_s = cgs_bus_wall_time ();
+    size_t len = 0;
+    int rc = cgs_msg_encode_stamped (msg, &h, self->buf, self->bufcap, &len);
+    if (rc == -ENOBUFS) {
         size_t cap = self->bufcap;
-        while (cap < need)
+        while (cap < len)
             cap *= 2;
         uint8_t *nb = realloc (self->buf, cap);
-        if (!nb) {
-            *slot = saved;
+        if (!nb)
             return -ENOMEM;
-        }
         self->buf = nb;
         self->bufcap = cap;
+        rc = cgs_msg_encode_stamped (msg, &h, self->buf, self->bufcap, &len);
     }
-    size_t len = cgs_msg_encode (msg, self->buf);
-    *slot = saved;
+    if (rc < 0)
+        return rc;
 
     size_t tlen = strlen (topic);
     int flags = self->block_ms > 0 ? 0 : ZMQ_DONTWAIT;
@@ -286,6 +283,8 @@ struct cgs_sub {
     s_sub_topic_t *topics;
     size_t ntopics, captopics;
     cgs_msg_arena_t *arena;
+    Cgs__Header hdr; // header of the message being handled
+    char hdr_source[S_SOURCE_MAX];
     uint64_t received, malformed_unrouted;
 };
 
@@ -455,7 +454,10 @@ static s_seq_t s_sub_sequence (s_sub_topic_t *t, const Cgs__Header *h)
         return S_SEQ_DELIVER;
     }
     if (s->epoch != h->epoch) {
+        // A restarted publisher numbers from 1: what came before this one was missed.
         t->stats.restarts++;
+        if (h->seq > 1)
+            t->stats.gaps += h->seq - 1;
         s->epoch = h->epoch;
     } else if (h->seq > s->seq + 1) {
         t->stats.gaps += h->seq - s->seq - 1;
@@ -497,8 +499,9 @@ int cgs_sub_dispatch (cgs_sub_t *self, int max)
         const Cgs__Header *h = NULL;
         s_seq_t verdict = S_SEQ_FAIL;
         if (!extra &&
-            cgs_msg_decode (t->desc, zmq_msg_data (&payload), zmq_msg_size (&payload), self->arena,
-                            &m) == 0 &&
+            cgs_msg_decode_stamped (t->desc, zmq_msg_data (&payload), zmq_msg_size (&payload),
+                                    self->arena, &self->hdr, self->hdr_source,
+                                    sizeof self->hdr_source, &m) == 0 &&
             (h = cgs_msg_header (m)) != NULL)
             verdict = s_sub_sequence (t, h);
         if (verdict != S_SEQ_DELIVER) {

@@ -211,7 +211,10 @@ struct cgs_cmd_server {
     char name[128];
     char *cache_path;
     cgs_cmd_handler_fn *handler;
+    cgs_cmd_save_fn *save;
     void *arg;
+    uint8_t *saved_state; // service state loaded at start
+    size_t saved_len;
     s_entry_t *entries;
     size_t nentries;
     uint64_t tick;
@@ -236,6 +239,7 @@ void cgs_cmd_server_destroy (cgs_cmd_server_t **self_p)
     s_entries_free (self);
     free (self->entries);
     free (self->cache_path);
+    free (self->saved_state);
     free (self);
     *self_p = NULL;
 }
@@ -256,10 +260,18 @@ static void s_cache_load (cgs_cmd_server_t *self)
         snprintf (bad, sizeof bad, "%s.bad", self->cache_path);
         rename (self->cache_path, bad);
         snprintf (self->load_error, sizeof self->load_error, "%s: %s; set aside as %s",
-                  self->cache_path, rc == -EPROTO ? "not a reply cache" : strerror (-rc), bad);
+                  self->cache_path,
+                  rc == -EPROTO ? "not a command server state file" : strerror (-rc), bad);
         return;
     }
     Cgs__ReplyCache *cache = (Cgs__ReplyCache *)m;
+    if (cache->service_state.len > 0) {
+        self->saved_state = malloc (cache->service_state.len);
+        if (self->saved_state) {
+            memcpy (self->saved_state, cache->service_state.data, cache->service_state.len);
+            self->saved_len = cache->service_state.len;
+        }
+    }
     size_t n = cache->n_replies < S_MAX_ENTRIES ? cache->n_replies : S_MAX_ENTRIES;
     for (size_t i = 0; i < n; i++) {
         self->entries[self->nentries].reply = cache->replies[i];
@@ -325,6 +337,18 @@ void *cgs_cmd_server_socket (cgs_cmd_server_t *self)
 {
     return self->socket;
 }
+
+void cgs_cmd_server_set_save (cgs_cmd_server_t *self, cgs_cmd_save_fn *save)
+{
+    self->save = save;
+}
+
+void cgs_cmd_server_saved_state (const cgs_cmd_server_t *self, const uint8_t **ret_buf,
+                                 size_t *ret_len)
+{
+    *ret_buf = self->saved_state;
+    *ret_len = self->saved_len;
+}
 const char *cgs_cmd_server_load_error (const cgs_cmd_server_t *self)
 {
     return self->load_error;
@@ -389,6 +413,7 @@ static int s_store (cgs_cmd_server_t *self, const uint8_t *packed, size_t len)
     return 0;
 }
 
+/* Write the stored replies and the service's state in one atomic write. */
 static int s_cache_write (cgs_cmd_server_t *self)
 {
     if (!self->cache_path)
@@ -401,13 +426,21 @@ static int s_cache_write (cgs_cmd_server_t *self)
     Cgs__ReplyCache cache = CGS__REPLY_CACHE__INIT;
     cache.n_replies = self->nentries;
     cache.replies = arr;
-    uint8_t *buf = NULL;
-    size_t len = 0;
-    int rc = cgs_msg_encode_alloc (&cache.base, &buf, &len);
+    uint8_t *state = NULL;
+    size_t state_len = 0;
+    int rc = self->save ? self->save (self->arg, &state, &state_len) : 0;
+    if (rc == 0) {
+        cache.service_state.data = state;
+        cache.service_state.len = state_len;
+        uint8_t *buf = NULL;
+        size_t len = 0;
+        rc = cgs_msg_encode_alloc (&cache.base, &buf, &len);
+        if (rc == 0)
+            rc = cgs_state_write (self->cache_path, buf, len);
+        free (buf);
+    }
+    free (state);
     free (arr);
-    if (rc == 0)
-        rc = cgs_state_write (self->cache_path, buf, len);
-    free (buf);
     return rc;
 }
 
@@ -463,13 +496,24 @@ static void s_handle (cgs_cmd_server_t *self, zmq_msg_t *identity, zmq_msg_t *pa
     reply.client_id = cmd->client_id;
     reply.command_number = cmd->command_number;
     reply.server = self->name;
-    if (cgs_msg_encode_alloc (&reply.base, &buf, &len) == 0) {
-        // Store (and persist) before acknowledging, so a retry is never applied twice.
-        if (*cmd->client_id && cmd->command_number && s_store (self, buf, len) == 0 &&
-            s_cache_write (self) < 0)
+    bool applied = reply.status == CGS__REPLY_STATUS__REPLY_STATUS_OK ||
+                   reply.status == CGS__REPLY_STATUS__REPLY_STATUS_ERROR;
+    char why[300];
+    // Store the reply, then write it with the service's state before acknowledging.
+    if (applied && cgs_msg_encode_alloc (&reply.base, &buf, &len) == 0 &&
+        s_store (self, buf, len) == 0) {
+        int rc = s_cache_write (self);
+        if (rc < 0) {
             self->write_errors++;
-        s_send_reply (self, identity, buf, len);
+            snprintf (why, sizeof why, "applied, but the state file %s could not be written: %s",
+                      self->cache_path, strerror (-rc));
+            reply.error = why;
+        }
     }
+    free (buf);
+    buf = NULL;
+    if (cgs_msg_encode_alloc (&reply.base, &buf, &len) == 0)
+        s_send_reply (self, identity, buf, len);
     free (buf);
     cgs_msg_free (&m);
 }

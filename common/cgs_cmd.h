@@ -1,12 +1,19 @@
 /* cgs_cmd — the command channel: DEALER (client) to ROUTER (server), never
  * PUB/SUB. Every command carries the client's id and a command number; the
  * client waits for an explicit reply, retries on timeout over a fresh socket
- * (lazy pirate), and gives a clear error when the server stays silent. The
- * server hands each new command to the service's handler, which applies it
- * and persists it before returning; the reply is stored (and written to the
- * state directory) before it is sent, so a duplicate — a retry, or a retry
- * after the server was restarted — is answered from the stored reply and never
- * applied twice. Pure of logging and global state. */
+ * (lazy pirate), and gives a clear error when the server stays silent.
+ *
+ * The server hands each new command to the service's handler, which applies
+ * it in memory. Then, before the reply is sent, the server writes one state
+ * file, atomically: the stored replies together with the service's state (as
+ * the service's save function serialises it). So a command is either applied
+ * and acknowledged in the file, or neither: a retry — within one server life
+ * or after a crash and restart anywhere in between — is answered from the
+ * stored reply or applied afresh to the state as it was, never applied twice
+ * to the saved state. A restarted service reloads its state from
+ * cgs_cmd_server_saved_state. Side effects outside that state (messages it
+ * published, files it wrote itself) may repeat after a crash. Pure of logging
+ * and global state. */
 #ifndef CGS_CMD_H
 #define CGS_CMD_H
 
@@ -48,9 +55,10 @@ const char *cgs_cmd_name (const Cgs__Command *cmd);
 typedef struct cgs_cmd_server cgs_cmd_server_t;
 
 /* Apply a new command: fill reply->status (OK by default), ->detail or
- * ->error (strings the handler owns, valid until it is next called). Persist
- * what the command changed before returning. */
+ * ->error (strings the handler owns, valid until it is next called). */
 typedef void (cgs_cmd_handler_fn) (void *arg, const Cgs__Command *cmd, Cgs__Reply *reply);
+/* Serialise the service's state into a new malloc'd buffer; 0 or -errno. */
+typedef int (cgs_cmd_save_fn) (void *arg, uint8_t **ret_buf, size_t *ret_len);
 
 /* Server named name (put in every reply). cache_path: file in the state
  * directory for the stored replies, or NULL to keep them in memory only; an
@@ -60,6 +68,11 @@ cgs_cmd_server_t *cgs_cmd_server_new (void *ctx, const char *name, const char *c
                                       cgs_cmd_handler_fn *handler, void *arg);
 /* Close and free; accepts NULL; nulls the pointer. */
 void cgs_cmd_server_destroy (cgs_cmd_server_t **self_p);
+/* Save the service's state with every stored reply (called with the handler's arg). */
+void cgs_cmd_server_set_save (cgs_cmd_server_t *self, cgs_cmd_save_fn *save);
+/* The service state found in the state file at start; *ret_len 0 when none. */
+void cgs_cmd_server_saved_state (const cgs_cmd_server_t *self, const uint8_t **ret_buf,
+                                 size_t *ret_len);
 /* Bind the ROUTER socket (creates the folder of an ipc:// path); 0 or -errno. */
 int cgs_cmd_server_bind (cgs_cmd_server_t *self, const char *endpoint);
 /* Handle up to max waiting commands without blocking; returns how many, or -errno. */
@@ -68,7 +81,8 @@ int cgs_cmd_server_dispatch (cgs_cmd_server_t *self, int max);
 void *cgs_cmd_server_socket (cgs_cmd_server_t *self);
 /* "" or why the stored replies could not be loaded at start. */
 const char *cgs_cmd_server_load_error (const cgs_cmd_server_t *self);
-/* Counters: commands applied, duplicates answered, malformed refused, cache write failures. */
+/* Counters: commands applied, duplicates answered, malformed refused, state
+ * file write failures (the reply then carries the reason in its error). */
 uint64_t cgs_cmd_server_applied (const cgs_cmd_server_t *self);
 uint64_t cgs_cmd_server_duplicates (const cgs_cmd_server_t *self);
 uint64_t cgs_cmd_server_malformed (const cgs_cmd_server_t *self);

@@ -289,6 +289,12 @@ static int s_load_instance (cgs_exercise_t *self, size_t i, cgs_instance_t *inst
                      sizeof inst->secret_key_file, err, errlen);
     if (rc < 0)
         return rc;
+    long hwm;
+    rc = cgs_config_get_int (cfg, sec, "hwm", CGS_EXERCISE_DEFAULT_HWM, 10, 100000000, &hwm, err,
+                             errlen);
+    if (rc < 0)
+        return rc;
+    inst->hwm = (int)hwm;
     return cgs_config_get_bool (cfg, sec, "enabled", true, &inst->enabled, err, errlen);
 }
 

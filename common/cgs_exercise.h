@@ -15,6 +15,8 @@
  *   publish = ipc:///tmp/mscgs/uavsim.pub
  *   command = ipc:///tmp/mscgs/uavsim.cmd
  *   host = localhost             ; where it runs (used by deploy tooling)
+ *   hwm = 100000                 ; messages queued per subscriber before loss
+ *   hwm = 100000                 ; messages queued per subscriber before loss
  *
  * Pure: no logging. */
 #ifndef CGS_EXERCISE_H
@@ -26,9 +28,10 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#define CGS_NAME_MAX     64
-#define CGS_ENDPOINT_MAX 256
-#define CGS_KEY_MAX      41 // Z85 CURVE key, 40 characters and a NUL
+#define CGS_NAME_MAX             64
+#define CGS_ENDPOINT_MAX         256
+#define CGS_KEY_MAX              41     // Z85 CURVE key, 40 characters and a NUL
+#define CGS_EXERCISE_DEFAULT_HWM 100000 // messages a publisher queues per subscriber
 
 typedef struct {
     char name[CGS_NAME_MAX];        // instance, e.g. "mtid.uav1"
@@ -40,6 +43,7 @@ typedef struct {
     char params[4096];              // model parameter file, absolute ("" if none)
     char public_key[CGS_KEY_MAX];   // CURVE server public key ("" without CURVE)
     char secret_key_file[4096];     // file holding its secret key ("" without CURVE)
+    int hwm;                        // high-water mark of its PUB and SUB sockets, messages
     bool enabled;                   // `enabled = no` leaves it out of `mscgs run`
 } cgs_instance_t;
 

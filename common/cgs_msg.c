@@ -145,10 +145,11 @@ Cgs__Header **cgs_msg_header_slot (ProtobufCMessage *msg)
 {
     if (!msg)
         return NULL;
-    const ProtobufCFieldDescriptor *f =
-        protobuf_c_message_descriptor_get_field (msg->descriptor, 1);
-    if (!f || f->type != PROTOBUF_C_TYPE_MESSAGE || f->descriptor != &cgs__header__descriptor ||
-        f->label == PROTOBUF_C_LABEL_REPEATED)
+    // protobuf-c keeps fields sorted by number, so field 1 comes first when present.
+    const ProtobufCMessageDescriptor *d = msg->descriptor;
+    const ProtobufCFieldDescriptor *f = d->n_fields > 0 ? &d->fields[0] : NULL;
+    if (!f || f->id != 1 || f->type != PROTOBUF_C_TYPE_MESSAGE ||
+        f->descriptor != &cgs__header__descriptor || f->label == PROTOBUF_C_LABEL_REPEATED)
         return NULL;
     return (Cgs__Header **)((char *)msg + f->offset);
 }
@@ -157,6 +158,214 @@ const Cgs__Header *cgs_msg_header (const ProtobufCMessage *msg)
 {
     Cgs__Header **slot = cgs_msg_header_slot ((ProtobufCMessage *)msg);
     return slot ? *slot : NULL;
+}
+
+/* ---- stamped messages: the header by hand --------------------------------------- */
+
+#define S_HDR_FIXED 48 // field tags, lengths and the fixed-size fields of a Header
+
+static size_t s_put_varint (uint8_t *p, uint64_t v)
+{
+    size_t n = 0;
+    while (v >= 0x80) {
+        p[n++] = (uint8_t)(v | 0x80);
+        v >>= 7;
+    }
+    p[n++] = (uint8_t)v;
+    return n;
+}
+
+/* A double as its 8 little-endian bytes (the wire's byte order on any host). */
+static void s_put_double (uint8_t *p, double d)
+{
+#if __BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__
+    memcpy (p, &d, 8);
+#else
+    uint64_t bits;
+    memcpy (&bits, &d, 8);
+    for (int i = 0; i < 8; i++)
+        p[i] = (uint8_t)(bits >> (8 * i));
+#endif
+}
+
+static double s_get_double (const uint8_t *p)
+{
+    double d;
+#if __BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__
+    memcpy (&d, p, 8);
+#else
+    uint64_t bits = 0;
+    for (int i = 0; i < 8; i++)
+        bits |= (uint64_t)p[i] << (8 * i);
+    memcpy (&d, &bits, 8);
+#endif
+    return d;
+}
+
+/* Read a varint at *i (before end); 0, or -1 when it is cut short or too long. */
+static int s_get_varint (const uint8_t *p, size_t end, size_t *i, uint64_t *v)
+{
+    size_t k = *i;
+    if (k < end && p[k] < 0x80) { // the common one-byte case
+        *v = p[k];
+        *i = k + 1;
+        return 0;
+    }
+    uint64_t r = 0;
+    for (unsigned shift = 0; shift < 64 && k < end; shift += 7) {
+        uint8_t b = p[k++];
+        r |= (uint64_t)(b & 0x7f) << shift;
+        if (!(b & 0x80)) {
+            *v = r;
+            *i = k;
+            return 0;
+        }
+    }
+    return -1;
+}
+
+size_t cgs_msg_stamped_size_max (ProtobufCMessage *msg)
+{
+    Cgs__Header **slot = cgs_msg_header_slot (msg);
+    Cgs__Header *saved = slot ? *slot : NULL;
+    if (slot)
+        *slot = NULL;
+    size_t n = cgs_msg_size (msg);
+    if (slot)
+        *slot = saved;
+    return n + S_HDR_FIXED + 2 * 10 + 256; // varints of 10 bytes, a source of up to 255
+}
+
+int cgs_msg_encode_stamped (ProtobufCMessage *msg, const Cgs__Header *h, uint8_t *buf, size_t cap,
+                            size_t *ret_len)
+{
+    Cgs__Header **slot = cgs_msg_header_slot (msg);
+    if (!slot)
+        return -EINVAL;
+    const char *src = h->source ? h->source : "";
+    size_t sl = strlen (src);
+    if (sl > 255)
+        return -EINVAL;
+    uint8_t hdr[S_HDR_FIXED + 2 * 10 + 256];
+    size_t n = 0;
+    if (sl) {
+        hdr[n++] = 0x0a; // 1: source
+        n += s_put_varint (hdr + n, sl);
+        memcpy (hdr + n, src, sl);
+        n += sl;
+    }
+    if (h->exercise_id) {
+        hdr[n++] = 0x10; // 2: exercise_id
+        n += s_put_varint (hdr + n, h->exercise_id);
+    }
+    if (h->epoch) {
+        hdr[n++] = 0x18; // 3: epoch
+        n += s_put_varint (hdr + n, h->epoch);
+    }
+    if (h->seq) {
+        hdr[n++] = 0x20; // 4: seq
+        n += s_put_varint (hdr + n, h->seq);
+    }
+    if (h->sim_time_s != 0) {
+        hdr[n++] = 0x29; // 5: sim_time_s, 64-bit
+        s_put_double (hdr + n, h->sim_time_s);
+        n += 8;
+    }
+    if (h->wall_time_s != 0) {
+        hdr[n++] = 0x31; // 6: wall_time_s, 64-bit
+        s_put_double (hdr + n, h->wall_time_s);
+        n += 8;
+    }
+    Cgs__Header *saved = *slot;
+    *slot = NULL;
+    size_t rest = cgs_msg_size (msg);
+    size_t total = 1 + 10 + n + rest;
+    if (total > cap) {
+        *slot = saved;
+        *ret_len = total;
+        return -ENOBUFS;
+    }
+    size_t m = 0;
+    buf[m++] = 0x0a; // field 1 of the message, length-delimited
+    m += s_put_varint (buf + m, n);
+    memcpy (buf + m, hdr, n);
+    m += n;
+    m += cgs_msg_encode (msg, buf + m);
+    *slot = saved;
+    *ret_len = m;
+    return 0;
+}
+
+/* Parse a leading `1: Header`; 0 and the offset past it, or -1 to fall back. */
+static int s_get_header (const uint8_t *p, size_t len, Cgs__Header *h, char *src, size_t src_size,
+                         size_t *ret_end)
+{
+    size_t i = 1;
+    uint64_t v;
+    if (len < 2 || p[0] != 0x0a || s_get_varint (p, len, &i, &v) || v > len - i)
+        return -1;
+    size_t end = i + (size_t)v;
+    cgs__header__init (h);
+    src[0] = '\0';
+    h->source = src;
+    while (i < end) {
+        uint8_t tag = p[i++];
+        switch (tag) {
+        case 0x0a:
+            if (s_get_varint (p, end, &i, &v) || v > end - i || v >= src_size ||
+                memchr (p + i, 0, (size_t)v))
+                return -1;
+            memcpy (src, p + i, (size_t)v);
+            src[v] = '\0';
+            i += (size_t)v;
+            break;
+        case 0x10:
+            if (s_get_varint (p, end, &i, &v))
+                return -1;
+            h->exercise_id = (uint32_t)v;
+            break;
+        case 0x18:
+            if (s_get_varint (p, end, &i, &h->epoch))
+                return -1;
+            break;
+        case 0x20:
+            if (s_get_varint (p, end, &i, &h->seq))
+                return -1;
+            break;
+        case 0x29:
+        case 0x31:
+            if (end - i < 8)
+                return -1;
+            *(tag == 0x29 ? &h->sim_time_s : &h->wall_time_s) = s_get_double (p + i);
+            i += 8;
+            break;
+        default:
+            return -1; // anything unusual: protobuf-c judges it
+        }
+    }
+    *ret_end = end;
+    return 0;
+}
+
+int cgs_msg_decode_stamped (const ProtobufCMessageDescriptor *desc, const void *data, size_t len,
+                            cgs_msg_arena_t *arena, Cgs__Header *hdr, char *src, size_t src_size,
+                            ProtobufCMessage **ret_msg)
+{
+    const uint8_t *p = data;
+    size_t end = 0;
+    ProtobufCMessage *m = NULL;
+    if (arena && src_size > 0 && s_get_header (p, len, hdr, src, src_size, &end) == 0 &&
+        cgs_msg_decode (desc, p + end, len - end, arena, &m) == 0) {
+        Cgs__Header **slot = cgs_msg_header_slot (m);
+        if (slot && !*slot) {
+            *slot = hdr;
+            *ret_msg = m;
+            return 0;
+        }
+        // The rest carried a header of its own (or the type has none): decode
+        // the whole payload the ordinary way, so protobuf's merge rules apply.
+    }
+    return cgs_msg_decode (desc, data, len, arena, ret_msg);
 }
 
 /* ---- JSON --------------------------------------------------------------------- */

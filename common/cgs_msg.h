@@ -49,6 +49,24 @@ Cgs__Header **cgs_msg_header_slot (ProtobufCMessage *msg);
 /* The header of a decoded message, or NULL. */
 const Cgs__Header *cgs_msg_header (const ProtobufCMessage *msg);
 
+/* The bus's fast path for topic messages. The common header is written and
+ * read by hand (byte for byte what protobuf-c would produce: field 1, proto3
+ * rules, fields in number order); protobuf-c handles the rest.
+ * Encode msg with header h in its field 1 (msg's own header is ignored) into
+ * buf of size cap; 0 and *ret_len, or -ENOBUFS with the size needed in
+ * *ret_len, or -EINVAL when the type has no header. */
+int cgs_msg_encode_stamped (ProtobufCMessage *msg, const Cgs__Header *h, uint8_t *buf, size_t cap,
+                            size_t *ret_len);
+/* An upper bound of the stamped encoding's size. */
+size_t cgs_msg_stamped_size_max (ProtobufCMessage *msg);
+/* Decode a stamped payload of type desc into the arena (required); the
+ * message's header field points at *hdr, whose source string is kept in
+ * src (src_size bytes). Falls back to protobuf-c for anything unusual.
+ * 0, or -EPROTO for bytes that are not such a message. */
+int cgs_msg_decode_stamped (const ProtobufCMessageDescriptor *desc, const void *data, size_t len,
+                            cgs_msg_arena_t *arena, Cgs__Header *hdr, char *src, size_t src_size,
+                            ProtobufCMessage **ret_msg);
+
 /* Print a message as one line of JSON (proto3 JSON mapping: field names as in
  * the .proto, enums by name, 64-bit integers as strings, bytes as base64). */
 int cgs_msg_print_json (FILE *f, const ProtobufCMessage *msg);

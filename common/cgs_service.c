@@ -19,23 +19,24 @@
 static void s_usage (const cgs_service_info_t *info, FILE *f)
 {
     fprintf (f, "usage: %s [options]\n%s\n\n", info->program, info->summary);
-    fprintf (f,
-             "  --exercise FILE   exercise file (default $MSCGS_EXERCISE, else %s)\n"
-             "  --instance NAME   service instance in the exercise (default %s)\n"
-             "  --scenario FILE   scenario file (default: the exercise's)\n"
-             "  --params FILE     model parameter file (default: the instance's)\n"
-             "  --state-dir DIR   state folder (default: the exercise's)\n"
-             "  --time-scale X    simulation seconds per wall second (default: the exercise's)\n"
-             "  --check           read and check the configuration, then exit\n"
-             "  -v, --verbose     log debug messages\n"
-             "  -h, --help        show this help\n"
-             "  --version         show the version\n",
-             S_DEFAULT_EXERCISE, info->program);
+    fprintf (
+        f,
+        "  --exercise FILE        exercise file (default $MSCGS_EXERCISE, else %s)\n"
+        "  --instance NAME        service instance in the exercise (default %s)\n"
+        "  --scenario FILE        scenario file (default: the exercise's)\n"
+        "  --params FILE          model parameter file (default: the instance's)\n"
+        "  --state-dir DIR        state folder (default: the exercise's)\n"
+        "  --time-scale X         simulation seconds per wall second (default: the exercise's)\n"
+        "  --check                read and check the configuration, then exit\n"
+        "  -v, --verbose          log debug messages\n"
+        "  -h, --help             show this help\n"
+        "  --version              show the version\n",
+        S_DEFAULT_EXERCISE, info->program);
     for (const cgs_service_option_t *o = info->options; o && o->name; o++) {
         char left[64];
         snprintf (left, sizeof left, "--%s%s%s", o->name, o->has_arg ? " " : "",
                   o->has_arg ? (o->arg_name ? o->arg_name : "VALUE") : "");
-        fprintf (f, "  %-17s %s\n", left, o->help);
+        fprintf (f, "  %-22s %s\n", left, o->help);
     }
 }
 
@@ -198,6 +199,7 @@ int cgs_service_init (cgs_service_t *svc, const cgs_service_info_t *info, int ar
         svc->pub = cgs_pub_new (svc->ctx, svc->instance_name, cgs_exercise_id (svc->exercise));
         if (!svc->pub)
             return -errno;
+        cgs_pub_set_hwm (svc->pub, svc->instance->hwm);
         if ((rc = cgs_pub_bind (svc->pub, svc->instance->publish)) < 0) {
             cgs_log (LOG_ERR, "cannot bind %s: %s", svc->instance->publish, zmq_strerror (-rc));
             return rc;
@@ -222,6 +224,7 @@ int cgs_service_subscribe (cgs_service_t *svc, const char *topic, cgs_sub_fn *fn
         svc->sub = cgs_sub_new (svc->ctx);
         if (!svc->sub)
             return -errno;
+        cgs_sub_set_hwm (svc->sub, svc->instance->hwm);
         cgs_health_watch_sub (svc->health, svc->sub);
         cgs_loop_add_socket (svc->loop, cgs_sub_socket (svc->sub), s_on_sub, svc);
     }
@@ -261,7 +264,8 @@ static void s_on_cmd (void *arg)
     cgs_cmd_server_dispatch (svc->cmd, 100);
 }
 
-int cgs_service_serve_commands (cgs_service_t *svc, cgs_cmd_handler_fn *handler, void *arg)
+int cgs_service_serve_commands (cgs_service_t *svc, cgs_cmd_handler_fn *handler,
+                                cgs_cmd_save_fn *save, void *arg)
 {
     if (!*svc->instance->command) {
         cgs_log (LOG_ERR, "%s: [service %s] has no command endpoint", svc->exercise_path,
@@ -269,12 +273,13 @@ int cgs_service_serve_commands (cgs_service_t *svc, cgs_cmd_handler_fn *handler,
         return -EINVAL;
     }
     char cache[4200];
-    snprintf (cache, sizeof cache, "%s/%s.replies", svc->state_dir, svc->instance_name);
+    snprintf (cache, sizeof cache, "%s/%s.state", svc->state_dir, svc->instance_name);
     svc->cmd = cgs_cmd_server_new (svc->ctx, svc->instance_name, cache, handler, arg);
     if (!svc->cmd)
         return -errno;
+    cgs_cmd_server_set_save (svc->cmd, save);
     if (*cgs_cmd_server_load_error (svc->cmd)) {
-        cgs_log (LOG_WARNING, "stored replies ignored: %s", cgs_cmd_server_load_error (svc->cmd));
+        cgs_log (LOG_WARNING, "saved state ignored: %s", cgs_cmd_server_load_error (svc->cmd));
         cgs_health_set_error (svc->health, cgs_cmd_server_load_error (svc->cmd));
     }
     int rc = cgs_cmd_server_bind (svc->cmd, svc->instance->command);
@@ -284,6 +289,14 @@ int cgs_service_serve_commands (cgs_service_t *svc, cgs_cmd_handler_fn *handler,
     }
     cgs_health_watch_cmd (svc->health, svc->cmd);
     return cgs_loop_add_socket (svc->loop, cgs_cmd_server_socket (svc->cmd), s_on_cmd, svc);
+}
+
+void cgs_service_saved_state (const cgs_service_t *svc, const uint8_t **ret_buf, size_t *ret_len)
+{
+    *ret_buf = NULL;
+    *ret_len = 0;
+    if (svc->cmd)
+        cgs_cmd_server_saved_state (svc->cmd, ret_buf, ret_len);
 }
 
 int cgs_service_publish (cgs_service_t *svc, const char *topic, ProtobufCMessage *msg)

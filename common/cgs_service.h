@@ -72,9 +72,15 @@ int cgs_service_init (cgs_service_t *svc, const cgs_service_info_t *info, int ar
 /* Subscribe to topic with fn, connecting to every publisher of it named in
  * the exercise; 0 or -errno (logged). */
 int cgs_service_subscribe (cgs_service_t *svc, const char *topic, cgs_sub_fn *fn, void *arg);
-/* Serve commands on the instance's command endpoint, storing replies in the
- * state folder; 0 or -errno (logged). */
-int cgs_service_serve_commands (cgs_service_t *svc, cgs_cmd_handler_fn *handler, void *arg);
+/* Serve commands on the instance's command endpoint. After each command the
+ * stored replies and the service's state (from save, which may be NULL) are
+ * written to STATE_DIR/INSTANCE.state in one atomic write before the reply
+ * goes out; 0 or -errno (logged). */
+int cgs_service_serve_commands (cgs_service_t *svc, cgs_cmd_handler_fn *handler,
+                                cgs_cmd_save_fn *save, void *arg);
+/* The service state saved by the previous run (after serve_commands); *ret_len
+ * 0 when there was none. */
+void cgs_service_saved_state (const cgs_service_t *svc, const uint8_t **ret_buf, size_t *ret_len);
 /* Publish msg on topic stamped with svc->sim_time_s; a failure is counted and
  * becomes the health's last error. */
 int cgs_service_publish (cgs_service_t *svc, const char *topic, ProtobufCMessage *msg);

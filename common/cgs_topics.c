@@ -11,7 +11,8 @@
 
 static const cgs_topic_t s_topics[] = {
     {"clock", &cgs__clock__descriptor, "uavsim", "simulation time, scale, pause"},
-    {"entity", &cgs__entity__descriptor, "uavsim gateway", "ground truth of one entity"},
+    {"entity", &cgs__entity_batch__descriptor, "uavsim gateway",
+     "ground truth of entities, batched per tick"},
     {"uav", &cgs__uav__descriptor, "uavsim", "one UAV's state and task"},
     {"mti", &cgs__mti__descriptor, "mtid", "MTI radar hits of a dwell"},
     {"mti.scan", &cgs__mti_scan__descriptor, "mtid", "an MTI radar scan has ended"},

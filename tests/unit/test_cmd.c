@@ -8,6 +8,7 @@
 #include <stdarg.h>
 #include <stddef.h>
 #include <cmocka.h>
+#include <errno.h>
 #include <pthread.h>
 #include <stdatomic.h>
 #include <stdio.h>
@@ -35,6 +36,19 @@ static void s_handler (void *arg, const Cgs__Command *cmd, Cgs__Reply *reply)
     }
     snprintf (app->detail, sizeof app->detail, "applied %d", app->applied);
     reply->detail = app->detail;
+}
+
+/* The service's state as the server saves it with its replies: "applied N". */
+static int s_save (void *arg, uint8_t **ret_buf, size_t *ret_len)
+{
+    s_app_t *app = arg;
+    char *text = NULL;
+    int n = asprintf (&text, "applied %d", app->applied);
+    if (n < 0)
+        return -ENOMEM;
+    *ret_buf = (uint8_t *)text;
+    *ret_len = (size_t)n;
+    return 0;
 }
 
 typedef struct {
@@ -80,6 +94,11 @@ static void test_call_and_duplicates (void **state)
     s_app_t app = {0};
     s_thread_t th = {.srv = cgs_cmd_server_new (ctx, "srv", cache, s_handler, &app)};
     assert_non_null (th.srv);
+    cgs_cmd_server_set_save (th.srv, s_save);
+    const uint8_t *saved = NULL;
+    size_t saved_len = 1;
+    cgs_cmd_server_saved_state (th.srv, &saved, &saved_len);
+    assert_int_equal (saved_len, 0);
     assert_int_equal (cgs_cmd_server_bind (th.srv, ep), 0);
     pthread_t tid;
     pthread_create (&tid, NULL, s_serve, &th);
@@ -152,6 +171,10 @@ static void test_call_and_duplicates (void **state)
     th.srv = cgs_cmd_server_new (ctx, "srv", cache, s_handler, &app2);
     th.stop = false;
     assert_string_equal (cgs_cmd_server_load_error (th.srv), "");
+    // The state saved with the last reply comes back: both commands were applied.
+    cgs_cmd_server_saved_state (th.srv, &saved, &saved_len);
+    assert_int_equal (saved_len, strlen ("applied 2"));
+    assert_memory_equal (saved, "applied 2", saved_len);
     assert_int_equal (cgs_cmd_server_bind (th.srv, ep), 0);
     pthread_create (&tid, NULL, s_serve, &th);
     // A client that restarted with the same id: its command 1 is a duplicate.
@@ -209,7 +232,7 @@ static void test_damaged_cache_is_set_aside (void **state)
     s_app_t app = {0};
     cgs_cmd_server_t *srv = cgs_cmd_server_new (ctx, "srv", cache, s_handler, &app);
     assert_non_null (srv);
-    assert_non_null (strstr (cgs_cmd_server_load_error (srv), "not a reply cache"));
+    assert_non_null (strstr (cgs_cmd_server_load_error (srv), "not a command server state file"));
     assert_int_equal (access (bad, F_OK), 0);
     assert_int_equal (access (cache, F_OK), -1);
     cgs_cmd_server_destroy (&srv);

@@ -1,0 +1,220 @@
+# shellcheck shell=bash disable=SC2034  # variables used by the scripts that source it
+# lib.sh — shared helpers of the integration tests; sourced, never run (so
+# not executable: tests/run runs every executable tests/integration/*.sh).
+#
+# Gives: TAP output (check, is, diag, bail, finish), a temporary folder
+# ($TMP) removed on exit, processes started in the background and stopped on
+# exit (start, running, wait_exit, stop, kill9), polling with a deadline
+# (wait_for), the peer's report files (rep, rep_ge, state_list, state_has)
+# and sanitizer checks (clean_log). Every process a test starts goes through
+# `start`, so the EXIT trap can stop it whatever happens.
+#
+# Environment: CGS_BUILD (absolute build folder, required), CGS_ROOT (source
+# tree), CGS_KEEP=1 keeps $TMP for a post-mortem.
+
+set -u
+: "${CGS_BUILD:?set CGS_BUILD to the absolute build folder, e.g. \$PWD/build/asan}"
+: "${CGS_ROOT:=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)}"
+PEER=$CGS_BUILD/tests/integration/peer
+MSCGS=$CGS_BUILD/bin/mscgs
+
+# The sanitizer settings of tests/run, for a script run on its own.
+export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1:abort_on_error=0:strict_string_checks=1}
+export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
+export LSAN_OPTIONS=${LSAN_OPTIONS:-suppressions=$CGS_ROOT/tests/lsan.supp:print_suppressions=0}
+
+# ---- TAP ------------------------------------------------------------------------------
+
+T_N=0
+T_FAILED=0
+
+diag () { printf '# %s\n' "$*"; }
+
+# check NAME COMMAND...: one TAP line, ok when COMMAND succeeds.
+check () {
+    local name=$1; shift
+    T_N=$((T_N + 1))
+    if "$@"; then
+        echo "ok $T_N - $name"
+    else
+        echo "not ok $T_N - $name"
+        T_FAILED=$((T_FAILED + 1))
+    fi
+}
+
+# is ACTUAL EXPECTED NAME: one TAP line, ok when the two strings are equal.
+is () {
+    T_N=$((T_N + 1))
+    if [ "$1" = "$2" ]; then
+        echo "ok $T_N - $3"
+    else
+        echo "not ok $T_N - $3"
+        diag "  got '$1', expected '$2'"
+        T_FAILED=$((T_FAILED + 1))
+    fi
+}
+
+# bail WHY: a setup step failed; the rest of the script cannot run.
+bail () {
+    T_N=$((T_N + 1))
+    echo "not ok $T_N - $*"
+    T_FAILED=$((T_FAILED + 1))
+    exit 1
+}
+
+# finish: the plan (at the end, as TAP allows) and the exit code.
+finish () {
+    echo "1..$T_N"
+    [ "$T_FAILED" -eq 0 ]
+}
+
+# ---- temporary folder and processes -----------------------------------------------------
+
+TMP=$(mktemp -d "${TMPDIR:-/tmp}/cgs-it.XXXXXX") || { echo "not ok 1 - mktemp"; exit 1; }
+# ipc:// paths must fit a sockaddr_un (108 bytes).
+[ ${#TMP} -le 80 ] || { echo "not ok 1 - temporary folder path too long for ipc://: $TMP"; exit 1; }
+PIDS=()
+
+# True while process PID exists and is not a zombie (bash reaps its children
+# only now and then; `wait PID` later still gives the exit code).
+running () {
+    local s
+    s=$(cat "/proc/$1/stat" 2>/dev/null) || return 1
+    s=${s##*) }
+    [ "${s%% *}" != Z ]
+}
+
+# start VAR NAME COMMAND...: run COMMAND in the background, its stdout and
+# stderr in $TMP/NAME.log (appended: a restarted process shares its log);
+# its pid goes in VAR.
+start () {
+    local __var=$1 name=$2
+    shift 2
+    "$@" >>"$TMP/$name.log" 2>&1 &
+    local pid=$!
+    PIDS+=("$pid")
+    printf -v "$__var" '%s' "$pid"
+}
+
+# wait_exit PID SECONDS: wait for PID to end; 0 and its exit code in
+# EXIT_CODE when it did in time, 1 (EXIT_CODE=timeout) when it did not.
+wait_exit () {
+    local pid=$1 end=$((SECONDS + $2))
+    while running "$pid"; do
+        if [ "$SECONDS" -ge "$end" ]; then
+            EXIT_CODE=timeout
+            return 1
+        fi
+        sleep 0.02
+    done
+    wait "$pid" 2>/dev/null
+    EXIT_CODE=$?
+    return 0
+}
+
+# stop PID: SIGTERM and wait up to 10 s (then SIGKILL); the exit code in
+# EXIT_CODE ("timeout" when it had to be killed).
+stop () {
+    kill -TERM "$1" 2>/dev/null
+    if ! wait_exit "$1" 10; then
+        s_kill "$1"
+        EXIT_CODE=timeout
+    fi
+}
+
+# s_kill PID: SIGKILL, and no "Killed" notice from bash for it later.
+s_kill () {
+    kill -KILL "$1" 2>/dev/null
+    disown "$1" 2>/dev/null
+    local end=$((SECONDS + 10))
+    while running "$1" && [ "$SECONDS" -lt "$end" ]; do sleep 0.02; done
+}
+
+# kill9 PID: SIGKILL and wait until it is gone (a crash, not a stop).
+kill9 () { s_kill "$1"; }
+
+s_cleanup () {
+    local pid
+    for pid in "${PIDS[@]}"; do
+        running "$pid" && kill -TERM "$pid" 2>/dev/null
+    done
+    for pid in "${PIDS[@]}"; do
+        wait_exit "$pid" 5 || s_kill "$pid"
+    done
+    if [ "$T_FAILED" -gt 0 ]; then
+        # Show every process's log, so tests/run's log has the story.
+        local f
+        for f in "$TMP"/*.log; do
+            [ -f "$f" ] || continue
+            diag "---- $(basename "$f")"
+            sed 's/^/#   /' "$f" | tail -40
+        done
+    fi
+    if [ "${CGS_KEEP:-0}" = 1 ]; then
+        diag "kept $TMP"
+    else
+        rm -rf "$TMP"
+    fi
+}
+trap s_cleanup EXIT
+
+# ---- conditions ---------------------------------------------------------------------------
+
+# wait_for SECONDS COMMAND...: poll COMMAND every 20 ms until it succeeds (0)
+# or the deadline passes (1).
+wait_for () {
+    local end=$((SECONDS + $1))
+    shift
+    until "$@"; do
+        [ "$SECONDS" -lt "$end" ] || return 1
+        sleep 0.02
+    done
+}
+
+# rep FILE KEY: the value of KEY in a peer's report ("" when absent).
+rep () {
+    [ -f "$1" ] || return 0
+    local kv words
+    read -r -a words 2>/dev/null <"$1" || [ ${#words[@]} -gt 0 ] || return 0
+    for kv in "${words[@]}"; do
+        if [ "${kv%%=*}" = "$2" ]; then
+            printf '%s' "${kv#*=}"
+            return 0
+        fi
+    done
+}
+
+# rep_ge FILE KEY N: KEY in FILE is at least N.
+rep_ge () {
+    local v
+    v=$(rep "$1" "$2")
+    [ -n "$v" ] && [ "$v" -ge "$3" ]
+}
+
+# state_list FILE: the commands in a peer's state report (--state-report),
+# one "client number kind" line each; its first line (pid=P restored=R
+# commands=N) is read with rep.
+state_list () { tail -n +2 "$1" 2>/dev/null; }
+
+# state_has FILE CLIENT NUMBER: how many times the state report holds that command.
+state_has () { state_list "$1" | grep -c "^$2 $3 "; }
+
+# clean_log NAME: $TMP/NAME.log has no sanitizer report.
+clean_log () {
+    ! grep -qE 'Sanitizer|runtime error:|LeakSanitizer' "$TMP/$1.log"
+}
+
+# exercise_header ID NAME: the [exercise] section of a test's exercise file.
+exercise_header () {
+    cat <<EOF
+[exercise]
+id = $1
+name = $2
+origin = geo 35.96 -121.23 0
+time_scale = 1
+seed = 1
+state_dir = $TMP/state
+EOF
+}
+
+[ -x "$PEER" ] || bail "no test peer at $PEER (make O=... SAN=1 test-build)"
