@@ -480,7 +480,9 @@ static void s_on_command (void *arg, const Cgs__Command *cmd, Cgs__Reply *reply)
 
 static int s_service_main (int argc, char **argv)
 {
-    const char *program = "peer";
+    // The program name: --as PROGRAM, else the name the peer was started
+    // under (a copy named uavsim runs as uavsim, as `mscgs run` starts it).
+    const char *program = strrchr (argv[0], '/') ? strrchr (argv[0], '/') + 1 : argv[0];
     if (argc >= 3 && strcmp (argv[1], "--as") == 0) {
         program = argv[2];
         argv[2] = argv[0];
