@@ -23,7 +23,7 @@ PKG_LIBS   := $(shell pkg-config --libs $(PKGS) 2>/dev/null)
 CMOCKA_LIBS := $(shell pkg-config --libs cmocka 2>/dev/null)
 
 WARN     = -Wall -Wextra -Werror -Wno-format-truncation  # snprintf truncation is intended
-CPPFLAGS = -D_GNU_SOURCE -Icommon -I$(O)/gen $(PKG_CFLAGS) -MMD -MP
+CPPFLAGS = -D_GNU_SOURCE -Icommon $(addprefix -I,$(wildcard services/*)) -I$(O)/gen $(PKG_CFLAGS) -MMD -MP
 CFLAGS   = -std=c11 $(WARN) -g
 CXXFLAGS = -std=c++17 $(WARN) -g
 LDLIBS   = $(PKG_LIBS) -lstdc++ -lm -lpthread

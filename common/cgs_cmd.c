@@ -222,6 +222,8 @@ struct cgs_cmd_server {
     uint64_t applied, duplicates, malformed, write_errors;
 };
 
+static int s_cache_write (cgs_cmd_server_t *self);
+
 static void s_entries_free (cgs_cmd_server_t *self)
 {
     for (size_t i = 0; i < self->nentries; i++)
@@ -341,6 +343,14 @@ void *cgs_cmd_server_socket (cgs_cmd_server_t *self)
 void cgs_cmd_server_set_save (cgs_cmd_server_t *self, cgs_cmd_save_fn *save)
 {
     self->save = save;
+}
+
+int cgs_cmd_server_save_now (cgs_cmd_server_t *self)
+{
+    int rc = s_cache_write (self);
+    if (rc < 0)
+        self->write_errors++;
+    return rc;
 }
 
 void cgs_cmd_server_saved_state (const cgs_cmd_server_t *self, const uint8_t **ret_buf,

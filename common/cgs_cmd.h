@@ -70,6 +70,9 @@ cgs_cmd_server_t *cgs_cmd_server_new (void *ctx, const char *name, const char *c
 void cgs_cmd_server_destroy (cgs_cmd_server_t **self_p);
 /* Save the service's state with every stored reply (called with the handler's arg). */
 void cgs_cmd_server_set_save (cgs_cmd_server_t *self, cgs_cmd_save_fn *save);
+/* Write the state file now (stored replies and the service's state), e.g. for
+ * a periodic checkpoint; 0 or -errno. */
+int cgs_cmd_server_save_now (cgs_cmd_server_t *self);
 /* The service state found in the state file at start; *ret_len 0 when none. */
 void cgs_cmd_server_saved_state (const cgs_cmd_server_t *self, const uint8_t **ret_buf,
                                  size_t *ret_len);

@@ -299,6 +299,19 @@ void cgs_service_saved_state (const cgs_service_t *svc, const uint8_t **ret_buf,
         cgs_cmd_server_saved_state (svc->cmd, ret_buf, ret_len);
 }
 
+int cgs_service_save_state (cgs_service_t *svc)
+{
+    if (!svc->cmd)
+        return -ENOTCONN;
+    int rc = cgs_cmd_server_save_now (svc->cmd);
+    if (rc < 0) {
+        char why[256];
+        snprintf (why, sizeof why, "cannot write the state file: %s", strerror (-rc));
+        cgs_health_set_error (svc->health, why);
+    }
+    return rc;
+}
+
 int cgs_service_publish (cgs_service_t *svc, const char *topic, ProtobufCMessage *msg)
 {
     if (!svc->pub)

@@ -78,6 +78,9 @@ int cgs_service_subscribe (cgs_service_t *svc, const char *topic, cgs_sub_fn *fn
  * goes out; 0 or -errno (logged). */
 int cgs_service_serve_commands (cgs_service_t *svc, cgs_cmd_handler_fn *handler,
                                 cgs_cmd_save_fn *save, void *arg);
+/* Write the state file now (a periodic checkpoint); 0 or -errno (counted in
+ * health as the last error). */
+int cgs_service_save_state (cgs_service_t *svc);
 /* The service state saved by the previous run (after serve_commands); *ret_len
  * 0 when there was none. */
 void cgs_service_saved_state (const cgs_service_t *svc, const uint8_t **ret_buf, size_t *ret_len);

@@ -199,6 +199,34 @@ static void test_call_and_duplicates (void **state)
     zmq_ctx_term (ctx);
 }
 
+/* A periodic checkpoint: save_now writes the service's state as it is now. */
+static void test_save_now_writes_current_state (void **state)
+{
+    (void)state;
+    void *ctx = zmq_ctx_new ();
+    char cache[128];
+    snprintf (cache, sizeof cache, "%s/ckpt.state", s_dir);
+    s_app_t app = {.applied = 41};
+    cgs_cmd_server_t *srv = cgs_cmd_server_new (ctx, "srv", cache, s_handler, &app);
+    cgs_cmd_server_set_save (srv, s_save);
+    assert_int_equal (cgs_cmd_server_save_now (srv), 0);
+    app.applied = 42;
+    assert_int_equal (cgs_cmd_server_save_now (srv), 0);
+    cgs_cmd_server_destroy (&srv);
+    srv = cgs_cmd_server_new (ctx, "srv", cache, s_handler, &app);
+    const uint8_t *saved = NULL;
+    size_t len = 0;
+    cgs_cmd_server_saved_state (srv, &saved, &len);
+    assert_int_equal (len, strlen ("applied 42"));
+    assert_memory_equal (saved, "applied 42", len);
+    cgs_cmd_server_destroy (&srv);
+    // Without a state file there is nothing to write, and that is not an error.
+    srv = cgs_cmd_server_new (ctx, "srv", NULL, s_handler, &app);
+    assert_int_equal (cgs_cmd_server_save_now (srv), 0);
+    cgs_cmd_server_destroy (&srv);
+    zmq_ctx_term (ctx);
+}
+
 static void test_silence_gives_a_clear_error (void **state)
 {
     (void)state;
@@ -270,6 +298,7 @@ int main (void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test (test_call_and_duplicates),
+        cmocka_unit_test (test_save_now_writes_current_state),
         cmocka_unit_test (test_silence_gives_a_clear_error),
         cmocka_unit_test (test_damaged_cache_is_set_aside),
         cmocka_unit_test (test_state_files_are_atomic_and_readable),
