@@ -112,7 +112,8 @@ bench: deps
 	@tests/bench/run build/release
 
 # Coverage-guided fuzzing of the parsers (opt-in: not part of `make test`).
-fuzz: deps
+fuzz:
+	@scripts/install-deps --fuzz
 	@$(MAKE) --no-print-directory -j$(JOBS) O=build/fuzz SAN=fuzz CC=clang CXX=clang++ fuzz-build
 	@set -e; for f in $(patsubst tests/fuzz/%.c,build/fuzz/fuzz/%,$(FUZZ_SRCS)); do \
 	    mkdir -p build/fuzz/corpus/$$(basename $$f); \

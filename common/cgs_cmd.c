@@ -48,7 +48,7 @@ struct cgs_cmd_client {
     void *hook_arg;
 };
 
-cgs_cmd_client_t *cgs_cmd_client_new (void *ctx, const char *endpoint, const char *client_id)
+static cgs_cmd_client_t *s_client_new (void *ctx, const char *endpoint)
 {
     if (!ctx || !endpoint || strlen (endpoint) >= 256) {
         errno = EINVAL;
@@ -59,17 +59,39 @@ cgs_cmd_client_t *cgs_cmd_client_new (void *ctx, const char *endpoint, const cha
         return NULL;
     self->ctx = ctx;
     snprintf (self->endpoint, sizeof self->endpoint, "%s", endpoint);
-    if (client_id && *client_id) {
-        snprintf (self->id, sizeof self->id, "%s", client_id);
-    } else {
-        char host[64] = "host";
-        gethostname (host, sizeof host - 1);
-        uint32_t r = 0;
-        if (getrandom (&r, sizeof r, 0) != (ssize_t)sizeof r)
-            r = (uint32_t)s_now_ms ();
-        snprintf (self->id, sizeof self->id, "%s:%ld:%08x", host, (long)getpid (), r);
-    }
     self->next_number = 1;
+    return self;
+}
+
+cgs_cmd_client_t *cgs_cmd_client_new (void *ctx, const char *endpoint, const char *label)
+{
+    cgs_cmd_client_t *self = s_client_new (ctx, endpoint);
+    if (!self)
+        return NULL;
+    // Unique per process, so a restarted client numbering from 1 again is
+    // never taken for a retry of its predecessor.
+    char host[64] = "host";
+    gethostname (host, sizeof host - 1);
+    uint32_t r = 0;
+    if (getrandom (&r, sizeof r, 0) != (ssize_t)sizeof r)
+        r = (uint32_t)s_now_ms () ^ (uint32_t)getpid ();
+    snprintf (self->id, sizeof self->id, "%s@%s:%ld:%08x", label && *label ? label : "client", host,
+              (long)getpid (), r);
+    return self;
+}
+
+cgs_cmd_client_t *cgs_cmd_client_new_exact (void *ctx, const char *endpoint, const char *client_id,
+                                            uint64_t first_number)
+{
+    if (!client_id || !*client_id || strlen (client_id) >= 128 || first_number == 0) {
+        errno = EINVAL;
+        return NULL;
+    }
+    cgs_cmd_client_t *self = s_client_new (ctx, endpoint);
+    if (!self)
+        return NULL;
+    snprintf (self->id, sizeof self->id, "%s", client_id);
+    self->next_number = first_number;
     return self;
 }
 
@@ -219,6 +241,7 @@ struct cgs_cmd_server {
     size_t nentries;
     uint64_t tick;
     char load_error[256];
+    char last_error[512]; // the latest failure to write the state file
     uint64_t applied, duplicates, malformed, write_errors;
 };
 
@@ -246,25 +269,28 @@ void cgs_cmd_server_destroy (cgs_cmd_server_t **self_p)
     *self_p = NULL;
 }
 
-static void s_cache_load (cgs_cmd_server_t *self)
+/* Load the state file: 0 (also when absent, or damaged and set aside), or
+ * -errno when it cannot be read. */
+static int s_cache_load (cgs_cmd_server_t *self)
 {
     void *data = NULL;
     size_t len = 0;
     int rc = cgs_state_read (self->cache_path, S_CACHE_MAX, &data, &len);
     if (rc == -ENOENT)
-        return;
+        return 0;
     ProtobufCMessage *m = NULL;
     if (rc == 0)
         rc = cgs_msg_decode (&cgs__reply_cache__descriptor, data, len, NULL, &m);
     free (data);
+    if (rc < 0 && rc != -EPROTO)
+        return rc; // cannot read it (permissions, I/O): refuse to start rather than lose it
     if (rc < 0) {
         char bad[4200];
         snprintf (bad, sizeof bad, "%s.bad", self->cache_path);
         rename (self->cache_path, bad);
         snprintf (self->load_error, sizeof self->load_error, "%s: %s; set aside as %s",
-                  self->cache_path,
-                  rc == -EPROTO ? "not a command server state file" : strerror (-rc), bad);
-        return;
+                  self->cache_path, "not a command server state file", bad);
+        return 0;
     }
     Cgs__ReplyCache *cache = (Cgs__ReplyCache *)m;
     if (cache->service_state.len > 0) {
@@ -286,6 +312,7 @@ static void s_cache_load (cgs_cmd_server_t *self)
         cgs_cmd_reply_free (&cache->replies[i]);
     cache->n_replies = 0;
     cgs_msg_free (&m);
+    return 0;
 }
 
 cgs_cmd_server_t *cgs_cmd_server_new (void *ctx, const char *name, const char *cache_path,
@@ -308,7 +335,11 @@ cgs_cmd_server_t *cgs_cmd_server_new (void *ctx, const char *name, const char *c
         self->cache_path = strdup (cache_path);
         if (!self->cache_path)
             goto fail;
-        s_cache_load (self);
+        int rc = s_cache_load (self);
+        if (rc < 0) {
+            errno = -rc;
+            goto fail;
+        }
     }
     self->socket = zmq_socket (ctx, ZMQ_ROUTER);
     if (!self->socket)
@@ -375,6 +406,10 @@ uint64_t cgs_cmd_server_malformed (const cgs_cmd_server_t *self)
 {
     return self->malformed;
 }
+const char *cgs_cmd_server_last_error (const cgs_cmd_server_t *self)
+{
+    return self->last_error;
+}
 uint64_t cgs_cmd_server_write_errors (const cgs_cmd_server_t *self)
 {
     return self->write_errors;
@@ -420,7 +455,40 @@ static int s_store (cgs_cmd_server_t *self, const uint8_t *packed, size_t len)
         self->nentries++;
     self->entries[slot].reply = copy;
     self->entries[slot].tick = ++self->tick;
-    return 0;
+    return (int)slot;
+}
+
+/* Drop stored reply slot (its state could not be saved, so it was never acknowledged). */
+static void s_forget (cgs_cmd_server_t *self, size_t slot)
+{
+    cgs_cmd_reply_free (&self->entries[slot].reply);
+    self->entries[slot] = self->entries[--self->nentries];
+    self->entries[self->nentries].reply = NULL;
+}
+
+/* FNV-1a digest of a command's body (the command without its id, number and
+ * time), so a reused command number with another body is caught. */
+static uint64_t s_digest (Cgs__Command *cmd)
+{
+    char *id = cmd->client_id;
+    uint64_t number = cmd->command_number;
+    double sent = cmd->sent_wall_time_s;
+    cmd->client_id = (char *)protobuf_c_empty_string;
+    cmd->command_number = 0;
+    cmd->sent_wall_time_s = 0;
+    uint8_t *buf = NULL;
+    size_t len = 0;
+    uint64_t h = 1469598103934665603ull;
+    if (cgs_msg_encode_alloc (&cmd->base, &buf, &len) == 0)
+        for (size_t i = 0; i < len; i++) {
+            h ^= buf[i];
+            h *= 1099511628211ull;
+        }
+    free (buf);
+    cmd->client_id = id;
+    cmd->command_number = number;
+    cmd->sent_wall_time_s = sent;
+    return h;
 }
 
 /* Write the stored replies and the service's state in one atomic write. */
@@ -479,7 +547,25 @@ static void s_handle (cgs_cmd_server_t *self, zmq_msg_t *identity, zmq_msg_t *pa
         return;
     }
     Cgs__Command *cmd = (Cgs__Command *)m;
+    uint64_t digest = s_digest (cmd);
     s_entry_t *e = s_find (self, cmd->client_id, cmd->command_number);
+    if (e && e->reply->body_digest != digest) {
+        // Not a retry: the client reused a number for another command.
+        self->malformed++;
+        char why[300];
+        snprintf (why, sizeof why,
+                  "command number %llu of client %s was already used for another command",
+                  (unsigned long long)cmd->command_number, cmd->client_id);
+        reply.status = CGS__REPLY_STATUS__REPLY_STATUS_BAD_REQUEST;
+        reply.error = why;
+        reply.client_id = cmd->client_id;
+        reply.command_number = cmd->command_number;
+        if (cgs_msg_encode_alloc (&reply.base, &buf, &len) == 0)
+            s_send_reply (self, identity, buf, len);
+        free (buf);
+        cgs_msg_free (&m);
+        return;
+    }
     if (e) {
         self->duplicates++;
         e->tick = ++self->tick;
@@ -506,19 +592,26 @@ static void s_handle (cgs_cmd_server_t *self, zmq_msg_t *identity, zmq_msg_t *pa
     reply.client_id = cmd->client_id;
     reply.command_number = cmd->command_number;
     reply.server = self->name;
+    reply.body_digest = digest;
     bool applied = reply.status == CGS__REPLY_STATUS__REPLY_STATUS_OK ||
                    reply.status == CGS__REPLY_STATUS__REPLY_STATUS_ERROR;
-    char why[300];
     // Store the reply, then write it with the service's state before acknowledging.
-    if (applied && cgs_msg_encode_alloc (&reply.base, &buf, &len) == 0 &&
-        s_store (self, buf, len) == 0) {
-        int rc = s_cache_write (self);
-        if (rc < 0) {
-            self->write_errors++;
-            snprintf (why, sizeof why, "applied, but the state file %s could not be written: %s",
-                      self->cache_path, strerror (-rc));
-            reply.error = why;
-        }
+    // If that fails the reply is not kept and says so: a retry tries again.
+    int slot = -ENOMEM;
+    if (applied && cgs_msg_encode_alloc (&reply.base, &buf, &len) == 0)
+        slot = s_store (self, buf, len);
+    int rc = applied ? (slot >= 0 ? s_cache_write (self) : slot) : 0;
+    if (rc < 0) {
+        if (slot >= 0)
+            s_forget (self, (size_t)slot);
+        self->write_errors++;
+        snprintf (self->last_error, sizeof self->last_error,
+                  "command %s #%llu from %s applied, but the state file %s could not be written: "
+                  "%s",
+                  cgs_cmd_name (cmd), (unsigned long long)cmd->command_number, cmd->client_id,
+                  self->cache_path ? self->cache_path : "(none)", strerror (-rc));
+        reply.status = CGS__REPLY_STATUS__REPLY_STATUS_NOT_SAVED;
+        reply.error = self->last_error;
     }
     free (buf);
     buf = NULL;

@@ -28,9 +28,15 @@
 
 typedef struct cgs_cmd_client cgs_cmd_client_t;
 
-/* Client of the server at endpoint. client_id NULL makes a unique one
- * (program@host:pid:random); NULL with errno on failure. */
-cgs_cmd_client_t *cgs_cmd_client_new (void *ctx, const char *endpoint, const char *client_id);
+/* Client of the server at endpoint, with an id unique to this process:
+ * LABEL@host:pid:random (label NULL: "client"); NULL with errno on failure. */
+cgs_cmd_client_t *cgs_cmd_client_new (void *ctx, const char *endpoint, const char *label);
+/* A client with exactly this id whose commands are numbered from
+ * first_number: for a tool that keeps its own id and numbering across runs
+ * (and for tests of retries). Reusing a number for another command is refused
+ * by the server. NULL with errno on failure. */
+cgs_cmd_client_t *cgs_cmd_client_new_exact (void *ctx, const char *endpoint, const char *client_id,
+                                            uint64_t first_number);
 /* Close and free; accepts NULL; nulls the pointer. */
 void cgs_cmd_client_destroy (cgs_cmd_client_t **self_p);
 /* The client's id. */
@@ -63,7 +69,8 @@ typedef int (cgs_cmd_save_fn) (void *arg, uint8_t **ret_buf, size_t *ret_len);
 /* Server named name (put in every reply). cache_path: file in the state
  * directory for the stored replies, or NULL to keep them in memory only; an
  * existing file is loaded (a damaged one is set aside as cache_path.bad and
- * reported by cgs_cmd_server_load_error). NULL with errno on failure. */
+ * reported by cgs_cmd_server_load_error); one that cannot be read is an error.
+ * NULL with errno on failure. */
 cgs_cmd_server_t *cgs_cmd_server_new (void *ctx, const char *name, const char *cache_path,
                                       cgs_cmd_handler_fn *handler, void *arg);
 /* Close and free; accepts NULL; nulls the pointer. */
@@ -84,11 +91,15 @@ int cgs_cmd_server_dispatch (cgs_cmd_server_t *self, int max);
 void *cgs_cmd_server_socket (cgs_cmd_server_t *self);
 /* "" or why the stored replies could not be loaded at start. */
 const char *cgs_cmd_server_load_error (const cgs_cmd_server_t *self);
-/* Counters: commands applied, duplicates answered, malformed refused, state
- * file write failures (the reply then carries the reason in its error). */
+/* Counters: commands applied, duplicates answered, malformed refused (and
+ * reused command numbers), state file write failures (such a command is
+ * answered NOT_SAVED, with the reason, and not stored: a retry applies it
+ * again and tries to save again). */
 uint64_t cgs_cmd_server_applied (const cgs_cmd_server_t *self);
 uint64_t cgs_cmd_server_duplicates (const cgs_cmd_server_t *self);
 uint64_t cgs_cmd_server_malformed (const cgs_cmd_server_t *self);
 uint64_t cgs_cmd_server_write_errors (const cgs_cmd_server_t *self);
+/* "" or the latest failure to write the state file. */
+const char *cgs_cmd_server_last_error (const cgs_cmd_server_t *self);
 
 #endif

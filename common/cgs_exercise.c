@@ -295,7 +295,15 @@ static int s_load_instance (cgs_exercise_t *self, size_t i, cgs_instance_t *inst
     if (rc < 0)
         return rc;
     inst->hwm = (int)hwm;
-    return cgs_config_get_bool (cfg, sec, "enabled", true, &inst->enabled, err, errlen);
+    rc = cgs_config_get_bool (cfg, sec, "enabled", true, &inst->enabled, err, errlen);
+    if (rc < 0)
+        return rc;
+    if (!*inst->publish)
+        return cgs_config_error (cfg, sec, NULL, 0, err, errlen,
+                                 "missing key 'publish' (expected %s: every service publishes "
+                                 "its health)",
+                                 S_ENDPOINT);
+    return 0;
 }
 
 // No two instances may bind the same endpoint: the later one is the error.

@@ -16,7 +16,6 @@
  *   command = ipc:///tmp/mscgs/uavsim.cmd
  *   host = localhost             ; where it runs (used by deploy tooling)
  *   hwm = 100000                 ; messages queued per subscriber before loss
- *   hwm = 100000                 ; messages queued per subscriber before loss
  *
  * Pure: no logging. */
 #ifndef CGS_EXERCISE_H

@@ -22,7 +22,10 @@ struct cgs_health {
     uint64_t extra_malformed;
     double start, last; // monotonic seconds
     uint64_t prev_in, prev_out;
-    uint64_t prev_topic[S_MAX_TOPICS]; // message counts at the last publish, in stats order
+    // Message counts at the last publish, per source and topic index (a
+    // publisher's and a subscriber's topics only ever append).
+    uint64_t prev_pub[S_MAX_TOPICS];
+    uint64_t prev_sub[S_MAX_SUBS][S_MAX_TOPICS];
 };
 
 cgs_health_t *cgs_health_new (const char *program, const char *instance, const char *version)
@@ -79,6 +82,12 @@ void cgs_health_set_error (cgs_health_t *self, const char *error)
     self->last_error_wall_s = cgs_bus_wall_time ();
 }
 
+/* Messages per second between two counts; never negative. */
+static double s_rate (uint64_t now, uint64_t before, double dt)
+{
+    return now > before ? (double)(now - before) / dt : 0.0;
+}
+
 int cgs_health_publish (cgs_health_t *self, cgs_pub_t *pub, double sim_time_s)
 {
     double now = cgs_loop_now ();
@@ -100,8 +109,8 @@ int cgs_health_publish (cgs_health_t *self, cgs_pub_t *pub, double sim_time_s)
             t->outbound = true;
             t->messages = s->messages;
             t->drops = s->drops;
-            t->rate_hz = (double)(s->messages - self->prev_topic[nt]) / dt;
-            self->prev_topic[nt] = s->messages;
+            t->rate_hz = s_rate (s->messages, self->prev_pub[i], dt);
+            self->prev_pub[i] = s->messages;
             tp[nt] = t;
             nt++;
         }
@@ -118,8 +127,10 @@ int cgs_health_publish (cgs_health_t *self, cgs_pub_t *pub, double sim_time_s)
             t->messages = s->messages;
             t->gaps = s->gaps;
             t->malformed = s->malformed;
-            t->rate_hz = (double)(s->messages - self->prev_topic[nt]) / dt;
-            self->prev_topic[nt] = s->messages;
+            if (i < S_MAX_TOPICS) {
+                t->rate_hz = s_rate (s->messages, self->prev_sub[k][i], dt);
+                self->prev_sub[k][i] = s->messages;
+            }
             in += s->messages;
             tp[nt] = t;
             nt++;
@@ -137,8 +148,8 @@ int cgs_health_publish (cgs_health_t *self, cgs_pub_t *pub, double sim_time_s)
     h.uptime_s = now - self->start;
     h.msgs_in = in;
     h.msgs_out = out;
-    h.msgs_in_per_s = (double)(in - self->prev_in) / dt;
-    h.msgs_out_per_s = (double)(out - self->prev_out) / dt;
+    h.msgs_in_per_s = s_rate (in, self->prev_in, dt);
+    h.msgs_out_per_s = s_rate (out, self->prev_out, dt);
     h.drops = drops;
     h.gaps = gaps;
     h.malformed = malformed;

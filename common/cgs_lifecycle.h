@@ -8,7 +8,9 @@
 #include <stdbool.h>
 #include <stdint.h>
 
-/* Catch SIGINT and SIGTERM (stop) and SIGHUP (reload); ignore SIGPIPE. 0 or -errno. */
+/* Catch SIGINT and SIGTERM (stop) and SIGHUP (noted for the program to act on:
+ * services log that there is nothing to reload, `mscgs run` stops); ignore
+ * SIGPIPE. 0 or -errno. */
 int cgs_lifecycle_init (void);
 /* True once a stop was asked for, by a signal or cgs_lifecycle_request_stop. */
 bool cgs_lifecycle_stopping (void);

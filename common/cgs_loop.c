@@ -15,6 +15,7 @@ typedef struct {
     int fd;
     cgs_loop_fn *fn;
     void *arg;
+    bool removed; // removed during a dispatch: compacted after it
 } s_watch_t;
 
 typedef struct {
@@ -66,7 +67,7 @@ static int s_add_watch (cgs_loop_t *self, void *socket, int fd, cgs_loop_fn *fn,
         self->watches = w;
         self->capwatches = cap;
     }
-    self->watches[self->nwatches++] = (s_watch_t){socket, fd, fn, arg};
+    self->watches[self->nwatches++] = (s_watch_t){socket, fd, fn, arg, false};
     return 0;
 }
 
@@ -82,14 +83,23 @@ int cgs_loop_add_fd (cgs_loop_t *self, int fd, cgs_loop_fn *fn, void *arg)
 
 void cgs_loop_remove (cgs_loop_t *self, void *socket, int fd)
 {
+    // Only marked here: the loop may be walking the list; it compacts it.
     for (size_t i = 0; i < self->nwatches; i++) {
         s_watch_t *w = &self->watches[i];
-        if ((socket && w->socket == socket) || (!socket && w->fd == fd)) {
-            memmove (w, w + 1, (self->nwatches - i - 1) * sizeof *w);
-            self->nwatches--;
+        if (!w->removed && ((socket && w->socket == socket) || (!socket && w->fd == fd))) {
+            w->removed = true;
             return;
         }
     }
+}
+
+static void s_compact (cgs_loop_t *self)
+{
+    size_t k = 0;
+    for (size_t i = 0; i < self->nwatches; i++)
+        if (!self->watches[i].removed)
+            self->watches[k++] = self->watches[i];
+    self->nwatches = k;
 }
 
 int cgs_loop_add_timer (cgs_loop_t *self, double interval_s, cgs_loop_fn *fn, void *arg)
@@ -150,6 +160,7 @@ int cgs_loop_run (cgs_loop_t *self)
             items = n;
             capitems = self->nwatches;
         }
+        s_compact (self);
         size_t nitems = self->nwatches;
         for (size_t i = 0; i < nitems; i++)
             items[i] =
@@ -162,7 +173,7 @@ int cgs_loop_run (cgs_loop_t *self)
             break;
         }
         for (size_t i = 0; n > 0 && i < nitems && i < self->nwatches && !self->stop; i++)
-            if (items[i].revents & ZMQ_POLLIN)
+            if ((items[i].revents & ZMQ_POLLIN) && !self->watches[i].removed)
                 self->watches[i].fn (self->watches[i].arg);
         now = cgs_loop_now ();
         for (size_t i = 0; i < self->ntimers && !self->stop; i++) {

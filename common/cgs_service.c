@@ -6,6 +6,8 @@
 #include "cgs_topics.h"
 
 #include <errno.h>
+#include <sys/file.h>
+#include <fcntl.h>
 #include <getopt.h>
 #include <limits.h>
 #include <stdio.h>
@@ -144,6 +146,7 @@ static int s_parse (cgs_service_t *svc, int argc, char **argv)
 int cgs_service_init (cgs_service_t *svc, const cgs_service_info_t *info, int argc, char **argv)
 {
     memset (svc, 0, sizeof *svc);
+    svc->lock_fd = -1;
     svc->info = info;
     int rc = s_parse (svc, argc, argv);
     if (rc != 0)
@@ -183,6 +186,26 @@ int cgs_service_init (cgs_service_t *svc, const cgs_service_info_t *info, int ar
     if ((rc = cgs_state_mkdir (svc->state_dir)) < 0) {
         cgs_log (LOG_ERR, "cannot create state folder %s: %s", svc->state_dir, strerror (-rc));
         return rc;
+    }
+    char abs_dir[PATH_MAX];
+    if (realpath (svc->state_dir, abs_dir))
+        snprintf (svc->state_dir, sizeof svc->state_dir, "%s", abs_dir);
+    // One process per instance: a second copy would take over the first one's
+    // ipc endpoints silently and share its state file.
+    char lock_path[4200];
+    snprintf (lock_path, sizeof lock_path, "%s/%s.lock", svc->state_dir, svc->instance_name);
+    svc->lock_fd = open (lock_path, O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+    if (svc->lock_fd < 0) {
+        rc = -errno;
+        cgs_log (LOG_ERR, "cannot open %s: %s", lock_path, strerror (-rc));
+        return rc;
+    }
+    if (flock (svc->lock_fd, LOCK_EX | LOCK_NB) < 0) {
+        rc = -errno;
+        cgs_log (LOG_ERR, "%s is already running with state folder %s (%s is locked)%s",
+                 svc->instance_name, svc->state_dir, lock_path,
+                 rc == -EWOULDBLOCK ? "" : strerror (-rc));
+        return rc == -EWOULDBLOCK ? -EBUSY : rc;
     }
     if ((rc = cgs_lifecycle_init ()) < 0) {
         cgs_log (LOG_ERR, "cannot install signal handlers: %s", strerror (-rc));
@@ -261,7 +284,13 @@ int cgs_service_subscribe (cgs_service_t *svc, const char *topic, cgs_sub_fn *fn
 static void s_on_cmd (void *arg)
 {
     cgs_service_t *svc = arg;
+    uint64_t failures = cgs_cmd_server_write_errors (svc->cmd);
     cgs_cmd_server_dispatch (svc->cmd, 100);
+    if (cgs_cmd_server_write_errors (svc->cmd) != failures) {
+        cgs_log (LOG_ERR, "%s", cgs_cmd_server_last_error (svc->cmd));
+        cgs_health_set_error (svc->health, cgs_cmd_server_last_error (svc->cmd));
+        cgs_health_set_state (svc->health, CGS__SERVICE_STATE__SERVICE_STATE_DEGRADED);
+    }
 }
 
 int cgs_service_serve_commands (cgs_service_t *svc, cgs_cmd_handler_fn *handler,
@@ -275,8 +304,11 @@ int cgs_service_serve_commands (cgs_service_t *svc, cgs_cmd_handler_fn *handler,
     char cache[4200];
     snprintf (cache, sizeof cache, "%s/%s.state", svc->state_dir, svc->instance_name);
     svc->cmd = cgs_cmd_server_new (svc->ctx, svc->instance_name, cache, handler, arg);
-    if (!svc->cmd)
-        return -errno;
+    if (!svc->cmd) {
+        int rc = -errno;
+        cgs_log (LOG_ERR, "cannot read the state file %s: %s", cache, strerror (-rc));
+        return rc;
+    }
     cgs_cmd_server_set_save (svc->cmd, save);
     if (*cgs_cmd_server_load_error (svc->cmd)) {
         cgs_log (LOG_WARNING, "saved state ignored: %s", cgs_cmd_server_load_error (svc->cmd));
@@ -328,6 +360,9 @@ int cgs_service_publish (cgs_service_t *svc, const char *topic, ProtobufCMessage
 static void s_on_health (void *arg)
 {
     cgs_service_t *svc = arg;
+    if (cgs_lifecycle_take_reload ())
+        cgs_log (LOG_NOTICE,
+                 "SIGHUP: nothing to reload (restart the service to read changed files)");
     if (svc->pub)
         cgs_health_publish (svc->health, svc->pub, svc->sim_time_s);
 }
@@ -371,5 +406,9 @@ void cgs_service_fini (cgs_service_t *svc)
     if (svc->ctx) {
         zmq_ctx_term (svc->ctx);
         svc->ctx = NULL;
+    }
+    if (svc->lock_fd >= 0) {
+        close (svc->lock_fd); // releases the lock
+        svc->lock_fd = -1;
     }
 }

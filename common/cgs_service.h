@@ -61,6 +61,7 @@ typedef struct {
     cgs_health_t *health;
     double sim_time_s;                    // latest simulation time, stamped on health
     char connected[64][CGS_ENDPOINT_MAX]; // endpoints the subscriber connected to
+    int lock_fd; // STATE_DIR/INSTANCE.lock, held for the process's life (-1 before)
     size_t nconnected;
 } cgs_service_t;
 

@@ -123,8 +123,14 @@ int cgs_state_read (const char *path, size_t max, void **ret_data, size_t *ret_l
         ssize_t n = read (fd, buf + got, size - got);
         if (n < 0 && errno == EINTR)
             continue;
-        if (n <= 0)
-            break;
+        if (n < 0) {
+            int e = -errno;
+            close (fd);
+            free (buf);
+            return e;
+        }
+        if (n == 0)
+            break; // the file shrank under us: what is there is what it holds
         got += (size_t)n;
     }
     close (fd);

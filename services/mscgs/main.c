@@ -25,6 +25,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/prctl.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <time.h>
@@ -53,7 +54,7 @@ static void s_usage (FILE *f)
                 "  ping     ask a service's command endpoint for a reply: ping INSTANCE\n"
                 "  topics   list the bus topics\n\n"
                 "The exercise file is --exercise F, else $MSCGS_EXERCISE, else\n"
-                "/etc/mscgs/exercise.ini, else the source tree's deploy/exercises/default.ini.\n");
+                "/etc/mscgs/exercise.ini, else the installed or source tree's default exercise.\n");
 }
 
 /* ---- shared helpers ------------------------------------------------------------- */
@@ -81,13 +82,19 @@ static const char *s_exercise_path (const char *given, char *buf, size_t size)
         return env;
     if (access ("/etc/mscgs/exercise.ini", R_OK) == 0)
         return "/etc/mscgs/exercise.ini";
-    // build/<variant>/bin/mscgs or build/bin/mscgs in a source tree.
-    const char *up[] = {"/../../deploy/exercises/default.ini",
+    // An install (PREFIX/bin/mscgs: PREFIX/share/mscgs), or a source tree
+    // (build/bin/mscgs or build/<variant>/bin/mscgs).
+    const char *up[] = {"/../share/mscgs/exercises/default.ini",
+                        "/../../deploy/exercises/default.ini",
                         "/../../../deploy/exercises/default.ini"};
-    for (size_t i = 0; i < 2; i++) {
+    for (size_t i = 0; i < sizeof up / sizeof up[0]; i++) {
         snprintf (buf, size, "%s%s", s_exe_dir, up[i]);
-        if (access (buf, R_OK) == 0)
+        char real[PATH_MAX];
+        if (access (buf, R_OK) == 0) {
+            if (realpath (buf, real))
+                snprintf (buf, size, "%s", real);
             return buf;
+        }
     }
     return "/etc/mscgs/exercise.ini";
 }
@@ -297,8 +304,9 @@ static int s_cmd_status (int argc, char **argv)
             cgs_exercise_path (ex));
     s_table_print (&table, stdout);
     int rc = 0;
+    double now = cgs_loop_now ();
     for (size_t i = 0; i < table.nrows; i++)
-        if (table.rows[i].enabled && !table.rows[i].seen)
+        if (table.rows[i].enabled && strcmp (s_state_name (&table.rows[i], now), "up") != 0)
             rc = 3;
     cgs_sub_destroy (&sub);
     zmq_ctx_term (ctx);
@@ -531,6 +539,7 @@ static void s_child_start (s_run_t *run, s_child_t *ch)
         if (devnull >= 0)
             dup2 (devnull, STDIN_FILENO);
         setpgid (0, 0); // Ctrl-C reaches mscgs, which stops the children in order
+        prctl (PR_SET_PDEATHSIG, SIGTERM); // and if mscgs dies, they stop too
         signal (SIGPIPE, SIG_DFL);
         const char *argv[16];
         int n = 0;
@@ -761,6 +770,10 @@ static int s_cmd_run (int argc, char **argv)
     double next_progress = run.start + 1.0;
     double progress_every = run.tty ? 1.0 : 5.0;
     while (!cgs_lifecycle_stopping ()) {
+        if (cgs_lifecycle_take_reload ()) {
+            printf ("\nmscgs run: SIGHUP (terminal closed?): stopping\n");
+            break;
+        }
         cgs_sub_poll (run.sub, 100);
         s_reap (&run);
         double now = cgs_loop_now ();

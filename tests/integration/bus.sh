@@ -27,6 +27,7 @@ publish = ipc://$TMP/bad.ipc
 
 # The subscriber publishes nothing.
 [service peer.sub]
+publish = ipc://$TMP/sub.pub
 EOF
 } >"$EX"
 

@@ -21,9 +21,11 @@ publish = ipc://$TMP/cmd.pub
 command = ipc://$TMP/cmd.ipc
 
 [service peer.crash]
+publish = ipc://$TMP/crash.pub
 command = ipc://$TMP/crash.ipc
 
 [service peer.dup]
+publish = ipc://$TMP/dup.pub
 command = ipc://$TMP/dup.ipc
 EOF
 } >"$EX"

@@ -86,7 +86,7 @@ typedef struct {
     uint64_t epochs;          // epochs seen on the first topic
     uint64_t epoch_first_seq; // sequence number of the first message of the latest epoch
     uint64_t mismatch;        // clock messages whose tick is not their sequence number
-    uint64_t health;          // health messages handled
+    uint64_t health;          // health messages handled, from other instances
     uint64_t held;            // holds entered (--slow-ms)
     uint64_t applied;         // commands applied by this process (the handler)
     /* the service state: "client number kind\n" per applied command, in order */
@@ -321,7 +321,9 @@ static void s_on_message (void *arg, const char *topic, const ProtobufCMessage *
         if (p->slow_ms > 0 && p->seen <= p->slow_count)
             s_hold (p);
     }
-    if (strcmp (topic, "health") == 0)
+    // Health from others only: its own health comes back over its own
+    // publisher and says nothing about the other connections.
+    if (strcmp (topic, "health") == 0 && strcmp (hdr->source, p->svc.instance_name) != 0)
         p->health++;
 }
 
@@ -614,7 +616,10 @@ static int s_call_main (int argc, char **argv)
         return 2;
     }
     void *ctx = zmq_ctx_new ();
-    cgs_cmd_client_t *client = ctx ? cgs_cmd_client_new (ctx, endpoint, client_id) : NULL;
+    // --client-id: exactly that id, numbered from 1 (as a retry from another process would be).
+    cgs_cmd_client_t *client = !ctx        ? NULL
+                               : client_id ? cgs_cmd_client_new_exact (ctx, endpoint, client_id, 1)
+                                           : cgs_cmd_client_new (ctx, endpoint, "peer");
     if (!client) {
         fprintf (stderr, "peer --call: cannot create a client for %s: %s\n", endpoint,
                  strerror (errno));

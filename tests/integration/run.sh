@@ -50,6 +50,14 @@ rc=$?
 is "$rc" 1 "mscgs ping exits 1 when the service does not answer"
 check "and says where it got no reply from" grep -q "no reply from ipc://$TMP/uavsim.cmd after 3 attempts" "$TMP/ping.out"
 
+# A second copy of the same instance with the same state folder refuses to
+# start (it would take over the first one's endpoints and state).
+timeout 20 "$BIN/uavsim" --exercise "$EX" --instance uavsim --state-dir "$OUT/state" \
+    >"$TMP/second.log" 2>&1
+rc=$?
+is "$rc" 1 "a second copy of the instance exits 1"
+check "and says it is already running" grep -q "uavsim is already running" "$TMP/second.log"
+
 pid=$(pgrep -f "^$BIN/uavsim " | head -1)
 check "the service runs as a child of mscgs run" [ -n "$pid" ]
 [ -n "$pid" ] && kill -9 "$pid"

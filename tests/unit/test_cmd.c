@@ -14,6 +14,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <unistd.h>
 #include <zmq.h>
 
@@ -104,7 +105,7 @@ static void test_call_and_duplicates (void **state)
     pthread_create (&tid, NULL, s_serve, &th);
 
     cgs_cmd_client_t *cl = cgs_cmd_client_new (ctx, ep, "tester");
-    assert_string_equal (cgs_cmd_client_id (cl), "tester");
+    assert_memory_equal (cgs_cmd_client_id (cl), "tester@", 7);
     Cgs__Ping ping = CGS__PING__INIT;
     Cgs__Command cmd = CGS__COMMAND__INIT;
     cmd.body_case = CGS__COMMAND__BODY_PING;
@@ -135,7 +136,7 @@ static void test_call_and_duplicates (void **state)
     void *dealer = zmq_socket (ctx, ZMQ_DEALER);
     assert_int_equal (zmq_connect (dealer, ep), 0);
     Cgs__Command dup = CGS__COMMAND__INIT;
-    dup.client_id = "tester";
+    dup.client_id = (char *)cgs_cmd_client_id (cl);
     dup.command_number = 1;
     dup.body_case = CGS__COMMAND__BODY_PING;
     dup.ping = &ping;
@@ -159,11 +160,27 @@ static void test_call_and_duplicates (void **state)
     assert_int_equal (((Cgs__Reply *)m)->status, CGS__REPLY_STATUS__REPLY_STATUS_BAD_REQUEST);
     cgs_msg_free (&m);
 
+    // The same number for another command is not a retry: refused, not applied.
+    Cgs__Pause pause = CGS__PAUSE__INIT;
+    Cgs__Command reused = CGS__COMMAND__INIT;
+    reused.client_id = (char *)cgs_cmd_client_id (cl);
+    reused.command_number = 1;
+    reused.body_case = CGS__COMMAND__BODY_PAUSE;
+    reused.pause = &pause;
+    len = cgs_msg_encode (&reused.base, buf);
+    assert_int_equal (zmq_send (dealer, buf, len, 0), (int)len);
+    n = zmq_recv (dealer, buf, sizeof buf, 0);
+    assert_int_equal (cgs_msg_decode (&cgs__reply__descriptor, buf, (size_t)n, NULL, &m), 0);
+    assert_int_equal (((Cgs__Reply *)m)->status, CGS__REPLY_STATUS__REPLY_STATUS_BAD_REQUEST);
+    assert_non_null (strstr (((Cgs__Reply *)m)->error, "already used for another command"));
+    cgs_msg_free (&m);
+    assert_int_equal (app.applied, 2);
+
     atomic_store (&th.stop, true);
     pthread_join (tid, NULL);
     assert_int_equal (cgs_cmd_server_applied (th.srv), 2);
     assert_int_equal (cgs_cmd_server_duplicates (th.srv), 1);
-    assert_int_equal (cgs_cmd_server_malformed (th.srv), 1);
+    assert_int_equal (cgs_cmd_server_malformed (th.srv), 2);
     cgs_cmd_server_destroy (&th.srv);
 
     // A new server over the same state file answers the old command from storage.
@@ -180,7 +197,7 @@ static void test_call_and_duplicates (void **state)
     // A client that restarted with the same id: its command 1 is a duplicate.
     // (It retries over a fresh socket, since the first send may meet the old
     // server's dead connection.)
-    cgs_cmd_client_t *again = cgs_cmd_client_new (ctx, ep, "tester");
+    cgs_cmd_client_t *again = cgs_cmd_client_new_exact (ctx, ep, cgs_cmd_client_id (cl), 1);
     cmd.body_case = CGS__COMMAND__BODY_PING;
     cmd.ping = &ping;
     assert_int_equal (cgs_cmd_client_call (again, &cmd, 300, 10, &reply, err, sizeof err), 0);
@@ -224,6 +241,67 @@ static void test_save_now_writes_current_state (void **state)
     srv = cgs_cmd_server_new (ctx, "srv", NULL, s_handler, &app);
     assert_int_equal (cgs_cmd_server_save_now (srv), 0);
     cgs_cmd_server_destroy (&srv);
+    zmq_ctx_term (ctx);
+}
+
+/* A state file that cannot be written: the command is answered NOT_SAVED with
+ * the reason, is not stored, and a retry applies it again. */
+static void test_unsaved_command_is_not_acknowledged (void **state)
+{
+    (void)state;
+    void *ctx = zmq_ctx_new ();
+    char cache[128], ep[128];
+    snprintf (cache, sizeof cache, "%s/blocked.state", s_dir);
+    snprintf (ep, sizeof ep, "ipc://%s/blocked.cmd", s_dir);
+    s_app_t app = {0};
+    s_thread_t th = {.srv = cgs_cmd_server_new (ctx, "srv", cache, s_handler, &app)};
+    assert_non_null (th.srv);
+    assert_int_equal (mkdir (cache, 0755), 0); // a folder where the file should go
+    cgs_cmd_server_set_save (th.srv, s_save);
+    assert_int_equal (cgs_cmd_server_bind (th.srv, ep), 0);
+    pthread_t tid;
+    pthread_create (&tid, NULL, s_serve, &th);
+    cgs_cmd_client_t *cl = cgs_cmd_client_new_exact (ctx, ep, "blocked-client", 1);
+    Cgs__Ping ping = CGS__PING__INIT;
+    Cgs__Command cmd = CGS__COMMAND__INIT;
+    cmd.body_case = CGS__COMMAND__BODY_PING;
+    cmd.ping = &ping;
+    Cgs__Reply *reply = NULL;
+    char err[256];
+    assert_int_equal (cgs_cmd_client_call (cl, &cmd, 2000, 3, &reply, err, sizeof err), 0);
+    assert_int_equal (reply->status, CGS__REPLY_STATUS__REPLY_STATUS_NOT_SAVED);
+    assert_non_null (strstr (reply->error, "could not be written"));
+    cgs_cmd_reply_free (&reply);
+    // The same command again (a retry): applied again, since nothing was kept.
+    cgs_cmd_client_t *retry = cgs_cmd_client_new_exact (ctx, ep, "blocked-client", 1);
+    assert_int_equal (cgs_cmd_client_call (retry, &cmd, 2000, 3, &reply, err, sizeof err), 0);
+    assert_int_equal (reply->status, CGS__REPLY_STATUS__REPLY_STATUS_NOT_SAVED);
+    assert_false (reply->duplicate);
+    cgs_cmd_reply_free (&reply);
+    atomic_store (&th.stop, true);
+    pthread_join (tid, NULL);
+    assert_int_equal (app.applied, 2);
+    assert_int_equal (cgs_cmd_server_write_errors (th.srv), 2);
+    assert_non_null (strstr (cgs_cmd_server_last_error (th.srv), "blocked.state"));
+    cgs_cmd_server_destroy (&th.srv);
+    cgs_cmd_client_destroy (&cl);
+    cgs_cmd_client_destroy (&retry);
+    zmq_ctx_term (ctx);
+}
+
+/* A state file that exists but cannot be read stops the server from
+ * starting (rather than starting empty and losing it). */
+static void test_unreadable_state_refuses_to_start (void **state)
+{
+    (void)state;
+    void *ctx = zmq_ctx_new ();
+    char cache[128];
+    snprintf (cache, sizeof cache, "%s/unreadable.state", s_dir);
+    assert_int_equal (mkdir (cache, 0755), 0); // reading a folder fails with EISDIR
+    s_app_t app = {0};
+    errno = 0;
+    assert_null (cgs_cmd_server_new (ctx, "srv", cache, s_handler, &app));
+    assert_int_equal (errno, EISDIR);
     zmq_ctx_term (ctx);
 }
 
@@ -299,6 +377,8 @@ int main (void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test (test_call_and_duplicates),
         cmocka_unit_test (test_save_now_writes_current_state),
+        cmocka_unit_test (test_unsaved_command_is_not_acknowledged),
+        cmocka_unit_test (test_unreadable_state_refuses_to_start),
         cmocka_unit_test (test_silence_gives_a_clear_error),
         cmocka_unit_test (test_damaged_cache_is_set_aside),
         cmocka_unit_test (test_state_files_are_atomic_and_readable),

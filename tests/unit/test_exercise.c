@@ -159,7 +159,7 @@ static void test_defaults (void **state)
     s_tmp_t *t = *state;
     char err[512] = "";
     cgs_exercise_t *ex = NULL;
-    if (s_load (t, S_HEAD "[service trackerd]\n", &ex, err, sizeof err) != 0)
+    if (s_load (t, S_HEAD "[service trackerd]\npublish = inproc://t\n", &ex, err, sizeof err) != 0)
         fail_msg ("%s", err);
     assert_string_equal (cgs_exercise_name (ex), "ex");
     assert_int_equal (cgs_exercise_id (ex), 1);
@@ -170,12 +170,11 @@ static void test_defaults (void **state)
     const cgs_instance_t *inst = cgs_exercise_instance (ex, 0);
     assert_string_equal (inst->name, "trackerd");
     assert_string_equal (inst->program, "trackerd");
-    assert_string_equal (inst->publish, "");
+    assert_string_equal (inst->publish, "inproc://t");
     assert_string_equal (inst->command, "");
     assert_string_equal (inst->host, "localhost");
     assert_true (inst->enabled);
-    // no publish endpoint: publishes nothing
-    assert_int_equal (cgs_exercise_publishers_of (ex, "track", NULL, 0), 0);
+    assert_int_equal (cgs_exercise_publishers_of (ex, "track", NULL, 0), 1);
     cgs_exercise_destroy (&ex);
 }
 
@@ -265,9 +264,10 @@ static void test_duplicate_endpoint (void **state)
     s_load_fails (t,
                   S_HEAD "[service a]\n"
                          "command = tcp://127.0.0.1:7000\n"
+                         "publish = inproc://pa\n"
                          "[service b]\n"
                          "publish = tcp://127.0.0.1:7000\n",
-                  ":6: [service b] publish: endpoint 'tcp://127.0.0.1:7000' is already used by "
+                  ":7: [service b] publish: endpoint 'tcp://127.0.0.1:7000' is already used by "
                   "[service a] command at line 4");
     s_load_fails (t,
                   S_HEAD "[service a]\n"
@@ -372,7 +372,7 @@ static void test_bad_instance_name (void **state)
     s_load_fails (t, text, want);
     // 63 characters is fine
     name[63] = '\0';
-    snprintf (text, sizeof text, S_HEAD "[service %s]\n", name);
+    snprintf (text, sizeof text, S_HEAD "[service %s]\npublish = inproc://x\n", name);
     char err[512] = "";
     cgs_exercise_t *ex = NULL;
     if (s_load (t, text, &ex, err, sizeof err) != 0)
@@ -384,9 +384,13 @@ static void test_bad_instance_name (void **state)
 static void test_unknown (void **state)
 {
     s_tmp_t *t = *state;
+    s_load_fails (t, S_HEAD "[service a]\ncommand = inproc://c\n",
+                  ":3: [service a] missing key 'publish' (expected an endpoint starting with "
+                  "tcp://, ipc:// or inproc://: every service publishes its health)");
     s_load_fails (t, S_HEAD "[service a]\npublish = inproc://a\npublsh = inproc://b\n",
                   ":5: [service a] unknown key 'publsh'");
-    s_load_fails (t, S_HEAD "colour = red\n[service a]\n", ":3: [exercise] unknown key 'colour'");
+    s_load_fails (t, S_HEAD "colour = red\n[service a]\npublish = inproc://a\n",
+                  ":3: [exercise] unknown key 'colour'");
     s_load_fails (t, S_HEAD "[services a]\npublish = inproc://a\n",
                   ":3: unknown section [services a]");
     s_load_fails (t, "top = 1\n" S_HEAD, ":1: unknown key 'top' (before any section)");

@@ -113,7 +113,7 @@ static void test_topics_catalogue (void **state)
     assert_true (cgs_topics_published_by (cgs_topics_find ("health"), "anything"));
     assert_null (cgs_topics_find ("mti.sca"));
     assert_null (cgs_topics_at (12));
-    // Every name is unique and every topic has a payload type with the header.
+    // Every name is unique.
     for (size_t i = 0; i < cgs_topics_count (); i++)
         for (size_t k = i + 1; k < cgs_topics_count (); k++)
             assert_string_not_equal (cgs_topics_at (i)->name, cgs_topics_at (k)->name);

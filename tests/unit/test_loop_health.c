@@ -8,6 +8,7 @@
 #include <stdarg.h>
 #include <stddef.h>
 #include <cmocka.h>
+#include <math.h>
 #include <string.h>
 #include <unistd.h>
 #include <zmq.h>
@@ -30,7 +31,7 @@ static void s_slow (void *arg)
     ((s_ctx_t *)arg)->slow++;
 }
 
-static void test_timers_fire_in_order_of_interval (void **state)
+static void test_timers_fire_and_stop_from_a_callback (void **state)
 {
     (void)state;
     s_ctx_t c = {.loop = cgs_loop_new ()};
@@ -55,6 +56,56 @@ static void s_on_read (void *arg)
         c->reads++;
     if (c->reads >= 3)
         cgs_loop_stop (c->loop);
+}
+
+/* Two watches on readable sockets; the first removes the second from its
+ * callback: the second must not be called with stale readiness. */
+typedef struct {
+    cgs_loop_t *loop;
+    void *a, *b;
+    int a_calls, b_calls;
+} s_rm_t;
+
+static void s_on_a (void *arg)
+{
+    s_rm_t *r = arg;
+    char buf[8];
+    zmq_recv (r->a, buf, sizeof buf, ZMQ_DONTWAIT);
+    r->a_calls++;
+    cgs_loop_remove (r->loop, r->b, -1);
+    cgs_loop_stop (r->loop);
+}
+
+static void s_on_b (void *arg)
+{
+    ((s_rm_t *)arg)->b_calls++;
+}
+
+static void test_remove_from_a_callback (void **state)
+{
+    (void)state;
+    void *ctx = zmq_ctx_new ();
+    void *a_in = zmq_socket (ctx, ZMQ_PAIR), *a_out = zmq_socket (ctx, ZMQ_PAIR);
+    void *b_in = zmq_socket (ctx, ZMQ_PAIR), *b_out = zmq_socket (ctx, ZMQ_PAIR);
+    zmq_bind (a_in, "inproc://rm-a");
+    zmq_connect (a_out, "inproc://rm-a");
+    zmq_bind (b_in, "inproc://rm-b");
+    zmq_connect (b_out, "inproc://rm-b");
+    s_rm_t r = {.loop = cgs_loop_new (), .a = a_in, .b = b_in};
+    assert_int_equal (cgs_loop_add_socket (r.loop, a_in, s_on_a, &r), 0);
+    assert_int_equal (cgs_loop_add_socket (r.loop, b_in, s_on_b, &r), 0);
+    zmq_send (a_out, "x", 1, 0);
+    zmq_send (b_out, "x", 1, 0);
+    usleep (20000);
+    assert_int_equal (cgs_loop_run (r.loop), 0);
+    assert_int_equal (r.a_calls, 1);
+    assert_int_equal (r.b_calls, 0);
+    cgs_loop_destroy (&r.loop);
+    zmq_close (a_in);
+    zmq_close (a_out);
+    zmq_close (b_in);
+    zmq_close (b_out);
+    zmq_ctx_term (ctx);
 }
 
 static void s_send_later (void *arg)
@@ -94,6 +145,7 @@ typedef struct {
     uint64_t out, clock_msgs;
     bool has_clock;
     uint32_t pid;
+    double clock_rate, max_rate, uav_rate, health_in_rate;
 } s_seen_t;
 
 static void s_on_health (void *arg, const char *topic, const ProtobufCMessage *msg,
@@ -110,11 +162,22 @@ static void s_on_health (void *arg, const char *topic, const ProtobufCMessage *m
     s->out = hm->msgs_out;
     s->pid = hm->pid;
     s->has_clock = false;
+    s->max_rate = 0;
+    for (size_t i = 0; i < hm->n_topics; i++)
+        if (hm->topics[i]->rate_hz > s->max_rate)
+            s->max_rate = hm->topics[i]->rate_hz;
     for (size_t i = 0; i < hm->n_topics; i++)
         if (strcmp (hm->topics[i]->topic, "clock") == 0 && hm->topics[i]->outbound) {
             s->has_clock = true;
             s->clock_msgs = hm->topics[i]->messages;
+            s->clock_rate = hm->topics[i]->rate_hz;
         }
+    for (size_t i = 0; i < hm->n_topics; i++) {
+        if (strcmp (hm->topics[i]->topic, "uav") == 0 && hm->topics[i]->outbound)
+            s->uav_rate = hm->topics[i]->rate_hz;
+        if (strcmp (hm->topics[i]->topic, "health") == 0 && !hm->topics[i]->outbound)
+            s->health_in_rate = hm->topics[i]->rate_hz;
+    }
 }
 
 static void test_health_reports_counts_state_and_error (void **state)
@@ -129,6 +192,7 @@ static void test_health_reports_counts_state_and_error (void **state)
     assert_int_equal (cgs_sub_on (sub, "health", s_on_health, &seen), 0);
     cgs_health_t *h = cgs_health_new ("svc", "svc.a", "1.0");
     cgs_health_watch_pub (h, pub);
+    assert_int_equal (cgs_health_watch_sub (h, sub), 0); // inbound topics follow the outbound
     for (int i = 0; i < 200 && seen.n == 0; i++) {
         cgs_health_publish (h, pub, 0);
         cgs_sub_poll (sub, 5);
@@ -153,6 +217,21 @@ static void test_health_reports_counts_state_and_error (void **state)
     assert_int_equal (seen.clock_msgs, 7);
     assert_int_equal (seen.out, health_sent + 7); // counted before this health went out
     assert_int_equal (seen.pid, (uint32_t)getpid ());
+    // A topic that appears between two health messages does not shift the
+    // others' rates (they were once compared against the wrong counts).
+    Cgs__Uav uav = CGS__UAV__INIT;
+    assert_int_equal (cgs_pub_send (pub, "uav", &uav.base, 0), 0);
+    seen.n = 0;
+    assert_int_equal (cgs_health_publish (h, pub, 13), 0);
+    for (int i = 0; i < 100 && seen.n == 0; i++)
+        cgs_sub_poll (sub, 5);
+    assert_int_equal (seen.n, 1);
+    assert_true (seen.clock_rate == 0.0); // no clock sent since the last health
+    assert_true (seen.max_rate < 1e6);
+    // One uav message out and one health message in since the last health,
+    // over the same interval: the same rate.
+    assert_true (seen.uav_rate > 0);
+    assert_true (fabs (seen.health_in_rate - seen.uav_rate) < 1e-9 * seen.uav_rate);
     cgs_health_destroy (&h);
     assert_null (h);
     cgs_sub_destroy (&sub);
@@ -163,8 +242,9 @@ static void test_health_reports_counts_state_and_error (void **state)
 int main (void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test (test_timers_fire_in_order_of_interval),
-        cmocka_unit_test (test_socket_watch_and_remove),
+        cmocka_unit_test (test_timers_fire_and_stop_from_a_callback),
+        cmocka_unit_test (test_remove_from_a_callback),
+        cmocka_unit_test (test_socket_watch_and_remove), // leaves the lifecycle stop flag set
         cmocka_unit_test (test_health_reports_counts_state_and_error),
     };
     return cmocka_run_group_tests (tests, NULL, NULL);
