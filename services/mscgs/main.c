@@ -8,6 +8,7 @@
  *   mscgs topics
  */
 #include "cgs_bus.h"
+#include "cgs_config.h"
 #include "cgs_cmd.h"
 #include "cgs_exercise.h"
 #include "cgs_lifecycle.h"
@@ -16,6 +17,7 @@
 #include "cgs_state.h"
 #include "cgs_topics.h"
 
+#include <dirent.h>
 #include <errno.h>
 #include <fcntl.h>
 #include <getopt.h>
@@ -52,7 +54,9 @@ static void s_usage (FILE *f)
                 "           [--timeout S]\n"
                 "  status   a table of every service's health [--wait S]\n"
                 "  ping     ask a service's command endpoint for a reply: ping INSTANCE\n"
-                "  topics   list the bus topics\n\n"
+                "  topics   list the bus topics\n"
+                "  loiter, route, altitude, speed       task a UAV (uavsim); --help for each\n"
+                "  pause, resume, time-scale X          the simulation clock (uavsim)\n\n"
                 "The exercise file is --exercise F, else $MSCGS_EXERCISE, else\n"
                 "/etc/mscgs/exercise.ini, else the installed or source tree's default exercise.\n");
 }
@@ -473,6 +477,243 @@ static int s_cmd_ping (int argc, char **argv)
     return rc;
 }
 
+/* ---- uavsim's task and clock commands ------------------------------------------------ */
+
+/* The first instance of program in the exercise, or NULL. */
+static const cgs_instance_t *s_instance_of (const cgs_exercise_t *ex, const char *program)
+{
+    for (size_t i = 0; i < cgs_exercise_instance_count (ex); i++)
+        if (strcmp (cgs_exercise_instance (ex, i)->program, program) == 0)
+            return cgs_exercise_instance (ex, i);
+    return NULL;
+}
+
+/* Send cmd to the instance named to, or the first instance of program;
+ * print the reply. Exit code: 0 ok, 1 refused or no reply, 2 usage. */
+static int s_send (const char *tool, cgs_exercise_t *ex, const char *to, const char *program,
+                   Cgs__Command *cmd)
+{
+    const cgs_instance_t *in = to ? cgs_exercise_find (ex, to) : s_instance_of (ex, program);
+    if (!in || !*in->command) {
+        fprintf (stderr, "mscgs %s: %s\n", tool,
+                 !in ? (to ? "no such instance in the exercise"
+                           : "no instance of that program in the exercise")
+                     : "that instance takes no commands (no command endpoint)");
+        return 2;
+    }
+    void *ctx = zmq_ctx_new ();
+    cgs_cmd_client_t *cl = cgs_cmd_client_new (ctx, in->command, "mscgs");
+    if (!cl) {
+        zmq_ctx_term (ctx);
+        fprintf (stderr, "mscgs %s: %s\n", tool, strerror (errno));
+        return 1;
+    }
+    Cgs__Reply *reply = NULL;
+    char err[512];
+    cgs_lifecycle_init ();
+    int rc = cgs_cmd_client_call (cl, cmd, 1000, 3, &reply, err, sizeof err);
+    if (rc < 0) {
+        fprintf (stderr, "mscgs %s: %s\n", tool, err);
+        rc = 1;
+    } else {
+        bool ok = reply->status == CGS__REPLY_STATUS__REPLY_STATUS_OK;
+        fprintf (ok ? stdout : stderr, "%s: %s%s%s\n", reply->server, ok ? "ok" : "refused",
+                 *reply->detail ? ": " : "", *reply->detail ? reply->detail : "");
+        if (*reply->error)
+            fprintf (stderr, "%s: %s\n", reply->server, reply->error);
+        rc = ok ? 0 : 1;
+        cgs_cmd_reply_free (&reply);
+    }
+    cgs_cmd_client_destroy (&cl);
+    zmq_ctx_term (ctx);
+    return rc;
+}
+
+/* A position argument: "E,N" or any form of cgs_config_parse_position. */
+static int s_position (const cgs_exercise_t *ex, const char *text, Cgs__Enu *ret)
+{
+    char buf[256];
+    snprintf (buf, sizeof buf, "%s", text);
+    for (char *c = buf; *c; c++)
+        if (*c == ',')
+            *c = ' ';
+    cgs_geodetic_t o = cgs_exercise_origin (ex);
+    cgs_geo_t *frame = cgs_geo_new (o.lat_deg, o.lon_deg, o.height_m);
+    cgs_enu_t p;
+    char why[256];
+    int rc = frame ? cgs_config_parse_position (buf, frame, &p, why, sizeof why) : -ENOMEM;
+    cgs_geo_destroy (&frame);
+    if (rc < 0) {
+        fprintf (stderr, "mscgs: position '%s': %s\n", text, why);
+        return rc;
+    }
+    cgs__enu__init (ret);
+    ret->east_m = p.e_m;
+    ret->north_m = p.n_m;
+    ret->up_m = p.u_m;
+    return 0;
+}
+
+static double s_number (const char *what, const char *text)
+{
+    char *end = NULL;
+    double v = strtod (text, &end);
+    if (!end || end == text || *end || !isfinite (v)) {
+        fprintf (stderr, "mscgs: %s: expected a number, got '%s'\n", what, text);
+        exit (2);
+    }
+    return v;
+}
+
+/* mscgs loiter|route|altitude|speed|pause|resume|time-scale ... */
+static int s_cmd_task (const char *tool, int argc, char **argv)
+{
+    const char *exercise = NULL, *to = NULL;
+    uint32_t uav = 0;
+    double radius = 0, speed = 0, altitude = 0;
+    bool here = false, anticlockwise = false, no_loiter = false;
+    const char *at = NULL;
+    static const struct option opts[] = {
+        {"exercise", required_argument, NULL, 'e'}, {"to", required_argument, NULL, 't'},
+        {"uav", required_argument, NULL, 'u'},      {"here", no_argument, NULL, 'H'},
+        {"at", required_argument, NULL, 'a'},       {"radius", required_argument, NULL, 'r'},
+        {"anticlockwise", no_argument, NULL, 'A'},  {"speed", required_argument, NULL, 's'},
+        {"altitude", required_argument, NULL, 'l'}, {"no-loiter", no_argument, NULL, 'N'},
+        {"help", no_argument, NULL, 'h'},           {NULL, 0, NULL, 0}};
+    int c;
+    while ((c = getopt_long (argc, argv, "h", opts, NULL)) != -1) {
+        switch (c) {
+        case 'e':
+            exercise = optarg;
+            break;
+        case 't':
+            to = optarg;
+            break;
+        case 'u':
+            uav = (uint32_t)s_number ("--uav", optarg);
+            break;
+        case 'H':
+            here = true;
+            break;
+        case 'a':
+            at = optarg;
+            break;
+        case 'r':
+            radius = s_number ("--radius", optarg);
+            break;
+        case 'A':
+            anticlockwise = true;
+            break;
+        case 's':
+            speed = s_number ("--speed", optarg);
+            break;
+        case 'l':
+            altitude = s_number ("--altitude", optarg);
+            break;
+        case 'N':
+            no_loiter = true;
+            break;
+        default:
+            fprintf (c == 'h' ? stdout : stderr,
+                     "usage: mscgs loiter (--here | --at POS) [--radius M] [--anticlockwise]\n"
+                     "       mscgs route [--speed MPS] [--altitude M] [--no-loiter] POS [POS ...]\n"
+                     "       mscgs altitude M          (above ground)\n"
+                     "       mscgs speed MPS           (airspeed)\n"
+                     "       mscgs pause | resume | time-scale X\n"
+                     "Common options: --uav ID (entity id; default the only UAV), --to INSTANCE\n"
+                     "(default the exercise's uavsim), --exercise F. POS is E,N in local metres,\n"
+                     "or quoted: 'geo LAT LON', '36.6N 121.2W', 'mgrs GRID'.\n");
+            return c == 'h' ? 0 : 2;
+        }
+    }
+    cgs_exercise_t *ex = s_load_exercise (exercise);
+    if (!ex)
+        return 1;
+    Cgs__Command cmd = CGS__COMMAND__INIT;
+    Cgs__Loiter loiter = CGS__LOITER__INIT;
+    Cgs__TaskRoute route = CGS__TASK_ROUTE__INIT;
+    Cgs__SetAltitude alt = CGS__SET_ALTITUDE__INIT;
+    Cgs__SetSpeed spd = CGS__SET_SPEED__INIT;
+    Cgs__Pause pause = CGS__PAUSE__INIT;
+    Cgs__Resume resume = CGS__RESUME__INIT;
+    Cgs__SetTimeScale scale = CGS__SET_TIME_SCALE__INIT;
+    Cgs__Enu centre, *points = NULL;
+    Cgs__Enu **ptrs = NULL;
+    int rc = 2;
+    int nargs = argc - optind;
+    if (strcmp (tool, "loiter") == 0) {
+        if (nargs != 0 || here == (at != NULL)) {
+            fprintf (stderr, "mscgs loiter: give --here or --at POS\n");
+            goto done;
+        }
+        if (at && s_position (ex, at, &centre) < 0)
+            goto done;
+        loiter.uav_id = uav;
+        loiter.center = at ? &centre : NULL;
+        loiter.radius_m = radius;
+        loiter.clockwise = !anticlockwise;
+        loiter.at_present_position = here;
+        cmd.body_case = CGS__COMMAND__BODY_LOITER;
+        cmd.loiter = &loiter;
+    } else if (strcmp (tool, "route") == 0) {
+        if (nargs < 1) {
+            fprintf (stderr, "mscgs route: give one or more positions\n");
+            goto done;
+        }
+        points = calloc ((size_t)nargs, sizeof *points);
+        ptrs = calloc ((size_t)nargs, sizeof *ptrs);
+        if (!points || !ptrs)
+            goto done;
+        for (int i = 0; i < nargs; i++) {
+            if (s_position (ex, argv[optind + i], &points[i]) < 0)
+                goto done;
+            ptrs[i] = &points[i];
+        }
+        route.uav_id = uav;
+        route.n_waypoints = (size_t)nargs;
+        route.waypoints = ptrs;
+        route.airspeed_mps = speed;
+        route.altitude_agl_m = altitude;
+        route.loiter_at_end = !no_loiter;
+        cmd.body_case = CGS__COMMAND__BODY_TASK_ROUTE;
+        cmd.task_route = &route;
+    } else if (strcmp (tool, "altitude") == 0 || strcmp (tool, "speed") == 0 ||
+               strcmp (tool, "time-scale") == 0) {
+        if (nargs != 1) {
+            fprintf (stderr, "mscgs %s: give one number\n", tool);
+            goto done;
+        }
+        double v = s_number (tool, argv[optind]);
+        if (tool[0] == 'a') {
+            alt.uav_id = uav;
+            alt.altitude_agl_m = v;
+            cmd.body_case = CGS__COMMAND__BODY_SET_ALTITUDE;
+            cmd.set_altitude = &alt;
+        } else if (tool[0] == 's') {
+            spd.uav_id = uav;
+            spd.airspeed_mps = v;
+            cmd.body_case = CGS__COMMAND__BODY_SET_SPEED;
+            cmd.set_speed = &spd;
+        } else {
+            scale.time_scale = v;
+            cmd.body_case = CGS__COMMAND__BODY_SET_TIME_SCALE;
+            cmd.set_time_scale = &scale;
+        }
+    } else if (strcmp (tool, "pause") == 0) {
+        cmd.body_case = CGS__COMMAND__BODY_PAUSE;
+        cmd.pause = &pause;
+    } else {
+        cmd.body_case = CGS__COMMAND__BODY_RESUME;
+        cmd.resume = &resume;
+    }
+    rc = s_send (tool, ex, to, "uavsim", &cmd);
+done:
+    free (points);
+    free (ptrs);
+    cgs_exercise_destroy (&ex);
+    return rc;
+}
+
 /* ---- topics -------------------------------------------------------------------------- */
 
 static int s_cmd_topics (void)
@@ -506,6 +747,7 @@ typedef struct {
     const char *scenario;
     double speed;
     double duration_s;
+    bool resume; // keep the state of the previous run in OUT/state
     char out[PATH_MAX];
     char logs[PATH_MAX + 8];
     char state[PATH_MAX + 8];
@@ -669,18 +911,33 @@ static void s_write_summary (s_run_t *run)
     fclose (f);
 }
 
+/* Remove the plain files of a folder (the services' state files). */
+static void s_clear_folder (const char *dir)
+{
+    DIR *d = opendir (dir);
+    if (!d)
+        return;
+    struct dirent *e;
+    while ((e = readdir (d)) != NULL) {
+        char path[PATH_MAX + 300];
+        snprintf (path, sizeof path, "%s/%s", dir, e->d_name);
+        struct stat st;
+        if (lstat (path, &st) == 0 && S_ISREG (st.st_mode))
+            unlink (path);
+    }
+    closedir (d);
+}
+
 static int s_cmd_run (int argc, char **argv)
 {
     static s_run_t run;
     const char *exercise = NULL;
     snprintf (run.out, sizeof run.out, "out");
-    static const struct option opts[] = {{"exercise", required_argument, NULL, 'e'},
-                                         {"scenario", required_argument, NULL, 's'},
-                                         {"speed", required_argument, NULL, 'x'},
-                                         {"duration", required_argument, NULL, 'd'},
-                                         {"out", required_argument, NULL, 'o'},
-                                         {"help", no_argument, NULL, 'h'},
-                                         {NULL, 0, NULL, 0}};
+    static const struct option opts[] = {
+        {"exercise", required_argument, NULL, 'e'}, {"scenario", required_argument, NULL, 's'},
+        {"speed", required_argument, NULL, 'x'},    {"duration", required_argument, NULL, 'd'},
+        {"out", required_argument, NULL, 'o'},      {"resume", no_argument, NULL, 'R'},
+        {"help", no_argument, NULL, 'h'},           {NULL, 0, NULL, 0}};
     int c;
     while ((c = getopt_long (argc, argv, "h", opts, NULL)) != -1) {
         switch (c) {
@@ -699,14 +956,18 @@ static int s_cmd_run (int argc, char **argv)
         case 'o':
             snprintf (run.out, sizeof run.out, "%s", optarg);
             break;
+        case 'R':
+            run.resume = true;
+            break;
         default:
             fprintf (c == 'h' ? stdout : stderr,
                      "usage: mscgs run [--exercise F] [--scenario F] [--speed X] [--duration S] "
-                     "[--out DIR]\n"
+                     "[--out DIR] [--resume]\n"
                      "Start every enabled service of the exercise whose program is built (beside\n"
                      "this mscgs), restart any that dies, show progress, and stop them all on\n"
                      "Ctrl-C or after --duration. Logs go to DIR/logs, state to DIR/state, and a\n"
-                     "summary to DIR/summary.txt.\n");
+                     "summary to DIR/summary.txt. A run starts from the scenario; --resume\n"
+                     "keeps the state the previous run left in DIR/state.\n");
             return c == 'h' ? 0 : 2;
         }
     }
@@ -735,6 +996,8 @@ static int s_cmd_run (int argc, char **argv)
     snprintf (run.state, sizeof run.state, "%s/state", run.out);
     cgs_state_mkdir (run.logs);
     cgs_state_mkdir (run.state);
+    if (!run.resume)
+        s_clear_folder (run.state); // a new run starts from the scenario
 
     for (size_t i = 0; i < cgs_exercise_instance_count (run.ex) && run.nchildren < S_MAX_INSTANCES;
          i++) {
@@ -854,6 +1117,10 @@ int main (int argc, char **argv)
         return s_cmd_ping (argc, argv);
     if (strcmp (cmd, "topics") == 0)
         return s_cmd_topics ();
+    const char *tasks[] = {"loiter", "route", "altitude", "speed", "pause", "resume", "time-scale"};
+    for (size_t i = 0; i < sizeof tasks / sizeof tasks[0]; i++)
+        if (strcmp (cmd, tasks[i]) == 0)
+            return s_cmd_task (cmd, argc, argv);
     if (strcmp (cmd, "help") == 0 || strcmp (cmd, "-h") == 0 || strcmp (cmd, "--help") == 0) {
         s_usage (stdout);
         return 0;

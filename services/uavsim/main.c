@@ -1,0 +1,417 @@
+/* uavsim — ground truth: reads the scenario, builds the terrain, flies the
+ * UAVs and drives the ground vehicles in fixed simulation steps paced by the
+ * time scale, publishes `clock`, `entity` and `uav`, serves the task and
+ * clock commands, and checkpoints the world so a restarted uavsim continues
+ * where it was. The models are in uavsim_*.c; this file wires them to the bus. */
+#include "cgs_lifecycle.h"
+#include "cgs_log.h"
+#include "cgs_service.h"
+#include "uavsim_msgs.h"
+#include "uavsim_world.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define S_TICK_S       0.005 // pacing timer, wall seconds
+#define S_MAX_BEHIND_S 1.0   // simulation may lag the wall clock by this before it re-anchors
+
+typedef struct {
+    cgs_service_t svc;
+    cgs_geo_t *frame;
+    uavsim_world_t *world;
+    uavsim_msgs_t *msgs;
+    bool fresh; // --fresh: ignore the saved state
+    double time_scale;
+    bool paused;
+    double anchor_wall_s; // monotonic wall time when pacing was last anchored
+    uint64_t anchor_tick; // world tick then
+    uint64_t lag_events;  // times the simulation fell behind and re-anchored
+    double next_entity_s, next_uav_s, next_clock_s; // simulation times of the next publications
+    double next_paused_wall_s; // while paused: wall time of the next republication
+    char detail[256];
+} s_app_t;
+
+static int s_on_option (void *arg, const char *name, const char *value, char *why, size_t whylen)
+{
+    s_app_t *app = arg;
+    (void)value;
+    (void)why;
+    (void)whylen;
+    if (strcmp (name, "fresh") == 0)
+        app->fresh = true;
+    return 0;
+}
+
+static const cgs_service_option_t s_options[] = {
+    {"fresh", false, NULL, "start from the scenario, ignoring the saved state"},
+    {NULL, false, NULL, NULL},
+};
+
+static void s_anchor (s_app_t *app)
+{
+    app->anchor_wall_s = cgs_loop_now ();
+    app->anchor_tick = uavsim_world_tick (app->world);
+}
+
+/* ---- publication ------------------------------------------------------------------- */
+
+static void s_publish_entities (s_app_t *app)
+{
+    size_t n = uavsim_msgs_entities (app->msgs, app->world);
+    for (size_t k = 0; k < n; k++)
+        cgs_service_publish (&app->svc, "entity", &uavsim_msgs_batch (app->msgs, k)->base);
+}
+
+static void s_publish_uavs (s_app_t *app)
+{
+    for (size_t i = 0; i < uavsim_world_scenario (app->world)->uav_count; i++)
+        cgs_service_publish (&app->svc, "uav", &uavsim_msgs_uav (app->msgs, app->world, i)->base);
+}
+
+static void s_publish_clock (s_app_t *app)
+{
+    Cgs__Clock *c = uavsim_msgs_clock (app->msgs, app->world, app->time_scale, app->paused,
+                                       cgs_exercise_origin (app->svc.exercise));
+    cgs_service_publish (&app->svc, "clock", &c->base);
+}
+
+/* Publish what is due at the present simulation time. */
+static void s_publish_due (s_app_t *app, bool all)
+{
+    const uavsim_settings_t *set = &uavsim_world_scenario (app->world)->settings;
+    double t = uavsim_world_time (app->world);
+    app->svc.sim_time_s = t;
+    double eps = 1e-9;
+    if (all || t + eps >= app->next_entity_s) {
+        s_publish_entities (app);
+        app->next_entity_s = floor (t * set->entity_rate_hz + eps + 1) / set->entity_rate_hz;
+    }
+    if (all || t + eps >= app->next_uav_s) {
+        s_publish_uavs (app);
+        app->next_uav_s = floor (t * set->uav_rate_hz + eps + 1) / set->uav_rate_hz;
+    }
+    if (all || t + eps >= app->next_clock_s) {
+        s_publish_clock (app);
+        app->next_clock_s = floor (t * set->clock_rate_hz + eps + 1) / set->clock_rate_hz;
+    }
+}
+
+/* ---- pacing ------------------------------------------------------------------------- */
+
+static void s_on_tick (void *arg)
+{
+    s_app_t *app = arg;
+    if (app->paused) {
+        // Time stands still, but the state is still republished (1 Hz), so a
+        // subscriber that starts now sees the world and the paused clock.
+        double now = cgs_loop_now ();
+        if (now >= app->next_paused_wall_s) {
+            s_publish_due (app, true);
+            app->next_paused_wall_s = now + 1.0;
+        }
+        return;
+    }
+    double step = uavsim_world_step_s (app->world);
+    double elapsed = cgs_loop_now () - app->anchor_wall_s;
+    uint64_t target = app->anchor_tick + (uint64_t)floor (elapsed * app->time_scale / step);
+    uint64_t tick = uavsim_world_tick (app->world);
+    if (target <= tick)
+        return;
+    uint64_t behind = target - tick;
+    uint64_t max_steps = (uint64_t)ceil (S_MAX_BEHIND_S * app->time_scale / step);
+    if (behind > max_steps) {
+        // The machine cannot keep up with this time scale: run what fits and
+        // let simulation time slip rather than pile up a backlog.
+        behind = max_steps;
+        if (app->lag_events++ == 0)
+            cgs_log (LOG_WARNING, "the simulation cannot keep time scale %g; it runs slower",
+                     app->time_scale);
+    }
+    for (uint64_t i = 0; i < behind; i++) {
+        uavsim_world_step (app->world);
+        s_publish_due (app, false);
+    }
+    if (target - tick > behind)
+        s_anchor (app);
+}
+
+/* ---- state (the checkpoint) ----------------------------------------------------------
+ * Saved state: the time scale (8 bytes, IEEE double, little-endian host order
+ * is not assumed: written as text), then the world's checkpoint. */
+
+static int s_save (void *arg, uint8_t **ret_buf, size_t *ret_len)
+{
+    s_app_t *app = arg;
+    uint8_t *world = NULL;
+    size_t len = 0;
+    int rc = uavsim_world_save (app->world, &world, &len);
+    if (rc < 0)
+        return rc;
+    char head[64];
+    int n = snprintf (head, sizeof head, "uavsim %.17g %d\n", app->time_scale, app->paused ? 1 : 0);
+    uint8_t *buf = malloc ((size_t)n + len);
+    if (!buf) {
+        free (world);
+        return -ENOMEM;
+    }
+    memcpy (buf, head, (size_t)n);
+    memcpy (buf + n, world, len);
+    free (world);
+    *ret_buf = buf;
+    *ret_len = (size_t)n + len;
+    return 0;
+}
+
+static int s_restore (s_app_t *app, const uint8_t *buf, size_t len, char *err, size_t errlen)
+{
+    const uint8_t *nl = memchr (buf, '\n', len < 64 ? len : 64);
+    double scale = 0;
+    int paused = 0;
+    char head[64] = "";
+    if (nl)
+        memcpy (head, buf, (size_t)(nl - buf));
+    if (!nl || sscanf (head, "uavsim %lf %d", &scale, &paused) != 2 || !(scale > 0) ||
+        scale > 1000) {
+        snprintf (err, errlen, "not a uavsim state");
+        return -EPROTO;
+    }
+    size_t off = (size_t)(nl - buf) + 1;
+    int rc = uavsim_world_restore (app->world, buf + off, len - off, err, errlen);
+    if (rc < 0)
+        return rc;
+    app->time_scale = scale;
+    app->paused = paused != 0;
+    return 0;
+}
+
+/* ---- commands ----------------------------------------------------------------------- */
+
+static int s_uav (s_app_t *app, uint32_t id, Cgs__Reply *reply)
+{
+    int i = uavsim_world_find_uav (app->world, id);
+    if (i < 0) {
+        snprintf (app->detail, sizeof app->detail, "no UAV with entity id %u%s", id,
+                  id == 0 ? " (give one: the scenario has several)" : "");
+        reply->status = CGS__REPLY_STATUS__REPLY_STATUS_ERROR;
+        reply->error = app->detail;
+    }
+    return i;
+}
+
+static void s_refuse (s_app_t *app, Cgs__Reply *reply, const char *fmt, const char *what)
+{
+    snprintf (app->detail, sizeof app->detail, fmt, what);
+    reply->status = CGS__REPLY_STATUS__REPLY_STATUS_ERROR;
+    reply->error = app->detail;
+}
+
+static cgs_enu_t s_enu (const Cgs__Enu *p)
+{
+    cgs_enu_t e = {0, 0, 0};
+    if (p) {
+        e.e_m = p->east_m;
+        e.n_m = p->north_m;
+        e.u_m = p->up_m;
+    }
+    return e;
+}
+
+static void s_on_command (void *arg, const Cgs__Command *cmd, Cgs__Reply *reply)
+{
+    s_app_t *app = arg;
+    int i = -1;
+    uavsim_uav_model_t *uav = NULL;
+    int rc = 0;
+    switch (cmd->body_case) {
+    case CGS__COMMAND__BODY_TASK_ROUTE: {
+        const Cgs__TaskRoute *t = cmd->task_route;
+        if ((i = s_uav (app, t->uav_id, reply)) < 0)
+            return;
+        uav = uavsim_world_uav (app->world, (size_t)i);
+        if (t->n_waypoints == 0 || t->n_waypoints > UAVSIM_UAV_ROUTE_MAX) {
+            s_refuse (app, reply, "a route needs 1 to %s points", "1024");
+            return;
+        }
+        cgs_enu_t *pts = calloc (t->n_waypoints, sizeof *pts);
+        if (!pts)
+            return s_refuse (app, reply, "%s", "out of memory");
+        for (size_t k = 0; k < t->n_waypoints; k++)
+            pts[k] = s_enu (t->waypoints[k]);
+        if (t->airspeed_mps > 0 && uavsim_uav_set_speed (uav, t->airspeed_mps) < 0)
+            rc = -EINVAL;
+        if (rc == 0 && t->altitude_agl_m > 0 &&
+            uavsim_uav_set_altitude (uav, t->altitude_agl_m) < 0)
+            rc = -EINVAL;
+        if (rc == 0)
+            rc = uavsim_uav_route (uav, pts, t->n_waypoints, t->loiter_at_end, 0, true);
+        free (pts);
+        if (rc < 0)
+            return s_refuse (app, reply, "%s",
+                             "route refused: a point, the speed or the altitude is out of range");
+        break;
+    }
+    case CGS__COMMAND__BODY_LOITER: {
+        const Cgs__Loiter *l = cmd->loiter;
+        if ((i = s_uav (app, l->uav_id, reply)) < 0)
+            return;
+        uav = uavsim_world_uav (app->world, (size_t)i);
+        rc = l->at_present_position
+                 ? uavsim_uav_loiter_here (uav, l->radius_m, l->clockwise)
+                 : uavsim_uav_loiter (uav, s_enu (l->center), l->radius_m, l->clockwise);
+        if (rc < 0)
+            return s_refuse (app, reply, "%s", "loiter refused: bad centre or radius");
+        break;
+    }
+    case CGS__COMMAND__BODY_SET_ALTITUDE:
+        if ((i = s_uav (app, cmd->set_altitude->uav_id, reply)) < 0)
+            return;
+        uav = uavsim_world_uav (app->world, (size_t)i);
+        if (uavsim_uav_set_altitude (uav, cmd->set_altitude->altitude_agl_m) < 0)
+            return s_refuse (app, reply, "%s", "altitude must be in (0, 20000] m above ground");
+        break;
+    case CGS__COMMAND__BODY_SET_SPEED:
+        if ((i = s_uav (app, cmd->set_speed->uav_id, reply)) < 0)
+            return;
+        uav = uavsim_world_uav (app->world, (size_t)i);
+        if (uavsim_uav_set_speed (uav, cmd->set_speed->airspeed_mps) < 0)
+            return s_refuse (app, reply, "%s", "airspeed outside the UAV's limits");
+        break;
+    case CGS__COMMAND__BODY_PAUSE:
+        app->paused = true;
+        s_publish_clock (app);
+        break;
+    case CGS__COMMAND__BODY_RESUME:
+        app->paused = false;
+        s_anchor (app);
+        s_publish_clock (app);
+        break;
+    case CGS__COMMAND__BODY_SET_TIME_SCALE: {
+        double x = cmd->set_time_scale->time_scale;
+        if (!(x > 0) || x > 1000)
+            return s_refuse (app, reply, "%s", "time scale must be in (0, 1000]");
+        app->time_scale = x;
+        s_anchor (app);
+        s_publish_clock (app);
+        break;
+    }
+    case CGS__COMMAND__BODY_PING:
+        break;
+    default:
+        reply->status = CGS__REPLY_STATUS__REPLY_STATUS_UNSUPPORTED;
+        snprintf (app->detail, sizeof app->detail, "uavsim does not handle %s", cgs_cmd_name (cmd));
+        reply->error = app->detail;
+        return;
+    }
+    if (uav) {
+        uavsim_uav_state_t s;
+        uavsim_uav_state (uav, &s);
+        snprintf (app->detail, sizeof app->detail, "%s: task %llu accepted at t=%.2f s",
+                  cgs_cmd_name (cmd), (unsigned long long)s.task_number,
+                  uavsim_world_time (app->world));
+        s_publish_uavs (app);
+    } else {
+        snprintf (app->detail, sizeof app->detail, "%s at t=%.2f s, time scale %g%s",
+                  cgs_cmd_name (cmd), uavsim_world_time (app->world), app->time_scale,
+                  app->paused ? ", paused" : "");
+    }
+    cgs_log (LOG_INFO, "%s (from %s #%llu)", app->detail, cmd->client_id,
+             (unsigned long long)cmd->command_number);
+    reply->detail = app->detail;
+}
+
+static void s_on_checkpoint (void *arg)
+{
+    s_app_t *app = arg;
+    if (cgs_service_save_state (&app->svc) < 0)
+        cgs_log (LOG_WARNING, "checkpoint not written (see health)");
+    cgs_notify_status ("t=%.1f s, x%g%s", uavsim_world_time (app->world), app->time_scale,
+                       app->paused ? " paused" : "");
+}
+
+/* ---- main ------------------------------------------------------------------------------ */
+
+int main (int argc, char **argv)
+{
+    static s_app_t app;
+    cgs_service_info_t info = {
+        .program = "uavsim",
+        .summary = "Ground truth: terrain, UAVs, ground vehicles and the simulation clock.",
+        .options = s_options,
+        .on_option = s_on_option,
+        .option_arg = &app,
+    };
+    int rc = cgs_service_init (&app.svc, &info, argc, argv);
+    if (rc != 0) {
+        cgs_service_fini (&app.svc);
+        return rc > 0 ? 0 : 1;
+    }
+    int exit_code = 1;
+    char err[1024] = "";
+    if (!*app.svc.scenario) {
+        cgs_log (LOG_ERR, "no scenario: give --scenario FILE or `scenario =` in %s",
+                 app.svc.exercise_path);
+        goto done;
+    }
+    cgs_geodetic_t o = cgs_exercise_origin (app.svc.exercise);
+    app.frame = cgs_geo_new (o.lat_deg, o.lon_deg, o.height_m);
+    uavsim_scenario_t *sc = NULL;
+    if (!app.frame ||
+        uavsim_scenario_load (app.svc.scenario, app.frame, cgs_exercise_seed (app.svc.exercise),
+                              &sc, err, sizeof err) < 0 ||
+        uavsim_world_new (sc, app.frame, &app.world, err, sizeof err) < 0) {
+        cgs_log (LOG_ERR, "%s", *err ? err : "bad exercise origin");
+        goto done;
+    }
+    const uavsim_scenario_t *scn = uavsim_world_scenario (app.world);
+    cgs_log (LOG_INFO, "scenario %s: %zu UAV%s, %zu vehicles, terrain %dx%d at %.0f m",
+             app.svc.scenario, scn->uav_count, scn->uav_count == 1 ? "" : "s", scn->vehicle_count,
+             cgs_terrain_cols (uavsim_world_terrain (app.world)),
+             cgs_terrain_rows (uavsim_world_terrain (app.world)),
+             cgs_terrain_resolution (uavsim_world_terrain (app.world)));
+    if (app.svc.check_only) {
+        printf ("%s: scenario %s is good\n", app.svc.instance_name, app.svc.scenario);
+        exit_code = 0;
+        goto done;
+    }
+    app.msgs = uavsim_msgs_new (app.world);
+    if (!app.msgs) {
+        cgs_log (LOG_ERR, "out of memory");
+        goto done;
+    }
+    app.time_scale = app.svc.time_scale;
+    if (cgs_service_serve_commands (&app.svc, s_on_command, s_save, &app) < 0)
+        goto done;
+    const uint8_t *saved = NULL;
+    size_t saved_len = 0;
+    cgs_service_saved_state (&app.svc, &saved, &saved_len);
+    if (saved_len > 0 && app.fresh) {
+        cgs_log (LOG_NOTICE, "--fresh: the saved state is ignored; starting from the scenario");
+    } else if (saved_len > 0) {
+        if (s_restore (&app, saved, saved_len, err, sizeof err) < 0) {
+            cgs_log (LOG_WARNING, "saved state ignored (%s); starting from the scenario", err);
+            cgs_health_set_error (app.svc.health, err);
+        } else {
+            cgs_log (LOG_NOTICE, "resumed from the saved state at t=%.2f s (tick %llu)",
+                     uavsim_world_time (app.world),
+                     (unsigned long long)uavsim_world_tick (app.world));
+        }
+    }
+    if (app.svc.time_scale != cgs_exercise_time_scale (app.svc.exercise))
+        app.time_scale = app.svc.time_scale; // --time-scale on the command line wins
+    s_anchor (&app);
+    s_publish_due (&app, true);
+    cgs_loop_add_timer (app.svc.loop, S_TICK_S, s_on_tick, &app);
+    cgs_loop_add_timer (app.svc.loop, scn->settings.checkpoint_interval_s, s_on_checkpoint, &app);
+    exit_code = cgs_service_run (&app.svc);
+    // A clean stop saves the world as it is, so a restart continues from here.
+    if (cgs_service_save_state (&app.svc) == 0)
+        cgs_log (LOG_INFO, "saved the world at t=%.2f s", uavsim_world_time (app.world));
+done:
+    uavsim_msgs_destroy (&app.msgs);
+    uavsim_world_destroy (&app.world);
+    cgs_geo_destroy (&app.frame);
+    cgs_service_fini (&app.svc);
+    return exit_code;
+}
