@@ -105,6 +105,7 @@ static int s_parse (cgs_service_t *svc, int argc, char **argv)
         case O_SCALE: {
             char *end = NULL;
             svc->time_scale = strtod (optarg, &end);
+            svc->time_scale_given = true;
             if (!end || *end || !(svc->time_scale > 0) || svc->time_scale > 1000) {
                 fprintf (stderr, "%s: --time-scale: expected a number in (0, 1000], got '%s'\n",
                          info->program, optarg);

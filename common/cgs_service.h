@@ -49,6 +49,7 @@ typedef struct {
     char params[4096];    // "" when none given (and none in the instance)
     char state_dir[4096]; // absolute, created
     double time_scale;    // --time-scale, else the exercise's
+    bool time_scale_given; // --time-scale was on the command line
     bool check_only;      // --check: validate and exit
     int verbose;
     void *ctx; // ZeroMQ context

@@ -55,7 +55,7 @@ static void s_usage (FILE *f)
                 "  status   a table of every service's health [--wait S]\n"
                 "  ping     ask a service's command endpoint for a reply: ping INSTANCE\n"
                 "  topics   list the bus topics\n"
-                "  loiter, route, altitude, speed       task a UAV (uavsim); --help for each\n"
+                "  loiter, goto, route, altitude, speed task a UAV (uavsim); --help for each\n"
                 "  pause, resume, time-scale X          the simulation clock (uavsim)\n\n"
                 "The exercise file is --exercise F, else $MSCGS_EXERCISE, else\n"
                 "/etc/mscgs/exercise.ini, else the installed or source tree's default exercise.\n");
@@ -589,9 +589,15 @@ static int s_cmd_task (const char *tool, int argc, char **argv)
         case 't':
             to = optarg;
             break;
-        case 'u':
-            uav = (uint32_t)s_number ("--uav", optarg);
+        case 'u': {
+            double v = s_number ("--uav", optarg);
+            if (v < 0 || v > UINT32_MAX || v != floor (v)) {
+                fprintf (stderr, "mscgs: --uav: expected an entity id, got '%s'\n", optarg);
+                return 2;
+            }
+            uav = (uint32_t)v;
             break;
+        }
         case 'H':
             here = true;
             break;
@@ -616,7 +622,10 @@ static int s_cmd_task (const char *tool, int argc, char **argv)
         default:
             fprintf (c == 'h' ? stdout : stderr,
                      "usage: mscgs loiter (--here | --at POS) [--radius M] [--anticlockwise]\n"
-                     "       mscgs route [--speed MPS] [--altitude M] [--no-loiter] POS [POS ...]\n"
+                     "       mscgs goto [--radius M] [--anticlockwise] POS   (then loiter there)\n"
+                     "       mscgs route [--speed MPS] [--altitude M] [--no-loiter] [--radius M]\n"
+                     "                   [--anticlockwise] POS [POS ...]   (then loiter above the "
+                     "last)\n"
                      "       mscgs altitude M          (above ground)\n"
                      "       mscgs speed MPS           (airspeed)\n"
                      "       mscgs pause | resume | time-scale X\n"
@@ -631,6 +640,7 @@ static int s_cmd_task (const char *tool, int argc, char **argv)
         return 1;
     Cgs__Command cmd = CGS__COMMAND__INIT;
     Cgs__Loiter loiter = CGS__LOITER__INIT;
+    Cgs__GoTo go_to = CGS__GO_TO__INIT;
     Cgs__TaskRoute route = CGS__TASK_ROUTE__INIT;
     Cgs__SetAltitude alt = CGS__SET_ALTITUDE__INIT;
     Cgs__SetSpeed spd = CGS__SET_SPEED__INIT;
@@ -655,6 +665,19 @@ static int s_cmd_task (const char *tool, int argc, char **argv)
         loiter.at_present_position = here;
         cmd.body_case = CGS__COMMAND__BODY_LOITER;
         cmd.loiter = &loiter;
+    } else if (strcmp (tool, "goto") == 0) {
+        if (nargs != 1) {
+            fprintf (stderr, "mscgs goto: give one position\n");
+            goto done;
+        }
+        if (s_position (ex, argv[optind], &centre) < 0)
+            goto done;
+        go_to.uav_id = uav;
+        go_to.point = &centre;
+        go_to.radius_m = radius;
+        go_to.anticlockwise = anticlockwise;
+        cmd.body_case = CGS__COMMAND__BODY_GO_TO;
+        cmd.go_to = &go_to;
     } else if (strcmp (tool, "route") == 0) {
         if (nargs < 1) {
             fprintf (stderr, "mscgs route: give one or more positions\n");
@@ -675,6 +698,8 @@ static int s_cmd_task (const char *tool, int argc, char **argv)
         route.airspeed_mps = speed;
         route.altitude_agl_m = altitude;
         route.loiter_at_end = !no_loiter;
+        route.loiter_radius_m = radius;
+        route.loiter_anticlockwise = anticlockwise;
         cmd.body_case = CGS__COMMAND__BODY_TASK_ROUTE;
         cmd.task_route = &route;
     } else if (strcmp (tool, "altitude") == 0 || strcmp (tool, "speed") == 0 ||
@@ -1117,7 +1142,8 @@ int main (int argc, char **argv)
         return s_cmd_ping (argc, argv);
     if (strcmp (cmd, "topics") == 0)
         return s_cmd_topics ();
-    const char *tasks[] = {"loiter", "route", "altitude", "speed", "pause", "resume", "time-scale"};
+    const char *tasks[] = {"loiter", "goto",  "route",  "altitude",
+                           "speed",  "pause", "resume", "time-scale"};
     for (size_t i = 0; i < sizeof tasks / sizeof tasks[0]; i++)
         if (strcmp (cmd, tasks[i]) == 0)
             return s_cmd_task (cmd, argc, argv);

@@ -14,8 +14,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define S_TICK_S       0.005 // pacing timer, wall seconds
-#define S_MAX_BEHIND_S 1.0   // simulation may lag the wall clock by this before it re-anchors
+#define S_TICK_S   0.005 // pacing timer, wall seconds
+#define S_BUDGET_S 0.010 // most wall time one pacing tick may spend stepping
 
 typedef struct {
     cgs_service_t svc;
@@ -120,21 +120,30 @@ static void s_on_tick (void *arg)
     if (target <= tick)
         return;
     uint64_t behind = target - tick;
-    uint64_t max_steps = (uint64_t)ceil (S_MAX_BEHIND_S * app->time_scale / step);
-    if (behind > max_steps) {
-        // The machine cannot keep up with this time scale: run what fits and
-        // let simulation time slip rather than pile up a backlog.
-        behind = max_steps;
-        if (app->lag_events++ == 0)
-            cgs_log (LOG_WARNING, "the simulation cannot keep time scale %g; it runs slower",
-                     app->time_scale);
-    }
-    for (uint64_t i = 0; i < behind; i++) {
+    // Run what is due, but never hold the loop for more than S_BUDGET_S: it
+    // must go on serving commands, signals, health and the watchdog. What did
+    // not fit is dropped (simulation time slips) rather than piled up.
+    double start = cgs_loop_now ();
+    uint64_t done = 0;
+    while (done < behind) {
         uavsim_world_step (app->world);
         s_publish_due (app, false);
+        done++;
+        if ((done & 15) == 0 && cgs_loop_now () - start > S_BUDGET_S)
+            break;
     }
-    if (target - tick > behind)
+    if (done < behind) {
         s_anchor (app);
+        if (app->lag_events++ == 0 || app->lag_events % 1000 == 0) {
+            char why[160];
+            snprintf (
+                why, sizeof why,
+                "the simulation cannot keep time scale %g: it runs slower (lagged %llu times)",
+                app->time_scale, (unsigned long long)app->lag_events);
+            cgs_log (LOG_WARNING, "%s", why);
+            cgs_health_set_error (app->svc.health, why);
+        }
+    }
 }
 
 /* ---- state (the checkpoint) ----------------------------------------------------------
@@ -218,6 +227,39 @@ static cgs_enu_t s_enu (const Cgs__Enu *p)
     return e;
 }
 
+/* The UAV's state before a command, so a refused command changes nothing. */
+static int s_keep (uavsim_uav_model_t *uav, uint8_t **ret_buf, size_t *ret_len)
+{
+    size_t size = uavsim_uav_save_size (uav);
+    uint8_t *buf = malloc (size);
+    if (!buf)
+        return -ENOMEM;
+    int rc = uavsim_uav_save (uav, buf, size, ret_len);
+    if (rc < 0) {
+        free (buf);
+        return rc;
+    }
+    *ret_buf = buf;
+    return 0;
+}
+
+/* 0 when the UAV can fly an orbit of radius_m (0: its default) at its
+ * commanded airspeed, else refuse with the smallest radius it can fly. */
+static int s_radius_ok (s_app_t *app, uavsim_uav_model_t *uav, double radius_m, Cgs__Reply *reply)
+{
+    uavsim_uav_state_t st;
+    uavsim_uav_state (uav, &st);
+    double min_r = uavsim_uav_min_turn_radius (uav, st.commanded_airspeed_mps);
+    if (radius_m == 0 || radius_m >= min_r)
+        return 0;
+    snprintf (app->detail, sizeof app->detail,
+              "a %.0f m orbit is tighter than the UAV can turn at %.0f m/s (at least %.0f m)",
+              radius_m, st.commanded_airspeed_mps, ceil (min_r));
+    reply->status = CGS__REPLY_STATUS__REPLY_STATUS_ERROR;
+    reply->error = app->detail;
+    return -EINVAL;
+}
+
 static void s_on_command (void *arg, const Cgs__Command *cmd, Cgs__Reply *reply)
 {
     s_app_t *app = arg;
@@ -231,25 +273,49 @@ static void s_on_command (void *arg, const Cgs__Command *cmd, Cgs__Reply *reply)
             return;
         uav = uavsim_world_uav (app->world, (size_t)i);
         if (t->n_waypoints == 0 || t->n_waypoints > UAVSIM_UAV_ROUTE_MAX) {
-            s_refuse (app, reply, "a route needs 1 to %s points", "1024");
+            snprintf (app->detail, sizeof app->detail, "a route needs 1 to %d points",
+                      UAVSIM_UAV_ROUTE_MAX);
+            reply->status = CGS__REPLY_STATUS__REPLY_STATUS_ERROR;
+            reply->error = app->detail;
             return;
         }
         cgs_enu_t *pts = calloc (t->n_waypoints, sizeof *pts);
-        if (!pts)
+        uint8_t *before = NULL;
+        size_t before_len = 0;
+        if (!pts || s_keep (uav, &before, &before_len) < 0) {
+            free (pts);
             return s_refuse (app, reply, "%s", "out of memory");
+        }
         for (size_t k = 0; k < t->n_waypoints; k++)
             pts[k] = s_enu (t->waypoints[k]);
+        // Apply speed, altitude and route together, or none of them.
+        const char *why = NULL;
         if (t->airspeed_mps > 0 && uavsim_uav_set_speed (uav, t->airspeed_mps) < 0)
-            rc = -EINVAL;
-        if (rc == 0 && t->altitude_agl_m > 0 &&
-            uavsim_uav_set_altitude (uav, t->altitude_agl_m) < 0)
-            rc = -EINVAL;
-        if (rc == 0)
-            rc = uavsim_uav_route (uav, pts, t->n_waypoints, t->loiter_at_end, 0, true);
+            why = "route refused: the airspeed is outside the UAV's limits";
+        else if (t->altitude_agl_m > 0 && uavsim_uav_set_altitude (uav, t->altitude_agl_m) < 0)
+            why = "route refused: the altitude must be in (0, 20000] m above ground";
+        else if (t->loiter_at_end && s_radius_ok (app, uav, t->loiter_radius_m, reply) < 0)
+            why = "route refused: its end orbit is tighter than the UAV can turn";
+        else if (uavsim_uav_route (uav, pts, t->n_waypoints, t->loiter_at_end, t->loiter_radius_m,
+                                   !t->loiter_anticlockwise) < 0)
+            why = "route refused: a point is out of range";
+        if (why)
+            uavsim_uav_restore (uav, before, before_len);
         free (pts);
-        if (rc < 0)
-            return s_refuse (app, reply, "%s",
-                             "route refused: a point, the speed or the altitude is out of range");
+        free (before);
+        if (why)
+            return s_refuse (app, reply, "%s", why);
+        break;
+    }
+    case CGS__COMMAND__BODY_GO_TO: {
+        const Cgs__GoTo *g = cmd->go_to;
+        if ((i = s_uav (app, g->uav_id, reply)) < 0)
+            return;
+        uav = uavsim_world_uav (app->world, (size_t)i);
+        if (s_radius_ok (app, uav, g->radius_m, reply) < 0)
+            return;
+        if (uavsim_uav_goto (uav, s_enu (g->point), g->radius_m, !g->anticlockwise) < 0)
+            return s_refuse (app, reply, "%s", "go to refused: bad point or radius");
         break;
     }
     case CGS__COMMAND__BODY_LOITER: {
@@ -257,6 +323,8 @@ static void s_on_command (void *arg, const Cgs__Command *cmd, Cgs__Reply *reply)
         if ((i = s_uav (app, l->uav_id, reply)) < 0)
             return;
         uav = uavsim_world_uav (app->world, (size_t)i);
+        if (s_radius_ok (app, uav, l->radius_m, reply) < 0)
+            return;
         rc = l->at_present_position
                  ? uavsim_uav_loiter_here (uav, l->radius_m, l->clockwise)
                  : uavsim_uav_loiter (uav, s_enu (l->center), l->radius_m, l->clockwise);
@@ -398,7 +466,7 @@ int main (int argc, char **argv)
                      (unsigned long long)uavsim_world_tick (app.world));
         }
     }
-    if (app.svc.time_scale != cgs_exercise_time_scale (app.svc.exercise))
+    if (app.svc.time_scale_given)
         app.time_scale = app.svc.time_scale; // --time-scale on the command line wins
     s_anchor (&app);
     s_publish_due (&app, true);

@@ -40,7 +40,16 @@ void uavsim_world_destroy (uavsim_world_t **self_p)
     *self_p = NULL;
 }
 
-/* FNV-1a over the entity ids, names and route sizes. */
+static uint64_t s_bits (double d)
+{
+    uint64_t b;
+    memcpy (&b, &d, sizeof b);
+    return b;
+}
+
+/* FNV-1a over what a checkpoint must match: the step, the terrain, the UAVs'
+ * limits, the entity ids, names and route sizes (each vehicle also checks its
+ * own parameters). */
 static uint64_t s_fingerprint (const uavsim_scenario_t *sc)
 {
     uint64_t h = 1469598103934665603ull;
@@ -51,6 +60,25 @@ static uint64_t s_fingerprint (const uavsim_scenario_t *sc)
     } while (0)
     S_MIX (sc->uav_count);
     S_MIX (sc->vehicle_count);
+    // What the dynamic state depends on besides the entities: the step, the
+    // terrain and every UAV's flight limits.
+    S_MIX (s_bits (sc->settings.step_s));
+    S_MIX (sc->terrain.source);
+    S_MIX (sc->terrain.fbm.seed);
+    S_MIX (s_bits (sc->terrain.fbm.size_m));
+    S_MIX (s_bits (sc->terrain.fbm.resolution_m));
+    S_MIX (s_bits (sc->terrain.fbm.relief_m));
+    S_MIX (s_bits (sc->terrain.fbm.base_height_m));
+    S_MIX (s_bits (sc->terrain.resolution_m));
+    S_MIX (s_bits (sc->terrain.half_extent_m));
+    for (const char *c = sc->terrain.dem_path ? sc->terrain.dem_path : ""; *c; c++)
+        S_MIX ((unsigned char)*c);
+    for (size_t i = 0; i < sc->uav_count; i++) {
+        S_MIX (s_bits (sc->uavs[i].bank_limit_deg));
+        S_MIX (s_bits (sc->uavs[i].climb_rate_mps));
+        S_MIX (s_bits (sc->uavs[i].airspeed_mps));
+        S_MIX (s_bits (sc->uavs[i].loiter_radius_m));
+    }
     for (size_t i = 0; i < sc->uav_count; i++) {
         S_MIX (sc->uavs[i].id);
         for (const char *c = sc->uavs[i].name; *c; c++)

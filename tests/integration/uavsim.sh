@@ -79,19 +79,43 @@ check "the UAV flies the route (mode ROUTE, task 2)" wait_for 10 route_flown
 out=$(M speed 500 2>&1)
 is "$?" 1 "an airspeed outside the UAV's limits is refused (exit 1)"
 check "with the reason" grep -q "airspeed outside the UAV's limits" <<<"$out"
+M route --speed 500 --altitude 900 0,0 >/dev/null 2>&1
+is "$?" 1 "a route with an impossible speed is refused"
+u=$(json uav)
+check "and changes nothing: still task 2, still 30 m/s, still 800 m" bash -c \
+    "grep -q '\"task_number\":\"2\"' <<<'$u' && grep -q '\"commanded_airspeed_mps\":30,' <<<'$u' && grep -q '\"commanded_altitude_agl_m\":800,' <<<'$u'"
+out=$(M loiter --at 0,0 --radius 50 2>&1)
+is "$?" 1 "an orbit tighter than the UAV can turn is refused"
+check "saying how tight it can turn" grep -q "tighter than the UAV can turn" <<<"$out"
 
-# Let a checkpoint pass, then crash it.
-t1=$(num "$(json clock)" sim_time_s)
-check "simulation time runs at the time scale (t=$t1 s)" gt "$t1" 5
+# The clock runs at the time scale: about 10 s of simulation per second.
+ta=$(num "$(json clock)" sim_time_s)
+sleep 1
+tb=$(num "$(json clock)" sim_time_s)
+rate=$(awk -v a="$ta" -v b="$tb" 'BEGIN { print b - a }')
+diag "simulated $rate s in a little over 1 s of wall time at time scale 10"
+check "simulation time advances at about the time scale" \
+    awk -v r="$rate" 'BEGIN { exit !(r > 8 && r < 14) }'
+
+# Let a checkpoint pass, then crash it; restart without --time-scale.
+t1=$tb
 sleep 1.2
 kill9 "$U1"
-start U2 uavsim-2 "$UAVSIM" --exercise "$EX" --time-scale 10
-t2=$(num "$(json clock)" sim_time_s)
+start U2 uavsim-2 "$UAVSIM" --exercise "$EX"
+c2=$(json clock)
+t2=$(num "$c2" sim_time_s)
 diag "before the kill: t=$t1 s; first clock after the restart: t=$t2 s"
-check "the restarted uavsim resumes near where it was, not at 0" gt "$t2" "$(awk -v a="$t1" 'BEGIN{print a - 1}')"
+check "the restarted uavsim resumes where it was (t=$t2 s), not at 0" gt "$t2" "$t1"
 check "it says it resumed from its saved state" grep -q "resumed from the saved state" "$TMP/uavsim-2.log"
+check "the time scale came back with the world (10, not the exercise's 1)" \
+    grep -q '"time_scale":10' <<<"$c2"
 u=$(json uav)
 check "the route task survived the crash (task 2)" grep -q '"task_number":"2"' <<<"$u"
+
+out=$(M goto 500,500 --radius 600 2>&1)
+is "$?" 0 "mscgs goto is accepted"
+check "the UAV heads for the point (task 3, mode TRANSIT)" wait_for 10 bash -c \
+    "'$MSCGS' echo uav --json --count 1 --timeout 5 --exercise '$EX' 2>/dev/null | grep '\"task_number\":\"3\"' | grep -q UAV_MODE_TRANSIT"
 
 M pause >/dev/null 2>&1
 is "$?" 0 "mscgs pause"
@@ -102,6 +126,11 @@ check "paused: the clock says so" grep -q '"paused":true' <<<"$c4"
 is "$(num "$c4" sim_time_s)" "$(num "$c3" sim_time_s)" "paused: simulation time stands still"
 M resume >/dev/null 2>&1
 is "$?" 0 "mscgs resume"
+sleep 0.5
+check "resumed: simulation time advances again" gt "$(num "$(json clock)" sim_time_s)" "$(num "$c4" sim_time_s)"
+M time-scale 20 >/dev/null 2>&1
+is "$?" 0 "mscgs time-scale 20 is accepted"
+check "the clock reports it" wait_for 5 bash -c "'$MSCGS' echo clock --json --count 1 --timeout 3 --exercise '$EX' | grep -q '\"time_scale\":20'"
 M time-scale 2000 >/dev/null 2>&1
 is "$?" 1 "a time scale over 1000 is refused"
 

@@ -160,6 +160,13 @@ static void test_bad_checkpoints_change_nothing (void **state)
     uavsim_world_t *c = s_world (other, 1);
     assert_int_equal (uavsim_world_restore (c, ck, len, err, sizeof err), -EPROTO);
     assert_non_null (strstr (err, "another scenario"));
+    // The same entities with another step: simulation time would be wrong.
+    char stepped[2048];
+    snprintf (stepped, sizeof stepped, "%s[uavsim]\nstep_s = 0.1\n", s_text);
+    uavsim_world_t *d = s_world (stepped, 1);
+    assert_int_equal (uavsim_world_restore (d, ck, len, err, sizeof err), -EPROTO);
+    assert_non_null (strstr (err, "another scenario"));
+    uavsim_world_destroy (&d);
     assert_int_equal (uavsim_world_restore (b, ck, len, err, sizeof err), 0);
     free (ck);
     free (before);
