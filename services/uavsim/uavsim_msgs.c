@@ -164,6 +164,25 @@ Cgs__EntityBatch *uavsim_msgs_batch (uavsim_msgs_t *self, size_t k)
     return k < self->nbatches ? &self->batches[k] : NULL;
 }
 
+void uavsim_msgs_boresight (double heading_deg, double pitch_deg, double roll_deg,
+                            double depression_deg, double *ret_azimuth_deg,
+                            double *ret_elevation_deg)
+{
+    const double r = M_PI / 180.0;
+    double ch = cos (heading_deg * r), sh = sin (heading_deg * r);
+    double cp = cos (pitch_deg * r), sp = sin (pitch_deg * r);
+    double cr = cos (roll_deg * r), sr = sin (roll_deg * r);
+    // Boresight in the body (x forward, y right, z down), depressed by d.
+    double bx = cos (depression_deg * r), by = 0, bz = sin (depression_deg * r);
+    // Body to north-east-down: yaw (heading), pitch, roll (aerospace ZYX).
+    double n = ch * cp * bx + (ch * sp * sr - sh * cr) * by + (ch * sp * cr + sh * sr) * bz;
+    double e = sh * cp * bx + (sh * sp * sr + ch * cr) * by + (sh * sp * cr - ch * sr) * bz;
+    double d = -sp * bx + cp * sr * by + cp * cr * bz;
+    double az = atan2 (e, n) / r;
+    *ret_azimuth_deg = az < 0 ? az + 360.0 : az;
+    *ret_elevation_deg = -asin (fmax (-1.0, fmin (1.0, d))) / r;
+}
+
 Cgs__Uav *uavsim_msgs_uav (uavsim_msgs_t *self, uavsim_world_t *world, size_t i)
 {
     const uavsim_scenario_t *sc = uavsim_world_scenario (world);
@@ -226,6 +245,8 @@ Cgs__Uav *uavsim_msgs_uav (uavsim_msgs_t *self, uavsim_world_t *world, size_t i)
     m->radar_params = su->radar_params ? su->radar_params : "";
     m->bcis_params = su->bcis_params ? su->bcis_params : "";
     m->task_number = u.task_number;
+    uavsim_msgs_boresight (u.heading_deg, u.pitch_deg, u.roll_deg, su->sensor_depression_deg,
+                           &m->sensor_azimuth_deg, &m->sensor_elevation_deg);
     return m;
 }
 

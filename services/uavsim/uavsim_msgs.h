@@ -25,6 +25,12 @@ size_t uavsim_msgs_entities (uavsim_msgs_t *self, uavsim_world_t *world);
 Cgs__EntityBatch *uavsim_msgs_batch (uavsim_msgs_t *self, size_t k);
 /* The `uav` message of UAV i (valid until the next call). */
 Cgs__Uav *uavsim_msgs_uav (uavsim_msgs_t *self, uavsim_world_t *world, size_t i);
+/* The direction of a body-fixed sensor depressed by depression_deg on a UAV
+ * at that heading, pitch and roll: azimuth clockwise from north [0, 360) and
+ * elevation above the horizon (negative below). */
+void uavsim_msgs_boresight (double heading_deg, double pitch_deg, double roll_deg,
+                            double depression_deg, double *ret_azimuth_deg,
+                            double *ret_elevation_deg);
 /* The clock message. */
 Cgs__Clock *uavsim_msgs_clock (uavsim_msgs_t *self, const uavsim_world_t *world, double time_scale,
                                bool paused, cgs_geodetic_t origin);

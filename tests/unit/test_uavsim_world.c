@@ -246,6 +246,26 @@ static void test_batches (void **state)
     uavsim_world_destroy (&w);
 }
 
+/* Worked examples of the sensor's boresight. Level flight heading 90°, 45°
+ * depression: azimuth 90, elevation -45. Nose up 10° in level flight: the
+ * boresight rises by 10° (elevation -35). Banked 90° right (roll 90) at
+ * heading 0 with 30° depression: the body's down axis points west, so the
+ * boresight (cos 30 forward, sin 30 down) points north and west: azimuth
+ * 360 - atan(sin30/cos30) = 330, elevation 0. */
+static void test_boresight (void **state)
+{
+    (void)state;
+    double az, el;
+    uavsim_msgs_boresight (90, 0, 0, 45, &az, &el);
+    assert_true (fabs (az - 90) < 1e-9 && fabs (el + 45) < 1e-9);
+    uavsim_msgs_boresight (90, 10, 0, 45, &az, &el);
+    assert_true (fabs (az - 90) < 1e-9 && fabs (el + 35) < 1e-9);
+    uavsim_msgs_boresight (0, 0, 90, 30, &az, &el);
+    assert_true (fabs (az - 330) < 1e-9 && fabs (el) < 1e-9);
+    uavsim_msgs_boresight (0, 0, 0, 90, &az, &el); // straight down
+    assert_true (fabs (el + 90) < 1e-9);
+}
+
 int main (void)
 {
     const struct CMUnitTest tests[] = {
@@ -254,6 +274,7 @@ int main (void)
         cmocka_unit_test (test_bad_checkpoints_change_nothing),
         cmocka_unit_test (test_messages_follow_the_models),
         cmocka_unit_test (test_batches),
+        cmocka_unit_test (test_boresight),
     };
     return cmocka_run_group_tests (tests, NULL, NULL);
 }
