@@ -711,8 +711,13 @@ static void s_update_out (uavsim_vehicle_t *self)
     o->e_m = p.e_m;
     o->n_m = p.n_m;
     o->speed_mps = self->v_mps;
-    o->ve_mps = self->v_mps * sin (self->heading_rad);
-    o->vn_mps = self->v_mps * cos (self->heading_rad);
+    if (self->phase == S_PIVOT) {
+        o->ve_mps = self->v_mps * sin (self->heading_rad);
+        o->vn_mps = self->v_mps * cos (self->heading_rad);
+    } else { // (te, tn) is the unit direction the heading was taken from
+        o->ve_mps = self->v_mps * p.te;
+        o->vn_mps = self->v_mps * p.tn;
+    }
     double deg = self->heading_rad / S_DEG;
     o->heading_deg = deg >= 360 ? deg - 360 : deg;
     o->dev_m = p.dev_m;
