@@ -76,7 +76,8 @@ static uint64_t s_new_epoch (void)
 
 typedef struct {
     cgs_topic_stats_t stats;
-    uint64_t seq; // last sequence number sent
+    uint64_t seq;                           // last sequence number sent
+    const ProtobufCMessageDescriptor *desc; // the catalogue's type for it, NULL if none
 } s_pub_topic_t;
 
 struct cgs_pub {
@@ -205,6 +206,8 @@ static s_pub_topic_t *s_pub_topic (cgs_pub_t *self, const char *topic)
     s_pub_topic_t *t = &self->topics[self->ntopics];
     memset (t, 0, sizeof *t);
     snprintf (t->stats.topic, sizeof t->stats.topic, "%s", topic);
+    const cgs_topic_t *known = cgs_topics_find (topic);
+    t->desc = known ? known->message : NULL;
     self->last = self->ntopics++;
     return t;
 }
@@ -217,6 +220,8 @@ int cgs_pub_send (cgs_pub_t *self, const char *topic, ProtobufCMessage *msg, dou
     s_pub_topic_t *t = s_pub_topic (self, topic);
     if (!t)
         return strlen (topic) >= CGS_TOPIC_MAX || !*topic ? -EINVAL : -ENOMEM;
+    if (t->desc && msg->descriptor != t->desc)
+        return -EINVAL; // a catalogue topic carries only its own type
 
     Cgs__Header h = CGS__HEADER__INIT;
     h.source = self->source;
@@ -283,7 +288,8 @@ struct cgs_sub {
     s_sub_topic_t *topics;
     size_t ntopics, captopics;
     cgs_msg_arena_t *arena;
-    Cgs__Header hdr; // header of the message being handled
+    uint32_t exercise_id; // accept only this exercise's messages; 0: any
+    Cgs__Header hdr;      // header of the message being handled
     char hdr_source[S_SOURCE_MAX];
     uint64_t received, malformed_unrouted;
 };
@@ -328,6 +334,19 @@ void cgs_sub_destroy (cgs_sub_t **self_p)
 void cgs_sub_set_hwm (cgs_sub_t *self, int messages)
 {
     zmq_setsockopt (self->socket, ZMQ_RCVHWM, &messages, sizeof messages);
+}
+
+void cgs_sub_set_exercise (cgs_sub_t *self, uint32_t exercise_id)
+{
+    self->exercise_id = exercise_id;
+}
+
+uint64_t cgs_sub_foreign (const cgs_sub_t *self)
+{
+    uint64_t n = 0;
+    for (size_t i = 0; i < self->ntopics; i++)
+        n += self->topics[i].stats.foreign;
+    return n;
 }
 
 int cgs_sub_connect (cgs_sub_t *self, const char *endpoint)
@@ -423,7 +442,7 @@ static s_sub_topic_t *s_sub_route (cgs_sub_t *self, const void *data, size_t len
     return NULL;
 }
 
-typedef enum { S_SEQ_DELIVER, S_SEQ_STALE, S_SEQ_FAIL } s_seq_t;
+typedef enum { S_SEQ_DELIVER, S_SEQ_STALE, S_SEQ_FAIL, S_SEQ_FOREIGN } s_seq_t;
 
 /* Account for a header's sequence number: deliver, drop a repeat, or fail. */
 static s_seq_t s_sub_sequence (s_sub_topic_t *t, const Cgs__Header *h)
@@ -503,7 +522,11 @@ int cgs_sub_dispatch (cgs_sub_t *self, int max)
                                     self->arena, &self->hdr, self->hdr_source,
                                     sizeof self->hdr_source, &m) == 0 &&
             (h = cgs_msg_header (m)) != NULL)
-            verdict = s_sub_sequence (t, h);
+            verdict = self->exercise_id && h->exercise_id != self->exercise_id
+                          ? S_SEQ_FOREIGN
+                          : s_sub_sequence (t, h);
+        if (verdict == S_SEQ_FOREIGN)
+            t->stats.foreign++;
         if (verdict != S_SEQ_DELIVER) {
             if (verdict == S_SEQ_FAIL)
                 t->stats.malformed++;

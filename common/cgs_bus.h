@@ -26,6 +26,7 @@ typedef struct {
     uint64_t malformed; // inbound: payloads that failed to decode
     uint64_t restarts;  // inbound: publisher epochs that changed
     uint64_t stale;     // inbound: repeated or out-of-order sequence numbers
+    uint64_t foreign;   // inbound: from another exercise (dropped)
 } cgs_topic_stats_t;
 
 /* ---- publisher ------------------------------------------------------------------ */
@@ -46,7 +47,9 @@ void cgs_pub_set_hwm (cgs_pub_t *self, int messages);
 void cgs_pub_set_block (cgs_pub_t *self, int timeout_ms);
 /* Bind the PUB socket (creates the folder of an ipc:// path); 0 or -errno. */
 int cgs_pub_bind (cgs_pub_t *self, const char *endpoint);
-/* Stamp a header (the publisher's own, put in msg's header field for the
+/* A topic of the catalogue (cgs_topics) takes only its own message type
+ * (-EINVAL otherwise); other topics take any type with a header.
+ * Stamp a header (the publisher's own, put in msg's header field for the
  * call; msg is left as it was) and send msg on topic. 0; -EAGAIN when dropped
  * in blocking mode (counted; the sequence number is used, so subscribers see
  * the gap); -EINVAL if the type has no header or the topic is bad. */
@@ -77,6 +80,11 @@ cgs_sub_t *cgs_sub_new (void *ctx);
 void cgs_sub_destroy (cgs_sub_t **self_p);
 /* Set the receive high-water mark (before connect). */
 void cgs_sub_set_hwm (cgs_sub_t *self, int messages);
+/* Accept only messages of this exercise (others are counted and dropped);
+ * 0 (the default) accepts any. */
+void cgs_sub_set_exercise (cgs_sub_t *self, uint32_t exercise_id);
+/* Messages dropped because they came from another exercise. */
+uint64_t cgs_sub_foreign (const cgs_sub_t *self);
 /* Connect to one more publisher; 0 or -errno. */
 int cgs_sub_connect (cgs_sub_t *self, const char *endpoint);
 /* Subscribe to a catalogue topic (cgs_topics) with its handler; 0, -ENOENT for

@@ -98,6 +98,7 @@ int cgs_health_publish (cgs_health_t *self, cgs_pub_t *pub, double sim_time_s)
     Cgs__TopicStats ts[S_MAX_TOPICS];
     Cgs__TopicStats *tp[S_MAX_TOPICS];
     size_t nt = 0;
+    uint64_t foreign = 0;
     uint64_t in = 0, out = 0, gaps = 0, malformed = self->extra_malformed, restarts = 0, drops = 0;
 
     if (self->pub) {
@@ -138,6 +139,7 @@ int cgs_health_publish (cgs_health_t *self, cgs_pub_t *pub, double sim_time_s)
         gaps += cgs_sub_gaps (sub);
         malformed += cgs_sub_malformed (sub);
         restarts += cgs_sub_restarts (sub);
+        foreign += cgs_sub_foreign (sub);
     }
     h.program = self->program;
     h.instance = self->instance;
@@ -154,6 +156,7 @@ int cgs_health_publish (cgs_health_t *self, cgs_pub_t *pub, double sim_time_s)
     h.gaps = gaps;
     h.malformed = malformed;
     h.restarts_seen = restarts;
+    h.foreign = foreign;
     if (self->cmd) {
         h.commands = cgs_cmd_server_applied (self->cmd) + cgs_cmd_server_duplicates (self->cmd);
         h.malformed += cgs_cmd_server_malformed (self->cmd);

@@ -249,6 +249,7 @@ int cgs_service_subscribe (cgs_service_t *svc, const char *topic, cgs_sub_fn *fn
         if (!svc->sub)
             return -errno;
         cgs_sub_set_hwm (svc->sub, svc->instance->hwm);
+        cgs_sub_set_exercise (svc->sub, cgs_exercise_id (svc->exercise));
         cgs_health_watch_sub (svc->health, svc->sub);
         cgs_loop_add_socket (svc->loop, cgs_sub_socket (svc->sub), s_on_sub, svc);
     }

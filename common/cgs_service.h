@@ -45,12 +45,12 @@ typedef struct {
     const cgs_service_info_t *info;
     char instance_name[CGS_NAME_MAX];
     char exercise_path[4096];
-    char scenario[4096];  // "" when none given (and none in the exercise)
-    char params[4096];    // "" when none given (and none in the instance)
-    char state_dir[4096]; // absolute, created
-    double time_scale;    // --time-scale, else the exercise's
+    char scenario[4096];   // "" when none given (and none in the exercise)
+    char params[4096];     // "" when none given (and none in the instance)
+    char state_dir[4096];  // absolute, created
+    double time_scale;     // --time-scale, else the exercise's
     bool time_scale_given; // --time-scale was on the command line
-    bool check_only;      // --check: validate and exit
+    bool check_only;       // --check: validate and exit
     int verbose;
     void *ctx; // ZeroMQ context
     cgs_exercise_t *exercise;

@@ -290,6 +290,13 @@ static int s_cmd_status (int argc, char **argv)
         return 1;
     void *ctx = zmq_ctx_new ();
     cgs_sub_t *sub = cgs_sub_new (ctx);
+    if (!sub) {
+        fprintf (stderr, "mscgs: %s\n", strerror (errno));
+        zmq_ctx_term (ctx);
+        cgs_exercise_destroy (&ex);
+        return 1;
+    }
+    cgs_sub_set_exercise (sub, cgs_exercise_id (ex));
     static s_table_t table;
     s_table_init (&table, ex);
     cgs_sub_on (sub, "health", s_on_health, &table);
@@ -396,6 +403,13 @@ static int s_cmd_echo (int argc, char **argv)
         return 1;
     void *ctx = zmq_ctx_new ();
     cgs_sub_t *sub = cgs_sub_new (ctx);
+    if (!sub) {
+        fprintf (stderr, "mscgs: %s\n", strerror (errno));
+        zmq_ctx_term (ctx);
+        cgs_exercise_destroy (&ex);
+        return 1;
+    }
+    cgs_sub_set_exercise (sub, cgs_exercise_id (ex));
     cgs_sub_on (sub, topic, s_on_echo, &echo);
     if (s_connect_publishers (sub, ex, topic) == 0)
         fprintf (stderr, "mscgs echo: no instance in %s publishes %s\n", cgs_exercise_path (ex),
@@ -1046,6 +1060,11 @@ static int s_cmd_run (int argc, char **argv)
     cgs_lifecycle_init ();
     void *ctx = zmq_ctx_new ();
     run.sub = cgs_sub_new (ctx);
+    if (!run.sub) {
+        fprintf (stderr, "mscgs run: %s\n", strerror (errno));
+        return 1;
+    }
+    cgs_sub_set_exercise (run.sub, cgs_exercise_id (run.ex));
     s_table_init (&run.table, run.ex);
     cgs_sub_on (run.sub, "health", s_on_health, &run.table);
     cgs_sub_on (run.sub, "clock", s_on_clock, &run.table);

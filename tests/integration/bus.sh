@@ -142,7 +142,7 @@ diag "c: $((SECONDS - t0)) s"
 # a header, a message with a third frame), then clock #2 and #3.
 t0=$SECONDS
 start_sub SUB d-sub
-start GARBAGE d-garbage "$PEER" --send-garbage "ipc://$TMP/bad.ipc" --wait-ms 10000
+start GARBAGE d-garbage "$PEER" --send-garbage "ipc://$TMP/bad.ipc" --wait-ms 10000 --exercise-id 7
 check "d: the raw sender found the subscriber and sent" wait_exit "$GARBAGE" 15
 is "$EXIT_CODE" 0 "d: the raw sender exits 0"
 check "d: the subscriber counts 5 malformed messages" wait_for 10 rep_ge "$TMP/d-sub.rep" malformed 5

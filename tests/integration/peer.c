@@ -667,11 +667,12 @@ static int s_send_frames (void *sock, const char *const *frames, const size_t *l
 }
 
 /* A `clock` message as cgs_pub would send it (header included, unless seq is 0). */
-static int s_send_clock (void *sock, uint64_t epoch, uint64_t seq, const char *extra_frame)
+static int s_send_clock (void *sock, uint32_t exercise_id, uint64_t epoch, uint64_t seq,
+                         const char *extra_frame)
 {
     Cgs__Header h = CGS__HEADER__INIT;
     h.source = "peer.garbage";
-    h.exercise_id = 1;
+    h.exercise_id = exercise_id;
     h.epoch = epoch;
     h.seq = seq;
     h.wall_time_s = cgs_bus_wall_time ();
@@ -692,14 +693,17 @@ static int s_send_clock (void *sock, uint64_t epoch, uint64_t seq, const char *e
 
 /* Send, in order: valid clock #1; five malformed clock messages (a lone topic
  * frame, a truncated protobuf payload, an empty payload, a payload without a
- * header, a valid message with a third frame); valid clock #2 and #3. A
- * subscriber should count 3 received, 0 gaps, 5 malformed. */
+ * header, a valid message with a third frame); valid clock #2 and #3; a valid
+ * #4 of another exercise. A subscriber of exercise N should count 3 received,
+ * 0 gaps, 5 malformed, and drop the last. */
 static int s_garbage_main (int argc, char **argv)
 {
     const char *endpoint = NULL;
     long wait_ms = 10000;
+    uint32_t exercise = 1;
     static const struct option opts[] = {
         {"send-garbage", required_argument, NULL, 'g'},
+        {"exercise-id", required_argument, NULL, 'x'},
         {"wait-ms", required_argument, NULL, 'w'},
         {NULL, 0, NULL, 0},
     };
@@ -713,12 +717,15 @@ static int s_garbage_main (int argc, char **argv)
         case 'w':
             wait_ms = strtol (optarg, NULL, 10);
             break;
+        case 'x':
+            exercise = (uint32_t)strtoul (optarg, NULL, 10);
+            break;
         default:
             return 2;
         }
     }
     if (!endpoint || optind < argc || wait_ms <= 0) {
-        fprintf (stderr, "usage: peer --send-garbage ENDPOINT [--wait-ms MS]\n");
+        fprintf (stderr, "usage: peer --send-garbage ENDPOINT [--wait-ms MS] [--exercise-id N]\n");
         return 2;
     }
     cgs_log_init ("peer.garbage", LOG_INFO);
@@ -758,7 +765,7 @@ static int s_garbage_main (int argc, char **argv)
     const size_t trunc_len[] = {5, sizeof truncated};
     const char *empty[] = {"clock", ""};
     const size_t empty_len[] = {5, 0};
-    int rc = s_send_clock (sock, epoch, 1, NULL);
+    int rc = s_send_clock (sock, exercise, epoch, 1, NULL);
     if (rc == 0)
         rc = s_send_frames (sock, lone, lone_len, 1);
     if (rc == 0)
@@ -766,13 +773,15 @@ static int s_garbage_main (int argc, char **argv)
     if (rc == 0)
         rc = s_send_frames (sock, empty, empty_len, 2);
     if (rc == 0)
-        rc = s_send_clock (sock, epoch, 0, NULL); // no header
+        rc = s_send_clock (sock, exercise, epoch, 0, NULL); // no header
     if (rc == 0)
-        rc = s_send_clock (sock, epoch, 2, "extra"); // a third frame: seq 2 is not used
+        rc = s_send_clock (sock, exercise, epoch, 2, "extra"); // a third frame: seq 2 is not used
     if (rc == 0)
-        rc = s_send_clock (sock, epoch, 2, NULL);
+        rc = s_send_clock (sock, exercise, epoch, 2, NULL);
     if (rc == 0)
-        rc = s_send_clock (sock, epoch, 3, NULL);
+        rc = s_send_clock (sock, exercise, epoch, 3, NULL);
+    if (rc == 0) // well formed, but of another exercise: dropped, not received
+        rc = s_send_clock (sock, exercise + 100, epoch, 4, NULL);
     if (rc < 0) {
         cgs_log (LOG_ERR, "send failed: %s", zmq_strerror (-rc));
         goto done;

@@ -282,6 +282,10 @@ static void test_pubsub_stamps_and_routes_exactly (void **state)
     // A message type without a header cannot be published.
     Cgs__Command cmd = CGS__COMMAND__INIT;
     assert_int_equal (cgs_pub_send (pub, "clock", &cmd.base, 0), -EINVAL);
+    // A catalogue topic takes only its own type; other topics take any.
+    Cgs__Uav uav = CGS__UAV__INIT;
+    assert_int_equal (cgs_pub_send (pub, "clock", &uav.base, 0), -EINVAL);
+    assert_int_equal (cgs_pub_send (pub, "test.anything", &uav.base, 0), 0);
     cgs_sub_destroy (&sub);
     cgs_pub_destroy (&pub);
     assert_null (pub);
@@ -355,8 +359,23 @@ static void test_gaps_and_restarts_are_counted (void **state)
         {"a", 2, 10},                             /* 7 missed */
         {"b", 10, 3},                             /* restart of b, its first 2 missed */
     };
-    for (size_t i = 0; i < sizeof seqs / sizeof seqs[0]; i++) {
+    cgs_sub_set_exercise (sub, 5);
+    for (size_t i = 0; i < sizeof seqs / sizeof seqs[0] + 1; i++) {
         Cgs__Header h = CGS__HEADER__INIT;
+        h.exercise_id = 5;
+        if (i == sizeof seqs / sizeof seqs[0]) { // one more, of another exercise: dropped
+            h.source = "a";
+            h.exercise_id = 6;
+            h.epoch = 2;
+            h.seq = 11;
+            Cgs__Clock c = CGS__CLOCK__INIT;
+            c.header = &h;
+            uint8_t buf[128];
+            size_t len = cgs_msg_encode (&c.base, buf);
+            zmq_send (raw, "clock", 5, ZMQ_SNDMORE);
+            zmq_send (raw, buf, len, 0);
+            continue;
+        }
         h.source = (char *)seqs[i].src;
         h.epoch = seqs[i].epoch;
         h.seq = seqs[i].seq;
@@ -372,6 +391,10 @@ static void test_gaps_and_restarts_are_counted (void **state)
     assert_int_equal (cgs_sub_gaps (sub), 3 + 1 + 7 + 2);
     assert_int_equal (cgs_sub_restarts (sub), 2);
     assert_int_equal (cgs_sub_topic_stats (sub, 0)->stale, 1);
+    for (int i = 0; i < 50 && cgs_sub_foreign (sub) == 0; i++)
+        cgs_sub_poll (sub, 10);
+    assert_int_equal (cgs_sub_foreign (sub), 1);
+    assert_int_equal (rx.n, 10); // not delivered
     cgs_sub_destroy (&sub);
     zmq_close (raw);
     zmq_ctx_term (ctx);
