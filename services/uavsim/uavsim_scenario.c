@@ -460,6 +460,10 @@ static int s_uav (s_ctx_t *c, const char *sec, uavsim_scenario_uav_t *u)
                                    c->errlen)) < 0 ||
         (rc = s_get_double (c, sec, "bank_limit_deg", 30, 5, 60, &u->bank_limit_deg)) < 0 ||
         (rc = s_get_double (c, sec, "climb_rate_mps", 5, 0.5, 30, &u->climb_rate_mps)) < 0 ||
+        (rc = s_get_double (c, sec, "airspeed_min_mps", fmin (20, u->airspeed_mps), 10, 120,
+                            &u->airspeed_min_mps)) < 0 ||
+        (rc = s_get_double (c, sec, "airspeed_max_mps", fmax (60, u->airspeed_mps), 10, 120,
+                            &u->airspeed_max_mps)) < 0 ||
         (rc = s_get_double (c, sec, "sensor_depression_deg", 45, 0, 90,
                             &u->sensor_depression_deg)) < 0 ||
         (rc = s_get_double (c, sec, "sensor_hfov_deg", 10, 0.1, 120, &u->sensor_hfov_deg)) < 0 ||
@@ -467,6 +471,15 @@ static int s_uav (s_ctx_t *c, const char *sec, uavsim_scenario_uav_t *u)
         return rc;
     if (u->heading_deg == 360)
         u->heading_deg = 0;
+    if (u->airspeed_mps < u->airspeed_min_mps || u->airspeed_mps > u->airspeed_max_mps)
+        return s_key_error (c, sec, "airspeed_mps",
+                            "expected a speed between airspeed_min_mps and airspeed_max_mps "
+                            "(%.15g..%.15g), got %.15g",
+                            u->airspeed_min_mps, u->airspeed_max_mps, u->airspeed_mps);
+    if (u->climb_rate_mps >= u->airspeed_min_mps)
+        return s_key_error (c, sec, "climb_rate_mps",
+                            "expected less than airspeed_min_mps (%.15g), got %.15g",
+                            u->airspeed_min_mps, u->climb_rate_mps);
     u->loiter_clockwise = dir == 0;
     // The orbit must be flyable: no tighter than the smallest turn, V^2 / (g tan(bank)).
     double r_min =

@@ -78,6 +78,8 @@ static uint64_t s_fingerprint (const uavsim_scenario_t *sc)
         S_MIX (s_bits (sc->uavs[i].climb_rate_mps));
         S_MIX (s_bits (sc->uavs[i].airspeed_mps));
         S_MIX (s_bits (sc->uavs[i].loiter_radius_m));
+        S_MIX (s_bits (sc->uavs[i].airspeed_min_mps));
+        S_MIX (s_bits (sc->uavs[i].airspeed_max_mps));
     }
     for (size_t i = 0; i < sc->uav_count; i++) {
         S_MIX (sc->uavs[i].id);
@@ -122,10 +124,8 @@ static int s_build_uav (uavsim_world_t *self, size_t i, char *err, size_t errlen
     p.bank_limit_deg = u->bank_limit_deg;
     p.climb_rate_mps = u->climb_rate_mps;
     p.loiter_radius_m = u->loiter_radius_m;
-    if (u->airspeed_mps < p.airspeed_min_mps)
-        p.airspeed_min_mps = u->airspeed_mps;
-    if (u->airspeed_mps > p.airspeed_max_mps)
-        p.airspeed_max_mps = u->airspeed_mps;
+    p.airspeed_min_mps = u->airspeed_min_mps;
+    p.airspeed_max_mps = u->airspeed_max_mps;
     uavsim_uav_init_t init = {0};
     init.position = u->position;
     init.position.u_m =

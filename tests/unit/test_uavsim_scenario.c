@@ -226,6 +226,8 @@ static void test_values (void **state)
               "loiter_direction = anticlockwise\n"
               "bank_limit_deg = 25\n"
               "climb_rate_mps = 4\n"
+              "airspeed_min_mps = 25\n"
+              "airspeed_max_mps = 70\n"
               "sensor_depression_deg = 40\n"
               "sensor_hfov_deg = 12\n"
               "sensor_vfov_deg = 9\n"
@@ -293,6 +295,7 @@ static void test_values (void **state)
     assert_true (u->altitude_agl_m == 1500 && u->airspeed_mps == 36.5 && u->heading_deg == 270);
     assert_true (u->loiter_radius_m == 2000 && !u->loiter_clockwise);
     assert_true (u->bank_limit_deg == 25 && u->climb_rate_mps == 4);
+    assert_true (u->airspeed_min_mps == 25 && u->airspeed_max_mps == 70);
     assert_true (u->sensor_depression_deg == 40 && u->sensor_hfov_deg == 12 &&
                  u->sensor_vfov_deg == 9);
     snprintf (want, sizeof want, "%s/params/radar.ini", t->dir);
@@ -303,7 +306,7 @@ static void test_values (void **state)
     const uavsim_scenario_vehicle_t *a = uavsim_scenario_vehicle (sc, "alpha");
     assert_ptr_equal (a, &sc->vehicles[0]);
     assert_int_equal (a->id, 1); // auto ids skip none below 40
-    assert_int_equal (a->line, 26);
+    assert_int_equal (a->line, 28);
     assert_string_equal (a->marking, "A 1");
     assert_int_equal (a->force, UAVSIM_FORCE_HOSTILE);
     assert_int_equal (a->force, 2); // proto Force numbers
@@ -328,8 +331,8 @@ static void test_values (void **state)
     assert_true (a->points[1].speed_mps == 6.5 && a->points[1].speed_given);
     assert_true (a->points[2].speed_mps == 9 && !a->points[2].speed_given);
     assert_true (a->points[3].speed_mps == 12 && a->points[3].speed_given);
-    assert_int_equal (a->points[0].line, 35);
-    assert_int_equal (a->points[3].line, 38);
+    assert_int_equal (a->points[0].line, 37);
+    assert_int_equal (a->points[3].line, 40);
 
     const uavsim_scenario_vehicle_t *b = uavsim_scenario_vehicle (sc, "bravo");
     assert_int_equal (b->id, 2);
@@ -343,7 +346,7 @@ static void test_values (void **state)
     assert_int_equal (sc->designations[0].pick, UAVSIM_PICK_ANY);
     s_near (sc->designations[0].near, d0, 1e-6);
     assert_true (sc->designations[0].time_s == 75.5);
-    assert_int_equal (sc->designations[0].line, 50);
+    assert_int_equal (sc->designations[0].line, 52);
     assert_int_equal (sc->designations[1].pick, UAVSIM_PICK_FRIENDLY);
     s_near (sc->designations[1].near, want3, 1e-6);
     assert_true (sc->designations[1].time_s == 200);
@@ -395,6 +398,7 @@ static void test_defaults (void **state)
     assert_true (u->altitude_agl_m == 1200 && u->airspeed_mps == 35 && u->heading_deg == 0);
     assert_true (u->loiter_radius_m == 1500 && u->loiter_clockwise);
     assert_true (u->bank_limit_deg == 30 && u->climb_rate_mps == 5);
+    assert_true (u->airspeed_min_mps == 20 && u->airspeed_max_mps == 60);
     assert_true (u->sensor_depression_deg == 45 && u->sensor_hfov_deg == 10 &&
                  u->sensor_vfov_deg == 7.5);
     assert_string_equal (u->radar_params, "");
@@ -519,6 +523,11 @@ static void test_errors (void **state)
     s_fails (t, S_UAV S_CAR "point = 0 0 @ 5 @ 6\npoint = 0 100\n",
              ":5: [vehicle car] point: expected `point = POSITION [@ SPEED_MPS]` with one '@' at "
              "most, got '0 0 @ 5 @ 6'");
+    s_fails (t, "[uav u]\nposition = 0 0\nairspeed_mps = 40\nairspeed_max_mps = 30\n",
+             ":3: [uav u] airspeed_mps: expected a speed between airspeed_min_mps and "
+             "airspeed_max_mps (20..30), got 40");
+    s_fails (t, "[uav u]\nposition = 0 0\nairspeed_min_mps = 12\nclimb_rate_mps = 12\n",
+             ":4: [uav u] climb_rate_mps: expected less than airspeed_min_mps (12), got 12");
     s_fails (t, "[uav u]\nposition = 0 0\nairspeed_mps = 5\n",
              ":3: [uav u] airspeed_mps: expected a number in [10, 120], got '5'");
     // UAV-specific checks
