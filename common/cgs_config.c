@@ -36,6 +36,7 @@ typedef struct {
 typedef struct {
     char *name;     // e.g. "uav uav1"; "" for keys before any section
     int line;       // where it first starts (the first key's line for "")
+    int again_line; // where its header is given a second time, 0 if never
     bool looked_at; // a getter asked about one of its keys
     s_entry_t *entries;
     size_t count;
@@ -304,6 +305,10 @@ static void s_section_line (s_parser_t *p, const char *s)
     } else if (s_section_add (p->cfg, name, p->line, &p->section) < 0) {
         p->rc = -ENOMEM;
         cgs_errf (p->err, p->errlen, "%s: out of memory", p->cfg->path);
+    } else {
+        s_section_t *sec = &p->cfg->sections[p->section];
+        if (sec->line != p->line && sec->again_line == 0)
+            sec->again_line = p->line; // merged, but remembered
     }
     free (name);
 }
@@ -438,6 +443,11 @@ size_t cgs_config_section_count (const cgs_config_t *self)
 const char *cgs_config_section_name (const cgs_config_t *self, size_t i)
 {
     return i < self->count ? self->sections[i].name : NULL;
+}
+
+int cgs_config_section_again (const cgs_config_t *self, size_t i)
+{
+    return i < self->count ? self->sections[i].again_line : 0;
 }
 
 int cgs_config_section_line (const cgs_config_t *self, size_t i)

@@ -31,6 +31,9 @@ size_t cgs_config_section_count (const cgs_config_t *self);
 const char *cgs_config_section_name (const cgs_config_t *self, size_t i);
 /* Line where section i (first) starts. */
 int cgs_config_section_line (const cgs_config_t *self, size_t i);
+/* Line where section i's header is given a second time (its keys are merged
+ * into the first), 0 when it is given once. */
+int cgs_config_section_again (const cgs_config_t *self, size_t i);
 /* True when the section exists. Marks nothing. */
 bool cgs_config_has_section (const cgs_config_t *self, const char *section);
 /* True when the key is present in the section. Marks nothing. */

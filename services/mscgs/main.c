@@ -116,6 +116,23 @@ static cgs_exercise_t *s_load_exercise (const char *given)
     return ex;
 }
 
+/* A new ZeroMQ context (in *ret_ctx) and a subscriber that takes only this
+ * exercise's messages; NULL after saying why. */
+static cgs_sub_t *s_open_sub (const cgs_exercise_t *ex, void **ret_ctx)
+{
+    void *ctx = zmq_ctx_new ();
+    cgs_sub_t *sub = ctx ? cgs_sub_new (ctx) : NULL;
+    if (!sub) {
+        fprintf (stderr, "mscgs: %s\n", strerror (errno ? errno : ENOMEM));
+        if (ctx)
+            zmq_ctx_term (ctx);
+        return NULL;
+    }
+    cgs_sub_set_exercise (sub, cgs_exercise_id (ex));
+    *ret_ctx = ctx;
+    return sub;
+}
+
 /* Connect sub to every publisher of topic; returns how many. */
 static size_t s_connect_publishers (cgs_sub_t *sub, const cgs_exercise_t *ex, const char *topic)
 {
@@ -288,15 +305,12 @@ static int s_cmd_status (int argc, char **argv)
     cgs_exercise_t *ex = s_load_exercise (exercise);
     if (!ex)
         return 1;
-    void *ctx = zmq_ctx_new ();
-    cgs_sub_t *sub = cgs_sub_new (ctx);
+    void *ctx = NULL;
+    cgs_sub_t *sub = s_open_sub (ex, &ctx);
     if (!sub) {
-        fprintf (stderr, "mscgs: %s\n", strerror (errno));
-        zmq_ctx_term (ctx);
         cgs_exercise_destroy (&ex);
         return 1;
     }
-    cgs_sub_set_exercise (sub, cgs_exercise_id (ex));
     static s_table_t table;
     s_table_init (&table, ex);
     cgs_sub_on (sub, "health", s_on_health, &table);
@@ -371,9 +385,15 @@ static int s_cmd_echo (int argc, char **argv)
         case 'j':
             echo.json = true;
             break;
-        case 'n':
-            echo.count = (long)s_parse_positive ("--count", optarg);
-            break;
+        case 'n': {
+            double n = s_parse_positive ("--count", optarg);
+            if (n != floor (n) || n > 1e12) {
+                fprintf (stderr, "mscgs echo: --count: expected a whole number, got '%s'\n",
+                         optarg);
+                return 2;
+            }
+            echo.count = (long)n;
+        } break;
         case 't':
             timeout_s = s_parse_positive ("--timeout", optarg);
             break;
@@ -401,15 +421,12 @@ static int s_cmd_echo (int argc, char **argv)
     cgs_exercise_t *ex = s_load_exercise (exercise);
     if (!ex)
         return 1;
-    void *ctx = zmq_ctx_new ();
-    cgs_sub_t *sub = cgs_sub_new (ctx);
+    void *ctx = NULL;
+    cgs_sub_t *sub = s_open_sub (ex, &ctx);
     if (!sub) {
-        fprintf (stderr, "mscgs: %s\n", strerror (errno));
-        zmq_ctx_term (ctx);
         cgs_exercise_destroy (&ex);
         return 1;
     }
-    cgs_sub_set_exercise (sub, cgs_exercise_id (ex));
     cgs_sub_on (sub, topic, s_on_echo, &echo);
     if (s_connect_publishers (sub, ex, topic) == 0)
         fprintf (stderr, "mscgs echo: no instance in %s publishes %s\n", cgs_exercise_path (ex),
@@ -1058,13 +1075,10 @@ static int s_cmd_run (int argc, char **argv)
                 s_exe_dir);
 
     cgs_lifecycle_init ();
-    void *ctx = zmq_ctx_new ();
-    run.sub = cgs_sub_new (ctx);
-    if (!run.sub) {
-        fprintf (stderr, "mscgs run: %s\n", strerror (errno));
+    void *ctx = NULL;
+    run.sub = s_open_sub (run.ex, &ctx);
+    if (!run.sub)
         return 1;
-    }
-    cgs_sub_set_exercise (run.sub, cgs_exercise_id (run.ex));
     s_table_init (&run.table, run.ex);
     cgs_sub_on (run.sub, "health", s_on_health, &run.table);
     cgs_sub_on (run.sub, "clock", s_on_clock, &run.table);

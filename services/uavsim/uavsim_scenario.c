@@ -228,77 +228,19 @@ static int s_get_double (s_ctx_t *c, const char *sec, const char *key, double de
 
 // --- sections -------------------------------------------------------------------
 
-/* A section header given twice is merged by cgs_config, so look for it in the
- * text: each section (and so each UAV and vehicle name) once. Names are
- * compared as cgs_config keeps them: trimmed, with blank runs made one space. */
-static int s_check_headers (const char *name, const char *text, char *err, size_t errlen)
+/* A section header given twice is merged by cgs_config: refuse it, so each
+ * UAV and vehicle name stands once. */
+static int s_check_headers (const cgs_config_t *cfg, const char *name, char *err, size_t errlen)
 {
-    typedef struct {
-        char *name;
-        int line;
-    } s_header_t;
-    s_header_t *seen = NULL;
-    size_t count = 0, alloc = 0;
-    int rc = 0, line = 0;
-    for (const char *s = text; *s && rc == 0;) {
-        const char *nl = strchr (s, '\n');
-        size_t len = nl ? (size_t)(nl - s) : strlen (s);
-        line++;
-        const char *p = s;
-        if (line == 1 && strncmp (p, "\xEF\xBB\xBF", 3) == 0)
-            p += 3;
-        while (p < s + len && isspace ((unsigned char)*p))
-            p++;
-        const char *close =
-            p < s + len && *p == '[' ? memchr (p, ']', (size_t)(s + len - p)) : NULL;
-        if (close) {
-            char *h = malloc ((size_t)(close - p) + 1);
-            if (!h) {
-                rc = -ENOMEM;
-                break;
-            }
-            size_t n = 0;
-            for (const char *q = p + 1; q < close; q++) {
-                if (isspace ((unsigned char)*q)) {
-                    if (n > 0 && h[n - 1] != ' ')
-                        h[n++] = ' ';
-                } else
-                    h[n++] = *q;
-            }
-            if (n > 0 && h[n - 1] == ' ')
-                n--;
-            h[n] = '\0';
-            for (size_t i = 0; i < count; i++) {
-                if (strcmp (seen[i].name, h) == 0) {
-                    cgs_errf (err, errlen, "%s:%d: [%s] given twice (first at line %d)", name, line,
-                              h, seen[i].line);
-                    rc = -EINVAL;
-                    break;
-                }
-            }
-            if (rc == 0 && count == alloc) {
-                size_t a = alloc ? 2 * alloc : 64;
-                s_header_t *more = realloc (seen, a * sizeof *more);
-                if (!more)
-                    rc = -ENOMEM;
-                else {
-                    seen = more;
-                    alloc = a;
-                }
-            }
-            if (rc == 0)
-                seen[count++] = (s_header_t){h, line};
-            else
-                free (h);
+    for (size_t i = 0; i < cgs_config_section_count (cfg); i++) {
+        int again = cgs_config_section_again (cfg, i);
+        if (again > 0) {
+            cgs_errf (err, errlen, "%s:%d: [%s] given twice (first at line %d)", name, again,
+                      cgs_config_section_name (cfg, i), cgs_config_section_line (cfg, i));
+            return -EINVAL;
         }
-        s = nl ? nl + 1 : s + len;
     }
-    for (size_t i = 0; i < count; i++)
-        free (seen[i].name);
-    free (seen);
-    if (rc == -ENOMEM)
-        cgs_errf (err, errlen, "%s: out of memory", name);
-    return rc;
+    return 0;
 }
 
 // The name after "uav " or "vehicle " in a section name, checked; NULL when not that type.
@@ -855,7 +797,7 @@ int uavsim_scenario_load_string (const char *name, const char *text, const cgs_g
     int rc = cgs_config_load_string (name, text, &c.cfg, err, errlen);
     if (rc < 0)
         return rc;
-    if ((rc = s_check_headers (name, text, err, errlen)) < 0)
+    if ((rc = s_check_headers (c.cfg, name, err, errlen)) < 0)
         goto done;
     c.sc = calloc (1, sizeof *c.sc);
     if (!c.sc || !(c.sc->path = s_strdup (name))) {

@@ -361,6 +361,12 @@ static void test_sections (void **state)
     assert_string_equal (cgs_config_section_name (cfg, 3),
                          "a-very-long-section-name-longer-than-inih-keeps-for-itself x");
     assert_null (cgs_config_section_name (cfg, 4));
+    // [uav uav1] is given again at line 5 (merged); the others once.
+    assert_int_equal (cgs_config_section_again (cfg, 1), 5);
+    assert_int_equal (cgs_config_section_again (cfg, 0), 0);
+    assert_int_equal (cgs_config_section_again (cfg, 2), 0);
+    assert_int_equal (cgs_config_section_again (cfg, 3), 0);
+    assert_int_equal (cgs_config_section_again (cfg, 9), 0);
     assert_true (cgs_config_has_section (cfg, "vehicle v1"));
     assert_false (cgs_config_has_section (cfg, "vehicle v2"));
     assert_true (cgs_config_has (cfg, "uav uav1", "a"));
