@@ -80,7 +80,7 @@ static void s_publish_clock (s_app_t *app)
 /* Publish what is due at the present simulation time. */
 static void s_publish_due (s_app_t *app, bool all)
 {
-    const uavsim_settings_t *set = &uavsim_world_scenario (app->world)->settings;
+    const cgs_uavsim_settings_t *set = &uavsim_world_scenario (app->world)->settings;
     double t = uavsim_world_time (app->world);
     app->svc.sim_time_s = t;
     double eps = 1e-9;
@@ -424,15 +424,15 @@ int main (int argc, char **argv)
     }
     cgs_geodetic_t o = cgs_exercise_origin (app.svc.exercise);
     app.frame = cgs_geo_new (o.lat_deg, o.lon_deg, o.height_m);
-    uavsim_scenario_t *sc = NULL;
+    cgs_scenario_t *sc = NULL;
     if (!app.frame ||
-        uavsim_scenario_load (app.svc.scenario, app.frame, cgs_exercise_seed (app.svc.exercise),
-                              &sc, err, sizeof err) < 0 ||
+        cgs_scenario_load (app.svc.scenario, app.frame, cgs_exercise_seed (app.svc.exercise), &sc,
+                           err, sizeof err) < 0 ||
         uavsim_world_new (sc, app.frame, &app.world, err, sizeof err) < 0) {
         cgs_log (LOG_ERR, "%s", *err ? err : "bad exercise origin");
         goto done;
     }
-    const uavsim_scenario_t *scn = uavsim_world_scenario (app.world);
+    const cgs_scenario_t *scn = uavsim_world_scenario (app.world);
     cgs_log (LOG_INFO, "scenario %s: %zu UAV%s, %zu vehicles, terrain %dx%d at %.0f m",
              app.svc.scenario, scn->uav_count, scn->uav_count == 1 ? "" : "s", scn->vehicle_count,
              cgs_terrain_cols (uavsim_world_terrain (app.world)),

@@ -41,7 +41,7 @@ void uavsim_msgs_destroy (uavsim_msgs_t **self_p)
     *self_p = NULL;
 }
 
-static void s_type (Cgs__EntityType *t, const uavsim_dis_type_t *d)
+static void s_type (Cgs__EntityType *t, const cgs_dis_type_t *d)
 {
     cgs__entity_type__init (t);
     t->kind = d->kind;
@@ -55,7 +55,7 @@ static void s_type (Cgs__EntityType *t, const uavsim_dis_type_t *d)
 
 uavsim_msgs_t *uavsim_msgs_new (const uavsim_world_t *world)
 {
-    const uavsim_scenario_t *sc = uavsim_world_scenario (world);
+    const cgs_scenario_t *sc = uavsim_world_scenario (world);
     uavsim_msgs_t *self = calloc (1, sizeof *self);
     if (!self)
         return NULL;
@@ -79,7 +79,7 @@ uavsim_msgs_t *uavsim_msgs_new (const uavsim_world_t *world)
         s->e.dis_type = &s->type;
         s->e.active = true;
         if (i < sc->uav_count) {
-            const uavsim_scenario_uav_t *u = &sc->uavs[i];
+            const cgs_scenario_uav_t *u = &sc->uavs[i];
             s->e.entity_id = u->id;
             s->e.marking = (char *)u->marking;
             s->e.force = CGS__FORCE__FORCE_FRIENDLY;
@@ -87,7 +87,7 @@ uavsim_msgs_t *uavsim_msgs_new (const uavsim_world_t *world)
             s->e.rcs_class = "uav";
             s_type (&s->type, &u->dis_type);
         } else {
-            const uavsim_scenario_vehicle_t *v = &sc->vehicles[i - sc->uav_count];
+            const cgs_scenario_vehicle_t *v = &sc->vehicles[i - sc->uav_count];
             s->e.entity_id = v->id;
             s->e.marking = (char *)v->marking;
             s->e.force = (Cgs__Force)v->force;
@@ -120,7 +120,7 @@ static double s_wrap360 (double deg)
 
 size_t uavsim_msgs_entities (uavsim_msgs_t *self, uavsim_world_t *world)
 {
-    const uavsim_scenario_t *sc = uavsim_world_scenario (world);
+    const cgs_scenario_t *sc = uavsim_world_scenario (world);
     const cgs_terrain_t *terrain = uavsim_world_terrain (world);
     for (size_t i = 0; i < sc->uav_count; i++) {
         s_slot_t *s = &self->slots[i];
@@ -185,10 +185,10 @@ void uavsim_msgs_boresight (double heading_deg, double pitch_deg, double roll_de
 
 Cgs__Uav *uavsim_msgs_uav (uavsim_msgs_t *self, uavsim_world_t *world, size_t i)
 {
-    const uavsim_scenario_t *sc = uavsim_world_scenario (world);
+    const cgs_scenario_t *sc = uavsim_world_scenario (world);
     if (i >= sc->uav_count)
         return NULL;
-    const uavsim_scenario_uav_t *su = &sc->uavs[i];
+    const cgs_scenario_uav_t *su = &sc->uavs[i];
     uavsim_uav_model_t *model = uavsim_world_uav (world, i);
     uavsim_uav_state_t u;
     uavsim_uav_state (model, &u);

@@ -11,7 +11,7 @@
 #define S_VERSION 1u
 
 struct uavsim_world {
-    uavsim_scenario_t *scenario;
+    cgs_scenario_t *scenario;
     cgs_terrain_t *terrain;
     uavsim_uav_model_t **uavs;
     uavsim_vehicle_t **vehicles;
@@ -35,7 +35,7 @@ void uavsim_world_destroy (uavsim_world_t **self_p)
     free (self->uavs);
     free (self->vehicles);
     cgs_terrain_destroy (&self->terrain);
-    uavsim_scenario_destroy (&self->scenario);
+    cgs_scenario_destroy (&self->scenario);
     free (self);
     *self_p = NULL;
 }
@@ -50,7 +50,7 @@ static uint64_t s_bits (double d)
 /* FNV-1a over what a checkpoint must match: the step, the terrain, the UAVs'
  * limits, the entity ids, names and route sizes (each vehicle also checks its
  * own parameters). */
-static uint64_t s_fingerprint (const uavsim_scenario_t *sc)
+static uint64_t s_fingerprint (const cgs_scenario_t *sc)
 {
     uint64_t h = 1469598103934665603ull;
 #define S_MIX(v)                                                                                   \
@@ -98,27 +98,12 @@ static uint64_t s_fingerprint (const uavsim_scenario_t *sc)
 
 static int s_build_terrain (uavsim_world_t *self, const cgs_geo_t *frame, char *err, size_t errlen)
 {
-    const uavsim_terrain_spec_t *t = &self->scenario->terrain;
-    if (t->source == UAVSIM_TERRAIN_DEM) {
-        if (!frame) {
-            cgs_errf (err, errlen, "%s: a DEM needs the exercise origin", self->scenario->path);
-            return -EINVAL;
-        }
-        return cgs_terrain_load (t->dem_path, frame, t->resolution_m, t->half_extent_m,
-                                 &self->terrain, err, errlen);
-    }
-    self->terrain = cgs_terrain_new_fbm (&t->fbm);
-    if (!self->terrain) {
-        cgs_errf (err, errlen, "%s: [terrain]: cannot generate the procedural terrain",
-                  self->scenario->path);
-        return -EINVAL;
-    }
-    return 0;
+    return cgs_scenario_terrain (self->scenario, frame, &self->terrain, err, errlen);
 }
 
 static int s_build_uav (uavsim_world_t *self, size_t i, char *err, size_t errlen)
 {
-    const uavsim_scenario_uav_t *u = &self->scenario->uavs[i];
+    const cgs_scenario_uav_t *u = &self->scenario->uavs[i];
     uavsim_uav_params_t p;
     uavsim_uav_params_defaults (&p);
     p.bank_limit_deg = u->bank_limit_deg;
@@ -154,7 +139,7 @@ static int s_build_uav (uavsim_world_t *self, size_t i, char *err, size_t errlen
 
 static int s_build_vehicle (uavsim_world_t *self, size_t i, char *err, size_t errlen)
 {
-    const uavsim_scenario_vehicle_t *v = &self->scenario->vehicles[i];
+    const cgs_scenario_vehicle_t *v = &self->scenario->vehicles[i];
     uavsim_vehicle_point_t *pts = calloc (v->point_count, sizeof *pts);
     if (!pts)
         return -ENOMEM;
@@ -169,12 +154,12 @@ static int s_build_vehicle (uavsim_world_t *self, size_t i, char *err, size_t er
     p.n_points = v->point_count;
     p.speed_mps = v->speed_mps;
     p.start_time_s = v->start_time_s;
-    p.end = v->end == UAVSIM_END_LOOP      ? UAVSIM_VEHICLE_END_LOOP
-            : v->end == UAVSIM_END_REVERSE ? UAVSIM_VEHICLE_END_REVERSE
-                                           : UAVSIM_VEHICLE_END_STOP;
+    p.end = v->end == CGS_END_LOOP      ? UAVSIM_VEHICLE_END_LOOP
+            : v->end == CGS_END_REVERSE ? UAVSIM_VEHICLE_END_REVERSE
+                                        : UAVSIM_VEHICLE_END_STOP;
     p.deviation_m = v->deviation_m;
     p.seed = v->deviation_seed;
-    if (v->kind == UAVSIM_KIND_PERSON) {
+    if (v->kind == CGS_KIND_PERSON) {
         p.lat_accel_mps2 = 1.0;
         p.turn_rate_dps = 90;
         p.accel_mps2 = 0.5;
@@ -194,7 +179,7 @@ static int s_build_vehicle (uavsim_world_t *self, size_t i, char *err, size_t er
     return 0;
 }
 
-int uavsim_world_new (uavsim_scenario_t *scenario, const cgs_geo_t *frame, uavsim_world_t **ret_w,
+int uavsim_world_new (cgs_scenario_t *scenario, const cgs_geo_t *frame, uavsim_world_t **ret_w,
                       char *err, size_t errlen)
 {
     if (!scenario || !ret_w)
@@ -202,7 +187,7 @@ int uavsim_world_new (uavsim_scenario_t *scenario, const cgs_geo_t *frame, uavsi
     int rc = -ENOMEM;
     uavsim_world_t *self = calloc (1, sizeof *self);
     if (!self) {
-        uavsim_scenario_destroy (&scenario);
+        cgs_scenario_destroy (&scenario);
         return -ENOMEM;
     }
     self->scenario = scenario;
@@ -257,7 +242,7 @@ double uavsim_world_step_s (const uavsim_world_t *self)
 {
     return self->step_s;
 }
-const uavsim_scenario_t *uavsim_world_scenario (const uavsim_world_t *self)
+const cgs_scenario_t *uavsim_world_scenario (const uavsim_world_t *self)
 {
     return self->scenario;
 }
@@ -323,7 +308,7 @@ static uint64_t s_get_u64 (const uint8_t *p)
 
 int uavsim_world_save (const uavsim_world_t *self, uint8_t **ret_buf, size_t *ret_len)
 {
-    const uavsim_scenario_t *sc = self->scenario;
+    const cgs_scenario_t *sc = self->scenario;
     size_t total = S_HEAD;
     for (size_t i = 0; i < sc->uav_count; i++)
         total += 4 + uavsim_uav_save_size (self->uavs[i]);
@@ -360,7 +345,7 @@ int uavsim_world_save (const uavsim_world_t *self, uint8_t **ret_buf, size_t *re
 int uavsim_world_restore (uavsim_world_t *self, const uint8_t *buf, size_t len, char *err,
                           size_t errlen)
 {
-    const uavsim_scenario_t *sc = self->scenario;
+    const cgs_scenario_t *sc = self->scenario;
     if (len < S_HEAD || memcmp (buf, S_MAGIC, 8) != 0 || s_get_u32 (buf + 8) != S_VERSION) {
         cgs_errf (err, errlen, "not a uavsim checkpoint of this version");
         return -EPROTO;

@@ -6,7 +6,7 @@
 #ifndef UAVSIM_WORLD_H
 #define UAVSIM_WORLD_H
 
-#include "uavsim_scenario.h"
+#include "cgs_scenario.h"
 #include "uavsim_uav.h"
 #include "uavsim_vehicle.h"
 
@@ -18,7 +18,7 @@ typedef struct uavsim_world uavsim_world_t;
 /* A world at time 0 from a scenario, which it takes over (and frees); the
  * terrain is read or generated from it. 0, or -errno with the reason in err
  * (the scenario is freed then too). */
-int uavsim_world_new (uavsim_scenario_t *scenario, const cgs_geo_t *frame, uavsim_world_t **ret_w,
+int uavsim_world_new (cgs_scenario_t *scenario, const cgs_geo_t *frame, uavsim_world_t **ret_w,
                       char *err, size_t errlen);
 /* Free; accepts NULL; sets *self_p to NULL. */
 void uavsim_world_destroy (uavsim_world_t **self_p);
@@ -30,7 +30,7 @@ double uavsim_world_time (const uavsim_world_t *self);
 uint64_t uavsim_world_tick (const uavsim_world_t *self);
 double uavsim_world_step_s (const uavsim_world_t *self);
 
-const uavsim_scenario_t *uavsim_world_scenario (const uavsim_world_t *self);
+const cgs_scenario_t *uavsim_world_scenario (const uavsim_world_t *self);
 const cgs_terrain_t *uavsim_world_terrain (const uavsim_world_t *self);
 /* The flight model of UAV i (scenario order), and vehicle i's model. */
 uavsim_uav_model_t *uavsim_world_uav (uavsim_world_t *self, size_t i);

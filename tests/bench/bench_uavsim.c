@@ -81,15 +81,15 @@ int main (int argc, char **argv)
     double step_s = 0, rate_hz = 0, cpu_total = 0, wall_total = 0;
     printf ("bench_uavsim: %s, %.0f s of simulation time per window, %d windows, one process\n",
             scenario, sim_s, runs);
-    uavsim_scenario_t *sc = NULL;
+    cgs_scenario_t *sc = NULL;
     uavsim_world_t *w = NULL;
     char err[1024];
-    if (uavsim_scenario_load (scenario, frame, 1, &sc, err, sizeof err) < 0 ||
+    if (cgs_scenario_load (scenario, frame, 1, &sc, err, sizeof err) < 0 ||
         uavsim_world_new (sc, frame, &w, err, sizeof err) < 0) {
         fprintf (stderr, "bench_uavsim: %s\n", err);
         return 1;
     }
-    const uavsim_scenario_t *s = uavsim_world_scenario (w);
+    const cgs_scenario_t *s = uavsim_world_scenario (w);
     vehicles = s->vehicle_count;
     step_s = s->settings.step_s;
     rate_hz = s->settings.entity_rate_hz;

@@ -42,9 +42,9 @@ static const char *s_text = "[terrain]\n"
 
 static uavsim_world_t *s_world (const char *text, uint64_t seed)
 {
-    uavsim_scenario_t *sc = NULL;
+    cgs_scenario_t *sc = NULL;
     char err[512] = "";
-    if (uavsim_scenario_load_string ("test.ini", text, NULL, seed, &sc, err, sizeof err) < 0)
+    if (cgs_scenario_load_string ("test.ini", text, NULL, seed, &sc, err, sizeof err) < 0)
         fail_msg ("%s", err);
     uavsim_world_t *w = NULL;
     if (uavsim_world_new (sc, NULL, &w, err, sizeof err) < 0)

@@ -1,10 +1,10 @@
-/* uavsim_scenario — reads a scenario file (terrain, UAVs, ground vehicles,
+/* cgs_scenario — reads a scenario file (terrain, UAVs, ground vehicles,
  * operator script, service settings) through cgs_config into the plain
- * uavsim_scenario_t the service reads. Each getter checks its value's range
+ * cgs_scenario_t the service reads. Each getter checks its value's range
  * and names file and line; what cgs_config cannot see (a section header given
  * twice, a name or id used twice, a route too short) is checked here with the
  * same message shape. Pure: no logging, no globals. */
-#include "uavsim_scenario.h"
+#include "cgs_scenario.h"
 #include "cgs_config.h"
 #include "cgs_util.h"
 
@@ -33,7 +33,7 @@ typedef struct {
     cgs_config_t *cfg;
     const cgs_geo_t *frame;
     uint64_t seed; // the exercise seed
-    uavsim_scenario_t *sc;
+    cgs_scenario_t *sc;
     char *err;
     size_t errlen;
 } s_ctx_t;
@@ -122,7 +122,7 @@ static bool s_name_ok (const char *s, size_t max)
     return true;
 }
 
-uint64_t uavsim_scenario_vehicle_seed (uint64_t exercise_seed, uint32_t id)
+uint64_t cgs_scenario_vehicle_seed (uint64_t exercise_seed, uint32_t id)
 {
     // Output number id of splitmix64 (Steele, Lea and Flood 2014) seeded with the exercise seed.
     uint64_t z = exercise_seed + 0x9E3779B97F4A7C15ull * (uint64_t)id;
@@ -138,8 +138,8 @@ uint64_t uavsim_scenario_vehicle_seed (uint64_t exercise_seed, uint32_t id)
     "0..65535, the others 0..255)"
 
 // A DIS entity type from its seven numbers; def when the key is absent.
-static int s_get_dis_type (s_ctx_t *c, const char *sec, const char *key, uavsim_dis_type_t def,
-                           uavsim_dis_type_t *ret)
+static int s_get_dis_type (s_ctx_t *c, const char *sec, const char *key, cgs_dis_type_t def,
+                           cgs_dis_type_t *ret)
 {
     const char *value;
     int rc = cgs_config_get_string (c->cfg, sec, key, NULL, &value, c->err, c->errlen);
@@ -164,8 +164,8 @@ static int s_get_dis_type (s_ctx_t *c, const char *sec, const char *key, uavsim_
     if (!ok || n != 7)
         return cgs_config_error (c->cfg, sec, key, 0, c->err, c->errlen,
                                  "expected " S_DIS_FORMS ", got '%s'", value);
-    *ret = (uavsim_dis_type_t){(uint8_t)v[0], (uint8_t)v[1], (uint16_t)v[2], (uint8_t)v[3],
-                               (uint8_t)v[4], (uint8_t)v[5], (uint8_t)v[6]};
+    *ret = (cgs_dis_type_t){(uint8_t)v[0], (uint8_t)v[1], (uint16_t)v[2], (uint8_t)v[3],
+                            (uint8_t)v[4], (uint8_t)v[5], (uint8_t)v[6]};
     return 0;
 }
 
@@ -177,17 +177,17 @@ static int s_get_marking (s_ctx_t *c, const char *sec, const char *def, char *re
     if (rc < 0)
         return rc;
     if (!value) {
-        snprintf (ret, UAVSIM_MARKING_MAX + 1, "%s", def);
+        snprintf (ret, CGS_MARKING_MAX + 1, "%s", def);
         return 0;
     }
     size_t n = strlen (value);
-    bool ok = n >= 1 && n <= UAVSIM_MARKING_MAX;
+    bool ok = n >= 1 && n <= CGS_MARKING_MAX;
     for (size_t i = 0; ok && i < n; i++)
         ok = value[i] >= 0x20 && value[i] <= 0x7E;
     if (!ok)
         return cgs_config_error (c->cfg, sec, "marking", 0, c->err, c->errlen,
                                  "expected 1 to %d printable ASCII characters, got '%s'",
-                                 UAVSIM_MARKING_MAX, value);
+                                 CGS_MARKING_MAX, value);
     memcpy (ret, value, n + 1);
     return 0;
 }
@@ -259,13 +259,13 @@ static int s_terrain (s_ctx_t *c)
     static const char *const fbm_keys[] = {"seed",      "size_m",  "relief_m",    "base_height_m",
                                            "feature_m", "octaves", "persistence", NULL};
     const char *sec = "terrain";
-    uavsim_terrain_spec_t *t = &c->sc->terrain;
+    cgs_terrain_spec_t *t = &c->sc->terrain;
     cgs_terrain_fbm_defaults (&t->fbm);
     t->fbm.seed = c->seed;
     int rc;
     if (cgs_config_has (c->cfg, sec, "dem")) {
         const char *path;
-        t->source = UAVSIM_TERRAIN_DEM;
+        t->source = CGS_TERRAIN_DEM;
         if ((rc = cgs_config_get_path (c->cfg, sec, "dem", NULL, &path, c->err, c->errlen)) < 0)
             return rc;
         if (!*path)
@@ -289,7 +289,7 @@ static int s_terrain (s_ctx_t *c)
         return cgs_config_error (
             c->cfg, sec, "half_extent_m", 0, c->err, c->errlen,
             "applies to a DEM only (`dem =`); procedural terrain takes size_m");
-    t->source = UAVSIM_TERRAIN_FBM;
+    t->source = CGS_TERRAIN_FBM;
     cgs_terrain_fbm_t *f = &t->fbm;
     long octaves;
     if ((rc = cgs_config_get_uint64 (c->cfg, sec, "seed", c->seed, &f->seed, c->err, c->errlen)) <
@@ -319,8 +319,8 @@ static int s_terrain (s_ctx_t *c)
 // With procedural terrain, route points must lie on it.
 static int s_on_terrain (s_ctx_t *c, const char *sec, size_t idx, cgs_enu_t p)
 {
-    const uavsim_terrain_spec_t *t = &c->sc->terrain;
-    if (t->source != UAVSIM_TERRAIN_FBM)
+    const cgs_terrain_spec_t *t = &c->sc->terrain;
+    if (t->source != CGS_TERRAIN_FBM)
         return 0;
     double half = 0.5 * t->fbm.size_m;
     if (fabs (p.e_m) <= half && fabs (p.n_m) <= half)
@@ -382,11 +382,11 @@ static int s_assign_ids (s_ctx_t *c, s_entity_t *ents, size_t n)
 
 // --- UAVs -----------------------------------------------------------------------
 
-static int s_uav (s_ctx_t *c, const char *sec, uavsim_scenario_uav_t *u)
+static int s_uav (s_ctx_t *c, const char *sec, cgs_scenario_uav_t *u)
 {
     static const char *const directions[] = {"clockwise", "anticlockwise", "counterclockwise",
                                              NULL};
-    const uavsim_dis_type_t uav_type = {1, 2, 225, 50, 0, 0, 0}; // platform, air, USA, unmanned
+    const cgs_dis_type_t uav_type = {1, 2, 225, 50, 0, 0, 0}; // platform, air, USA, unmanned
     int rc, dir;
     const char *path;
     if ((rc = s_get_marking (c, sec, u->name, u->marking)) < 0 ||
@@ -448,7 +448,7 @@ static int s_uav (s_ctx_t *c, const char *sec, uavsim_scenario_uav_t *u)
 #define S_POINT_FORM "`point = POSITION [@ SPEED_MPS]`"
 
 // The idx-th `point =` of a vehicle: a position, then an optional '@' and leg speed.
-static int s_point (s_ctx_t *c, const char *sec, size_t idx, double def_speed, uavsim_point_t *ret)
+static int s_point (s_ctx_t *c, const char *sec, size_t idx, double def_speed, cgs_point_t *ret)
 {
     const char *value = cgs_config_get_nth (c->cfg, sec, "point", idx);
     char buf[512];
@@ -460,8 +460,7 @@ static int s_point (s_ctx_t *c, const char *sec, size_t idx, double def_speed, u
     if (at && strchr (at + 1, '@'))
         return cgs_config_error (c->cfg, sec, "point", idx, c->err, c->errlen,
                                  "expected " S_POINT_FORM " with one '@' at most, got '%s'", value);
-    uavsim_point_t p = {.speed_mps = def_speed,
-                        .line = cgs_config_line (c->cfg, sec, "point", idx)};
+    cgs_point_t p = {.speed_mps = def_speed, .line = cgs_config_line (c->cfg, sec, "point", idx)};
     if (at) {
         *at = '\0';
         const char *speed = s_trim (at + 1);
@@ -484,7 +483,7 @@ static int s_point (s_ctx_t *c, const char *sec, size_t idx, double def_speed, u
     return 0;
 }
 
-static int s_route (s_ctx_t *c, const char *sec, uavsim_scenario_vehicle_t *v)
+static int s_route (s_ctx_t *c, const char *sec, cgs_scenario_vehicle_t *v)
 {
     size_t n = cgs_config_count (c->cfg, sec, "point");
     if (n == 0)
@@ -499,7 +498,7 @@ static int s_route (s_ctx_t *c, const char *sec, uavsim_scenario_vehicle_t *v)
     for (size_t i = 0; i < n; i++) {
         if ((rc = s_point (c, sec, i, v->speed_mps, &v->points[i])) < 0)
             return rc;
-        const uavsim_point_t *a = &v->points[i - (i > 0)], *b = &v->points[i];
+        const cgs_point_t *a = &v->points[i - (i > 0)], *b = &v->points[i];
         if (i > 0 &&
             hypot (b->position.e_m - a->position.e_m, b->position.n_m - a->position.n_m) < 1.0)
             return cgs_config_error (c->cfg, sec, "point", i, c->err, c->errlen,
@@ -507,25 +506,24 @@ static int s_route (s_ctx_t *c, const char *sec, uavsim_scenario_vehicle_t *v)
                                      "length",
                                      a->line);
     }
-    const uavsim_point_t *first = &v->points[0], *last = &v->points[n - 1];
-    if (v->end == UAVSIM_END_LOOP && hypot (last->position.e_m - first->position.e_m,
-                                            last->position.n_m - first->position.n_m) < 1.0)
+    const cgs_point_t *first = &v->points[0], *last = &v->points[n - 1];
+    if (v->end == CGS_END_LOOP && hypot (last->position.e_m - first->position.e_m,
+                                         last->position.n_m - first->position.n_m) < 1.0)
         return cgs_config_error (c->cfg, sec, "point", n - 1, c->err, c->errlen,
                                  "repeats the first point: with end = loop the route closes by "
                                  "itself, so leave this point out");
-    if (v->end != UAVSIM_END_LOOP && last->speed_given)
+    if (v->end != CGS_END_LOOP && last->speed_given)
         return cgs_config_error (c->cfg, sec, "point", n - 1, c->err, c->errlen,
                                  "no leg starts at the last point, so it takes no speed (only "
                                  "with end = loop, for the leg back to the first point)");
     return 0;
 }
 
-static int s_vehicle (s_ctx_t *c, const char *sec, uavsim_scenario_vehicle_t *v)
+static int s_vehicle (s_ctx_t *c, const char *sec, cgs_scenario_vehicle_t *v)
 {
     static const char *const forces[] = {"unknown", "friendly", "hostile", "neutral", NULL};
     static const char *const kinds[] = {"tracked", "wheeled", "person", NULL};
-    static const uavsim_kind_t kind_of[] = {UAVSIM_KIND_TRACKED, UAVSIM_KIND_WHEELED,
-                                            UAVSIM_KIND_PERSON};
+    static const cgs_kind_t kind_of[] = {CGS_KIND_TRACKED, CGS_KIND_WHEELED, CGS_KIND_PERSON};
     static const char *const ends[] = {"stop", "loop", "reverse", NULL};
     int rc, force, kind, end;
     if ((rc = s_get_marking (c, sec, v->name, v->marking)) < 0)
@@ -536,22 +534,21 @@ static int s_vehicle (s_ctx_t *c, const char *sec, uavsim_scenario_vehicle_t *v)
             0 ||
         (rc = cgs_config_get_enum (c->cfg, sec, "kind", kinds, 0, &kind, c->err, c->errlen)) < 0)
         return rc;
-    v->force = (uavsim_force_t)force; // the names are in the proto's order
+    v->force = (cgs_force_t)force; // the names are in the proto's order
     v->kind = kind_of[kind];
     // Default types (SISO-REF-010): platform/land armoured fighting vehicle (category 2) or
     // small wheeled utility vehicle (6), or life form/land; USA (225) when friendly, else other
     // (0).
-    uint16_t country = v->force == UAVSIM_FORCE_FRIENDLY ? 225 : 0;
-    uavsim_dis_type_t def = {1, 1, country, 2, 0, 0, 0};
-    if (v->kind == UAVSIM_KIND_WHEELED)
+    uint16_t country = v->force == CGS_FORCE_FRIENDLY ? 225 : 0;
+    cgs_dis_type_t def = {1, 1, country, 2, 0, 0, 0};
+    if (v->kind == CGS_KIND_WHEELED)
         def.category = 6;
-    else if (v->kind == UAVSIM_KIND_PERSON)
-        def = (uavsim_dis_type_t){3, 1, country, 0, 0, 0, 0};
+    else if (v->kind == CGS_KIND_PERSON)
+        def = (cgs_dis_type_t){3, 1, country, 0, 0, 0, 0};
     const char *rcs;
     if ((rc = s_get_dis_type (c, sec, "dis_type", def, &v->dis_type)) < 0 ||
-        (rc = cgs_config_get_bool (c->cfg, sec, "bcis_transponder",
-                                   v->force == UAVSIM_FORCE_FRIENDLY, &v->bcis_transponder, c->err,
-                                   c->errlen)) < 0 ||
+        (rc = cgs_config_get_bool (c->cfg, sec, "bcis_transponder", v->force == CGS_FORCE_FRIENDLY,
+                                   &v->bcis_transponder, c->err, c->errlen)) < 0 ||
         (rc = cgs_config_get_string (c->cfg, sec, "rcs_class", "vehicle", &rcs, c->err,
                                      c->errlen)) < 0)
         return rc;
@@ -562,17 +559,17 @@ static int s_vehicle (s_ctx_t *c, const char *sec, uavsim_scenario_vehicle_t *v)
                                  S_RCS_MAX, rcs);
     if (!(v->rcs_class = s_strdup (rcs)))
         return s_nomem (c);
-    double def_speed = v->kind == UAVSIM_KIND_PERSON ? 1.5 : 10;
+    double def_speed = v->kind == CGS_KIND_PERSON ? 1.5 : 10;
     if ((rc = s_get_double (c, sec, "start_time_s", 0, 0, 7 * 86400, &v->start_time_s)) < 0 ||
         (rc = s_get_double (c, sec, "speed_mps", def_speed, S_SPEED_MIN, S_SPEED_MAX,
                             &v->speed_mps)) < 0 ||
         (rc = cgs_config_get_enum (c->cfg, sec, "end", ends, 0, &end, c->err, c->errlen)) < 0 ||
         (rc = s_get_double (c, sec, "deviation_m", 0, 0, 200, &v->deviation_m)) < 0 ||
         (rc = cgs_config_get_uint64 (c->cfg, sec, "deviation_seed",
-                                     uavsim_scenario_vehicle_seed (c->seed, v->id),
-                                     &v->deviation_seed, c->err, c->errlen)) < 0)
+                                     cgs_scenario_vehicle_seed (c->seed, v->id), &v->deviation_seed,
+                                     c->err, c->errlen)) < 0)
         return rc;
-    v->end = (uavsim_end_t)end;
+    v->end = (cgs_end_t)end;
     return s_route (c, sec, v);
 }
 
@@ -580,13 +577,13 @@ static int s_vehicle (s_ctx_t *c, const char *sec, uavsim_scenario_vehicle_t *v)
 
 #define S_DESIGNATE_FORM "`designate = {unknown|friendly|any} nearest POSITION at TIME_S`"
 
-static int s_designation (s_ctx_t *c, size_t idx, uavsim_designation_t *ret)
+static int s_designation (s_ctx_t *c, size_t idx, cgs_designation_t *ret)
 {
     static const char *const picks[] = {"unknown", "friendly", "any"};
     const char *sec = "operator";
     const char *value = cgs_config_get_nth (c->cfg, sec, "designate", idx);
     char buf[512];
-    uavsim_designation_t d = {.line = cgs_config_line (c->cfg, sec, "designate", idx)};
+    cgs_designation_t d = {.line = cgs_config_line (c->cfg, sec, "designate", idx)};
     bool ok = strlen (value) < sizeof buf;
     char *pos = NULL, *time = NULL;
     char *rest = NULL;
@@ -603,7 +600,7 @@ static int s_designation (s_ctx_t *c, size_t idx, uavsim_designation_t *ret)
         ok = strcasecmp (nearest, "nearest") == 0;
         for (int i = 0; ok && i < 3; i++) {
             if (strcasecmp (pick, picks[i]) == 0) {
-                d.pick = (uavsim_pick_t)i;
+                d.pick = (cgs_pick_t)i;
                 break;
             }
             ok = i < 2;
@@ -658,7 +655,7 @@ static int s_operator (s_ctx_t *c)
 static int s_settings (s_ctx_t *c)
 {
     const char *sec = "uavsim";
-    uavsim_settings_t *s = &c->sc->settings;
+    cgs_uavsim_settings_t *s = &c->sc->settings;
     int rc;
     if ((rc = s_get_double (c, sec, "step_s", 0.05, 0.001, 1, &s->step_s)) < 0 ||
         (rc = s_get_double (c, sec, "entity_rate_hz", 10, 0.01, 1000, &s->entity_rate_hz)) < 0 ||
@@ -681,11 +678,11 @@ static int s_settings (s_ctx_t *c)
 
 // --- load -------------------------------------------------------------------------
 
-void uavsim_scenario_destroy (uavsim_scenario_t **self_p)
+void cgs_scenario_destroy (cgs_scenario_t **self_p)
 {
     if (!self_p || !*self_p)
         return;
-    uavsim_scenario_t *self = *self_p;
+    cgs_scenario_t *self = *self_p;
     free (self->path);
     free (self->terrain.dem_path);
     for (size_t i = 0; self->uavs && i < self->uav_count; i++) {
@@ -707,7 +704,7 @@ void uavsim_scenario_destroy (uavsim_scenario_t **self_p)
 static int s_parse (s_ctx_t *c)
 {
     cgs_config_t *cfg = c->cfg;
-    uavsim_scenario_t *sc = c->sc;
+    cgs_scenario_t *sc = c->sc;
     size_t nsec = cgs_config_section_count (cfg);
     // Count and name the entities; a UAV and a vehicle may not share a name.
     for (size_t i = 0; i < nsec; i++) {
@@ -718,11 +715,11 @@ static int s_parse (s_ctx_t *c)
             name = s_entity_name (sec, "vehicle");
         if (!name)
             continue;
-        if (!s_name_ok (name, UAVSIM_NAME_MAX))
+        if (!s_name_ok (name, CGS_SCENARIO_NAME_MAX))
             return cgs_config_error (cfg, sec, NULL, 0, c->err, c->errlen,
                                      "expected `[%s NAME]` with a NAME of 1 to %d letters, "
                                      "digits, '_', '.' or '-', got '%s'",
-                                     uav ? "uav" : "vehicle", UAVSIM_NAME_MAX, name);
+                                     uav ? "uav" : "vehicle", CGS_SCENARIO_NAME_MAX, name);
         for (size_t j = 0; j < i; j++) {
             const char *other = cgs_config_section_name (cfg, j);
             const char *oname = s_entity_name (other, "uav");
@@ -788,9 +785,8 @@ static int s_parse (s_ctx_t *c)
     return rc;
 }
 
-int uavsim_scenario_load_string (const char *name, const char *text, const cgs_geo_t *frame,
-                                 uint64_t default_seed, uavsim_scenario_t **ret, char *err,
-                                 size_t errlen)
+int cgs_scenario_load_string (const char *name, const char *text, const cgs_geo_t *frame,
+                              uint64_t default_seed, cgs_scenario_t **ret, char *err, size_t errlen)
 {
     assert (name && text && ret);
     s_ctx_t c = {.frame = frame, .seed = default_seed, .err = err, .errlen = errlen};
@@ -809,13 +805,13 @@ done:
     if (rc == 0)
         *ret = c.sc;
     else
-        uavsim_scenario_destroy (&c.sc);
+        cgs_scenario_destroy (&c.sc);
     cgs_config_destroy (&c.cfg);
     return rc;
 }
 
-int uavsim_scenario_load (const char *path, const cgs_geo_t *frame, uint64_t default_seed,
-                          uavsim_scenario_t **ret, char *err, size_t errlen)
+int cgs_scenario_load (const char *path, const cgs_geo_t *frame, uint64_t default_seed,
+                       cgs_scenario_t **ret, char *err, size_t errlen)
 {
     assert (path && ret);
     FILE *f = fopen (path, "rb");
@@ -861,13 +857,12 @@ int uavsim_scenario_load (const char *path, const cgs_geo_t *frame, uint64_t def
         return rc == -EFBIG || rc == -EBADMSG ? -EINVAL : rc;
     }
     text[len] = '\0';
-    rc = uavsim_scenario_load_string (path, text, frame, default_seed, ret, err, errlen);
+    rc = cgs_scenario_load_string (path, text, frame, default_seed, ret, err, errlen);
     free (text);
     return rc;
 }
 
-const uavsim_scenario_vehicle_t *uavsim_scenario_vehicle (const uavsim_scenario_t *self,
-                                                          const char *name)
+const cgs_scenario_vehicle_t *cgs_scenario_vehicle (const cgs_scenario_t *self, const char *name)
 {
     for (size_t i = 0; i < self->vehicle_count; i++)
         if (strcmp (self->vehicles[i].name, name) == 0)
@@ -875,10 +870,36 @@ const uavsim_scenario_vehicle_t *uavsim_scenario_vehicle (const uavsim_scenario_
     return NULL;
 }
 
-const uavsim_scenario_uav_t *uavsim_scenario_uav (const uavsim_scenario_t *self, const char *name)
+const cgs_scenario_uav_t *cgs_scenario_uav (const cgs_scenario_t *self, const char *name)
 {
     for (size_t i = 0; i < self->uav_count; i++)
         if (strcmp (self->uavs[i].name, name) == 0)
             return &self->uavs[i];
     return NULL;
+}
+
+int cgs_scenario_terrain (const cgs_scenario_t *self, const cgs_geo_t *frame, cgs_terrain_t **ret_t,
+                          char *err, size_t errlen)
+{
+    const cgs_terrain_spec_t *t = &self->terrain;
+    cgs_terrain_t *terrain = NULL;
+    if (t->source == CGS_TERRAIN_DEM) {
+        if (!frame) {
+            cgs_errf (err, errlen, "%s: a DEM needs the exercise origin", self->path);
+            return -EINVAL;
+        }
+        int rc = cgs_terrain_load (t->dem_path, frame, t->resolution_m, t->half_extent_m, &terrain,
+                                   err, errlen);
+        if (rc < 0)
+            return rc;
+    } else {
+        terrain = cgs_terrain_new_fbm (&t->fbm);
+        if (!terrain) {
+            cgs_errf (err, errlen, "%s: [terrain]: cannot generate the procedural terrain",
+                      self->path);
+            return -EINVAL;
+        }
+    }
+    *ret_t = terrain;
+    return 0;
 }

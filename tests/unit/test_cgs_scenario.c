@@ -10,7 +10,7 @@
 #include <cmocka.h>
 
 #include "cgs_geo.h"
-#include "uavsim_scenario.h"
+#include "cgs_scenario.h"
 
 #include <errno.h>
 #include <math.h>
@@ -66,12 +66,12 @@ static void s_write (const char *path, const char *text)
 }
 
 // Write text to the scenario file and load it with exercise seed 7; fails the test unless it loads.
-static uavsim_scenario_t *s_load (s_tmp_t *t, const char *text)
+static cgs_scenario_t *s_load (s_tmp_t *t, const char *text)
 {
     s_write (t->path, text);
     char err[512] = "";
-    uavsim_scenario_t *sc = NULL;
-    int rc = uavsim_scenario_load (t->path, t->frame, 7, &sc, err, sizeof err);
+    cgs_scenario_t *sc = NULL;
+    int rc = cgs_scenario_load (t->path, t->frame, 7, &sc, err, sizeof err);
     if (rc != 0)
         fail_msg ("load failed: %s", err);
     assert_non_null (sc);
@@ -83,9 +83,9 @@ static void s_fails (s_tmp_t *t, const char *text, const char *expected)
 {
     s_write (t->path, text);
     char err[512] = "", want[640];
-    uavsim_scenario_t *sc = (uavsim_scenario_t *)0x1;
-    assert_int_equal (uavsim_scenario_load (t->path, t->frame, 7, &sc, err, sizeof err), -EINVAL);
-    assert_ptr_equal (sc, (uavsim_scenario_t *)0x1);
+    cgs_scenario_t *sc = (cgs_scenario_t *)0x1;
+    assert_int_equal (cgs_scenario_load (t->path, t->frame, 7, &sc, err, sizeof err), -EINVAL);
+    assert_ptr_equal (sc, (cgs_scenario_t *)0x1);
     snprintf (want, sizeof want, "%s%s", t->path, expected);
     assert_string_equal (err, want);
 }
@@ -97,20 +97,20 @@ static void s_near (cgs_enu_t a, cgs_enu_t b, double tol_m)
                   b.n_m);
 }
 
-static uavsim_scenario_t *s_load_shipped (const char *name, const cgs_geo_t *frame)
+static cgs_scenario_t *s_load_shipped (const char *name, const cgs_geo_t *frame)
 {
     const char *root = getenv ("CGS_ROOT");
     char path[1024], err[512] = "";
     snprintf (path, sizeof path, "%s/deploy/scenarios/%s", root ? root : ".", name);
-    uavsim_scenario_t *sc = NULL;
-    int rc = uavsim_scenario_load (path, frame, 1, &sc, err, sizeof err);
+    cgs_scenario_t *sc = NULL;
+    int rc = cgs_scenario_load (path, frame, 1, &sc, err, sizeof err);
     if (rc != 0)
         fail_msg ("%s", err);
     return sc;
 }
 
 // Turn at point i of a route, degrees (0 = straight on).
-static double s_turn_deg (const uavsim_point_t *p, size_t i)
+static double s_turn_deg (const cgs_point_t *p, size_t i)
 {
     double a = atan2 (p[i].position.e_m - p[i - 1].position.e_m,
                       p[i].position.n_m - p[i - 1].position.n_m);
@@ -124,25 +124,25 @@ static void test_default_scenario (void **state)
 {
     (void)state;
     cgs_geo_t *frame = cgs_geo_new (S_LAT, S_LON, 0);
-    uavsim_scenario_t *sc = s_load_shipped ("default.ini", frame);
+    cgs_scenario_t *sc = s_load_shipped ("default.ini", frame);
     assert_int_equal (sc->uav_count, 1);
-    const uavsim_scenario_uav_t *u = uavsim_scenario_uav (sc, "uav1");
+    const cgs_scenario_uav_t *u = cgs_scenario_uav (sc, "uav1");
     assert_non_null (u);
     assert_int_equal (u->id, 1);
     assert_true (sc->vehicle_count >= 12);
-    assert_int_equal (sc->terrain.source, UAVSIM_TERRAIN_FBM);
+    assert_int_equal (sc->terrain.source, CGS_TERRAIN_FBM);
 
     size_t friendly_bcis = 0, unknown = 0, sharp = 0, kinds[5] = {0};
     double standoff_m = INFINITY;
     for (size_t i = 0; i < sc->vehicle_count; i++) {
-        const uavsim_scenario_vehicle_t *v = &sc->vehicles[i];
+        const cgs_scenario_vehicle_t *v = &sc->vehicles[i];
         assert_int_equal (v->id, i + 2); // ids in file order after the UAV
-        friendly_bcis += v->force == UAVSIM_FORCE_FRIENDLY && v->bcis_transponder;
-        unknown += v->force == UAVSIM_FORCE_UNKNOWN && !v->bcis_transponder;
+        friendly_bcis += v->force == CGS_FORCE_FRIENDLY && v->bcis_transponder;
+        unknown += v->force == CGS_FORCE_UNKNOWN && !v->bcis_transponder;
         kinds[v->kind]++;
         assert_true (v->speed_mps >= 5 && v->speed_mps <= 15);
         for (size_t j = 0; j < v->point_count; j++) {
-            const uavsim_point_t *p = &v->points[j];
+            const cgs_point_t *p = &v->points[j];
             double d = hypot (p->position.e_m - u->loiter_center.e_m,
                               p->position.n_m - u->loiter_center.n_m) -
                        u->loiter_radius_m;
@@ -153,21 +153,21 @@ static void test_default_scenario (void **state)
     }
     assert_true (friendly_bcis >= 3);
     assert_true (unknown >= 3);
-    assert_true (kinds[UAVSIM_KIND_TRACKED] > 0 && kinds[UAVSIM_KIND_WHEELED] > 0);
+    assert_true (kinds[CGS_KIND_TRACKED] > 0 && kinds[CGS_KIND_WHEELED] > 0);
     assert_true (sharp >= 2);
     assert_true (standoff_m >= 3000); // a stand-off orbit, a few km from every route point
 
     // Positions written as geo, hemisphere and MGRS forms.
-    const uavsim_scenario_vehicle_t *car = uavsim_scenario_vehicle (sc, "n_car");
+    const cgs_scenario_vehicle_t *car = cgs_scenario_vehicle (sc, "n_car");
     assert_non_null (car);
     s_near (car->points[0].position, (cgs_enu_t){-3000, -1000, 0}, 1.0);
     s_near (car->points[1].position, (cgs_enu_t){0, -1500, 0}, 1.0);
     s_near (u->loiter_center, (cgs_enu_t){-6000, -7000, 0}, 30.0);
 
     assert_int_equal (sc->designation_count, 1);
-    assert_int_equal (sc->designations[0].pick, UAVSIM_PICK_UNKNOWN);
+    assert_int_equal (sc->designations[0].pick, CGS_PICK_UNKNOWN);
     assert_true (sc->designations[0].time_s == 120);
-    uavsim_scenario_destroy (&sc);
+    cgs_scenario_destroy (&sc);
     assert_null (sc);
     cgs_geo_destroy (&frame);
 }
@@ -175,7 +175,7 @@ static void test_default_scenario (void **state)
 static void test_bench_scenario (void **state)
 {
     (void)state;
-    uavsim_scenario_t *sc = s_load_shipped ("bench-1000.ini", NULL); // local metres only
+    cgs_scenario_t *sc = s_load_shipped ("bench-1000.ini", NULL); // local metres only
     assert_int_equal (sc->uav_count, 1);
     assert_int_equal (sc->vehicle_count, 1000);
     assert_int_equal (sc->vehicles[999].id, 1001);
@@ -186,7 +186,7 @@ static void test_bench_scenario (void **state)
     }
     for (int f = 0; f < 4; f++)
         assert_true (forces[f] > 0);
-    uavsim_scenario_destroy (&sc);
+    cgs_scenario_destroy (&sc);
 }
 
 static void test_values (void **state)
@@ -269,16 +269,16 @@ static void test_values (void **state)
               "checkpoint_interval_s = 2.5\n",
               g1.lat_deg, g1.lon_deg, g1.height_m, fabs (g2.lat_deg), g2.lat_deg < 0 ? 'S' : 'N',
               fabs (g2.lon_deg), g2.lon_deg < 0 ? 'W' : 'E', g2.height_m, mgrs, mgrs);
-    uavsim_scenario_t *sc = s_load (t, text);
+    cgs_scenario_t *sc = s_load (t, text);
     assert_string_equal (sc->path, t->path);
 
     char want[256];
-    assert_int_equal (sc->terrain.source, UAVSIM_TERRAIN_DEM);
+    assert_int_equal (sc->terrain.source, CGS_TERRAIN_DEM);
     assert_string_equal (sc->terrain.dem_path, t->dem);
     assert_true (sc->terrain.resolution_m == 25 && sc->terrain.half_extent_m == 6000);
 
     assert_int_equal (sc->uav_count, 1);
-    const uavsim_scenario_uav_t *u = &sc->uavs[0];
+    const cgs_scenario_uav_t *u = &sc->uavs[0];
     assert_string_equal (u->name, "hawk");
     assert_int_equal (u->line, 7);
     assert_int_equal (u->id, 40);
@@ -303,20 +303,20 @@ static void test_values (void **state)
     assert_string_equal (u->bcis_params, "/etc/mscgs/bcis.ini");
 
     assert_int_equal (sc->vehicle_count, 2);
-    const uavsim_scenario_vehicle_t *a = uavsim_scenario_vehicle (sc, "alpha");
+    const cgs_scenario_vehicle_t *a = cgs_scenario_vehicle (sc, "alpha");
     assert_ptr_equal (a, &sc->vehicles[0]);
     assert_int_equal (a->id, 1); // auto ids skip none below 40
     assert_int_equal (a->line, 28);
     assert_string_equal (a->marking, "A 1");
-    assert_int_equal (a->force, UAVSIM_FORCE_HOSTILE);
+    assert_int_equal (a->force, CGS_FORCE_HOSTILE);
     assert_int_equal (a->force, 2); // proto Force numbers
-    assert_int_equal (a->kind, UAVSIM_KIND_WHEELED);
+    assert_int_equal (a->kind, CGS_KIND_WHEELED);
     assert_int_equal (a->dis_type.country, 222);
     assert_int_equal (a->dis_type.category, 7);
     assert_true (a->bcis_transponder); // allowed on a hostile
     assert_string_equal (a->rcs_class, "truck");
     assert_true (a->start_time_s == 30 && a->speed_mps == 9);
-    assert_int_equal (a->end, UAVSIM_END_LOOP);
+    assert_int_equal (a->end, CGS_END_LOOP);
     assert_true (a->deviation_m == 12);
     assert_true (a->deviation_seed == 99);
     assert_int_equal (a->point_count, 4);
@@ -334,52 +334,52 @@ static void test_values (void **state)
     assert_int_equal (a->points[0].line, 37);
     assert_int_equal (a->points[3].line, 40);
 
-    const uavsim_scenario_vehicle_t *b = uavsim_scenario_vehicle (sc, "bravo");
+    const cgs_scenario_vehicle_t *b = cgs_scenario_vehicle (sc, "bravo");
     assert_int_equal (b->id, 2);
-    assert_int_equal (b->end, UAVSIM_END_REVERSE);
-    assert_null (uavsim_scenario_vehicle (sc, "charlie"));
+    assert_int_equal (b->end, CGS_END_REVERSE);
+    assert_null (cgs_scenario_vehicle (sc, "charlie"));
 
     assert_int_equal (sc->designation_count, 2);
     cgs_geodetic_t gd = {35.97, -121.22, 0};
     cgs_enu_t d0;
     assert_int_equal (cgs_geo_geodetic_to_enu (t->frame, gd, &d0), 0);
-    assert_int_equal (sc->designations[0].pick, UAVSIM_PICK_ANY);
+    assert_int_equal (sc->designations[0].pick, CGS_PICK_ANY);
     s_near (sc->designations[0].near, d0, 1e-6);
     assert_true (sc->designations[0].time_s == 75.5);
     assert_int_equal (sc->designations[0].line, 52);
-    assert_int_equal (sc->designations[1].pick, UAVSIM_PICK_FRIENDLY);
+    assert_int_equal (sc->designations[1].pick, CGS_PICK_FRIENDLY);
     s_near (sc->designations[1].near, want3, 1e-6);
     assert_true (sc->designations[1].time_s == 200);
 
     assert_true (sc->settings.step_s == 0.02 && sc->settings.entity_rate_hz == 25);
     assert_true (sc->settings.uav_rate_hz == 5 && sc->settings.clock_rate_hz == 50);
     assert_true (sc->settings.checkpoint_interval_s == 2.5);
-    uavsim_scenario_destroy (&sc);
-    uavsim_scenario_destroy (&sc); // idempotent
+    cgs_scenario_destroy (&sc);
+    cgs_scenario_destroy (&sc); // idempotent
 }
 
 static void test_defaults (void **state)
 {
     s_tmp_t *t = *state;
-    uavsim_scenario_t *sc = s_load (t, "[vehicle a_very_long_name]\n"
-                                       "force = friendly\n"
-                                       "point = 0 0\n"
-                                       "point = 500 0\n"
-                                       "[vehicle b]\n"
-                                       "id = 1\n"
-                                       "force = unknown\n"
-                                       "kind = wheeled\n"
-                                       "point = 0 0\n"
-                                       "point = 500 0\n"
-                                       "[vehicle c]\n"
-                                       "force = neutral\n"
-                                       "kind = person\n"
-                                       "point = 0 0\n"
-                                       "point = 50 0\n"
-                                       "[uav u]\n"
-                                       "position = 1000 2000\n");
+    cgs_scenario_t *sc = s_load (t, "[vehicle a_very_long_name]\n"
+                                    "force = friendly\n"
+                                    "point = 0 0\n"
+                                    "point = 500 0\n"
+                                    "[vehicle b]\n"
+                                    "id = 1\n"
+                                    "force = unknown\n"
+                                    "kind = wheeled\n"
+                                    "point = 0 0\n"
+                                    "point = 500 0\n"
+                                    "[vehicle c]\n"
+                                    "force = neutral\n"
+                                    "kind = person\n"
+                                    "point = 0 0\n"
+                                    "point = 50 0\n"
+                                    "[uav u]\n"
+                                    "position = 1000 2000\n");
     // fBm terrain with the documented defaults, seeded with the exercise seed
-    assert_int_equal (sc->terrain.source, UAVSIM_TERRAIN_FBM);
+    assert_int_equal (sc->terrain.source, CGS_TERRAIN_FBM);
     assert_null (sc->terrain.dem_path);
     cgs_terrain_fbm_t f;
     cgs_terrain_fbm_defaults (&f);
@@ -389,10 +389,10 @@ static void test_defaults (void **state)
                  got->feature_m == f.feature_m && got->octaves == f.octaves &&
                  got->persistence == f.persistence);
 
-    const uavsim_scenario_uav_t *u = &sc->uavs[0];
+    const cgs_scenario_uav_t *u = &sc->uavs[0];
     assert_int_equal (u->id, 2); // UAVs first; 1 is taken by b
     assert_string_equal (u->marking, "u");
-    uavsim_dis_type_t uav_type = {1, 2, 225, 50, 0, 0, 0};
+    cgs_dis_type_t uav_type = {1, 2, 225, 50, 0, 0, 0};
     assert_memory_equal (&u->dis_type, &uav_type, sizeof uav_type);
     s_near (u->loiter_center, u->position, 0);
     assert_true (u->altitude_agl_m == 1200 && u->airspeed_mps == 35 && u->heading_deg == 0);
@@ -404,38 +404,38 @@ static void test_defaults (void **state)
     assert_string_equal (u->radar_params, "");
     assert_string_equal (u->bcis_params, "");
 
-    const uavsim_scenario_vehicle_t *a = &sc->vehicles[0], *b = &sc->vehicles[1],
-                                    *c = &sc->vehicles[2];
+    const cgs_scenario_vehicle_t *a = &sc->vehicles[0], *b = &sc->vehicles[1],
+                                 *c = &sc->vehicles[2];
     assert_int_equal (a->id, 3);
     assert_int_equal (b->id, 1);
     assert_int_equal (c->id, 4);
     assert_string_equal (a->marking, "a_very_long"); // the name, cut to 11
-    assert_int_equal (a->kind, UAVSIM_KIND_TRACKED);
-    uavsim_dis_type_t tracked_usa = {1, 1, 225, 2, 0, 0, 0}, wheeled_other = {1, 1, 0, 6, 0, 0, 0},
-                      person_other = {3, 1, 0, 0, 0, 0, 0};
+    assert_int_equal (a->kind, CGS_KIND_TRACKED);
+    cgs_dis_type_t tracked_usa = {1, 1, 225, 2, 0, 0, 0}, wheeled_other = {1, 1, 0, 6, 0, 0, 0},
+                   person_other = {3, 1, 0, 0, 0, 0, 0};
     assert_memory_equal (&a->dis_type, &tracked_usa, sizeof tracked_usa);
     assert_memory_equal (&b->dis_type, &wheeled_other, sizeof wheeled_other);
     assert_memory_equal (&c->dis_type, &person_other, sizeof person_other);
-    assert_int_equal (c->kind, UAVSIM_KIND_PERSON);
+    assert_int_equal (c->kind, CGS_KIND_PERSON);
     assert_true (a->bcis_transponder);
     assert_false (b->bcis_transponder);
     assert_false (c->bcis_transponder);
     assert_string_equal (a->rcs_class, "vehicle");
     assert_true (a->start_time_s == 0 && a->speed_mps == 10 && c->speed_mps == 1.5);
     assert_true (a->points[1].speed_mps == 10 && !a->points[1].speed_given);
-    assert_int_equal (a->end, UAVSIM_END_STOP);
+    assert_int_equal (a->end, CGS_END_STOP);
     assert_true (a->deviation_m == 0);
-    assert_true (a->deviation_seed == uavsim_scenario_vehicle_seed (7, 3));
-    assert_true (b->deviation_seed == uavsim_scenario_vehicle_seed (7, 1));
+    assert_true (a->deviation_seed == cgs_scenario_vehicle_seed (7, 3));
+    assert_true (b->deviation_seed == cgs_scenario_vehicle_seed (7, 1));
     assert_true (a->deviation_seed != b->deviation_seed);
-    assert_true (uavsim_scenario_vehicle_seed (8, 3) != a->deviation_seed);
+    assert_true (cgs_scenario_vehicle_seed (8, 3) != a->deviation_seed);
 
     assert_int_equal (sc->designation_count, 0);
     assert_null (sc->designations);
     assert_true (sc->settings.step_s == 0.05 && sc->settings.entity_rate_hz == 10 &&
                  sc->settings.uav_rate_hz == 10 && sc->settings.clock_rate_hz == 10 &&
                  sc->settings.checkpoint_interval_s == 5);
-    uavsim_scenario_destroy (&sc);
+    cgs_scenario_destroy (&sc);
 }
 
 #define S_UAV "[uav u]\nposition = 0 0\n"        // lines 1-2
@@ -574,10 +574,10 @@ static void test_dem_errors (void **state)
              "takes size_m");
 
     char err[512] = "";
-    uavsim_scenario_t *sc = (uavsim_scenario_t *)0x1;
+    cgs_scenario_t *sc = (cgs_scenario_t *)0x1;
     snprintf (want, sizeof want, "%s/none.ini", t->dir);
-    assert_int_equal (uavsim_scenario_load (want, t->frame, 1, &sc, err, sizeof err), -ENOENT);
-    assert_ptr_equal (sc, (uavsim_scenario_t *)0x1);
+    assert_int_equal (cgs_scenario_load (want, t->frame, 1, &sc, err, sizeof err), -ENOENT);
+    assert_ptr_equal (sc, (cgs_scenario_t *)0x1);
     strcat (want, ": No such file or directory");
     assert_string_equal (err, want);
 }
@@ -587,18 +587,18 @@ static void test_no_frame (void **state)
 {
     (void)state;
     char err[512] = "";
-    uavsim_scenario_t *sc = NULL;
-    assert_int_equal (uavsim_scenario_load_string ("x.ini", "[uav u]\nposition = geo 36 -121\n",
-                                                   NULL, 1, &sc, err, sizeof err),
+    cgs_scenario_t *sc = NULL;
+    assert_int_equal (cgs_scenario_load_string ("x.ini", "[uav u]\nposition = geo 36 -121\n", NULL,
+                                                1, &sc, err, sizeof err),
                       -EINVAL);
     assert_null (sc);
     assert_string_equal (err, "x.ini:2: [uav u] position: 'geo 36 -121' is geodetic, but there "
                               "is no exercise origin to place it");
-    assert_int_equal (uavsim_scenario_load_string ("x.ini", "[uav u]\nposition = 5 6\n", NULL, 1,
-                                                   &sc, err, sizeof err),
+    assert_int_equal (cgs_scenario_load_string ("x.ini", "[uav u]\nposition = 5 6\n", NULL, 1, &sc,
+                                                err, sizeof err),
                       0);
     assert_int_equal (sc->vehicle_count, 0);
-    uavsim_scenario_destroy (&sc);
+    cgs_scenario_destroy (&sc);
 }
 
 int main (void)

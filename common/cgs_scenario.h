@@ -1,6 +1,7 @@
-/* uavsim_scenario — the scenario file: terrain, UAVs, ground vehicles, the
+/* cgs_scenario — the scenario file: terrain, UAVs, ground vehicles, the
  * operator's scripted actions and uavsim's own settings, read from an INI
- * file into a plain struct the service reads. Every value is checked; every
+ * file into a plain struct for every service that needs it (uavsim simulates
+ * it; mtid, bcisd and imagerd take its terrain and UAVs). Every value is checked; every
  * error names the file, the line, the section and key, what was expected and
  * what was found ("s.ini:12: [vehicle t1] speed_mps: expected a number in
  * [0.5, 40], got '90'"). Pure: no logging, no globals.
@@ -29,8 +30,8 @@
  *
  * Entity ids: `id = N` (1..65534, each once) where given; the others get 1,
  * 2, ... skipping given ones, UAVs first, then vehicles, each in file order. */
-#ifndef UAVSIM_SCENARIO_H
-#define UAVSIM_SCENARIO_H
+#ifndef CGS_SCENARIO_H
+#define CGS_SCENARIO_H
 
 #include "cgs_geo.h"
 #include "cgs_terrain.h"
@@ -41,34 +42,34 @@
 
 /* Force, with the numbers of proto/header.proto's enum Force. */
 typedef enum {
-    UAVSIM_FORCE_UNKNOWN = 0,
-    UAVSIM_FORCE_FRIENDLY = 1,
-    UAVSIM_FORCE_HOSTILE = 2,
-    UAVSIM_FORCE_NEUTRAL = 3,
-} uavsim_force_t;
+    CGS_FORCE_UNKNOWN = 0,
+    CGS_FORCE_FRIENDLY = 1,
+    CGS_FORCE_HOSTILE = 2,
+    CGS_FORCE_NEUTRAL = 3,
+} cgs_force_t;
 
 /* Entity kind, with the numbers of proto/world.proto's enum EntityKind. */
 typedef enum {
-    UAVSIM_KIND_OTHER = 0,
-    UAVSIM_KIND_TRACKED = 1,
-    UAVSIM_KIND_WHEELED = 2,
-    UAVSIM_KIND_AIR = 3,
-    UAVSIM_KIND_PERSON = 4,
-} uavsim_kind_t;
+    CGS_KIND_OTHER = 0,
+    CGS_KIND_TRACKED = 1,
+    CGS_KIND_WHEELED = 2,
+    CGS_KIND_AIR = 3,
+    CGS_KIND_PERSON = 4,
+} cgs_kind_t;
 
 /* What a vehicle does after its last route point. */
 typedef enum {
-    UAVSIM_END_STOP = 0,    // stops there for good
-    UAVSIM_END_LOOP = 1,    // drives on to the first point and round again
-    UAVSIM_END_REVERSE = 2, // drives the route backwards, and so on, back and forth
-} uavsim_end_t;
+    CGS_END_STOP = 0,    // stops there for good
+    CGS_END_LOOP = 1,    // drives on to the first point and round again
+    CGS_END_REVERSE = 2, // drives the route backwards, and so on, back and forth
+} cgs_end_t;
 
 /* Which tracks a scripted designation may pick. */
 typedef enum {
-    UAVSIM_PICK_UNKNOWN = 0,  // tracks not identified as friendly by BCIS
-    UAVSIM_PICK_FRIENDLY = 1, // tracks identified as friendly
-    UAVSIM_PICK_ANY = 2,      // any track
-} uavsim_pick_t;
+    CGS_PICK_UNKNOWN = 0,  // tracks not identified as friendly by BCIS
+    CGS_PICK_FRIENDLY = 1, // tracks identified as friendly
+    CGS_PICK_ANY = 2,      // any track
+} cgs_pick_t;
 
 /* DIS entity type (IEEE 1278.1, SISO-REF-010), written in the file as seven
  * numbers "kind domain country category subcategory specific extra". */
@@ -80,30 +81,30 @@ typedef struct {
     uint8_t subcategory;
     uint8_t specific;
     uint8_t extra;
-} uavsim_dis_type_t;
+} cgs_dis_type_t;
 
-#define UAVSIM_MARKING_MAX 11 // DIS marking: at most 11 ASCII characters
-#define UAVSIM_NAME_MAX    63 // UAV and vehicle names: [A-Za-z0-9_.-], at most 63
+#define CGS_MARKING_MAX       11 // DIS marking: at most 11 ASCII characters
+#define CGS_SCENARIO_NAME_MAX 63 // UAV and vehicle names: [A-Za-z0-9_.-], at most 63
 
 typedef enum {
-    UAVSIM_TERRAIN_FBM = 0, // procedural (the default; relief_m = 0 gives flat ground)
-    UAVSIM_TERRAIN_DEM = 1, // a DEM file read through GDAL
-} uavsim_terrain_source_t;
+    CGS_TERRAIN_FBM = 0, // procedural (the default; relief_m = 0 gives flat ground)
+    CGS_TERRAIN_DEM = 1, // a DEM file read through GDAL
+} cgs_terrain_source_t;
 
 typedef struct {
-    uavsim_terrain_source_t source;
+    cgs_terrain_source_t source;
     cgs_terrain_fbm_t fbm; // when source is FBM; seed defaults to the exercise seed
     char *dem_path;        // when source is DEM: the file, joined to the scenario's folder
     double resolution_m;   // DEM: grid spacing, 0 = about the raster's own (default 0)
     double half_extent_m;  // DEM: half-width of the square read, 0 = whole raster (default 10000)
-} uavsim_terrain_spec_t;
+} cgs_terrain_spec_t;
 
 typedef struct {
-    char name[UAVSIM_NAME_MAX + 1];       // section name, e.g. "uav1"
+    char name[CGS_SCENARIO_NAME_MAX + 1]; // section name, e.g. "uav1"
     int line;                             // line of its [uav NAME] header
     uint32_t id;                          // entity id, unique in the scenario
-    char marking[UAVSIM_MARKING_MAX + 1]; // default: the name, cut to 11 characters
-    uavsim_dis_type_t dis_type;           // default 1 2 225 50 0 0 0 (platform, air, USA, unmanned)
+    char marking[CGS_MARKING_MAX + 1];    // default: the name, cut to 11 characters
+    cgs_dis_type_t dis_type;              // default 1 2 225 50 0 0 0 (platform, air, USA, unmanned)
     cgs_enu_t position;                   // start, local frame (up ignored: see altitude_agl_m)
     double altitude_agl_m;                // above the terrain (default 1200)
     double airspeed_mps;                  // (default 35)
@@ -120,41 +121,41 @@ typedef struct {
     double sensor_vfov_deg;       // vertical field of view (default 7.5)
     char *radar_params;           // radar parameter file, "" when not given
     char *bcis_params;            // BCIS parameter file, "" when not given
-} uavsim_scenario_uav_t;
+} cgs_scenario_uav_t;
 
 typedef struct {
     cgs_enu_t position; // local frame; up is ignored (vehicles keep to the ground)
     double speed_mps;   // speed on the leg that starts here (the vehicle's speed unless given)
     bool speed_given;   // an `@ SPEED` was written
     int line;           // line of its `point =`
-} uavsim_point_t;
+} cgs_point_t;
 
 typedef struct {
-    char name[UAVSIM_NAME_MAX + 1];       // section name, e.g. "t1"
+    char name[CGS_SCENARIO_NAME_MAX + 1]; // section name, e.g. "t1"
     int line;                             // line of its [vehicle NAME] header
     uint32_t id;                          // entity id, unique in the scenario
-    char marking[UAVSIM_MARKING_MAX + 1]; // default: the name, cut to 11 characters
-    uavsim_force_t force;                 // required
-    uavsim_kind_t kind;                   // tracked|wheeled|person (default tracked)
-    uavsim_dis_type_t dis_type; // default by kind; country 225 (USA) when friendly, else 0
-    bool bcis_transponder;      // default: yes when friendly
-    char *rcs_class;            // radar cross-section class (default "vehicle")
-    double start_time_s;        // stands still at its first point until then (default 0)
-    double speed_mps;           // default leg speed (default 10)
-    uavsim_point_t *points;     // the route, at least 2 points
+    char marking[CGS_MARKING_MAX + 1];    // default: the name, cut to 11 characters
+    cgs_force_t force;                    // required
+    cgs_kind_t kind;                      // tracked|wheeled|person (default tracked)
+    cgs_dis_type_t dis_type; // default by kind; country 225 (USA) when friendly, else 0
+    bool bcis_transponder;   // default: yes when friendly
+    char *rcs_class;         // radar cross-section class (default "vehicle")
+    double start_time_s;     // stands still at its first point until then (default 0)
+    double speed_mps;        // default leg speed (default 10)
+    cgs_point_t *points;     // the route, at least 2 points
     size_t point_count;
-    uavsim_end_t end;        // (default stop)
+    cgs_end_t end;           // (default stop)
     double deviation_m;      // how far it wanders off the straight legs (default 0)
-    uint64_t deviation_seed; // default: uavsim_scenario_vehicle_seed (exercise seed, id)
-} uavsim_scenario_vehicle_t;
+    uint64_t deviation_seed; // default: cgs_scenario_vehicle_seed (exercise seed, id)
+} cgs_scenario_vehicle_t;
 
 /* `designate = FILTER nearest POSITION at TIME_S` in [operator]. */
 typedef struct {
-    uavsim_pick_t pick; // which tracks qualify
-    cgs_enu_t near;     // the track nearest this point is designated
-    double time_s;      // simulation time of the designation
+    cgs_pick_t pick; // which tracks qualify
+    cgs_enu_t near;  // the track nearest this point is designated
+    double time_s;   // simulation time of the designation
     int line;
-} uavsim_designation_t;
+} cgs_designation_t;
 
 /* [uavsim]: the service's own settings. */
 typedef struct {
@@ -163,41 +164,44 @@ typedef struct {
     double uav_rate_hz;           // uav publication, per simulated second (default 10)
     double clock_rate_hz;         // clock publication, per simulated second (default 10)
     double checkpoint_interval_s; // checkpoint period, wall-clock seconds (default 5)
-} uavsim_settings_t;
+} cgs_uavsim_settings_t;
 
 typedef struct {
     char *path; // the file it was read from
-    uavsim_terrain_spec_t terrain;
-    uavsim_scenario_uav_t *uavs; // in file order, at least one
+    cgs_terrain_spec_t terrain;
+    cgs_scenario_uav_t *uavs; // in file order, at least one
     size_t uav_count;
-    uavsim_scenario_vehicle_t *vehicles; // in file order
+    cgs_scenario_vehicle_t *vehicles; // in file order
     size_t vehicle_count;
-    uavsim_designation_t *designations; // in file order
+    cgs_designation_t *designations; // in file order
     size_t designation_count;
-    uavsim_settings_t settings;
-} uavsim_scenario_t;
+    cgs_uavsim_settings_t settings;
+} cgs_scenario_t;
 
 /* Read a scenario file. Geodetic and MGRS positions are placed in frame (may
  * be NULL when every position is in local metres). default_seed (the
  * exercise seed) seeds the procedural terrain and the vehicles' deviation
  * unless the file gives seeds. 0, or -ENOENT/-EINVAL/-ENOMEM with
  * "file:line: [section] key: reason" in err; *ret is written only on success. */
-int uavsim_scenario_load (const char *path, const cgs_geo_t *frame, uint64_t default_seed,
-                          uavsim_scenario_t **ret, char *err, size_t errlen);
+int cgs_scenario_load (const char *path, const cgs_geo_t *frame, uint64_t default_seed,
+                       cgs_scenario_t **ret, char *err, size_t errlen);
 /* The same from text, as if read from a file called name (relative paths in
  * it are taken from name's folder). */
-int uavsim_scenario_load_string (const char *name, const char *text, const cgs_geo_t *frame,
-                                 uint64_t default_seed, uavsim_scenario_t **ret, char *err,
-                                 size_t errlen);
+int cgs_scenario_load_string (const char *name, const char *text, const cgs_geo_t *frame,
+                              uint64_t default_seed, cgs_scenario_t **ret, char *err,
+                              size_t errlen);
 /* Free; accepts NULL and a half-built scenario; sets *self_p to NULL. */
-void uavsim_scenario_destroy (uavsim_scenario_t **self_p);
+void cgs_scenario_destroy (cgs_scenario_t **self_p);
 
+/* Build the scenario's terrain: the DEM (frame required) or the procedural
+ * fBm square. 0, or -errno with the reason in err; *ret_t only on success. */
+int cgs_scenario_terrain (const cgs_scenario_t *self, const cgs_geo_t *frame, cgs_terrain_t **ret_t,
+                          char *err, size_t errlen);
 /* The deviation seed a vehicle gets when its section gives none: output
  * number id of splitmix64 seeded with the exercise seed. */
-uint64_t uavsim_scenario_vehicle_seed (uint64_t exercise_seed, uint32_t id);
+uint64_t cgs_scenario_vehicle_seed (uint64_t exercise_seed, uint32_t id);
 /* The vehicle or UAV of that name, or NULL. */
-const uavsim_scenario_vehicle_t *uavsim_scenario_vehicle (const uavsim_scenario_t *self,
-                                                          const char *name);
-const uavsim_scenario_uav_t *uavsim_scenario_uav (const uavsim_scenario_t *self, const char *name);
+const cgs_scenario_vehicle_t *cgs_scenario_vehicle (const cgs_scenario_t *self, const char *name);
+const cgs_scenario_uav_t *cgs_scenario_uav (const cgs_scenario_t *self, const char *name);
 
 #endif
