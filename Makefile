@@ -17,7 +17,7 @@ SAN     ?= 0
 
 CC      ?= cc
 CXX     ?= c++
-PKGS     = libzmq libprotobuf-c geographiclib gdal inih libsystemd zlib
+PKGS     = libzmq libprotobuf-c geographiclib gdal inih libsystemd zlib fftw3 gsl
 PKG_CFLAGS := $(shell pkg-config --cflags $(PKGS) 2>/dev/null)
 PKG_LIBS   := $(shell pkg-config --libs $(PKGS) 2>/dev/null)
 CMOCKA_LIBS := $(shell pkg-config --libs cmocka 2>/dev/null)
