@@ -1,0 +1,60 @@
+/* mti_theory — the closed forms of detection theory the MTI model is checked
+ * against, and the statistics used to check it. Square-law detection,
+ * noise power normalised to 1, SNR as a power ratio (not dB).
+ *
+ * Cell-averaging CFAR, sum convention: declare X > T * sum(Z_1..Z_N) over N
+ * reference cells. In exponential (Gaussian-I/Q) noise
+ *   Pfa = (1 + T)^-N,  so  T = Pfa^(-1/N) - 1,
+ * and a Swerling I or II target in one look (X exponential with mean 1 + SNR)
+ *   Pd = (1 + T / (1 + SNR))^-N.
+ * A constant (nonfluctuating) target with known noise and threshold t
+ * (Pfa = e^-t): Pd = Q1(sqrt(2 SNR), sqrt(2 t)), Marcum's Q function; under
+ * CA-CFAR the same averaged over the sum Z ~ Gamma(N, 1):
+ *   Pd = integral Q1(sqrt(2 SNR), sqrt(2 T z)) z^(N-1) e^-z / (N-1)! dz.
+ * Clutter cancellers on a Gaussian clutter spectrum of standard deviation
+ * sigma_f (Hz) sampled at the PRF f_r: with rho_k = exp(-2 pi^2 sigma_f^2 k^2 / f_r^2)
+ *   two-pulse   I = 1 / (1 - rho_1)                      (~ f_r^2 / (2 pi^2 sigma_f^2))
+ *   three-pulse I = 6 / (6 - 8 rho_1 + 2 rho_2)          (~ f_r^4 / (8 pi^4 sigma_f^4))
+ * (improvement factor: signal gain averaged over all Doppler over clutter gain).
+ * m-of-n: P = sum_{k=m..n} C(n,k) p^k (1-p)^(n-k).
+ * Pure functions; GSL does the special functions and the quadrature.
+ * Arguments outside a function's domain give NAN. */
+#ifndef MTI_THEORY_H
+#define MTI_THEORY_H
+
+/* CA-CFAR multiplier T for n reference cells (sum convention). */
+double mti_theory_cfar_t (double pfa, int n_ref);
+/* Pfa of CA-CFAR with multiplier t and n reference cells: (1 + t)^-n. */
+double mti_theory_cfar_pfa (double t, int n_ref);
+/* Pd of a Swerling I/II target (one look) under CA-CFAR: (1 + T/(1+snr))^-n. */
+double mti_theory_pd_swerling_cacfar (double snr, double t, int n_ref);
+/* Pd of a Swerling I/II target with known noise and threshold -ln(pfa):
+ * pfa^(1/(1+snr)). */
+double mti_theory_pd_swerling_known (double snr, double pfa);
+/* Marcum's Q function Q1(a, b), a, b >= 0. */
+double mti_theory_marcum_q1 (double a, double b);
+/* Pd of a constant target with known noise: Q1(sqrt(2 snr), sqrt(-2 ln pfa)). */
+double mti_theory_pd_constant_known (double snr, double pfa);
+/* Pd of a constant target under CA-CFAR with multiplier t and n reference cells. */
+double mti_theory_pd_constant_cacfar (double snr, double t, int n_ref);
+/* Improvement factor (power ratio) of a canceller spanning `pulses` pulses
+ * (2 or 3; 1 gives 1) on Gaussian clutter of spectral std sigma_hz at prf_hz. */
+double mti_theory_canceller_improvement (int pulses, double sigma_hz, double prf_hz);
+/* The small-spread approximations f_r^2/(2 pi^2 s^2) and f_r^4/(8 pi^4 s^4). */
+double mti_theory_canceller_improvement_approx (int pulses, double sigma_hz, double prf_hz);
+/* P(at least m successes in n independent trials of probability p), 1 <= m <= n. */
+double mti_theory_m_of_n (double p, int m, int n);
+/* The two-sided 99% (or any level) Clopper-Pearson interval for k successes
+ * in n trials: *ret_lo, *ret_hi. 0, -EINVAL for k > n or a level outside
+ * (0, 1), -ERANGE where GSL cannot evaluate the beta distribution (counts with
+ * k (n - k) / n beyond about 5e5); outputs are written only on success. */
+int mti_theory_binomial_interval (unsigned long k, unsigned long n, double level, double *ret_lo,
+                                  double *ret_hi);
+/* The interval [lo, hi] of success counts that holds probability >= level
+ * for n trials of probability p (equal tails): is a measured count
+ * consistent with p? 0, -EINVAL for p outside [0, 1] or a level outside
+ * (0, 1), -ERANGE for n beyond UINT_MAX or n p (1 - p) beyond about 5e5. */
+int mti_theory_binomial_count_interval (double p, unsigned long n, double level,
+                                        unsigned long *ret_lo, unsigned long *ret_hi);
+
+#endif
