@@ -1,0 +1,425 @@
+/* mti_radar — scan, geometry, radar equation, hits and false alarms of one
+ * MTI radar (see mti_radar.h). */
+#include "mti_radar.h"
+#include "mti_dsp.h"
+#include "mti_theory.h"
+
+#include <assert.h>
+#include <errno.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define S_C        299792458.0
+#define S_K_BOLTZ  1.380649e-23
+#define S_DEG      (M_PI / 180.0)
+#define S_TGT_UP_M 2.0 // the target's reflecting centre above the ground, for line of sight
+#define S_CALIBRATION_SAMPLES 4000 // draws estimating the any-bin crossing probability
+
+struct mti_radar {
+    mti_params_t p;
+    const cgs_terrain_t *terrain; // borrowed; NULL: flat ground at 0
+    mti_dsp_t *dsp;
+    double lambda_m;
+    double k_radar;       // Pt tau G^2 lambda^2 / ((4 pi)^3 k T0 F L)
+    double span_deg;      // swept span
+    uint32_t dwells;      // per scan
+    double dwell_deg;     // width of one dwell
+    double dwell_s;       // its duration
+    double cpi_pfa;       // probability of a crossing in any bin of a target-free CPI
+    double gate_pfa;      // false-alarm probability of a gate in a dwell
+    uint32_t gates;       // range gates between the limits
+    uint32_t next_hit_id; // from 1
+    double *cnr;          // 1 + ref_cells
+    mti_hit_t *hits;
+    size_t hit_count, hit_cap;
+    mti_truth_t *truth;
+    size_t truth_count, truth_cap;
+};
+
+void mti_radar_destroy (mti_radar_t **self_p)
+{
+    assert (self_p);
+    mti_radar_t *self = *self_p;
+    if (!self)
+        return;
+    mti_dsp_destroy (&self->dsp);
+    free (self->cnr);
+    free (self->hits);
+    free (self->truth);
+    free (self);
+    *self_p = NULL;
+}
+
+static double s_db (double x_db)
+{
+    return pow (10.0, x_db / 10.0);
+}
+
+mti_radar_t *mti_radar_new (const mti_params_t *p, const cgs_terrain_t *terrain, uint64_t seed)
+{
+    if (mti_params_check (p, NULL, 0) < 0)
+        return NULL;
+    mti_radar_t *self = calloc (1, sizeof *self);
+    if (!self)
+        return NULL;
+    self->p = *p;
+    self->terrain = terrain;
+    self->dsp = mti_dsp_new (p, seed);
+    self->cnr = calloc ((size_t) p->ref_cells + 1, sizeof (double));
+    if (!self->dsp || !self->cnr)
+        goto fail;
+    self->lambda_m = mti_params_wavelength_m (p);
+    double g = s_db (p->antenna_gain_db);
+    self->k_radar = p->transmit_power_w * p->pulse_width_s * g * g * self->lambda_m * self->lambda_m
+                    / (pow (4.0 * M_PI, 3) * S_K_BOLTZ * p->noise_temperature_k
+                       * s_db (p->noise_figure_db) * s_db (p->losses_db));
+    self->span_deg = p->scan_mode == MTI_SCAN_FULL ? 360.0 : p->sector_width_deg;
+    double d = floor (self->span_deg / p->azimuth_beamwidth_deg + 1e-9);
+    self->dwells = d < 1 ? 1 : (uint32_t) d;
+    self->dwell_deg = self->span_deg / self->dwells;
+    self->dwell_s = self->dwell_deg / p->sweep_rate_dps;
+    // The chance of a crossing in any Doppler bin of a CPI, with the
+    // correlation the window and canceller put between bins.
+    self->cpi_pfa = mti_dsp_any_bin_probability (self->dsp, S_CALIBRATION_SAMPLES);
+    self->gate_pfa = mti_theory_m_of_n (self->cpi_pfa, p->m, p->n);
+    self->gates = (uint32_t) floor ((p->max_range_m - p->min_range_m) / p->range_resolution_m);
+    return self;
+fail:
+    mti_radar_destroy (&self);
+    return NULL;
+}
+
+double mti_radar_dwell_s (const mti_radar_t *self)
+{
+    return self->dwell_s;
+}
+
+uint32_t mti_radar_dwells_per_scan (const mti_radar_t *self)
+{
+    return self->dwells;
+}
+
+double mti_radar_gate_pfa (const mti_radar_t *self)
+{
+    return self->gate_pfa;
+}
+
+double mti_radar_cpi_pfa (const mti_radar_t *self)
+{
+    return self->cpi_pfa;
+}
+
+uint32_t mti_radar_gates (const mti_radar_t *self)
+{
+    return self->gates;
+}
+
+struct mti_dsp *mti_radar_dsp (mti_radar_t *self)
+{
+    return self->dsp;
+}
+
+static double s_wrap360 (double a)
+{
+    a = fmod (a, 360.0);
+    return a < 0 ? a + 360.0 : a;
+}
+
+void mti_radar_schedule (const mti_radar_t *self, uint64_t k, double heading_deg, mti_dwell_t *ret)
+{
+    uint64_t pass = k / self->dwells;
+    uint32_t j = (uint32_t) (k % self->dwells);
+    double w = self->dwell_deg, from, to;
+    if (self->p.scan_mode == MTI_SCAN_FULL) {
+        from = j * w;
+        to = from + w;
+    } else {
+        double c = self->p.sector_center_deg;
+        if (self->p.sector_ref == MTI_SECTOR_HEADING)
+            c += heading_deg;
+        double lo = c - self->span_deg / 2;
+        if (pass % 2 == 0) {
+            from = lo + j * w;
+            to = from + w;
+        } else {
+            from = lo + self->span_deg - j * w;
+            to = from - w;
+        }
+    }
+    *ret = (mti_dwell_t) {
+        .index = k,
+        .scan = (uint32_t) (pass + 1),
+        .dwell = j,
+        .dwells = self->dwells,
+        .start_s = (double) k * self->dwell_s,
+        .end_s = (double) (k + 1) * self->dwell_s,
+        .az_from_deg = s_wrap360 (from),
+        .az_to_deg = s_wrap360 (to),
+        .az_center_deg = s_wrap360 ((from + to) / 2),
+        .scan_start = j == 0,
+        .scan_end = j + 1 == self->dwells,
+    };
+}
+
+uint64_t mti_radar_dwell_at (const mti_radar_t *self, double t_s)
+{
+    return t_s <= 0 ? 0 : (uint64_t) floor (t_s / self->dwell_s);
+}
+
+/* True when azimuth a lies in the dwell's sector. */
+static bool s_in_dwell (const mti_radar_t *self, const mti_dwell_t *d, double a)
+{
+    // The sector's clockwise-most start: az_from going clockwise, else az_to.
+    double clockwise = s_wrap360 (d->az_to_deg - d->az_from_deg);
+    double lo = fabs (clockwise - self->dwell_deg) < 1e-6 ? d->az_from_deg : d->az_to_deg;
+    if (self->dwell_deg >= 360.0 - 1e-9)
+        return true;
+    return s_wrap360 (a - lo) < self->dwell_deg;
+}
+
+static double s_height (const mti_radar_t *self, double e, double n)
+{
+    return self->terrain ? cgs_terrain_height_clamped (self->terrain, e, n) : 0.0;
+}
+
+static cgs_enu_t s_normal (const mti_radar_t *self, double e, double n)
+{
+    return self->terrain ? cgs_terrain_normal (self->terrain, e, n) : (cgs_enu_t) {0, 0, 1};
+}
+
+static bool s_los (const mti_radar_t *self, cgs_enu_t a, cgs_enu_t b)
+{
+    return self->terrain ? cgs_terrain_los (self->terrain, a, b) : true;
+}
+
+/* The ground point at slant range r along azimuth az from the antenna at p. */
+static cgs_enu_t s_ground_at (const mti_radar_t *self, cgs_enu_t p, double az_deg, double r)
+{
+    double se = sin (az_deg * S_DEG), ce = cos (az_deg * S_DEG);
+    double h = p.u_m - s_height (self, p.e_m, p.n_m);
+    double g = sqrt (fmax (r * r - h * h, 0));
+    cgs_enu_t q = p;
+    for (int it = 0; it < 4; it++) {
+        q.e_m = p.e_m + g * se;
+        q.n_m = p.n_m + g * ce;
+        q.u_m = s_height (self, q.e_m, q.n_m);
+        h = p.u_m - q.u_m;
+        g = sqrt (fmax (r * r - h * h, 0));
+    }
+    return q;
+}
+
+/* Grazing angle (degrees) at ground point q seen from p: between the line of
+ * sight and the surface; <= 0 when the surface faces away. */
+static double s_grazing_deg (const mti_radar_t *self, cgs_enu_t p, cgs_enu_t q)
+{
+    double de = p.e_m - q.e_m, dn = p.n_m - q.n_m, du = p.u_m - q.u_m;
+    double r = sqrt (de * de + dn * dn + du * du);
+    if (r <= 0)
+        return 90.0;
+    cgs_enu_t nrm = s_normal (self, q.e_m, q.n_m);
+    double s = (de * nrm.e_m + dn * nrm.n_m + du * nrm.u_m) / r;
+    return asin (fmax (-1.0, fmin (1.0, s))) / S_DEG;
+}
+
+static double s_el_gain (const mti_radar_t *self, double off_deg)
+{
+    double x = off_deg / self->p.elevation_beamwidth_deg;
+    return exp (-8.0 * M_LN2 * x * x);
+}
+
+double mti_radar_snr (const mti_radar_t *self, double rcs_m2, double r_m, double depression_off_deg)
+{
+    double r2 = r_m * r_m;
+    return self->k_radar * rcs_m2 * s_el_gain (self, depression_off_deg) / (r2 * r2);
+}
+
+double mti_radar_cnr (const mti_radar_t *self, double r_m, double psi_deg, double depression_off_deg)
+{
+    if (!(psi_deg > 0))
+        return 0;
+    double psi = fmin (psi_deg, 80.0) * S_DEG; // the patch formula fails looking straight down
+    double sigma0 = s_db (self->p.clutter_gamma_db) * sin (psi);
+    double area = r_m * self->p.azimuth_beamwidth_deg * S_DEG * self->p.range_resolution_m / cos (psi);
+    return mti_radar_snr (self, sigma0 * area, r_m, depression_off_deg);
+}
+
+double mti_radar_clutter_sigma_hz (const mti_radar_t *self, double v_mps, double alpha_deg)
+{
+    double lam = self->lambda_m, th = self->p.azimuth_beamwidth_deg;
+    double s_int = 2.0 * self->p.clutter_internal_mps / lam;
+    double s_pm = 0.3 * th * S_DEG * 2.0 * v_mps / lam * fabs (sin (alpha_deg * S_DEG));
+    double s_scan = 0.265 * self->p.sweep_rate_dps / th;
+    return sqrt (s_int * s_int + s_pm * s_pm + s_scan * s_scan);
+}
+
+static int s_grow (void **arr, size_t *cap, size_t need, size_t elem)
+{
+    if (need <= *cap)
+        return 0;
+    size_t c = *cap ? *cap * 2 : 16;
+    while (c < need)
+        c *= 2;
+    void *a = realloc (*arr, c * elem);
+    if (!a)
+        return -ENOMEM;
+    *arr = a;
+    *cap = c;
+    return 0;
+}
+
+static int s_add_hit (mti_radar_t *self, mti_hit_t *h)
+{
+    if (s_grow ((void **) &self->hits, &self->hit_cap, self->hit_count + 1, sizeof *h) < 0)
+        return -ENOMEM;
+    h->hit_id = self->next_hit_id++;
+    if (self->next_hit_id == 0)
+        self->next_hit_id = 1;
+    self->hits[self->hit_count++] = *h;
+    return 0;
+}
+
+/* Measured hit from a true range (gate centre) and azimuth with noise. */
+static void s_measure (mti_radar_t *self, cgs_enu_t p, double r, double az, double sinr,
+                       mti_hit_t *h)
+{
+    double dr = self->p.range_resolution_m, th = self->p.azimuth_beamwidth_deg;
+    h->range_m = (floor (r / dr) + 0.5) * dr;
+    h->range_sigma_m = dr / sqrt (12.0);
+    double s = th / (1.6 * sqrt (2.0 * fmax (sinr, 1e-6)));
+    h->azimuth_sigma_deg = fmin (s, th / sqrt (12.0));
+    h->azimuth_deg = s_wrap360 (az + h->azimuth_sigma_deg * mti_dsp_gaussian (self->dsp));
+    h->position = s_ground_at (self, p, h->azimuth_deg, h->range_m);
+}
+
+/* One CPI's detection probability in a bin of expected SINR. */
+static double s_pd_cpi (const mti_radar_t *self, mti_swerling_t model, double sinr)
+{
+    double t = mti_dsp_threshold (self->dsp);
+    if (model == MTI_SWERLING_0)
+        return mti_theory_pd_constant_cacfar (sinr, t, self->p.ref_cells);
+    return mti_theory_pd_swerling_cacfar (sinr, t, self->p.ref_cells);
+}
+
+static int s_target (mti_radar_t *self, const mti_dwell_t *d, const mti_platform_t *plat,
+                     const mti_target_t *tg, double sigma_hz)
+{
+    const mti_params_t *p = &self->p;
+    cgs_enu_t a = plat->position, q = tg->position;
+    double de = q.e_m - a.e_m, dn = q.n_m - a.n_m, du = q.u_m - a.u_m;
+    double g = hypot (de, dn), r = sqrt (de * de + dn * dn + du * du);
+    if (r < p->min_range_m || r > p->max_range_m || g <= 0)
+        return 0;
+    double az = s_wrap360 (atan2 (de, dn) / S_DEG);
+    if (!s_in_dwell (self, d, az))
+        return 0;
+    double off = atan2 (-du, g) / S_DEG - p->beam_depression_deg;
+    if (fabs (off) > p->elevation_beamwidth_deg)
+        return 0;
+    if (s_grow ((void **) &self->truth, &self->truth_cap, self->truth_count + 1,
+                sizeof (mti_truth_t))
+        < 0)
+        return -ENOMEM;
+    mti_truth_t *tr = &self->truth[self->truth_count++];
+    double vr = (tg->velocity.e_m * de + tg->velocity.n_m * dn + tg->velocity.u_m * du) / r;
+    *tr = (mti_truth_t) {.entity_id = tg->id, .range_m = r, .radial_velocity_mps = vr,
+                         .snr_db = -INFINITY};
+    cgs_enu_t top = {q.e_m, q.n_m, q.u_m + S_TGT_UP_M};
+    if (!s_los (self, a, top))
+        return 0; // hidden: no return
+    tr->visible = true;
+    const mti_class_t *cls = mti_params_class (p, tg->rcs_class ? tg->rcs_class : "", NULL);
+    double snr = mti_radar_snr (self, cls->rcs_m2, r, off);
+    // Clutter: the target's cell, then the reference cells on both sides.
+    self->cnr[0] = mti_radar_cnr (self, r, s_grazing_deg (self, a, q), off);
+    int half = p->ref_cells / 2;
+    for (int i = 1; i <= half; i++)
+        for (int side = -1; side <= 1; side += 2) {
+            double rc = r + side * (p->guard_cells + i) * p->range_resolution_m;
+            double cnr = 0;
+            if (rc > 0) {
+                cgs_enu_t c = s_ground_at (self, a, az, rc);
+                cgs_enu_t c_up = {c.e_m, c.n_m, c.u_m + 0.5};
+                double off_c = atan2 (a.u_m - c.u_m, hypot (c.e_m - a.e_m, c.n_m - a.n_m)) / S_DEG
+                               - p->beam_depression_deg;
+                if (s_los (self, a, c_up))
+                    cnr = mti_radar_cnr (self, rc, s_grazing_deg (self, a, c), off_c);
+            }
+            self->cnr[side < 0 ? i : half + i] = cnr;
+        }
+    double f = -2.0 * vr / self->lambda_m;
+    mti_dsp_input_t in = {.snr = snr, .doppler_hz = f, .swerling = cls->swerling,
+                          .clutter_sigma_hz = sigma_hz, .cnr = self->cnr};
+    mti_dsp_result_t res;
+    int rc = mti_dsp_dwell (self->dsp, &in, &res);
+    if (rc < 0)
+        return rc;
+    double nz, cl, sg;
+    mti_dsp_bin_response (self->dsp, mti_dsp_bin_of (self->dsp, f), f,
+                          cls->swerling == MTI_SWERLING_2, &nz, &cl, &sg);
+    double sinr = snr * sg / (nz + self->cnr[0] * cl);
+    tr->snr_db = 10.0 * log10 (sinr);
+    tr->pd = s_pd_cpi (self, cls->swerling, sinr);
+    if (!res.detected)
+        return 0;
+    mti_hit_t h = {.entity_id = tg->id};
+    s_measure (self, a, r, az, sinr, &h);
+    h.radial_velocity_mps = -res.doppler_hz * self->lambda_m / 2.0;
+    h.snr_db = 10.0 * log10 (res.ratio);
+    if (s_add_hit (self, &h) < 0)
+        return -ENOMEM;
+    // The truth array may not have moved (hits are a separate array).
+    tr->detected = true;
+    tr->hit_id = h.hit_id;
+    return 0;
+}
+
+static int s_false_alarms (mti_radar_t *self, const mti_dwell_t *d, const mti_platform_t *plat)
+{
+    const mti_params_t *p = &self->p;
+    unsigned int count = self->gates ? mti_dsp_binomial (self->dsp, self->gate_pfa, self->gates) : 0;
+    double t = mti_dsp_threshold (self->dsp);
+    double clockwise = s_wrap360 (d->az_to_deg - d->az_from_deg);
+    double lo = fabs (clockwise - self->dwell_deg) < 1e-6 ? d->az_from_deg : d->az_to_deg;
+    for (unsigned int i = 0; i < count; i++) {
+        uint32_t gate = (uint32_t) (mti_dsp_uniform (self->dsp) * self->gates);
+        double r = p->min_range_m + (gate + 0.5) * p->range_resolution_m;
+        double az = s_wrap360 (lo + mti_dsp_uniform (self->dsp) * self->dwell_deg);
+        int bin = (int) (mti_dsp_uniform (self->dsp) * p->fft_size);
+        // An exceedance X > T Z: Z ~ Gamma(N), X - T Z exponential (memoryless).
+        double z = mti_dsp_gamma (self->dsp, p->ref_cells);
+        double x = t * z - log (1.0 - mti_dsp_uniform (self->dsp));
+        double ratio = x / (z / p->ref_cells);
+        mti_hit_t h = {.entity_id = 0};
+        s_measure (self, plat->position, r, az, ratio, &h);
+        h.radial_velocity_mps = -mti_dsp_bin_hz (self->dsp, bin) * self->lambda_m / 2.0;
+        h.snr_db = 10.0 * log10 (ratio);
+        if (s_add_hit (self, &h) < 0)
+            return -ENOMEM;
+    }
+    return (int) count;
+}
+
+int mti_radar_dwell (mti_radar_t *self, const mti_dwell_t *d, const mti_platform_t *plat,
+                     const mti_target_t *targets, size_t n, mti_dwell_out_t *ret)
+{
+    self->hit_count = 0;
+    self->truth_count = 0;
+    // One clutter spectrum per dwell, at the beam's centre.
+    double v = hypot (plat->velocity.e_m, plat->velocity.n_m);
+    double track = atan2 (plat->velocity.e_m, plat->velocity.n_m) / S_DEG;
+    double sigma = mti_radar_clutter_sigma_hz (self, v, d->az_center_deg - track);
+    for (size_t i = 0; i < n; i++) {
+        int rc = s_target (self, d, plat, &targets[i], sigma);
+        if (rc < 0)
+            return rc;
+    }
+    int fa = s_false_alarms (self, d, plat);
+    if (fa < 0)
+        return fa;
+    *ret = (mti_dwell_out_t) {.hits = self->hits, .hit_count = self->hit_count,
+                              .truth = self->truth, .truth_count = self->truth_count,
+                              .false_alarms = (uint32_t) fa};
+    return 0;
+}

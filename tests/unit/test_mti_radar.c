@@ -1,0 +1,295 @@
+/* The MTI radar around the chain: the scan schedule (full revolution and
+ * sector, at the sweep rate), the radar equation and clutter model against
+ * hand-worked numbers, the clutter spread terms, terrain masking, hit
+ * measurement noise against the sigmas it reports, and the drawn false
+ * alarms against their binomial rate. */
+#include "cgs_terrain.h"
+#include "mti_params.h"
+#include "mti_radar.h"
+#include "mti_theory.h"
+
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <cmocka.h>
+
+/* cmocka compares floats in single precision; these checks need doubles. */
+#define assert_near(a, b, eps) s_assert_near ((a), (b), (eps), #a, __FILE__, __LINE__)
+static void s_assert_near (double a, double b, double eps, const char *what, const char *file,
+                           int line)
+{
+    if (!(fabs (a - b) <= eps)) {
+        print_error ("%s = %.10g, expected %.10g +- %g\n", what, a, b, eps);
+        _fail (file, line);
+    }
+}
+
+static mti_params_t s_defaults (void)
+{
+    mti_params_t p;
+    mti_params_defaults (&p);
+    return p;
+}
+
+static void test_full_scan_schedule (void **state)
+{
+    (void)state;
+    mti_params_t p = s_defaults ();
+    mti_radar_t *r = mti_radar_new (&p, NULL, 1);
+    assert_non_null (r);
+    assert_int_equal (mti_radar_dwells_per_scan (r), 120);
+    assert_near (mti_radar_dwell_s (r), 3.0 / 36.0, 1e-12);
+    mti_dwell_t d;
+    mti_radar_schedule (r, 0, 0, &d);
+    assert_int_equal (d.scan, 1);
+    assert_int_equal (d.dwell, 0);
+    assert_true (d.scan_start && !d.scan_end);
+    assert_near (d.az_from_deg, 0, 1e-9);
+    assert_near (d.az_to_deg, 3, 1e-9);
+    mti_radar_schedule (r, 119, 0, &d);
+    assert_int_equal (d.scan, 1);
+    assert_true (d.scan_end);
+    assert_near (d.end_s, 10.0, 1e-9); // a revolution at 36 deg/s
+    mti_radar_schedule (r, 120 * 7 + 30, 0, &d);
+    assert_int_equal (d.scan, 8);
+    assert_near (d.az_center_deg, 91.5, 1e-9);
+    assert_int_equal (mti_radar_dwell_at (r, 10.0 + 1e-9), 120);
+    assert_int_equal (mti_radar_dwell_at (r, 0.05), 0);
+    // A target at any azimuth is in the beam in exactly one dwell per scan.
+    mti_platform_t plat = {.position = {0, 0, 1500}};
+    for (double az = 0.5; az < 360; az += 7.3) {
+        mti_target_t t = {.id = 5, .position = {8000 * sin (az * M_PI / 180), 8000 * cos (az * M_PI / 180), 0}};
+        int seen = 0;
+        for (uint64_t k = 120; k < 240; k++) {
+            mti_dwell_out_t out;
+            mti_radar_schedule (r, k, 0, &d);
+            assert_int_equal (mti_radar_dwell (r, &d, &plat, &t, 1, &out), 0);
+            if (out.truth_count) {
+                seen++;
+                assert_true (fabs (remainder (az - d.az_center_deg, 360)) <= 1.5 + 1e-9);
+            }
+        }
+        assert_int_equal (seen, 1);
+    }
+    mti_radar_destroy (&r);
+    mti_radar_destroy (&r);
+}
+
+static void test_sector_scan (void **state)
+{
+    (void)state;
+    mti_params_t p = s_defaults ();
+    p.scan_mode = MTI_SCAN_SECTOR;
+    p.sector_center_deg = 350;
+    p.sector_width_deg = 31; // ten dwells of 3.1 deg
+    mti_radar_t *r = mti_radar_new (&p, NULL, 1);
+    assert_non_null (r);
+    assert_int_equal (mti_radar_dwells_per_scan (r), 10);
+    assert_near (mti_radar_dwell_s (r), 3.1 / 36, 1e-12);
+    double t_prev = 0;
+    for (uint64_t k = 0; k < 40; k++) {
+        mti_dwell_t d;
+        mti_radar_schedule (r, k, 0, &d);
+        assert_int_equal (d.scan, k / 10 + 1);
+        // Only the sector is visited: every dwell centre within it.
+        assert_true (fabs (remainder (d.az_center_deg - 350, 360)) <= 15.5 - 1.55 + 1e-9);
+        // Back and forth: forward passes go clockwise, the others back.
+        double step = remainder (d.az_to_deg - d.az_from_deg, 360);
+        double expect = (k / 10) % 2 == 0 ? 3.1 : -3.1;
+        assert_near (step, expect, 1e-9);
+        // At its rate: the beam moves 3.1 deg in each dwell's time.
+        assert_near (d.end_s - d.start_s, 3.1 / 36, 1e-12);
+        assert_near (d.start_s, t_prev, 1e-9);
+        t_prev = d.end_s;
+    }
+    mti_dwell_t d;
+    mti_radar_schedule (r, 0, 0, &d);
+    assert_near (d.az_from_deg, 334.5, 1e-9);
+    mti_radar_schedule (r, 10, 0, &d);
+    assert_near (d.az_from_deg, 5.5, 1e-9);
+    mti_radar_destroy (&r);
+    // Referenced to the heading: the sector turns with the UAV.
+    p.sector_ref = MTI_SECTOR_HEADING;
+    p.sector_center_deg = 90; // off the right wing
+    r = mti_radar_new (&p, NULL, 1);
+    mti_radar_schedule (r, 5, 45, &d);
+    assert_near (d.az_from_deg, 135 - 15.5 + 5 * 3.1, 1e-9);
+    mti_radar_destroy (&r);
+}
+
+/* The radar equation, worked by hand: 20 kW, 200 ns, 24 dB, 16 GHz
+ * (lambda = 0.018737 m), 4 dB noise figure, 5 dB losses, 290 K: a 10 m^2
+ * target at 10 km has SNR 1.47 dB per pulse (19.5 dB after 64 pulses). */
+static void test_radar_equation (void **state)
+{
+    (void)state;
+    mti_params_t p = s_defaults ();
+    mti_radar_t *r = mti_radar_new (&p, NULL, 1);
+    double snr = mti_radar_snr (r, 10, 10000, 0);
+    assert_near (10 * log10 (snr), 1.4735, 0.001);
+    // R^-4, and the two-way elevation pattern: -6 dB at half the one-way beamwidth... 
+    assert_near (mti_radar_snr (r, 10, 20000, 0), snr / 16, snr * 1e-12);
+    assert_near (10 * log10 (mti_radar_snr (r, 10, 10000, 30) / snr), -6.0206, 0.001);
+    // Clutter, constant gamma -15 dB at 10 deg grazing: sigma0 A = 87.59 m^2,
+    // CNR 10.90 dB per pulse.
+    double cnr = mti_radar_cnr (r, 10000, 10, 0);
+    assert_near (10 * log10 (cnr), 10.898, 0.001);
+    assert_near (cnr / snr, 87.5868 / 10, 1e-4);
+    assert_near (mti_radar_cnr (r, 10000, 0, 0), 0, 0);  // grazing 0: none
+    assert_near (mti_radar_cnr (r, 10000, -5, 0), 0, 0); // facing away: none
+    // Spread: internal 0.1 m/s -> 10.67 Hz, scan 0.265 * 36/3 = 3.18 Hz,
+    // platform 38 m/s broadside 0.3 * 3 deg * 2 * 38 / lambda = 63.71 Hz.
+    assert_near (mti_radar_clutter_sigma_hz (r, 0, 0), hypot (10.674, 3.18), 0.01);
+    assert_near (mti_radar_clutter_sigma_hz (r, 38, 90),
+                        sqrt (10.674 * 10.674 + 3.18 * 3.18 + 63.714 * 63.714), 0.01);
+    assert_near (mti_radar_clutter_sigma_hz (r, 38, 0), hypot (10.674, 3.18), 0.01);
+    mti_radar_destroy (&r);
+}
+
+/* A ridge 600 m high runs north-south at 4 km east; the UAV flies 1 km up
+ * at the origin. A mover 3 km east answers; one 7 km east, in the ridge's
+ * shadow, never does. */
+static void test_terrain_masks (void **state)
+{
+    (void)state;
+    int cols = 401, rows = 401;
+    float *h = calloc ((size_t)cols * rows, sizeof *h);
+    for (int rr = 0; rr < rows; rr++)
+        for (int c = 0; c < cols; c++) {
+            double e = -10000 + c * 50.0;
+            h[rr * cols + c] = (float)(600 * exp (-pow ((e - 4000) / 300, 2)));
+        }
+    cgs_terrain_t *t = cgs_terrain_new_grid (cols, rows, -10000, -10000, 50, h);
+    free (h);
+    assert_non_null (t);
+    mti_params_t p = s_defaults ();
+    mti_radar_t *r = mti_radar_new (&p, t, 3);
+    mti_platform_t plat = {.position = {0, 0, 1000}, .velocity = {0, 30, 0}};
+    mti_target_t tg[2] = {
+        {.id = 1, .position = {3000, 0, 0}, .velocity = {-10, 0, 0}, .rcs_class = "vehicle"},
+        {.id = 2, .position = {7000, 0, 0}, .velocity = {-10, 0, 0}, .rcs_class = "vehicle"},
+    };
+    int det[3] = {0}, vis[3] = {0}, seen[3] = {0};
+    for (int scan = 0; scan < 30; scan++) {
+        mti_dwell_t d;
+        mti_radar_schedule (r, (uint64_t)scan * 120 + 30, 0, &d); // the dwell looking east
+        mti_dwell_out_t out;
+        assert_int_equal (mti_radar_dwell (r, &d, &plat, tg, 2, &out), 0);
+        for (size_t i = 0; i < out.truth_count; i++) {
+            uint32_t id = out.truth[i].entity_id;
+            seen[id]++;
+            vis[id] += out.truth[i].visible;
+            det[id] += out.truth[i].detected;
+        }
+        for (size_t i = 0; i < out.hit_count; i++)
+            assert_int_not_equal (out.hits[i].entity_id, 2);
+    }
+    print_message ("# in the open: seen %d, visible %d, detected %d; behind the ridge: seen %d, "
+                   "visible %d, detected %d\n",
+                   seen[1], vis[1], det[1], seen[2], vis[2], det[2]);
+    assert_int_equal (seen[1], 30);
+    assert_int_equal (vis[1], 30);
+    assert_true (det[1] >= 25);
+    assert_int_equal (seen[2], 30);
+    assert_int_equal (vis[2], 0);
+    assert_int_equal (det[2], 0);
+    mti_radar_destroy (&r);
+    cgs_terrain_destroy (&t);
+}
+
+/* Hits of a strong target: the range is its gate's centre, the azimuth
+ * errors have the spread the hits report, the radial velocity is within a
+ * Doppler bin, the position lies on the ground where they point. */
+static void test_hit_measurement (void **state)
+{
+    (void)state;
+    mti_params_t p = s_defaults ();
+    p.clutter_gamma_db = -80; // no clutter to speak of
+    mti_radar_t *r = mti_radar_new (&p, NULL, 4);
+    mti_platform_t plat = {.position = {0, 0, 2000}};
+    double az = 40, rg = 8000;
+    mti_target_t t = {.id = 9, .position = {rg * sin (az * M_PI / 180), rg * cos (az * M_PI / 180), 0},
+                      .velocity = {6 * sin (az * M_PI / 180), 6 * cos (az * M_PI / 180), 0},
+                      .rcs_class = "reflector"};
+    double slant = hypot (rg, 2000), vbin = mti_params_wavelength_m (&p) * p.prf_hz / (2 * 64);
+    int n = 0;
+    double sum_z2 = 0;
+    for (int scan = 0; scan < 400; scan++) {
+        mti_dwell_t d;
+        mti_radar_schedule (r, (uint64_t)scan * 120 + 13, 0, &d);
+        mti_dwell_out_t out;
+        assert_int_equal (mti_radar_dwell (r, &d, &plat, &t, 1, &out), 0);
+        for (size_t i = 0; i < out.hit_count; i++) {
+            const mti_hit_t *h = &out.hits[i];
+            if (h->entity_id != 9)
+                continue;
+            n++;
+            assert_near (h->range_m, (floor (slant / 30) + 0.5) * 30, 1e-9);
+            assert_near (h->range_sigma_m, 30 / sqrt (12), 1e-9);
+            assert_near (h->radial_velocity_mps, 6 * rg / slant, vbin / 2 + 1e-9);
+            double z = remainder (h->azimuth_deg - az, 360) / h->azimuth_sigma_deg;
+            sum_z2 += z * z;
+            double ground = sqrt (h->range_m * h->range_m - 2000.0 * 2000.0);
+            assert_near (hypot (h->position.e_m, h->position.n_m), ground, 0.5);
+            assert_near (h->position.u_m, 0, 1e-9);
+        }
+    }
+    double zstd = sqrt (sum_z2 / n);
+    print_message ("# %d hits; azimuth error / reported sigma: rms %.3f\n", n, zstd);
+    assert_true (n >= 380);
+    assert_near (zstd, 1.0, 0.12);
+    mti_radar_destroy (&r);
+}
+
+/* With no targets, each dwell's false alarms are binomial over its gates at
+ * the probability the CFAR design and m-of-n give; they lie in the dwell. */
+static void test_false_alarm_rate (void **state)
+{
+    (void)state;
+    mti_params_t p = s_defaults ();
+    p.pfa = 1e-3;
+    mti_radar_t *r = mti_radar_new (&p, NULL, 5);
+    double pc = mti_radar_cpi_pfa (r), indep = 1 - pow (1 - 1e-3, 64);
+    // The Hamming window correlates neighbouring bins: a little below independence.
+    assert_true (pc < indep && pc > 0.85 * indep);
+    double pg = mti_theory_m_of_n (pc, 2, 4);
+    assert_near (mti_radar_gate_pfa (r), pg, 1e-12);
+    assert_int_equal (mti_radar_gates (r), (uint32_t)((20000 - 500) / 30));
+    mti_platform_t plat = {.position = {0, 0, 1500}};
+    unsigned long total = 0, dwells = 300;
+    for (uint64_t k = 0; k < dwells; k++) {
+        mti_dwell_t d;
+        mti_dwell_out_t out;
+        mti_radar_schedule (r, k, 0, &d);
+        assert_int_equal (mti_radar_dwell (r, &d, &plat, NULL, 0, &out), 0);
+        assert_int_equal (out.hit_count, out.false_alarms);
+        total += out.false_alarms;
+        for (size_t i = 0; i < out.hit_count; i++) {
+            assert_int_equal (out.hits[i].entity_id, 0);
+            assert_true (out.hits[i].range_m >= 500 && out.hits[i].range_m <= 20000);
+            assert_true (fabs (remainder (out.hits[i].azimuth_deg - d.az_center_deg, 360))
+                         <= 1.5 + 5 * out.hits[i].azimuth_sigma_deg);
+        }
+    }
+    unsigned long lo, hi;
+    assert_int_equal (mti_theory_binomial_count_interval (pg, dwells * mti_radar_gates (r), 0.99, &lo, &hi), 0);
+    print_message ("# %lu false alarms in %lu dwells (expected %.1f, 99%% [%lu, %lu])\n", total,
+                   dwells, pg * dwells * mti_radar_gates (r), lo, hi);
+    assert_in_range (total, lo, hi);
+    mti_radar_destroy (&r);
+}
+
+int main (void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test (test_full_scan_schedule), cmocka_unit_test (test_sector_scan),
+        cmocka_unit_test (test_radar_equation),     cmocka_unit_test (test_terrain_masks),
+        cmocka_unit_test (test_hit_measurement),    cmocka_unit_test (test_false_alarm_rate),
+    };
+    return cmocka_run_group_tests (tests, NULL, NULL);
+}
