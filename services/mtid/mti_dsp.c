@@ -16,13 +16,13 @@
 #include <gsl/gsl_vector.h>
 
 struct mti_dsp {
-    int fft_size;      // Doppler bins
-    int pulses;        // pulses per CPI
-    int canceller;     // pulses the canceller spans (1, 2, 3)
-    int n_ref;         // CFAR reference cells
-    int n_guard;       // CFAR guard cells each side
-    int n_cpi, m;      // m of n
-    double t_cfar;     // CA-CFAR multiplier (sum convention)
+    int fft_size;  // Doppler bins
+    int pulses;    // pulses per CPI
+    int canceller; // pulses the canceller spans (1, 2, 3)
+    int n_ref;     // CFAR reference cells
+    int n_guard;   // CFAR guard cells each side
+    int n_cpi, m;  // m of n
+    double t_cfar; // CA-CFAR multiplier (sum convention)
     double prf_hz;
     double *window;    // fft_size coefficients
     fftw_complex *buf; // FFT in place, fft_size
@@ -37,8 +37,8 @@ struct mti_dsp {
     gsl_matrix *cov, *evec;
     gsl_vector *eval;
     /* Scratch for one CPI. */
-    double complex *x;            // pulses
-    double complex *w;            // rank
+    double complex *x;               // pulses
+    double complex *w;               // rank
     double *power, *x_bins, *z_bins; // fft_size each
 };
 
@@ -103,7 +103,7 @@ mti_dsp_t *mti_dsp_new (const mti_params_t *p, uint64_t seed)
     if (!self)
         return NULL;
     self->fft_size = p->fft_size;
-    self->canceller = (int) p->canceller;
+    self->canceller = (int)p->canceller;
     self->pulses = mti_params_cpi_pulses (p);
     self->n_ref = p->ref_cells;
     self->n_guard = p->guard_cells;
@@ -127,15 +127,15 @@ mti_dsp_t *mti_dsp_new (const mti_params_t *p, uint64_t seed)
     self->power = malloc (sizeof (double) * n);
     self->x_bins = malloc (sizeof (double) * n);
     self->z_bins = malloc (sizeof (double) * n);
-    if (!self->window || !self->buf || !self->rng || !self->eig_ws || !self->cov || !self->evec
-        || !self->eval || !self->clutter_a || !self->rho || !self->x || !self->w || !self->power || !self->x_bins
-        || !self->z_bins)
+    if (!self->window || !self->buf || !self->rng || !self->eig_ws || !self->cov || !self->evec ||
+        !self->eval || !self->clutter_a || !self->rho || !self->x || !self->w || !self->power ||
+        !self->x_bins || !self->z_bins)
         goto fail;
     self->plan = fftw_plan_dft_1d (n, self->buf, self->buf, FFTW_FORWARD, FFTW_ESTIMATE);
     if (!self->plan)
         goto fail;
     s_window (p->window, n, self->window);
-    gsl_rng_set (self->rng, (unsigned long) (seed ^ (seed >> 32)));
+    gsl_rng_set (self->rng, (unsigned long)(seed ^ (seed >> 32)));
     return self;
 fail:
     mti_dsp_destroy (&self);
@@ -168,17 +168,17 @@ int mti_dsp_bin_of (const mti_dsp_t *self, double f_hz)
 {
     int n = self->fft_size;
     double k = round (f_hz / self->prf_hz * n);
-    long b = (long) fmod (k, n);
+    long b = (long)fmod (k, n);
     if (b < 0)
         b += n;
-    return (int) b;
+    return (int)b;
 }
 
 /* Complex Gaussian of unit power. */
 static inline double complex s_cgauss (gsl_rng *r)
 {
-    return M_SQRT1_2 * gsl_ran_gaussian_ziggurat (r, 1.0)
-           + I * (M_SQRT1_2 * gsl_ran_gaussian_ziggurat (r, 1.0));
+    return M_SQRT1_2 * gsl_ran_gaussian_ziggurat (r, 1.0) +
+           I * (M_SQRT1_2 * gsl_ran_gaussian_ziggurat (r, 1.0));
 }
 
 mti_dsp_target_t mti_dsp_draw_target (mti_dsp_t *self, mti_swerling_t model, double snr,
@@ -201,7 +201,7 @@ int mti_dsp_set_clutter (mti_dsp_t *self, double sigma_hz)
     int np = self->pulses;
     double s = 2.0 * M_PI * M_PI * sigma_hz * sigma_hz / (self->prf_hz * self->prf_hz);
     for (int d = 0; d < np; d++)
-        self->rho[d] = exp (-s * (double) d * d);
+        self->rho[d] = exp (-s * (double)d * d);
     for (int i = 0; i < np; i++)
         for (int j = 0; j < np; j++)
             gsl_matrix_set (self->cov, i, j, self->rho[abs (i - j)]);
@@ -259,7 +259,7 @@ void mti_dsp_cell (mti_dsp_t *self, double cnr, const mti_dsp_target_t *tgt, dou
 void mti_dsp_filter (mti_dsp_t *self, const double complex *x, double *power)
 {
     int n = self->fft_size;
-    double complex *b = (double complex *) self->buf;
+    double complex *b = (double complex *)self->buf;
     for (int k = 0; k < n; k++) {
         const double complex *p = &x[k];
         double complex y;
@@ -334,8 +334,8 @@ int mti_dsp_strip (mti_dsp_t *self, int ncells, const double *cnr, bool *detecte
     int n = self->fft_size, half = self->n_ref / 2, reach = self->n_guard + half;
     if (ncells < 2 * reach + 1)
         return -EINVAL;
-    double *pw = malloc (sizeof (double) * (size_t) ncells * n);
-    int *cross = calloc ((size_t) ncells, sizeof (int));
+    double *pw = malloc (sizeof (double) * (size_t)ncells * n);
+    int *cross = calloc ((size_t)ncells, sizeof (int));
     if (!pw || !cross) {
         free (pw);
         free (cross);
@@ -344,15 +344,15 @@ int mti_dsp_strip (mti_dsp_t *self, int ncells, const double *cnr, bool *detecte
     for (int c = 0; c < self->n_cpi; c++) {
         for (int i = 0; i < ncells; i++) {
             mti_dsp_cell (self, cnr[i], NULL, self->x);
-            mti_dsp_filter (self, self->x, &pw[(size_t) i * n]);
+            mti_dsp_filter (self, self->x, &pw[(size_t)i * n]);
         }
         for (int i = reach; i < ncells - reach; i++) {
             bool crossed = false;
             for (int k = 0; k < n && !crossed; k++) {
                 double z = 0;
                 for (int j = self->n_guard + 1; j <= reach; j++)
-                    z += pw[(size_t) (i - j) * n + k] + pw[(size_t) (i + j) * n + k];
-                crossed = pw[(size_t) i * n + k] > self->t_cfar * z;
+                    z += pw[(size_t)(i - j) * n + k] + pw[(size_t)(i + j) * n + k];
+                crossed = pw[(size_t)i * n + k] > self->t_cfar * z;
             }
             cross[i] += crossed;
         }
@@ -380,43 +380,67 @@ static void s_bin_filter (const mti_dsp_t *self, int bin, double complex *h)
     }
 }
 
+/* Replace the bin output y = h.x of white pulses x by y_new: x += h^H (y_new - y) / |h|^2
+ * (the Gaussian x conditioned on its bin output). */
+static void s_condition (double complex *x, const double complex *h, int np, double hh,
+                         double complex y, double complex y_new)
+{
+    for (int j = 0; j < np; j++)
+        x[j] += conj (h[j]) * (y_new - y) / hh;
+}
+
+static double complex s_dot (const double complex *h, const double complex *x, int np)
+{
+    double complex y = 0;
+    for (int j = 0; j < np; j++)
+        y += h[j] * x[j];
+    return y;
+}
+
 double mti_dsp_any_bin_probability (mti_dsp_t *self, int samples)
 {
     int n = self->fft_size, np = self->pulses;
     double complex h[MTI_FFT_MAX + 2];
-    double zero[MTI_REF_CELLS_MAX + 1] = {0};
-    double sum = 0;
+    double t = self->t_cfar, shrink = 1.0 / sqrt (1.0 + t), sum = 0;
     for (int s = 0; s < samples; s++) {
-        int b = (int) (gsl_rng_uniform (self->rng) * n);
-        // Reference cells as they come; then the cell under test's pulses x
-        // conditioned on |y_b|^2 = T Z_b + E (the exceedance is exponential,
-        // memoryless): x' = x + h^H (y' - y) / |h|^2 for white unit noise.
-        mti_dsp_cpi (self, zero, NULL, self->x_bins, self->z_bins);
+        int b = (int)(gsl_rng_uniform (self->rng) * n);
         s_bin_filter (self, b, h);
         double hh = 0;
-        double complex y = 0;
         for (int j = 0; j < np; j++)
-            self->x[j] = s_cgauss (self->rng);
-        for (int j = 0; j < np; j++) {
             hh += creal (h[j] * conj (h[j]));
-            y += h[j] * self->x[j];
-        }
         if (!(hh > 0)) {
             sum += 1.0; // a bin the chain zeroes: count it as independent
             continue;
         }
-        double mag2 = self->t_cfar * self->z_bins[b] + gsl_ran_exponential (self->rng, hh);
-        double complex y_new = sqrt (mag2) * cexp (2.0 * M_PI * I * gsl_rng_uniform (self->rng));
+        // Given that bin b crosses (X_b > T Z_b, X_b exponential of mean hh),
+        // the reference sum is tilted by exp(-T Z_b / hh): each reference
+        // cell's bin-b output is complex Gaussian of power hh / (1 + T).
+        memset (self->z_bins, 0, sizeof (double) * n);
+        for (int c = 0; c < self->n_ref; c++) {
+            for (int j = 0; j < np; j++)
+                self->x[j] = s_cgauss (self->rng);
+            double complex y = s_dot (h, self->x, np);
+            s_condition (self->x, h, np, hh, y, y * shrink);
+            mti_dsp_filter (self, self->x, self->power);
+            for (int k = 0; k < n; k++)
+                self->z_bins[k] += self->power[k];
+        }
+        // The cell under test: X_b = T Z_b + an exponential exceedance
+        // (memoryless), at a uniform phase.
         for (int j = 0; j < np; j++)
-            self->x[j] += conj (h[j]) * (y_new - y) / hh;
+            self->x[j] = s_cgauss (self->rng);
+        double complex y = s_dot (h, self->x, np);
+        double mag2 = t * self->z_bins[b] + gsl_ran_exponential (self->rng, hh);
+        s_condition (self->x, h, np, hh, y,
+                     sqrt (mag2) * cexp (2.0 * M_PI * I * gsl_rng_uniform (self->rng)));
         mti_dsp_filter (self, self->x, self->x_bins);
         int crossings = 0;
         for (int k = 0; k < n; k++)
-            crossings += self->x_bins[k] > self->t_cfar * self->z_bins[k];
+            crossings += self->x_bins[k] > t * self->z_bins[k];
         // Bin b crosses by construction (up to rounding at the threshold).
         sum += 1.0 / (crossings > 0 ? crossings : 1);
     }
-    double pfa = pow (1.0 + self->t_cfar, -self->n_ref);
+    double pfa = pow (1.0 + t, -self->n_ref);
     return pfa * n * (sum / samples);
 }
 

@@ -14,7 +14,10 @@
  * eigensolver) so each cell's clutter is V sqrt(L) w with w white: exact for
  * any spread, however narrow. The radar changes frequency between CPIs, so
  * clutter, noise and the target's phase are independent from one CPI to the
- * next (what makes m-of-n a binomial test).
+ * next: for noise, clutter, a constant or a Swerling II target m-of-n is a
+ * binomial test. A Swerling I target's amplitude is held over the whole
+ * dwell (scan to scan, as Swerling defined it), so its CPIs are correlated
+ * and its m-of-n Pd is not the binomial sum of one CPI's.
  *
  * Then per cell: the clutter canceller (two- or three-pulse), the window, the
  * Doppler FFT of fft_size points (FFTW) and the square law. Cell-averaging
@@ -48,7 +51,7 @@ typedef struct {
     double doppler_hz;       // target Doppler relative to the clutter centre
     mti_swerling_t swerling; // the target's fluctuation model
     double clutter_sigma_hz; // clutter spectrum standard deviation
-    const double *cnr;       // per-pulse clutter-to-noise: [0] the target's cell, [1..ref] references
+    const double *cnr; // per-pulse clutter-to-noise: [0] the target's cell, [1..ref] references
 } mti_dsp_input_t;
 
 typedef struct {
@@ -110,9 +113,12 @@ int mti_dsp_strip (mti_dsp_t *self, int ncells, const double *cnr, bool *detecte
  * independent (the window and canceller correlate neighbours), so this is
  * below 1 - (1 - Pfa)^bins; it is estimated with `samples` draws of the
  * union estimator P(any) = sum_b P(A_b) E[1 / crossings | A_b], P(A_b) =
- * Pfa exactly, each draw forcing bin b over the threshold (b at random) by
- * conditioning the Gaussian pulses on that bin's output, then counting the
- * crossings of all bins. Relative standard error about 0.2 / sqrt(samples).
+ * Pfa exactly. Each draw picks b at random and samples the cells given that
+ * bin b crosses, by conditioning their Gaussian pulses on their bin-b
+ * outputs: each reference cell's is complex Gaussian of power |h_b|^2 / (1 +
+ * T) (the crossing tilts the reference sum by exp(-T Z_b / |h_b|^2)), the
+ * test cell's has power T Z_b plus an exponential exceedance; then it counts
+ * the crossings of all bins. Relative standard error about 0.2 / sqrt(samples).
  * Uses (and advances) the chain's generator. */
 double mti_dsp_any_bin_probability (mti_dsp_t *self, int samples);
 

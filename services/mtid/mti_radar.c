@@ -10,10 +10,10 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define S_C        299792458.0
-#define S_K_BOLTZ  1.380649e-23
-#define S_DEG      (M_PI / 180.0)
-#define S_TGT_UP_M 2.0 // the target's reflecting centre above the ground, for line of sight
+#define S_C                   299792458.0
+#define S_K_BOLTZ             1.380649e-23
+#define S_DEG                 (M_PI / 180.0)
+#define S_TGT_UP_M            2.0 // the target's reflecting centre above the ground, for line of sight
 #define S_CALIBRATION_SAMPLES 4000 // draws estimating the any-bin crossing probability
 
 struct mti_radar {
@@ -65,25 +65,27 @@ mti_radar_t *mti_radar_new (const mti_params_t *p, const cgs_terrain_t *terrain,
         return NULL;
     self->p = *p;
     self->terrain = terrain;
+    self->next_hit_id = 1;
     self->dsp = mti_dsp_new (p, seed);
-    self->cnr = calloc ((size_t) p->ref_cells + 1, sizeof (double));
+    self->cnr = calloc ((size_t)p->ref_cells + 1, sizeof (double));
     if (!self->dsp || !self->cnr)
         goto fail;
     self->lambda_m = mti_params_wavelength_m (p);
     double g = s_db (p->antenna_gain_db);
-    self->k_radar = p->transmit_power_w * p->pulse_width_s * g * g * self->lambda_m * self->lambda_m
-                    / (pow (4.0 * M_PI, 3) * S_K_BOLTZ * p->noise_temperature_k
-                       * s_db (p->noise_figure_db) * s_db (p->losses_db));
+    self->k_radar = p->transmit_power_w * p->pulse_width_s * g * g * self->lambda_m *
+                    self->lambda_m /
+                    (pow (4.0 * M_PI, 3) * S_K_BOLTZ * p->noise_temperature_k *
+                     s_db (p->noise_figure_db) * s_db (p->losses_db));
     self->span_deg = p->scan_mode == MTI_SCAN_FULL ? 360.0 : p->sector_width_deg;
     double d = floor (self->span_deg / p->azimuth_beamwidth_deg + 1e-9);
-    self->dwells = d < 1 ? 1 : (uint32_t) d;
+    self->dwells = d < 1 ? 1 : (uint32_t)d;
     self->dwell_deg = self->span_deg / self->dwells;
     self->dwell_s = self->dwell_deg / p->sweep_rate_dps;
     // The chance of a crossing in any Doppler bin of a CPI, with the
     // correlation the window and canceller put between bins.
     self->cpi_pfa = mti_dsp_any_bin_probability (self->dsp, S_CALIBRATION_SAMPLES);
     self->gate_pfa = mti_theory_m_of_n (self->cpi_pfa, p->m, p->n);
-    self->gates = (uint32_t) floor ((p->max_range_m - p->min_range_m) / p->range_resolution_m);
+    self->gates = (uint32_t)floor ((p->max_range_m - p->min_range_m) / p->range_resolution_m);
     return self;
 fail:
     mti_radar_destroy (&self);
@@ -129,7 +131,7 @@ static double s_wrap360 (double a)
 void mti_radar_schedule (const mti_radar_t *self, uint64_t k, double heading_deg, mti_dwell_t *ret)
 {
     uint64_t pass = k / self->dwells;
-    uint32_t j = (uint32_t) (k % self->dwells);
+    uint32_t j = (uint32_t)(k % self->dwells);
     double w = self->dwell_deg, from, to;
     if (self->p.scan_mode == MTI_SCAN_FULL) {
         from = j * w;
@@ -147,13 +149,13 @@ void mti_radar_schedule (const mti_radar_t *self, uint64_t k, double heading_deg
             to = from - w;
         }
     }
-    *ret = (mti_dwell_t) {
+    *ret = (mti_dwell_t){
         .index = k,
-        .scan = (uint32_t) (pass + 1),
+        .scan = (uint32_t)(pass + 1),
         .dwell = j,
         .dwells = self->dwells,
-        .start_s = (double) k * self->dwell_s,
-        .end_s = (double) (k + 1) * self->dwell_s,
+        .start_s = (double)k * self->dwell_s,
+        .end_s = (double)(k + 1) * self->dwell_s,
         .az_from_deg = s_wrap360 (from),
         .az_to_deg = s_wrap360 (to),
         .az_center_deg = s_wrap360 ((from + to) / 2),
@@ -164,7 +166,8 @@ void mti_radar_schedule (const mti_radar_t *self, uint64_t k, double heading_deg
 
 uint64_t mti_radar_dwell_at (const mti_radar_t *self, double t_s)
 {
-    return t_s <= 0 ? 0 : (uint64_t) floor (t_s / self->dwell_s);
+    double k = floor (t_s / self->dwell_s);
+    return k >= 0 && k < 9e15 ? (uint64_t)k : 0; // NaN and negative times: 0
 }
 
 /* True when azimuth a lies in the dwell's sector. */
@@ -185,7 +188,7 @@ static double s_height (const mti_radar_t *self, double e, double n)
 
 static cgs_enu_t s_normal (const mti_radar_t *self, double e, double n)
 {
-    return self->terrain ? cgs_terrain_normal (self->terrain, e, n) : (cgs_enu_t) {0, 0, 1};
+    return self->terrain ? cgs_terrain_normal (self->terrain, e, n) : (cgs_enu_t){0, 0, 1};
 }
 
 static bool s_los (const mti_radar_t *self, cgs_enu_t a, cgs_enu_t b)
@@ -193,11 +196,15 @@ static bool s_los (const mti_radar_t *self, cgs_enu_t a, cgs_enu_t b)
     return self->terrain ? cgs_terrain_los (self->terrain, a, b) : true;
 }
 
-/* The ground point at slant range r along azimuth az from the antenna at p. */
-static cgs_enu_t s_ground_at (const mti_radar_t *self, cgs_enu_t p, double az_deg, double r)
+/* The ground point at slant range r along azimuth az from the antenna at p,
+ * in *ret_q; false when the range does not reach the ground there (r below
+ * the height), and *ret_q is then the point under the antenna. */
+static bool s_ground_at (const mti_radar_t *self, cgs_enu_t p, double az_deg, double r,
+                         cgs_enu_t *ret_q)
 {
     double se = sin (az_deg * S_DEG), ce = cos (az_deg * S_DEG);
     double h = p.u_m - s_height (self, p.e_m, p.n_m);
+    bool reaches = r > h;
     double g = sqrt (fmax (r * r - h * h, 0));
     cgs_enu_t q = p;
     for (int it = 0; it < 4; it++) {
@@ -205,9 +212,11 @@ static cgs_enu_t s_ground_at (const mti_radar_t *self, cgs_enu_t p, double az_de
         q.n_m = p.n_m + g * ce;
         q.u_m = s_height (self, q.e_m, q.n_m);
         h = p.u_m - q.u_m;
+        reaches = r > h;
         g = sqrt (fmax (r * r - h * h, 0));
     }
-    return q;
+    *ret_q = q;
+    return reaches;
 }
 
 /* Grazing angle (degrees) at ground point q seen from p: between the line of
@@ -235,13 +244,15 @@ double mti_radar_snr (const mti_radar_t *self, double rcs_m2, double r_m, double
     return self->k_radar * rcs_m2 * s_el_gain (self, depression_off_deg) / (r2 * r2);
 }
 
-double mti_radar_cnr (const mti_radar_t *self, double r_m, double psi_deg, double depression_off_deg)
+double mti_radar_cnr (const mti_radar_t *self, double r_m, double psi_deg,
+                      double depression_off_deg)
 {
     if (!(psi_deg > 0))
         return 0;
     double psi = fmin (psi_deg, 80.0) * S_DEG; // the patch formula fails looking straight down
     double sigma0 = s_db (self->p.clutter_gamma_db) * sin (psi);
-    double area = r_m * self->p.azimuth_beamwidth_deg * S_DEG * self->p.range_resolution_m / cos (psi);
+    double area =
+        r_m * self->p.azimuth_beamwidth_deg * S_DEG * self->p.range_resolution_m / cos (psi);
     return mti_radar_snr (self, sigma0 * area, r_m, depression_off_deg);
 }
 
@@ -271,7 +282,7 @@ static int s_grow (void **arr, size_t *cap, size_t need, size_t elem)
 
 static int s_add_hit (mti_radar_t *self, mti_hit_t *h)
 {
-    if (s_grow ((void **) &self->hits, &self->hit_cap, self->hit_count + 1, sizeof *h) < 0)
+    if (s_grow ((void **)&self->hits, &self->hit_cap, self->hit_count + 1, sizeof *h) < 0)
         return -ENOMEM;
     h->hit_id = self->next_hit_id++;
     if (self->next_hit_id == 0)
@@ -290,7 +301,7 @@ static void s_measure (mti_radar_t *self, cgs_enu_t p, double r, double az, doub
     double s = th / (1.6 * sqrt (2.0 * fmax (sinr, 1e-6)));
     h->azimuth_sigma_deg = fmin (s, th / sqrt (12.0));
     h->azimuth_deg = s_wrap360 (az + h->azimuth_sigma_deg * mti_dsp_gaussian (self->dsp));
-    h->position = s_ground_at (self, p, h->azimuth_deg, h->range_m);
+    (void)s_ground_at (self, p, h->azimuth_deg, h->range_m, &h->position);
 }
 
 /* One CPI's detection probability in a bin of expected SINR. */
@@ -317,14 +328,13 @@ static int s_target (mti_radar_t *self, const mti_dwell_t *d, const mti_platform
     double off = atan2 (-du, g) / S_DEG - p->beam_depression_deg;
     if (fabs (off) > p->elevation_beamwidth_deg)
         return 0;
-    if (s_grow ((void **) &self->truth, &self->truth_cap, self->truth_count + 1,
-                sizeof (mti_truth_t))
-        < 0)
+    if (s_grow ((void **)&self->truth, &self->truth_cap, self->truth_count + 1,
+                sizeof (mti_truth_t)) < 0)
         return -ENOMEM;
     mti_truth_t *tr = &self->truth[self->truth_count++];
     double vr = (tg->velocity.e_m * de + tg->velocity.n_m * dn + tg->velocity.u_m * du) / r;
-    *tr = (mti_truth_t) {.entity_id = tg->id, .range_m = r, .radial_velocity_mps = vr,
-                         .snr_db = -INFINITY};
+    *tr = (mti_truth_t){
+        .entity_id = tg->id, .range_m = r, .radial_velocity_mps = vr, .snr_db = -INFINITY};
     cgs_enu_t top = {q.e_m, q.n_m, q.u_m + S_TGT_UP_M};
     if (!s_los (self, a, top))
         return 0; // hidden: no return
@@ -338,19 +348,22 @@ static int s_target (mti_radar_t *self, const mti_dwell_t *d, const mti_platform
         for (int side = -1; side <= 1; side += 2) {
             double rc = r + side * (p->guard_cells + i) * p->range_resolution_m;
             double cnr = 0;
-            if (rc > 0) {
-                cgs_enu_t c = s_ground_at (self, a, az, rc);
+            cgs_enu_t c;
+            if (rc > 0 && s_ground_at (self, a, az, rc, &c)) { // no clutter short of the ground
                 cgs_enu_t c_up = {c.e_m, c.n_m, c.u_m + 0.5};
-                double off_c = atan2 (a.u_m - c.u_m, hypot (c.e_m - a.e_m, c.n_m - a.n_m)) / S_DEG
-                               - p->beam_depression_deg;
+                double off_c = atan2 (a.u_m - c.u_m, hypot (c.e_m - a.e_m, c.n_m - a.n_m)) / S_DEG -
+                               p->beam_depression_deg;
                 if (s_los (self, a, c_up))
                     cnr = mti_radar_cnr (self, rc, s_grazing_deg (self, a, c), off_c);
             }
             self->cnr[side < 0 ? i : half + i] = cnr;
         }
     double f = -2.0 * vr / self->lambda_m;
-    mti_dsp_input_t in = {.snr = snr, .doppler_hz = f, .swerling = cls->swerling,
-                          .clutter_sigma_hz = sigma_hz, .cnr = self->cnr};
+    mti_dsp_input_t in = {.snr = snr,
+                          .doppler_hz = f,
+                          .swerling = cls->swerling,
+                          .clutter_sigma_hz = sigma_hz,
+                          .cnr = self->cnr};
     mti_dsp_result_t res;
     int rc = mti_dsp_dwell (self->dsp, &in, &res);
     if (rc < 0)
@@ -378,17 +391,24 @@ static int s_target (mti_radar_t *self, const mti_dwell_t *d, const mti_platform
 static int s_false_alarms (mti_radar_t *self, const mti_dwell_t *d, const mti_platform_t *plat)
 {
     const mti_params_t *p = &self->p;
-    unsigned int count = self->gates ? mti_dsp_binomial (self->dsp, self->gate_pfa, self->gates) : 0;
+    // Only gates that reach the ground (range beyond the UAV's height) hold
+    // cells to test.
+    double agl = plat->position.u_m - s_height (self, plat->position.e_m, plat->position.n_m);
+    double first = ceil ((agl - p->min_range_m) / p->range_resolution_m);
+    uint32_t g0 = first > 0 ? (first < self->gates ? (uint32_t)first : self->gates) : 0;
+    uint32_t gates = self->gates - g0;
+    unsigned int count = gates ? mti_dsp_binomial (self->dsp, self->gate_pfa, gates) : 0;
     double t = mti_dsp_threshold (self->dsp);
     double clockwise = s_wrap360 (d->az_to_deg - d->az_from_deg);
     double lo = fabs (clockwise - self->dwell_deg) < 1e-6 ? d->az_from_deg : d->az_to_deg;
     for (unsigned int i = 0; i < count; i++) {
-        uint32_t gate = (uint32_t) (mti_dsp_uniform (self->dsp) * self->gates);
+        uint32_t gate = g0 + (uint32_t)(mti_dsp_uniform (self->dsp) * gates);
         double r = p->min_range_m + (gate + 0.5) * p->range_resolution_m;
         double az = s_wrap360 (lo + mti_dsp_uniform (self->dsp) * self->dwell_deg);
-        int bin = (int) (mti_dsp_uniform (self->dsp) * p->fft_size);
-        // An exceedance X > T Z: Z ~ Gamma(N), X - T Z exponential (memoryless).
-        double z = mti_dsp_gamma (self->dsp, p->ref_cells);
+        int bin = (int)(mti_dsp_uniform (self->dsp) * p->fft_size);
+        // An exceedance X > T Z: given it, Z ~ Gamma(N, 1 / (1 + T)) (the
+        // crossing tilts Z by exp(-T Z)) and X - T Z is exponential (memoryless).
+        double z = mti_dsp_gamma (self->dsp, p->ref_cells) / (1.0 + t);
         double x = t * z - log (1.0 - mti_dsp_uniform (self->dsp));
         double ratio = x / (z / p->ref_cells);
         mti_hit_t h = {.entity_id = 0};
@@ -398,7 +418,36 @@ static int s_false_alarms (mti_radar_t *self, const mti_dwell_t *d, const mti_pl
         if (s_add_hit (self, &h) < 0)
             return -ENOMEM;
     }
-    return (int) count;
+    return (int)count;
+}
+
+/* Put the dwell's hits in random order and number them in that order, so
+ * neither the order nor the ids tell targets from false alarms. */
+static void s_shuffle_hits (mti_radar_t *self)
+{
+    size_t n = self->hit_count;
+    if (n == 0)
+        return;
+    uint32_t first = self->hits[0].hit_id;
+    for (size_t i = n - 1; i > 0; i--) {
+        size_t j = (size_t)(mti_dsp_uniform (self->dsp) * (double)(i + 1));
+        if (j > i)
+            j = i;
+        mti_hit_t tmp = self->hits[i];
+        self->hits[i] = self->hits[j];
+        self->hits[j] = tmp;
+    }
+    for (size_t i = 0; i < n; i++) {
+        uint32_t id = first + (uint32_t)i;
+        if (id < first) // wrapped past 0
+            id += 1;
+        self->hits[i].hit_id = id;
+        if (self->hits[i].entity_id == 0)
+            continue;
+        for (size_t k = 0; k < self->truth_count; k++)
+            if (self->truth[k].entity_id == self->hits[i].entity_id && self->truth[k].detected)
+                self->truth[k].hit_id = id;
+    }
 }
 
 int mti_radar_dwell (mti_radar_t *self, const mti_dwell_t *d, const mti_platform_t *plat,
@@ -418,8 +467,11 @@ int mti_radar_dwell (mti_radar_t *self, const mti_dwell_t *d, const mti_platform
     int fa = s_false_alarms (self, d, plat);
     if (fa < 0)
         return fa;
-    *ret = (mti_dwell_out_t) {.hits = self->hits, .hit_count = self->hit_count,
-                              .truth = self->truth, .truth_count = self->truth_count,
-                              .false_alarms = (uint32_t) fa};
+    s_shuffle_hits (self);
+    *ret = (mti_dwell_out_t){.hits = self->hits,
+                             .hit_count = self->hit_count,
+                             .truth = self->truth,
+                             .truth_count = self->truth_count,
+                             .false_alarms = (uint32_t)fa};
     return 0;
 }

@@ -65,17 +65,17 @@ typedef struct mti_radar mti_radar_t;
 
 /* One dwell of the schedule. */
 typedef struct {
-    uint64_t index;      // dwell number since simulation time 0
-    uint32_t scan;       // scan (or sector pass) number, from 1
-    uint32_t dwell;      // dwell within its scan, from 0
-    uint32_t dwells;     // dwells per scan
-    double start_s;      // simulation time the dwell starts
-    double end_s;        // and ends
-    double az_from_deg;  // azimuth swept from, clockwise from north, [0, 360)
-    double az_to_deg;    // to (the beam moves from az_from to az_to)
+    uint64_t index;     // dwell number since simulation time 0
+    uint32_t scan;      // scan (or sector pass) number, from 1
+    uint32_t dwell;     // dwell within its scan, from 0
+    uint32_t dwells;    // dwells per scan
+    double start_s;     // simulation time the dwell starts
+    double end_s;       // and ends
+    double az_from_deg; // azimuth swept from, clockwise from north, [0, 360)
+    double az_to_deg;   // to (the beam moves from az_from to az_to)
     double az_center_deg;
-    bool scan_start;     // first dwell of its scan
-    bool scan_end;       // last dwell of its scan
+    bool scan_start; // first dwell of its scan
+    bool scan_end;   // last dwell of its scan
 } mti_dwell_t;
 
 /* The UAV as the radar sees it at the dwell's centre time. */
@@ -94,13 +94,13 @@ typedef struct {
 } mti_target_t;
 
 typedef struct {
-    uint32_t hit_id;          // unique in this radar's life, from 1
-    uint32_t entity_id;       // source (0: false alarm); for scoring only
-    cgs_enu_t position;       // measured, on the ground
-    double range_m;           // measured slant range
-    double azimuth_deg;       // measured, clockwise from north
+    uint32_t hit_id;            // unique in this radar's life, from 1
+    uint32_t entity_id;         // source (0: false alarm); for scoring only
+    cgs_enu_t position;         // measured, on the ground
+    double range_m;             // measured slant range
+    double azimuth_deg;         // measured, clockwise from north
     double radial_velocity_mps; // measured, positive opening
-    double snr_db;            // CFAR ratio of the detection
+    double snr_db;              // CFAR ratio of the detection
     double range_sigma_m;
     double azimuth_sigma_deg;
 } mti_hit_t;
@@ -108,9 +108,9 @@ typedef struct {
 /* What the radar saw of one target in the beam. */
 typedef struct {
     uint32_t entity_id;
-    bool visible;               // not hidden by terrain
-    double snr_db;              // expected SINR in its Doppler bin (one CPI); -inf when hidden
-    double pd;                  // one CPI's detection probability in that bin, from theory
+    bool visible;  // not hidden by terrain
+    double snr_db; // expected SINR in its Doppler bin (one CPI); -inf when hidden
+    double pd;     // one CPI's detection probability in that bin, from theory
     bool detected;
     uint32_t hit_id;            // 0 when not detected
     double radial_velocity_mps; // true, positive opening
@@ -136,8 +136,7 @@ void mti_radar_destroy (mti_radar_t **self_p);
 double mti_radar_dwell_s (const mti_radar_t *self);
 uint32_t mti_radar_dwells_per_scan (const mti_radar_t *self);
 /* Dwell number k of the schedule; heading_deg orients a heading-referenced sector. */
-void mti_radar_schedule (const mti_radar_t *self, uint64_t k, double heading_deg,
-                         mti_dwell_t *ret);
+void mti_radar_schedule (const mti_radar_t *self, uint64_t k, double heading_deg, mti_dwell_t *ret);
 /* Number of the dwell in progress at simulation time t (t >= 0). */
 uint64_t mti_radar_dwell_at (const mti_radar_t *self, double t_s);
 
@@ -148,13 +147,15 @@ int mti_radar_dwell (mti_radar_t *self, const mti_dwell_t *d, const mti_platform
 
 /* Geometry and models, for tests and the truth. */
 /* Per-pulse SNR of a target of rcs_m2 at slant range r_m and depression offset d_deg. */
-double mti_radar_snr (const mti_radar_t *self, double rcs_m2, double r_m, double depression_off_deg);
+double mti_radar_snr (const mti_radar_t *self, double rcs_m2, double r_m,
+                      double depression_off_deg);
 /* Clutter spectrum std (Hz) for a platform ground speed v_mps whose
  * velocity makes angle alpha_deg with the beam. */
 double mti_radar_clutter_sigma_hz (const mti_radar_t *self, double v_mps, double alpha_deg);
 /* Per-pulse clutter-to-noise of the ground cell at slant range r_m with
  * grazing angle psi_deg, depression offset d_deg. */
-double mti_radar_cnr (const mti_radar_t *self, double r_m, double psi_deg, double depression_off_deg);
+double mti_radar_cnr (const mti_radar_t *self, double r_m, double psi_deg,
+                      double depression_off_deg);
 /* The probability that a target-free range gate declares a false alarm in
  * one dwell: m_of_n(cpi_pfa). */
 double mti_radar_gate_pfa (const mti_radar_t *self);
