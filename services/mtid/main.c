@@ -19,9 +19,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define S_STALE_S      10.0 // an entity not heard of for this long (simulation time) is forgotten
-#define S_MAX_BEHIND   2    // scans of dwells run at most per `uav` message; older ones are skipped
+#define S_STALE_S       10.0 // an entity not heard of for this long (simulation time) is forgotten
 #define S_RCS_CLASS_MAX 32
+#define S_WARNED_MAX    16 // unknown cross-section classes remembered for logging once
 
 /* The latest state of one entity. */
 typedef struct {
@@ -54,8 +54,10 @@ typedef struct {
     uint32_t scan;
     double scan_start_s;
     uint32_t scan_hits, scan_fas;
-    uint64_t dwells_run, dwells_skipped, unknown_class;
-    char warned_class[S_RCS_CLASS_MAX];
+    uint64_t dwells_run, dwells_skipped, bad_messages;
+    double latest_s;                            // newest simulation time heard of
+    char warned[S_WARNED_MAX][S_RCS_CLASS_MAX]; // unknown classes already logged
+    size_t warned_count;
     /* Output messages, reused. */
     Cgs__MtiHit *hit_msgs;
     Cgs__MtiHit **hit_ptrs;
@@ -96,6 +98,45 @@ static int s_reserve (s_app_t *app)
     return 0;
 }
 
+static bool s_finite3 (double a, double b, double c)
+{
+    return isfinite (a) && isfinite (b) && isfinite (c);
+}
+
+/* A message the model cannot use: counted in health, logged the first time. */
+static void s_bad (s_app_t *app, const char *what)
+{
+    if (app->bad_messages++ == 0)
+        cgs_log (LOG_WARNING, "ignored %s (further ones are only counted in health)", what);
+    cgs_health_add_malformed (app->svc.health, 1);
+}
+
+/* Forget entities not heard of for S_STALE_S of simulation time (they left
+ * the exercise, or their publisher stopped): rebuild the table without them. */
+static void s_evict (s_app_t *app, double t)
+{
+    size_t kept = 0;
+    for (size_t i = 0; i < app->ent_cap; i++)
+        if (app->ents[i].used && t - app->ents[i].time_s <= S_STALE_S)
+            kept++;
+    if (kept == app->ent_count)
+        return;
+    s_ent_t *old = app->ents;
+    size_t old_cap = app->ent_cap, cap = 1024;
+    while (cap < kept * 2)
+        cap *= 2;
+    s_ent_t *fresh = calloc (cap, sizeof (s_ent_t));
+    if (!fresh)
+        return; // keep the old table; try again next scan
+    app->ents = fresh;
+    app->ent_cap = cap;
+    app->ent_count = kept;
+    for (size_t i = 0; i < old_cap; i++)
+        if (old[i].used && t - old[i].time_s <= S_STALE_S)
+            app->ents[s_slot (app, old[i].id)] = old[i];
+    free (old);
+}
+
 static void s_on_entity (void *arg, const char *topic, const ProtobufCMessage *msg,
                          const Cgs__Header *hdr)
 {
@@ -104,8 +145,12 @@ static void s_on_entity (void *arg, const char *topic, const ProtobufCMessage *m
     const Cgs__EntityBatch *b = (const Cgs__EntityBatch *)msg;
     for (size_t i = 0; i < b->n_entities; i++) {
         const Cgs__Entity *e = b->entities[i];
-        if (!e->position || !e->velocity || e->entity_id == 0)
+        if (!e->position || !e->velocity || e->entity_id == 0 || !isfinite (hdr->sim_time_s) ||
+            !s_finite3 (e->position->east_m, e->position->north_m, e->position->up_m) ||
+            !s_finite3 (e->velocity->east_mps, e->velocity->north_mps, e->velocity->up_mps)) {
+            s_bad (app, "an entity without a valid id, position, velocity or time");
             continue;
+        }
         if (s_reserve (app) < 0) {
             cgs_health_set_error (app->svc.health, "out of memory for entities");
             return;
@@ -119,10 +164,29 @@ static void s_on_entity (void *arg, const char *topic, const ProtobufCMessage *m
         s->ground = e->kind != CGS__ENTITY_KIND__ENTITY_KIND_AIR;
         s->active = e->active;
         s->position = (cgs_enu_t){e->position->east_m, e->position->north_m, e->position->up_m};
-        s->velocity = (cgs_enu_t){e->velocity->east_mps, e->velocity->north_mps, e->velocity->up_mps};
+        s->velocity =
+            (cgs_enu_t){e->velocity->east_mps, e->velocity->north_mps, e->velocity->up_mps};
         s->time_s = hdr->sim_time_s;
+        if (hdr->sim_time_s > app->latest_s)
+            app->latest_s = hdr->sim_time_s;
         snprintf (s->rcs_class, sizeof s->rcs_class, "%s", e->rcs_class ? e->rcs_class : "");
     }
+}
+
+/* Log each unknown cross-section class once (the first S_WARNED_MAX of them). */
+static void s_warn_class (s_app_t *app, const s_ent_t *s)
+{
+    for (size_t i = 0; i < app->warned_count; i++)
+        if (strcmp (app->warned[i], s->rcs_class) == 0)
+            return;
+    if (app->warned_count == S_WARNED_MAX)
+        return;
+    snprintf (app->warned[app->warned_count++], S_RCS_CLASS_MAX, "%s", s->rcs_class);
+    const mti_class_t *c = mti_params_class (&app->params, s->rcs_class, NULL);
+    cgs_log (LOG_WARNING,
+             "entity %u: radar cross-section class '%s' is not in the parameters; "
+             "seen as class '%s'",
+             s->id, s->rcs_class, c->name);
 }
 
 /* The ground entities as they are at time t (moved on along their velocity). */
@@ -130,8 +194,10 @@ static size_t s_targets_at (s_app_t *app, double t)
 {
     if (app->target_cap < app->ent_count) {
         mti_target_t *tg = realloc (app->targets, app->ent_count * sizeof *tg);
-        if (!tg)
+        if (!tg) {
+            cgs_health_set_error (app->svc.health, "out of memory for targets: a dwell ran empty");
             return 0;
+        }
         app->targets = tg;
         app->target_cap = app->ent_count;
     }
@@ -145,12 +211,8 @@ static size_t s_targets_at (s_app_t *app, double t)
             continue;
         bool known;
         mti_params_class (&app->params, s->rcs_class, &known);
-        if (!known && strcmp (app->warned_class, s->rcs_class) != 0) {
-            cgs_log (LOG_WARNING, "entity %u: radar cross-section class '%s' is not in the "
-                     "parameters; using the default class", s->id, s->rcs_class);
-            snprintf (app->warned_class, sizeof app->warned_class, "%s", s->rcs_class);
-            app->unknown_class++;
-        }
+        if (!known)
+            s_warn_class (app, s);
         app->targets[n++] = (mti_target_t){
             .id = s->id,
             .position = {s->position.e_m + s->velocity.e_m * dt,
@@ -252,6 +314,7 @@ static void s_publish_dwell (s_app_t *app, const mti_dwell_t *d, const mti_dwell
     truth.scan_number = d->scan;
     truth.dwell_number = d->dwell;
     truth.n_items = out->truth_count;
+    truth.false_alarms = out->false_alarms;
     truth.items = app->truth_ptrs;
     cgs_service_publish (&app->svc, "mti.truth", &truth.base);
 }
@@ -265,9 +328,13 @@ static void s_publish_scan (s_app_t *app, const mti_dwell_t *d)
     m.scan_end_s = d->end_s;
     m.full_revolution = app->params.scan_mode == MTI_SCAN_FULL;
     m.sector_center_deg = app->params.sector_center_deg;
+    if (app->params.sector_ref == MTI_SECTOR_HEADING) // as an azimuth, at the scan's end
+        m.sector_center_deg = fmod (m.sector_center_deg + app->plat.heading_deg + 720.0, 360.0);
     m.sector_width_deg = m.full_revolution ? 360.0 : app->params.sector_width_deg;
     m.hit_count = app->scan_hits;
     m.false_alarm_count = app->scan_fas;
+    m.expected_false_alarms = mti_radar_gate_pfa (app->radar) * mti_radar_gates (app->radar) *
+                              mti_radar_dwells_per_scan (app->radar);
     app->svc.sim_time_s = d->end_s;
     cgs_service_publish (&app->svc, "mti.scan", &m.base);
 }
@@ -290,16 +357,21 @@ static void s_run_dwell (s_app_t *app, uint64_t k)
     plat.position.u_m += plat.velocity.u_m * dt;
     size_t n = s_targets_at (app, t);
     mti_dwell_out_t out;
-    if (mti_radar_dwell (app->radar, &d, &plat, app->targets, n, &out) < 0) {
-        cgs_health_set_error (app->svc.health, "out of memory in a dwell");
+    int rc = mti_radar_dwell (app->radar, &d, &plat, app->targets, n, &out);
+    if (rc < 0) {
+        char why[128];
+        snprintf (why, sizeof why, "dwell %llu not run: %s", (unsigned long long)k, strerror (-rc));
+        cgs_health_set_error (app->svc.health, why);
         return;
     }
     app->dwells_run++;
     app->scan_hits += (uint32_t)out.hit_count;
     app->scan_fas += out.false_alarms;
     s_publish_dwell (app, &d, &out);
-    if (d.scan_end)
+    if (d.scan_end) {
         s_publish_scan (app, &d);
+        s_evict (app, t);
+    }
 }
 
 static void s_on_uav (void *arg, const char *topic, const ProtobufCMessage *msg,
@@ -308,9 +380,15 @@ static void s_on_uav (void *arg, const char *topic, const ProtobufCMessage *msg,
     (void)topic;
     s_app_t *app = arg;
     const Cgs__Uav *u = (const Cgs__Uav *)msg;
-    if (!u->name || strcmp (u->name, app->uav_name) != 0 || !u->position || !u->velocity)
+    if (!u->name || strcmp (u->name, app->uav_name) != 0)
         return;
     double t = hdr->sim_time_s;
+    if (!u->position || !u->velocity || !isfinite (t) || t < 0 || !isfinite (u->heading_deg) ||
+        !s_finite3 (u->position->east_m, u->position->north_m, u->position->up_m) ||
+        !s_finite3 (u->velocity->east_mps, u->velocity->north_mps, u->velocity->up_mps)) {
+        s_bad (app, "a uav message without a valid time, position, velocity or heading");
+        return;
+    }
     if (app->uav_id != u->entity_id) {
         cgs_log (LOG_INFO, "radar on %s (entity %u) at t=%.2f s", app->uav_name, u->entity_id, t);
         app->uav_id = u->entity_id;
@@ -329,7 +407,11 @@ static void s_on_uav (void *arg, const char *topic, const ProtobufCMessage *msg,
         app->next_dwell = now + 1;
         return;
     }
-    uint64_t most = (uint64_t)S_MAX_BEHIND * mti_radar_dwells_per_scan (app->radar);
+    // Catch up no further back than the entities' history reaches (older
+    // dwells would see nobody), nor more than a scan.
+    uint64_t most = (uint64_t)(S_STALE_S / mti_radar_dwell_s (app->radar));
+    if (most > mti_radar_dwells_per_scan (app->radar))
+        most = mti_radar_dwells_per_scan (app->radar);
     if (now > app->next_dwell + most) {
         uint64_t skip = now - most - app->next_dwell;
         app->dwells_skipped += skip;
@@ -362,11 +444,16 @@ static int s_parse_double (const char *opt, const char *s, double *ret)
 static int s_monte_carlo (int argc, char **argv)
 {
     static const struct option opts[] = {
-        {"monte-carlo", no_argument, NULL, 'M'}, {"swerling", required_argument, NULL, 's'},
-        {"snr-db", required_argument, NULL, 'r'}, {"trials", required_argument, NULL, 't'},
-        {"ref-cells", required_argument, NULL, 'n'}, {"pfa", required_argument, NULL, 'p'},
-        {"fft-size", required_argument, NULL, 'f'}, {"seed", required_argument, NULL, 'S'},
-        {"help", no_argument, NULL, 'h'}, {NULL, 0, NULL, 0},
+        {"monte-carlo", no_argument, NULL, 'M'},
+        {"swerling", required_argument, NULL, 's'},
+        {"snr-db", required_argument, NULL, 'r'},
+        {"trials", required_argument, NULL, 't'},
+        {"ref-cells", required_argument, NULL, 'n'},
+        {"pfa", required_argument, NULL, 'p'},
+        {"fft-size", required_argument, NULL, 'f'},
+        {"seed", required_argument, NULL, 'S'},
+        {"help", no_argument, NULL, 'h'},
+        {NULL, 0, NULL, 0},
     };
     mti_mc_config_t c;
     mti_mc_defaults (&c);
@@ -472,8 +559,10 @@ static int s_setup (s_app_t *app, char *err, size_t errlen)
     }
     snprintf (app->uav_name, sizeof app->uav_name, "%s", app->svc.instance->uav);
     if (!*app->svc.scenario) {
-        snprintf (err, errlen, "no scenario (its terrain is needed): give --scenario FILE or "
-                  "`scenario =` in %s", app->svc.exercise_path);
+        snprintf (err, errlen,
+                  "no scenario (its terrain is needed): give --scenario FILE or "
+                  "`scenario =` in %s",
+                  app->svc.exercise_path);
         return -EINVAL;
     }
     cgs_geodetic_t o = cgs_exercise_origin (app->svc.exercise);
@@ -506,8 +595,8 @@ static int s_setup (s_app_t *app, char *err, size_t errlen)
     }
     if ((rc = cgs_scenario_terrain (sc, app->frame, &app->terrain, err, errlen)) < 0)
         goto done;
-    uint64_t seed = cgs_exercise_seed (app->svc.exercise) * 0x9E3779B97F4A7C15ull
-                    ^ (uint64_t)u->id * 0xD1B54A32D192ED03ull;
+    uint64_t seed = cgs_exercise_seed (app->svc.exercise) * 0x9E3779B97F4A7C15ull ^
+                    (uint64_t)u->id * 0xD1B54A32D192ED03ull;
     app->radar = mti_radar_new (&app->params, app->terrain, seed);
     if (!app->radar) {
         snprintf (err, errlen, "out of memory");
@@ -561,8 +650,8 @@ int main (int argc, char **argv)
         exit_code = 0;
         goto done;
     }
-    if (cgs_service_subscribe (&app.svc, "entity", s_on_entity, &app) < 0
-        || cgs_service_subscribe (&app.svc, "uav", s_on_uav, &app) < 0)
+    if (cgs_service_subscribe (&app.svc, "entity", s_on_entity, &app) < 0 ||
+        cgs_service_subscribe (&app.svc, "uav", s_on_uav, &app) < 0)
         goto done;
     exit_code = cgs_service_run (&app.svc);
     cgs_log (LOG_INFO, "%llu dwells run, %llu skipped", (unsigned long long)app.dwells_run,

@@ -10,8 +10,13 @@
 
 void mti_mc_defaults (mti_mc_config_t *c)
 {
-    *c = (mti_mc_config_t) {.swerling = MTI_SWERLING_1, .snr_db = 10, .trials = 10000,
-                            .ref_cells = 16, .pfa = 1e-4, .fft_size = 64, .seed = 1};
+    *c = (mti_mc_config_t){.swerling = MTI_SWERLING_1,
+                           .snr_db = 10,
+                           .trials = 10000,
+                           .ref_cells = 16,
+                           .pfa = 1e-4,
+                           .fft_size = 64,
+                           .seed = 1};
 }
 
 int mti_mc_run (const mti_mc_config_t *c, mti_mc_result_t *ret, char *err, size_t errlen)
@@ -36,7 +41,7 @@ int mti_mc_run (const mti_mc_config_t *c, mti_mc_result_t *ret, char *err, size_
         return -EINVAL;
     }
     mti_dsp_t *dsp = mti_dsp_new (&p, c->seed);
-    double *cnr = calloc ((size_t) c->ref_cells + 1, sizeof (double));
+    double *cnr = calloc ((size_t)c->ref_cells + 1, sizeof (double));
     double *x = malloc (sizeof (double) * c->fft_size);
     double *z = malloc (sizeof (double) * c->fft_size);
     if (!dsp || !cnr || !x || !z) {
@@ -64,14 +69,14 @@ int mti_mc_run (const mti_mc_config_t *c, mti_mc_result_t *ret, char *err, size_
     // What the target has in its cell: a Swerling II target gets no coherent gain.
     double eff = c->swerling == MTI_SWERLING_2 ? pulse_snr : cell_snr;
     r.cell_snr_db = 10.0 * log10 (eff);
-    r.pd = (double) r.detections / c->trials;
+    r.pd = (double)r.detections / c->trials;
     r.pd_interval_ok =
         mti_theory_binomial_interval (r.detections, c->trials, 0.99, &r.pd_lo, &r.pd_hi) == 0;
     r.pd_theory = c->swerling == MTI_SWERLING_0
                       ? mti_theory_pd_constant_cacfar (eff, r.threshold, c->ref_cells)
                       : mti_theory_pd_swerling_cacfar (eff, r.threshold, c->ref_cells);
-    r.fa_cells = c->trials * (unsigned long) c->fft_size;
-    r.pfa_measured = (double) r.false_alarms / r.fa_cells;
+    r.fa_cells = c->trials * (unsigned long)c->fft_size;
+    r.pfa_measured = (double)r.false_alarms / r.fa_cells;
     r.fa_interval_ok =
         mti_theory_binomial_count_interval (c->pfa, r.fa_cells, 0.99, &r.fa_lo, &r.fa_hi) == 0;
     mti_dsp_destroy (&dsp);

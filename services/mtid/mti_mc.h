@@ -31,14 +31,14 @@ typedef struct {
 } mti_mc_config_t;
 
 typedef struct {
-    double threshold;          // CA-CFAR multiplier T = Pfa^(-1/N) - 1
-    double cell_snr_db;        // the SNR the target actually has in its cell
-    unsigned long detections;  // in the target's bin
-    double pd;                 // measured
-    double pd_lo, pd_hi;       // its 99% Clopper-Pearson interval ...
-    bool pd_interval_ok;       // ... when GSL could compute it
-    double pd_theory;          // the closed form at cell_snr
-    unsigned long fa_cells;    // target-free cells tested
+    double threshold;         // CA-CFAR multiplier T = Pfa^(-1/N) - 1
+    double cell_snr_db;       // the SNR the target actually has in its cell
+    unsigned long detections; // in the target's bin
+    double pd;                // measured
+    double pd_lo, pd_hi;      // its 99% Clopper-Pearson interval ...
+    bool pd_interval_ok;      // ... when GSL could compute it
+    double pd_theory;         // the closed form at cell_snr
+    unsigned long fa_cells;   // target-free cells tested
     unsigned long false_alarms;
     double pfa_measured;
     unsigned long fa_lo, fa_hi; // 99% interval of the count for the design Pfa ...

@@ -82,22 +82,22 @@ typedef struct {
     double min_range_m;             // (default 500)
     double max_range_m;             // (default 20000)
     /* [scan] */
-    mti_scan_mode_t scan_mode;     // (default full)
-    double sector_center_deg;      // (default 0)
-    double sector_width_deg;       // (default 90), at least one beamwidth
-    mti_sector_ref_t sector_ref;   // (default north)
+    mti_scan_mode_t scan_mode;   // (default full)
+    double sector_center_deg;    // (default 0)
+    double sector_width_deg;     // (default 90), at least one beamwidth
+    mti_sector_ref_t sector_ref; // (default north)
     /* [processing] */
-    int fft_size;                  // pulses coherently integrated, a power of two (default 64)
-    mti_window_t window;           // (default hamming)
-    mti_canceller_t canceller;     // (default two-pulse)
-    int ref_cells;                 // CFAR reference cells, even, split about the cell (default 16)
-    int guard_cells;               // CFAR guard cells each side (default 2)
-    double pfa;                    // design false-alarm probability per range-Doppler cell (1e-4)
-    int m;                         // crossings needed (default 2) ...
-    int n;                         // ... of this many coherent intervals per dwell (default 4)
+    int fft_size;              // pulses coherently integrated, a power of two (default 64)
+    mti_window_t window;       // (default hamming)
+    mti_canceller_t canceller; // (default two-pulse)
+    int ref_cells;             // CFAR reference cells, even, split about the cell (default 16)
+    int guard_cells;           // CFAR guard cells each side (default 2)
+    double pfa;                // design false-alarm probability per range-Doppler cell (1e-4)
+    int m;                     // crossings needed (default 2) ...
+    int n;                     // ... of this many coherent intervals per dwell (default 4)
     /* [clutter] */
-    double clutter_gamma_db;       // constant-gamma reflectivity: sigma0 = gamma sin(grazing) (-15)
-    double clutter_internal_mps;   // std of internal clutter motion, m/s (default 0.1)
+    double clutter_gamma_db;     // constant-gamma reflectivity: sigma0 = gamma sin(grazing) (-15)
+    double clutter_internal_mps; // std of internal clutter motion, m/s (default 0.1)
     /* [target NAME] */
     mti_class_t classes[MTI_CLASS_MAX];
     size_t class_count;
