@@ -63,8 +63,8 @@ static double s_fft_cost (int n)
 }
 
 typedef struct {
-    double scan_s;          // CPU seconds per scan, median
-    double per_target_us;   // per target through the chain, median
+    double scan_s;           // CPU seconds per scan, median
+    double per_target_us;    // per target through the chain, median
     size_t in_beam, chained; // per scan
     uint64_t hits, fas;
 } s_result_t;
@@ -80,12 +80,15 @@ static s_result_t s_run (const mti_params_t *p, const cgs_terrain_t *terrain, cg
     }
     srand (3);
     for (size_t i = 0; i < movers; i++) {
-        double r = 1000 + 18000 * sqrt ((double)rand () / RAND_MAX), a = 2 * M_PI * rand () / RAND_MAX;
+        double r = 1000 + 18000 * sqrt ((double)rand () / RAND_MAX),
+               a = 2 * M_PI * rand () / RAND_MAX;
         double e = uav.e_m + r * sin (a), n = uav.n_m + r * cos (a);
         double v = 3 + 12.0 * rand () / RAND_MAX, h = 2 * M_PI * rand () / RAND_MAX;
         double z = terrain ? cgs_terrain_height_clamped (terrain, e, n) : 0;
-        tg[i] = (mti_target_t){.id = (uint32_t)i + 10, .position = {e, n, z},
-                               .velocity = {v * sin (h), v * cos (h), 0}, .rcs_class = "vehicle"};
+        tg[i] = (mti_target_t){.id = (uint32_t)i + 10,
+                               .position = {e, n, z},
+                               .velocity = {v * sin (h), v * cos (h), 0},
+                               .rcs_class = "vehicle"};
     }
     mti_platform_t plat = {.position = uav, .velocity = {38, 0, 0}, .heading_deg = 90};
     uint32_t dwells = mti_radar_dwells_per_scan (radar);
@@ -146,8 +149,8 @@ int main (int argc, char **argv)
     cgs_geo_t *frame = cgs_geo_new (35.96, -121.23, 0);
     cgs_scenario_t *sc = NULL;
     cgs_terrain_t *hills = NULL;
-    if (!frame || cgs_scenario_load (path, frame, 1, &sc, err, sizeof err) < 0
-        || cgs_scenario_terrain (sc, frame, &hills, err, sizeof err) < 0) {
+    if (!frame || cgs_scenario_load (path, frame, 1, &sc, err, sizeof err) < 0 ||
+        cgs_scenario_terrain (sc, frame, &hills, err, sizeof err) < 0) {
         fprintf (stderr, "bench_mtid: %s\n", err);
         return 1;
     }
