@@ -4,6 +4,7 @@
  * entity (`mti.truth`, for scoring) and each completed scan (`mti.scan`).
  * `mtid --monte-carlo` runs the detector against the closed forms instead.
  * The model is in mti_*.c; this file wires it to the bus. */
+#include "cgs_entities.h"
 #include "cgs_log.h"
 #include "cgs_scenario.h"
 #include "cgs_service.h"
@@ -19,20 +20,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define S_STALE_S       10.0 // an entity not heard of for this long (simulation time) is forgotten
-#define S_RCS_CLASS_MAX 32
-#define S_WARNED_MAX    16 // unknown cross-section classes remembered for logging once
-
-/* The latest state of one entity. */
-typedef struct {
-    uint32_t id;
-    bool used;
-    bool ground; // not an aircraft
-    bool active;
-    cgs_enu_t position, velocity;
-    double time_s; // simulation time of that state
-    char rcs_class[S_RCS_CLASS_MAX];
-} s_ent_t;
+#define S_STALE_S    10.0 // an entity not heard of for this long (simulation time) is forgotten
+#define S_WARNED_MAX 16   // unknown cross-section classes remembered for logging once
 
 typedef struct {
     cgs_service_t svc;
@@ -46,8 +35,7 @@ typedef struct {
     double plat_time_s;
     bool started;
     uint64_t next_dwell; // schedule index of the next dwell to run
-    s_ent_t *ents;       // open addressing by id
-    size_t ent_cap, ent_count;
+    cgs_entities_t *ents;
     mti_target_t *targets;
     size_t target_cap;
     /* The scan in progress. */
@@ -55,8 +43,7 @@ typedef struct {
     double scan_start_s;
     uint32_t scan_hits, scan_fas;
     uint64_t dwells_run, dwells_skipped, bad_messages;
-    double latest_s;                            // newest simulation time heard of
-    char warned[S_WARNED_MAX][S_RCS_CLASS_MAX]; // unknown classes already logged
+    char warned[S_WARNED_MAX][CGS_ENTITY_CLASS_MAX]; // unknown classes already logged
     size_t warned_count;
     /* Output messages, reused. */
     Cgs__MtiHit *hit_msgs;
@@ -69,34 +56,6 @@ typedef struct {
 } s_app_t;
 
 /* ---- entities ------------------------------------------------------------------------ */
-
-static size_t s_slot (const s_app_t *app, uint32_t id)
-{
-    size_t mask = app->ent_cap - 1, i = (id * 2654435761u) & mask;
-    while (app->ents[i].used && app->ents[i].id != id)
-        i = (i + 1) & mask;
-    return i;
-}
-
-static int s_reserve (s_app_t *app)
-{
-    if (app->ent_cap && (app->ent_count + 1) * 2 <= app->ent_cap)
-        return 0;
-    size_t cap = app->ent_cap ? app->ent_cap * 2 : 1024;
-    s_ent_t *old = app->ents;
-    size_t old_cap = app->ent_cap;
-    app->ents = calloc (cap, sizeof (s_ent_t));
-    if (!app->ents) {
-        app->ents = old;
-        return -ENOMEM;
-    }
-    app->ent_cap = cap;
-    for (size_t i = 0; i < old_cap; i++)
-        if (old[i].used)
-            app->ents[s_slot (app, old[i].id)] = old[i];
-    free (old);
-    return 0;
-}
 
 static bool s_finite3 (double a, double b, double c)
 {
@@ -111,77 +70,27 @@ static void s_bad (s_app_t *app, const char *what)
     cgs_health_add_malformed (app->svc.health, 1);
 }
 
-/* Forget entities not heard of for S_STALE_S of simulation time (they left
- * the exercise, or their publisher stopped): rebuild the table without them. */
-static void s_evict (s_app_t *app, double t)
-{
-    size_t kept = 0;
-    for (size_t i = 0; i < app->ent_cap; i++)
-        if (app->ents[i].used && t - app->ents[i].time_s <= S_STALE_S)
-            kept++;
-    if (kept == app->ent_count)
-        return;
-    s_ent_t *old = app->ents;
-    size_t old_cap = app->ent_cap, cap = 1024;
-    while (cap < kept * 2)
-        cap *= 2;
-    s_ent_t *fresh = calloc (cap, sizeof (s_ent_t));
-    if (!fresh)
-        return; // keep the old table; try again next scan
-    app->ents = fresh;
-    app->ent_cap = cap;
-    app->ent_count = kept;
-    for (size_t i = 0; i < old_cap; i++)
-        if (old[i].used && t - old[i].time_s <= S_STALE_S)
-            app->ents[s_slot (app, old[i].id)] = old[i];
-    free (old);
-}
-
 static void s_on_entity (void *arg, const char *topic, const ProtobufCMessage *msg,
                          const Cgs__Header *hdr)
 {
     (void)topic;
     s_app_t *app = arg;
-    const Cgs__EntityBatch *b = (const Cgs__EntityBatch *)msg;
-    for (size_t i = 0; i < b->n_entities; i++) {
-        const Cgs__Entity *e = b->entities[i];
-        if (!e->position || !e->velocity || e->entity_id == 0 || !isfinite (hdr->sim_time_s) ||
-            !s_finite3 (e->position->east_m, e->position->north_m, e->position->up_m) ||
-            !s_finite3 (e->velocity->east_mps, e->velocity->north_mps, e->velocity->up_mps)) {
-            s_bad (app, "an entity without a valid id, position, velocity or time");
-            continue;
-        }
-        if (s_reserve (app) < 0) {
-            cgs_health_set_error (app->svc.health, "out of memory for entities");
-            return;
-        }
-        s_ent_t *s = &app->ents[s_slot (app, e->entity_id)];
-        if (!s->used) {
-            s->used = true;
-            s->id = e->entity_id;
-            app->ent_count++;
-        }
-        s->ground = e->kind != CGS__ENTITY_KIND__ENTITY_KIND_AIR;
-        s->active = e->active;
-        s->position = (cgs_enu_t){e->position->east_m, e->position->north_m, e->position->up_m};
-        s->velocity =
-            (cgs_enu_t){e->velocity->east_mps, e->velocity->north_mps, e->velocity->up_mps};
-        s->time_s = hdr->sim_time_s;
-        if (hdr->sim_time_s > app->latest_s)
-            app->latest_s = hdr->sim_time_s;
-        snprintf (s->rcs_class, sizeof s->rcs_class, "%s", e->rcs_class ? e->rcs_class : "");
-    }
+    size_t bad = 0;
+    if (cgs_entities_update (app->ents, (const Cgs__EntityBatch *)msg, hdr->sim_time_s, &bad) < 0)
+        cgs_health_set_error (app->svc.health, "out of memory for entities");
+    for (size_t i = 0; i < bad; i++)
+        s_bad (app, "an entity without a valid id, position, velocity, heading or time");
 }
 
 /* Log each unknown cross-section class once (the first S_WARNED_MAX of them). */
-static void s_warn_class (s_app_t *app, const s_ent_t *s)
+static void s_warn_class (s_app_t *app, const cgs_entity_state_t *s)
 {
     for (size_t i = 0; i < app->warned_count; i++)
         if (strcmp (app->warned[i], s->rcs_class) == 0)
             return;
     if (app->warned_count == S_WARNED_MAX)
         return;
-    snprintf (app->warned[app->warned_count++], S_RCS_CLASS_MAX, "%s", s->rcs_class);
+    snprintf (app->warned[app->warned_count++], CGS_ENTITY_CLASS_MAX, "%s", s->rcs_class);
     const mti_class_t *c = mti_params_class (&app->params, s->rcs_class, NULL);
     cgs_log (LOG_WARNING,
              "entity %u: radar cross-section class '%s' is not in the parameters; "
@@ -192,19 +101,20 @@ static void s_warn_class (s_app_t *app, const s_ent_t *s)
 /* The ground entities as they are at time t (moved on along their velocity). */
 static size_t s_targets_at (s_app_t *app, double t)
 {
-    if (app->target_cap < app->ent_count) {
-        mti_target_t *tg = realloc (app->targets, app->ent_count * sizeof *tg);
+    size_t count = cgs_entities_count (app->ents);
+    if (app->target_cap < count) {
+        mti_target_t *tg = realloc (app->targets, count * sizeof *tg);
         if (!tg) {
             cgs_health_set_error (app->svc.health, "out of memory for targets: a dwell ran empty");
             return 0;
         }
         app->targets = tg;
-        app->target_cap = app->ent_count;
+        app->target_cap = count;
     }
-    size_t n = 0;
-    for (size_t i = 0; i < app->ent_cap; i++) {
-        s_ent_t *s = &app->ents[i];
-        if (!s->used || !s->ground || !s->active || s->id == app->uav_id)
+    size_t n = 0, cursor = 0;
+    const cgs_entity_state_t *s;
+    while ((s = cgs_entities_next (app->ents, &cursor))) {
+        if (s->kind == CGS_KIND_AIR || !s->active || s->id == app->uav_id)
             continue;
         double dt = t - s->time_s;
         if (dt > S_STALE_S || dt < -S_STALE_S)
@@ -370,7 +280,7 @@ static void s_run_dwell (s_app_t *app, uint64_t k)
     s_publish_dwell (app, &d, &out);
     if (d.scan_end) {
         s_publish_scan (app, &d);
-        s_evict (app, t);
+        cgs_entities_evict (app->ents, t, S_STALE_S);
     }
 }
 
@@ -598,7 +508,8 @@ static int s_setup (s_app_t *app, char *err, size_t errlen)
     uint64_t seed = cgs_exercise_seed (app->svc.exercise) * 0x9E3779B97F4A7C15ull ^
                     (uint64_t)u->id * 0xD1B54A32D192ED03ull;
     app->radar = mti_radar_new (&app->params, app->terrain, seed);
-    if (!app->radar) {
+    app->ents = cgs_entities_new ();
+    if (!app->radar || !app->ents) {
         snprintf (err, errlen, "out of memory");
         rc = -ENOMEM;
         goto done;
@@ -660,7 +571,7 @@ done:
     mti_radar_destroy (&app.radar);
     cgs_terrain_destroy (&app.terrain);
     cgs_geo_destroy (&app.frame);
-    free (app.ents);
+    cgs_entities_destroy (&app.ents);
     free (app.targets);
     free (app.hit_msgs);
     free (app.hit_ptrs);

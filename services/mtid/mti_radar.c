@@ -22,10 +22,7 @@ struct mti_radar {
     mti_dsp_t *dsp;
     double lambda_m;
     double k_radar;       // Pt tau G^2 lambda^2 / ((4 pi)^3 k T0 F L)
-    double span_deg;      // swept span
-    uint32_t dwells;      // per scan
-    double dwell_deg;     // width of one dwell
-    double dwell_s;       // its duration
+    cgs_scan_t scan;      // the schedule
     double cpi_pfa;       // probability of a crossing in any bin of a target-free CPI
     double gate_pfa;      // false-alarm probability of a gate in a dwell
     uint32_t gates;       // range gates between the limits
@@ -76,11 +73,16 @@ mti_radar_t *mti_radar_new (const mti_params_t *p, const cgs_terrain_t *terrain,
                     self->lambda_m /
                     (pow (4.0 * M_PI, 3) * S_K_BOLTZ * p->noise_temperature_k *
                      s_db (p->noise_figure_db) * s_db (p->losses_db));
-    self->span_deg = p->scan_mode == MTI_SCAN_FULL ? 360.0 : p->sector_width_deg;
-    double d = floor (self->span_deg / p->azimuth_beamwidth_deg + 1e-9);
-    self->dwells = d < 1 ? 1 : (uint32_t)d;
-    self->dwell_deg = self->span_deg / self->dwells;
-    self->dwell_s = self->dwell_deg / p->sweep_rate_dps;
+    cgs_scan_params_t sp = {
+        .mode = p->scan_mode == MTI_SCAN_FULL ? CGS_SCAN_FULL : CGS_SCAN_SECTOR,
+        .sector_center_deg = p->sector_center_deg,
+        .sector_width_deg = p->sector_width_deg,
+        .sector_ref = p->sector_ref == MTI_SECTOR_HEADING ? CGS_SECTOR_HEADING : CGS_SECTOR_NORTH,
+        .beamwidth_deg = p->azimuth_beamwidth_deg,
+        .rate_dps = p->sweep_rate_dps,
+    };
+    if (cgs_scan_init (&sp, &self->scan) < 0)
+        goto fail;
     // The chance of a crossing in any Doppler bin of a CPI, with the
     // correlation the window and canceller put between bins.
     self->cpi_pfa = mti_dsp_any_bin_probability (self->dsp, S_CALIBRATION_SAMPLES);
@@ -94,12 +96,12 @@ fail:
 
 double mti_radar_dwell_s (const mti_radar_t *self)
 {
-    return self->dwell_s;
+    return self->scan.dwell_s;
 }
 
 uint32_t mti_radar_dwells_per_scan (const mti_radar_t *self)
 {
-    return self->dwells;
+    return self->scan.dwells;
 }
 
 double mti_radar_gate_pfa (const mti_radar_t *self)
@@ -122,63 +124,14 @@ struct mti_dsp *mti_radar_dsp (mti_radar_t *self)
     return self->dsp;
 }
 
-static double s_wrap360 (double a)
-{
-    a = fmod (a, 360.0);
-    return a < 0 ? a + 360.0 : a;
-}
-
 void mti_radar_schedule (const mti_radar_t *self, uint64_t k, double heading_deg, mti_dwell_t *ret)
 {
-    uint64_t pass = k / self->dwells;
-    uint32_t j = (uint32_t)(k % self->dwells);
-    double w = self->dwell_deg, from, to;
-    if (self->p.scan_mode == MTI_SCAN_FULL) {
-        from = j * w;
-        to = from + w;
-    } else {
-        double c = self->p.sector_center_deg;
-        if (self->p.sector_ref == MTI_SECTOR_HEADING)
-            c += heading_deg;
-        double lo = c - self->span_deg / 2;
-        if (pass % 2 == 0) {
-            from = lo + j * w;
-            to = from + w;
-        } else {
-            from = lo + self->span_deg - j * w;
-            to = from - w;
-        }
-    }
-    *ret = (mti_dwell_t){
-        .index = k,
-        .scan = (uint32_t)(pass + 1),
-        .dwell = j,
-        .dwells = self->dwells,
-        .start_s = (double)k * self->dwell_s,
-        .end_s = (double)(k + 1) * self->dwell_s,
-        .az_from_deg = s_wrap360 (from),
-        .az_to_deg = s_wrap360 (to),
-        .az_center_deg = s_wrap360 ((from + to) / 2),
-        .scan_start = j == 0,
-        .scan_end = j + 1 == self->dwells,
-    };
+    cgs_scan_dwell (&self->scan, k, heading_deg, ret);
 }
 
 uint64_t mti_radar_dwell_at (const mti_radar_t *self, double t_s)
 {
-    double k = floor (t_s / self->dwell_s);
-    return k >= 0 && k < 9e15 ? (uint64_t)k : 0; // NaN and negative times: 0
-}
-
-/* True when azimuth a lies in the dwell's sector. */
-static bool s_in_dwell (const mti_radar_t *self, const mti_dwell_t *d, double a)
-{
-    // The sector's clockwise-most start: az_from going clockwise, else az_to.
-    double clockwise = s_wrap360 (d->az_to_deg - d->az_from_deg);
-    double lo = fabs (clockwise - self->dwell_deg) < 1e-6 ? d->az_from_deg : d->az_to_deg;
-    if (self->dwell_deg >= 360.0 - 1e-9)
-        return true;
-    return s_wrap360 (a - lo) < self->dwell_deg;
+    return cgs_scan_dwell_at (&self->scan, t_s);
 }
 
 static double s_height (const mti_radar_t *self, double e, double n)
@@ -300,7 +253,7 @@ static void s_measure (mti_radar_t *self, cgs_enu_t p, double r, double az, doub
     h->range_sigma_m = dr / sqrt (12.0);
     double s = th / (1.6 * sqrt (2.0 * fmax (sinr, 1e-6)));
     h->azimuth_sigma_deg = fmin (s, th / sqrt (12.0));
-    h->azimuth_deg = s_wrap360 (az + h->azimuth_sigma_deg * mti_dsp_gaussian (self->dsp));
+    h->azimuth_deg = cgs_wrap360 (az + h->azimuth_sigma_deg * mti_dsp_gaussian (self->dsp));
     (void)s_ground_at (self, p, h->azimuth_deg, h->range_m, &h->position);
 }
 
@@ -322,8 +275,8 @@ static int s_target (mti_radar_t *self, const mti_dwell_t *d, const mti_platform
     double g = hypot (de, dn), r = sqrt (de * de + dn * dn + du * du);
     if (r < p->min_range_m || r > p->max_range_m || g <= 0)
         return 0;
-    double az = s_wrap360 (atan2 (de, dn) / S_DEG);
-    if (!s_in_dwell (self, d, az))
+    double az = cgs_wrap360 (atan2 (de, dn) / S_DEG);
+    if (!cgs_dwell_contains (d, az))
         return 0;
     double off = atan2 (-du, g) / S_DEG - p->beam_depression_deg;
     if (fabs (off) > p->elevation_beamwidth_deg)
@@ -399,12 +352,11 @@ static int s_false_alarms (mti_radar_t *self, const mti_dwell_t *d, const mti_pl
     uint32_t gates = self->gates - g0;
     unsigned int count = gates ? mti_dsp_binomial (self->dsp, self->gate_pfa, gates) : 0;
     double t = mti_dsp_threshold (self->dsp);
-    double clockwise = s_wrap360 (d->az_to_deg - d->az_from_deg);
-    double lo = fabs (clockwise - self->dwell_deg) < 1e-6 ? d->az_from_deg : d->az_to_deg;
+    double lo = cgs_dwell_lo_deg (d);
     for (unsigned int i = 0; i < count; i++) {
         uint32_t gate = g0 + (uint32_t)(mti_dsp_uniform (self->dsp) * gates);
         double r = p->min_range_m + (gate + 0.5) * p->range_resolution_m;
-        double az = s_wrap360 (lo + mti_dsp_uniform (self->dsp) * self->dwell_deg);
+        double az = cgs_wrap360 (lo + mti_dsp_uniform (self->dsp) * d->width_deg);
         int bin = (int)(mti_dsp_uniform (self->dsp) * p->fft_size);
         // An exceedance X > T Z: given it, Z ~ Gamma(N, 1 / (1 + T)) (the
         // crossing tilts Z by exp(-T Z)) and X - T Z is exponential (memoryless).

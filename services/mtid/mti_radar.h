@@ -54,6 +54,7 @@
 #define MTI_RADAR_H
 
 #include "cgs_geo.h"
+#include "cgs_scan.h"
 #include "cgs_terrain.h"
 #include "mti_params.h"
 
@@ -63,20 +64,8 @@
 
 typedef struct mti_radar mti_radar_t;
 
-/* One dwell of the schedule. */
-typedef struct {
-    uint64_t index;     // dwell number since simulation time 0
-    uint32_t scan;      // scan (or sector pass) number, from 1
-    uint32_t dwell;     // dwell within its scan, from 0
-    uint32_t dwells;    // dwells per scan
-    double start_s;     // simulation time the dwell starts
-    double end_s;       // and ends
-    double az_from_deg; // azimuth swept from, clockwise from north, [0, 360)
-    double az_to_deg;   // to (the beam moves from az_from to az_to)
-    double az_center_deg;
-    bool scan_start; // first dwell of its scan
-    bool scan_end;   // last dwell of its scan
-} mti_dwell_t;
+/* One dwell of the schedule (cgs_scan). */
+typedef cgs_dwell_t mti_dwell_t;
 
 /* The UAV as the radar sees it at the dwell's centre time. */
 typedef struct {
