@@ -1027,3 +1027,17 @@ int cgs_config_parse_geodetic (const char *text, cgs_geodetic_t *ret, char *why,
     *ret = g;
     return 0;
 }
+
+int cgs_config_check_repeated (const cgs_config_t *self, char *err, size_t errlen)
+{
+    for (size_t i = 0; i < cgs_config_section_count (self); i++) {
+        int again = cgs_config_section_again (self, i);
+        if (again > 0) {
+            cgs_errf (err, errlen, "%s:%d: [%s] given twice (first at line %d)",
+                      cgs_config_path (self), again, cgs_config_section_name (self, i),
+                      cgs_config_section_line (self, i));
+            return -EINVAL;
+        }
+    }
+    return 0;
+}

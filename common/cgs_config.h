@@ -34,6 +34,9 @@ int cgs_config_section_line (const cgs_config_t *self, size_t i);
 /* Line where section i's header is given a second time (its keys are merged
  * into the first), 0 when it is given once. */
 int cgs_config_section_again (const cgs_config_t *self, size_t i);
+/* -EINVAL with "file:line: [section] given twice (first at line N)" for the
+ * first section header given twice (its keys would be merged), else 0. */
+int cgs_config_check_repeated (const cgs_config_t *self, char *err, size_t errlen);
 /* True when the section exists. Marks nothing. */
 bool cgs_config_has_section (const cgs_config_t *self, const char *section);
 /* True when the key is present in the section. Marks nothing. */

@@ -228,21 +228,6 @@ static int s_get_double (s_ctx_t *c, const char *sec, const char *key, double de
 
 // --- sections -------------------------------------------------------------------
 
-/* A section header given twice is merged by cgs_config: refuse it, so each
- * UAV and vehicle name stands once. */
-static int s_check_headers (const cgs_config_t *cfg, const char *name, char *err, size_t errlen)
-{
-    for (size_t i = 0; i < cgs_config_section_count (cfg); i++) {
-        int again = cgs_config_section_again (cfg, i);
-        if (again > 0) {
-            cgs_errf (err, errlen, "%s:%d: [%s] given twice (first at line %d)", name, again,
-                      cgs_config_section_name (cfg, i), cgs_config_section_line (cfg, i));
-            return -EINVAL;
-        }
-    }
-    return 0;
-}
-
 // The name after "uav " or "vehicle " in a section name, checked; NULL when not that type.
 static const char *s_entity_name (const char *section, const char *type)
 {
@@ -254,6 +239,24 @@ static const char *s_entity_name (const char *section, const char *type)
 
 // --- terrain --------------------------------------------------------------------
 
+/* [terrain]'s woods, procedural over either kind of terrain. */
+static int s_vegetation (s_ctx_t *c)
+{
+    const char *sec = "terrain";
+    cgs_vegetation_t *v = &c->sc->terrain.vegetation;
+    cgs_vegetation_defaults (v);
+    int rc;
+    if ((rc = cgs_config_get_uint64 (c->cfg, sec, "vegetation_seed",
+                                     cgs_scenario_vehicle_seed (c->seed, 0), &v->seed, c->err,
+                                     c->errlen)) < 0 ||
+        (rc = s_get_double (c, sec, "vegetation_cover", v->cover, 0, 1, &v->cover)) < 0 ||
+        (rc = s_get_double (c, sec, "canopy_height_m", v->canopy_m, 0.5, 100, &v->canopy_m)) < 0 ||
+        (rc = s_get_double (c, sec, "vegetation_feature_m", v->feature_m, 30, 1e5, &v->feature_m)) <
+            0)
+        return rc;
+    return 0;
+}
+
 static int s_terrain (s_ctx_t *c)
 {
     static const char *const fbm_keys[] = {"seed",      "size_m",  "relief_m",    "base_height_m",
@@ -262,7 +265,9 @@ static int s_terrain (s_ctx_t *c)
     cgs_terrain_spec_t *t = &c->sc->terrain;
     cgs_terrain_fbm_defaults (&t->fbm);
     t->fbm.seed = c->seed;
-    int rc;
+    int rc = s_vegetation (c);
+    if (rc < 0)
+        return rc;
     if (cgs_config_has (c->cfg, sec, "dem")) {
         const char *path;
         t->source = CGS_TERRAIN_DEM;
@@ -793,7 +798,7 @@ int cgs_scenario_load_string (const char *name, const char *text, const cgs_geo_
     int rc = cgs_config_load_string (name, text, &c.cfg, err, errlen);
     if (rc < 0)
         return rc;
-    if ((rc = s_check_headers (c.cfg, name, err, errlen)) < 0)
+    if ((rc = cgs_config_check_repeated (c.cfg, err, errlen)) < 0)
         goto done;
     c.sc = calloc (1, sizeof *c.sc);
     if (!c.sc || !(c.sc->path = s_strdup (name))) {
@@ -898,6 +903,15 @@ int cgs_scenario_terrain (const cgs_scenario_t *self, const cgs_geo_t *frame, cg
             cgs_errf (err, errlen, "%s: [terrain]: cannot generate the procedural terrain",
                       self->path);
             return -EINVAL;
+        }
+    }
+    if (t->vegetation.cover > 0) {
+        int rc = cgs_terrain_grow_vegetation (terrain, &t->vegetation);
+        if (rc < 0) {
+            cgs_errf (err, errlen, "%s: [terrain]: cannot grow the vegetation: %s", self->path,
+                      strerror (-rc));
+            cgs_terrain_destroy (&terrain);
+            return rc;
         }
     }
     *ret_t = terrain;

@@ -11,7 +11,9 @@
  *   [terrain]        optional; `dem = PATH` (relative to the scenario file)
  *                    with resolution_m, half_extent_m; or procedural fBm:
  *                    seed, size_m, resolution_m, relief_m (0 = flat),
- *                    base_height_m, feature_m, octaves, persistence
+ *                    base_height_m, feature_m, octaves, persistence; with
+ *                    either, woods: vegetation_cover (0..1), canopy_height_m,
+ *                    vegetation_feature_m, vegetation_seed
  *   [uav NAME]       one or more
  *   [vehicle NAME]   any number; route as repeated `point = POSITION [@ SPEED_MPS]`
  *   [operator]       optional; repeated `designate = FILTER nearest POSITION at TIME_S`
@@ -97,6 +99,8 @@ typedef struct {
     char *dem_path;        // when source is DEM: the file, joined to the scenario's folder
     double resolution_m;   // DEM: grid spacing, 0 = about the raster's own (default 0)
     double half_extent_m;  // DEM: half-width of the square read, 0 = whole raster (default 10000)
+    cgs_vegetation_t vegetation; // woods over either kind: vegetation_cover (default 0),
+                                 // canopy_height_m, vegetation_feature_m, vegetation_seed
 } cgs_terrain_spec_t;
 
 typedef struct {

@@ -68,6 +68,35 @@ bool cgs_terrain_los (const cgs_terrain_t *self, cgs_enu_t a, cgs_enu_t b);
 bool cgs_terrain_los_clearance (const cgs_terrain_t *self, cgs_enu_t a, cgs_enu_t b,
                                 double *ret_clearance_m);
 
+/* Vegetation (woods) grown procedurally over the terrain's grid. */
+typedef struct {
+    uint64_t seed;    // same seed, same woods
+    double cover;     // fraction of the ground under vegetation, 0..1 (default 0: none)
+    double canopy_m;  // height of the vegetation above the ground, metres (default 15)
+    double feature_m; // size of the largest woods, metres (default 600)
+} cgs_vegetation_t;
+
+/* Fill v with the documented defaults (seed 0, no cover). */
+void cgs_vegetation_defaults (cgs_vegetation_t *v);
+/* Woods over round(cover * nodes) nodes: those where a seeded fBm field is
+ * highest, so they come in patches of about feature_m; each node's canopy is
+ * canopy_m. Replaces any vegetation. 0, -EINVAL (bad values), -ENOMEM. */
+int cgs_terrain_grow_vegetation (cgs_terrain_t *self, const cgs_vegetation_t *v);
+/* Canopy heights per node (rows * cols, as the grid; 0 = open), copied.
+ * 0, -EINVAL (negative, over 1000 m or non-finite), -ENOMEM. */
+int cgs_terrain_set_canopy (cgs_terrain_t *self, const float *canopy_m);
+/* Canopy height above the ground at (e, n): the nearest node's, 0 where the
+ * ground is open, outside the grid or without vegetation. */
+double cgs_terrain_canopy (const cgs_terrain_t *self, double e_m, double n_m);
+/* Fraction of the nodes under vegetation. */
+double cgs_terrain_vegetated_fraction (const cgs_terrain_t *self);
+/* Length (metres) of the segment a-b that runs inside vegetation: above the
+ * ground and below the canopy of the cell it is over. Sampled at midpoints a
+ * quarter of a grid cell apart along the part of the segment below the
+ * highest treetop (at most 100,000 samples): within about a quarter cell per
+ * edge crossed. 0 without vegetation or for a degenerate segment. */
+double cgs_terrain_foliage_m (const cgs_terrain_t *self, cgs_enu_t a, cgs_enu_t b);
+
 /* Grid geometry and statistics. */
 int cgs_terrain_cols (const cgs_terrain_t *self);
 int cgs_terrain_rows (const cgs_terrain_t *self);

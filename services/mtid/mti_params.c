@@ -326,27 +326,12 @@ static int s_target (s_ctx_t *c, const char *section, const char *name, mti_para
     return 0;
 }
 
-// A section header given twice is merged by cgs_config: refuse it.
-static int s_check_headers (s_ctx_t *c)
-{
-    for (size_t i = 0; i < cgs_config_section_count (c->cfg); i++) {
-        int again = cgs_config_section_again (c->cfg, i);
-        if (again > 0) {
-            cgs_errf (c->err, c->errlen, "%s:%d: [%s] given twice (first at line %d)",
-                      cgs_config_path (c->cfg), again, cgs_config_section_name (c->cfg, i),
-                      cgs_config_section_line (c->cfg, i));
-            return -EINVAL;
-        }
-    }
-    return 0;
-}
-
 static int s_check (const s_ctx_t *c, const mti_params_t *p);
 
 // Everything in the file over p (the defaults), then the checks.
 static int s_read (s_ctx_t *c, mti_params_t *p)
 {
-    int rc = s_check_headers (c);
+    int rc = cgs_config_check_repeated (c->cfg, c->err, c->errlen);
     for (size_t i = 0; i < S_COUNT (s_reals) && rc == 0; i++)
         rc = s_get_real (c, s_reals[i].section, &s_reals[i], p);
     for (size_t i = 0; i < S_COUNT (s_ints) && rc == 0; i++)

@@ -601,6 +601,35 @@ static void test_no_frame (void **state)
     cgs_scenario_destroy (&sc);
 }
 
+/* Woods in [terrain]: read, grown over the terrain at the cover asked;
+ * bad values refused with file and line. */
+static void test_vegetation (void **state)
+{
+    s_tmp_t *t = *state;
+    cgs_scenario_t *sc = s_load (t, "[terrain]\nsize_m = 3000\nresolution_m = 30\n"
+                                    "vegetation_cover = 0.25\ncanopy_height_m = 18\n"
+                                    "vegetation_feature_m = 400\n" S_UAV);
+    assert_true (sc->terrain.vegetation.cover == 0.25);
+    assert_true (sc->terrain.vegetation.canopy_m == 18);
+    assert_true (sc->terrain.vegetation.seed == cgs_scenario_vehicle_seed (7, 0));
+    cgs_terrain_t *terrain = NULL;
+    char err[256];
+    assert_int_equal (cgs_scenario_terrain (sc, t->frame, &terrain, err, sizeof err), 0);
+    assert_true (fabs (cgs_terrain_vegetated_fraction (terrain) - 0.25) < 1e-4);
+    cgs_terrain_destroy (&terrain);
+    cgs_scenario_destroy (&sc);
+    // None unless asked.
+    sc = s_load (t, S_UAV);
+    assert_int_equal (cgs_scenario_terrain (sc, t->frame, &terrain, err, sizeof err), 0);
+    assert_true (cgs_terrain_vegetated_fraction (terrain) == 0);
+    cgs_terrain_destroy (&terrain);
+    cgs_scenario_destroy (&sc);
+    s_fails (t, "[terrain]\nvegetation_cover = 2\n" S_UAV,
+             ":2: [terrain] vegetation_cover: expected a number in [0, 1], got '2'");
+    s_fails (t, "[terrain]\ncanopy_height_m = tall\n" S_UAV,
+             ":2: [terrain] canopy_height_m: expected a number in [0.5, 100], got 'tall'");
+}
+
 int main (void)
 {
     const struct CMUnitTest tests[] = {
@@ -611,6 +640,7 @@ int main (void)
         cmocka_unit_test_setup_teardown (test_errors, s_setup, s_teardown),
         cmocka_unit_test_setup_teardown (test_dem_errors, s_setup, s_teardown),
         cmocka_unit_test (test_no_frame),
+        cmocka_unit_test_setup_teardown (test_vegetation, s_setup, s_teardown),
     };
     return cmocka_run_group_tests (tests, NULL, NULL);
 }

@@ -967,6 +967,84 @@ static void test_load_errors (void **state)
     cgs_geo_destroy (&frame);
 }
 
+/* Woods: a strip of forest on flat ground crossed level and from above,
+ * lengths against the geometry; grown woods cover the fraction asked. */
+static void test_vegetation (void **state)
+{
+    (void)state;
+    // 101 x 101 nodes, 10 m apart, flat at 50 m; forest 20 m tall on the
+    // nodes of columns 40..59 (cells from east 395 to 595 m: 200 m wide).
+    enum { N = 101 };
+    float *h = calloc (N * N, sizeof *h), *c = calloc (N * N, sizeof *c);
+    assert_non_null (h);
+    assert_non_null (c);
+    for (int i = 0; i < N * N; i++) {
+        h[i] = 50;
+        c[i] = (i % N >= 40 && i % N <= 59) ? 20.0f : 0.0f;
+    }
+    cgs_terrain_t *t = cgs_terrain_new_grid (N, N, 0, 0, 10, h);
+    assert_non_null (t);
+    assert_near (cgs_terrain_foliage_m (t, (cgs_enu_t){0, 500, 52}, (cgs_enu_t){1000, 500, 52}), 0,
+                 0); // no vegetation yet
+    assert_int_equal (cgs_terrain_set_canopy (t, c), 0);
+    assert_near (cgs_terrain_canopy (t, 500, 300), 20, 0);
+    assert_near (cgs_terrain_canopy (t, 390, 300), 0, 0);
+    assert_near (cgs_terrain_canopy (t, 5000, 300), 0, 0); // off the grid
+    assert_near (cgs_terrain_vegetated_fraction (t), 20.0 / N, 1e-12);
+    // Level, 2 m above the ground, across the strip: 200 m in the trees.
+    double step = 10.0 / 4;
+    assert_near (cgs_terrain_foliage_m (t, (cgs_enu_t){0, 500, 52}, (cgs_enu_t){1000, 500, 52}),
+                 200, step);
+    // Diagonally across it at 45 degrees in plan: 200 * sqrt 2.
+    assert_near (cgs_terrain_foliage_m (t, (cgs_enu_t){300, 300, 52}, (cgs_enu_t){700, 700, 52}),
+                 200 * sqrt (2), 2 * step);
+    // Above the treetops: nothing.
+    assert_near (cgs_terrain_foliage_m (t, (cgs_enu_t){0, 500, 71}, (cgs_enu_t){1000, 500, 71}), 0,
+                 0);
+    // From 1,000 m above to a point 2 m up in the middle of the wood at 30
+    // degrees elevation: inside from 70 m (the treetops) down to 52 m, 18 m
+    // of height, 18 / sin 30 = 36 m of path (its plan extent, 31 m, stays in the wood).
+    double el = 30 * M_PI / 180, dz = 1000 - 2;
+    cgs_enu_t top = {495 - dz / tan (el) * 0.0, 500 - dz / tan (el), 50 + 1000};
+    assert_near (cgs_terrain_foliage_m (t, top, (cgs_enu_t){495, 500, 52}), 36, 0.2);
+    // Reversed, the same.
+    assert_near (cgs_terrain_foliage_m (t, (cgs_enu_t){495, 500, 52}, top), 36, 0.2);
+    // Bad canopies refused, the old one kept.
+    c[7] = -1;
+    assert_int_equal (cgs_terrain_set_canopy (t, c), -EINVAL);
+    c[7] = NAN;
+    assert_int_equal (cgs_terrain_set_canopy (t, c), -EINVAL);
+    assert_near (cgs_terrain_canopy (t, 500, 300), 20, 0);
+    // Grown woods: the fraction asked, repeatable by seed, in patches.
+    cgs_vegetation_t v;
+    cgs_vegetation_defaults (&v);
+    v.cover = 0.3;
+    v.seed = 9;
+    v.feature_m = 300;
+    assert_int_equal (cgs_terrain_grow_vegetation (t, &v), 0);
+    assert_near (cgs_terrain_vegetated_fraction (t), 0.3, 1.0 / (N * N));
+    float first = (float)cgs_terrain_canopy (t, 333, 777);
+    assert_int_equal (cgs_terrain_grow_vegetation (t, &v), 0);
+    assert_near (cgs_terrain_canopy (t, 333, 777), first, 0);
+    // Patches: a vegetated node's east neighbour is vegetated far more often than 30%.
+    int pairs = 0, both = 0;
+    for (double n = 0; n <= 1000; n += 10)
+        for (double e = 0; e < 1000; e += 10)
+            if (cgs_terrain_canopy (t, e, n) > 0) {
+                pairs++;
+                both += cgs_terrain_canopy (t, e + 10, n) > 0;
+            }
+    assert_true (both > 0.8 * pairs);
+    v.cover = 1.5;
+    assert_int_equal (cgs_terrain_grow_vegetation (t, &v), -EINVAL);
+    v.cover = 0;
+    assert_int_equal (cgs_terrain_grow_vegetation (t, &v), 0);
+    assert_near (cgs_terrain_vegetated_fraction (t), 0, 0);
+    cgs_terrain_destroy (&t);
+    free (h);
+    free (c);
+}
+
 int main (void)
 {
     const struct CMUnitTest tests[] = {
@@ -985,6 +1063,7 @@ int main (void)
         cmocka_unit_test (test_load_nodata),
         cmocka_unit_test (test_load_srtm_dted),
         cmocka_unit_test (test_load_errors),
+        cmocka_unit_test (test_vegetation),
     };
     return cmocka_run_group_tests (tests, s_setup, s_teardown);
 }
