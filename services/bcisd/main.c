@@ -1,0 +1,359 @@
+/* bcisd — the scanning BCIS interrogator of one UAV: follows the UAV (`uav`)
+ * and the ground entities (`entity`), interrogates once a dwell as its scan
+ * sweeps and simulation time passes, and publishes each interrogation's
+ * replies and the end of each scan on `bcis`. The model is in bcis_*.c; this
+ * file wires it to the bus. */
+#include "bcis_interrogator.h"
+#include "bcis_params.h"
+#include "cgs_entities.h"
+#include "cgs_log.h"
+#include "cgs_scenario.h"
+#include "cgs_service.h"
+
+#include <errno.h>
+#include <gsl/gsl_errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define S_STALE_S 10.0 // an entity not heard of for this long (simulation time) is forgotten
+
+typedef struct {
+    cgs_service_t svc;
+    cgs_geo_t *frame;
+    cgs_terrain_t *terrain;
+    bcis_params_t params;
+    bcis_interrogator_t *bcis;
+    const cgs_scan_t *scan;
+    char uav_name[CGS_NAME_MAX];
+    uint32_t uav_id; // 0 until the UAV's first `uav` message
+    cgs_enu_t uav_pos, uav_vel;
+    double uav_heading_deg, uav_time_s;
+    bool started;
+    uint64_t next_dwell; // schedule index of the next dwell to run
+    cgs_entities_t *ents;
+    bcis_entity_t *targets;
+    size_t target_cap;
+    uint32_t scan_number;
+    uint64_t dwells_run, dwells_skipped, interrogated, replies, blocked, bad_messages;
+    /* Output messages, reused. */
+    Cgs__BcisReply *reply_msgs;
+    Cgs__BcisReply **reply_ptrs;
+    Cgs__Enu *reply_pos;
+    size_t reply_cap;
+} s_app_t;
+
+/* A message the model cannot use: counted in health, logged the first time. */
+static void s_bad (s_app_t *app, const char *what)
+{
+    if (app->bad_messages++ == 0)
+        cgs_log (LOG_WARNING, "ignored %s (further ones are only counted in health)", what);
+    cgs_health_add_malformed (app->svc.health, 1);
+}
+
+static void s_on_entity (void *arg, const char *topic, const ProtobufCMessage *msg,
+                         const Cgs__Header *hdr)
+{
+    (void)topic;
+    s_app_t *app = arg;
+    size_t bad = 0;
+    if (cgs_entities_update (app->ents, (const Cgs__EntityBatch *)msg, hdr->sim_time_s, &bad) < 0)
+        cgs_health_set_error (app->svc.health, "out of memory for entities");
+    for (size_t i = 0; i < bad; i++)
+        s_bad (app, "an entity without a valid id, position, velocity, heading or time");
+}
+
+/* The ground entities as they are at time t (moved on along their velocity). */
+static size_t s_targets_at (s_app_t *app, double t)
+{
+    size_t count = cgs_entities_count (app->ents);
+    if (app->target_cap < count) {
+        bcis_entity_t *tg = realloc (app->targets, count * sizeof *tg);
+        if (!tg) {
+            cgs_health_set_error (app->svc.health, "out of memory for entities: a dwell ran empty");
+            return 0;
+        }
+        app->targets = tg;
+        app->target_cap = count;
+    }
+    size_t n = 0, cursor = 0;
+    const cgs_entity_state_t *s;
+    while ((s = cgs_entities_next (app->ents, &cursor))) {
+        if (s->kind == CGS_KIND_AIR || !s->active || s->id == app->uav_id)
+            continue;
+        double dt = t - s->time_s;
+        if (dt > S_STALE_S || dt < -S_STALE_S)
+            continue;
+        app->targets[n++] = (bcis_entity_t){
+            .id = s->id,
+            .position = {s->position.e_m + s->velocity.e_m * dt,
+                         s->position.n_m + s->velocity.n_m * dt, s->position.u_m},
+            .force = s->force,
+            .transponder = s->bcis_transponder,
+            .marking = s->marking,
+        };
+    }
+    return n;
+}
+
+static int s_reserve (s_app_t *app, size_t n)
+{
+    if (n <= app->reply_cap)
+        return 0;
+    size_t cap = n * 2;
+    free (app->reply_msgs);
+    free (app->reply_ptrs);
+    free (app->reply_pos);
+    app->reply_msgs = calloc (cap, sizeof *app->reply_msgs);
+    app->reply_ptrs = calloc (cap, sizeof *app->reply_ptrs);
+    app->reply_pos = calloc (cap, sizeof *app->reply_pos);
+    app->reply_cap = app->reply_msgs && app->reply_ptrs && app->reply_pos ? cap : 0;
+    return app->reply_cap ? 0 : -ENOMEM;
+}
+
+static void s_publish (s_app_t *app, const cgs_dwell_t *d, const bcis_dwell_out_t *out)
+{
+    if (s_reserve (app, out->reply_count) < 0) {
+        cgs_health_set_error (app->svc.health, "out of memory for a dwell's replies");
+        return;
+    }
+    double t = (d->start_s + d->end_s) / 2;
+    for (size_t i = 0; i < out->reply_count; i++) {
+        const bcis_reply_t *r = &out->replies[i];
+        Cgs__BcisReply *m = &app->reply_msgs[i];
+        cgs__bcis_reply__init (m);
+        cgs__enu__init (&app->reply_pos[i]);
+        app->reply_pos[i].east_m = r->position.e_m;
+        app->reply_pos[i].north_m = r->position.n_m;
+        app->reply_pos[i].up_m = r->position.u_m;
+        m->responder_id = r->responder_id;
+        m->marking = (char *)r->marking;
+        m->position = &app->reply_pos[i];
+        m->sim_time_s = t;
+        m->azimuth_deg = r->azimuth_deg;
+        m->range_m = r->range_m;
+        m->snr_up_db = r->snr_up_db;
+        m->snr_down_db = r->snr_down_db;
+        app->reply_ptrs[i] = m;
+    }
+    Cgs__Bcis b = CGS__BCIS__INIT;
+    b.uav_id = app->uav_id;
+    b.scan_number = d->scan;
+    b.scan_time_s = t;
+    b.beam_azimuth_deg = d->az_center_deg;
+    b.n_replies = out->reply_count;
+    b.replies = app->reply_ptrs;
+    app->svc.sim_time_s = t;
+    cgs_service_publish (&app->svc, "bcis", &b.base);
+    if (d->scan_end) {
+        // The scan marker: this scan is complete.
+        Cgs__Bcis m = CGS__BCIS__INIT;
+        m.uav_id = app->uav_id;
+        m.scan_number = d->scan;
+        m.scan_time_s = d->end_s;
+        m.beam_azimuth_deg = d->az_to_deg;
+        m.scan_end = true;
+        app->svc.sim_time_s = d->end_s;
+        cgs_service_publish (&app->svc, "bcis", &m.base);
+    }
+}
+
+static void s_run_dwell (s_app_t *app, uint64_t k)
+{
+    cgs_dwell_t d;
+    cgs_scan_dwell (app->scan, k, app->uav_heading_deg, &d);
+    double t = (d.start_s + d.end_s) / 2, dt = t - app->uav_time_s;
+    cgs_enu_t uav = {app->uav_pos.e_m + app->uav_vel.e_m * dt,
+                     app->uav_pos.n_m + app->uav_vel.n_m * dt,
+                     app->uav_pos.u_m + app->uav_vel.u_m * dt};
+    size_t n = s_targets_at (app, t);
+    bcis_dwell_out_t out;
+    if (bcis_interrogator_dwell (app->bcis, &d, uav, app->targets, n, &out) < 0) {
+        cgs_health_set_error (app->svc.health, "out of memory: an interrogation was not modelled");
+        return;
+    }
+    app->dwells_run++;
+    app->interrogated += out.truth_count;
+    app->replies += out.reply_count;
+    for (size_t i = 0; i < out.truth_count; i++)
+        app->blocked += out.truth[i].blocked;
+    app->scan_number = d.scan;
+    s_publish (app, &d, &out);
+    if (d.scan_end)
+        cgs_entities_evict (app->ents, t, S_STALE_S);
+}
+
+static bool s_finite3 (double a, double b, double c)
+{
+    return isfinite (a) && isfinite (b) && isfinite (c);
+}
+
+static void s_on_uav (void *arg, const char *topic, const ProtobufCMessage *msg,
+                      const Cgs__Header *hdr)
+{
+    (void)topic;
+    s_app_t *app = arg;
+    const Cgs__Uav *u = (const Cgs__Uav *)msg;
+    if (!u->name || strcmp (u->name, app->uav_name) != 0)
+        return;
+    double t = hdr->sim_time_s;
+    if (!u->position || !u->velocity || !isfinite (t) || t < 0 || !isfinite (u->heading_deg) ||
+        !s_finite3 (u->position->east_m, u->position->north_m, u->position->up_m) ||
+        !s_finite3 (u->velocity->east_mps, u->velocity->north_mps, u->velocity->up_mps)) {
+        s_bad (app, "a uav message without a valid time, position, velocity or heading");
+        return;
+    }
+    if (app->uav_id != u->entity_id) {
+        cgs_log (LOG_INFO, "interrogator on %s (entity %u) at t=%.2f s", app->uav_name,
+                 u->entity_id, t);
+        app->uav_id = u->entity_id;
+    }
+    app->uav_pos = (cgs_enu_t){u->position->east_m, u->position->north_m, u->position->up_m};
+    app->uav_vel = (cgs_enu_t){u->velocity->east_mps, u->velocity->north_mps, u->velocity->up_mps};
+    app->uav_heading_deg = u->heading_deg;
+    app->uav_time_s = t;
+    uint64_t now = cgs_scan_dwell_at (app->scan, t);
+    if (!app->started || now + 1 < app->next_dwell) {
+        // First message, or time went back (a restarted uavsim): scan on from here.
+        if (app->started)
+            cgs_log (LOG_NOTICE, "simulation time went back to %.2f s; the scan follows", t);
+        app->started = true;
+        app->next_dwell = now + 1;
+        return;
+    }
+    // Catch up no further back than the entities' history reaches, nor more than a scan.
+    uint64_t most = (uint64_t)(S_STALE_S / app->scan->dwell_s);
+    if (most > app->scan->dwells)
+        most = app->scan->dwells;
+    if (now > app->next_dwell + most) {
+        uint64_t skip = now - most - app->next_dwell;
+        app->dwells_skipped += skip;
+        app->next_dwell += skip;
+        char why[160];
+        snprintf (why, sizeof why, "fell behind: %llu dwells skipped in all",
+                  (unsigned long long)app->dwells_skipped);
+        cgs_health_set_error (app->svc.health, why);
+        cgs_log (LOG_WARNING, "%s", why);
+    }
+    while (app->next_dwell < now)
+        s_run_dwell (app, app->next_dwell++);
+}
+
+static int s_setup (s_app_t *app, char *err, size_t errlen)
+{
+    if (!*app->svc.instance->uav) {
+        snprintf (err, errlen, "%s: [service %s] names no `uav =`: bcisd serves one UAV",
+                  app->svc.exercise_path, app->svc.instance_name);
+        return -EINVAL;
+    }
+    snprintf (app->uav_name, sizeof app->uav_name, "%s", app->svc.instance->uav);
+    if (!*app->svc.scenario) {
+        snprintf (err, errlen,
+                  "no scenario (its terrain is needed): give --scenario FILE or "
+                  "`scenario =` in %s",
+                  app->svc.exercise_path);
+        return -EINVAL;
+    }
+    cgs_geodetic_t o = cgs_exercise_origin (app->svc.exercise);
+    app->frame = cgs_geo_new (o.lat_deg, o.lon_deg, o.height_m);
+    if (!app->frame) {
+        snprintf (err, errlen, "bad exercise origin");
+        return -EINVAL;
+    }
+    cgs_scenario_t *sc = NULL;
+    int rc = cgs_scenario_load (app->svc.scenario, app->frame,
+                                cgs_exercise_seed (app->svc.exercise), &sc, err, errlen);
+    if (rc < 0)
+        return rc;
+    const cgs_scenario_uav_t *u = cgs_scenario_uav (sc, app->uav_name);
+    if (!u) {
+        snprintf (err, errlen, "%s: no [uav %s] (named by [service %s] in %s)", app->svc.scenario,
+                  app->uav_name, app->svc.instance_name, app->svc.exercise_path);
+        rc = -EINVAL;
+        goto done;
+    }
+    // Parameters: --params, else the instance's `params =`, else the UAV's bcis_params.
+    const char *params = *app->svc.params ? app->svc.params : u->bcis_params;
+    bcis_params_defaults (&app->params);
+    if (params && *params) {
+        if ((rc = bcis_params_load (params, &app->params, err, errlen)) < 0)
+            goto done;
+        cgs_log (LOG_INFO, "BCIS parameters from %s", params);
+    } else {
+        cgs_log (LOG_INFO, "BCIS parameters: the built-in defaults (no parameter file named)");
+    }
+    if ((rc = cgs_scenario_terrain (sc, app->frame, &app->terrain, err, errlen)) < 0)
+        goto done;
+    uint64_t seed = cgs_exercise_seed (app->svc.exercise) * 0x9E3779B97F4A7C15ull ^
+                    (uint64_t)u->id * 0xC2B2AE3D27D4EB4Full;
+    app->bcis = bcis_interrogator_new (&app->params, app->terrain, seed);
+    app->ents = cgs_entities_new ();
+    if (!app->bcis || !app->ents) {
+        snprintf (err, errlen, "out of memory");
+        rc = -ENOMEM;
+        goto done;
+    }
+    app->scan = bcis_interrogator_scan (app->bcis);
+    const bcis_params_t *p = &app->params;
+    static const char *const mods[] = {"BPSK", "QPSK", "non-coherent BFSK"};
+    cgs_log (LOG_INFO,
+             "%s: %.1f GHz, %g x %g deg beam at %g deg/s, %u dwells of %.1f ms per %s, %s at "
+             "%g bit/s, messages %d/%d bits, range %.0f..%.0f m, rain %g mm/h, foliage %s",
+             app->uav_name, p->frequency_hz / 1e9, p->azimuth_beamwidth_deg,
+             p->elevation_beamwidth_deg, p->scan_rate_dps, app->scan->dwells,
+             app->scan->dwell_s * 1e3, p->scan_mode == CGS_SCAN_FULL ? "revolution" : "sector pass",
+             mods[p->modulation], p->data_rate_bps, p->interrogation_bits, p->reply_bits,
+             p->min_range_m, p->max_range_m, p->rain_rate_mmph, p->foliage ? "on" : "off");
+    rc = 0;
+done:
+    cgs_scenario_destroy (&sc);
+    return rc;
+}
+
+int main (int argc, char **argv)
+{
+    gsl_set_error_handler_off (); // GSL reports through return codes; its handler would abort
+    static s_app_t app;
+    cgs_service_info_t info = {
+        .program = "bcisd",
+        .summary = "Scanning BCIS interrogator model of one UAV.",
+    };
+    int rc = cgs_service_init (&app.svc, &info, argc, argv);
+    if (rc != 0) {
+        cgs_service_fini (&app.svc);
+        return rc > 0 ? 0 : 1;
+    }
+    int exit_code = 1;
+    char err[1024] = "";
+    if (s_setup (&app, err, sizeof err) < 0) {
+        cgs_log (LOG_ERR, "%s", err);
+        goto done;
+    }
+    if (app.svc.check_only) {
+        printf ("%s: parameters and scenario are good\n", app.svc.instance_name);
+        exit_code = 0;
+        goto done;
+    }
+    if (cgs_service_subscribe (&app.svc, "entity", s_on_entity, &app) < 0 ||
+        cgs_service_subscribe (&app.svc, "uav", s_on_uav, &app) < 0)
+        goto done;
+    exit_code = cgs_service_run (&app.svc);
+    cgs_log (LOG_INFO,
+             "%llu interrogations (one a dwell; %llu dwells skipped): %llu transponders in the "
+             "beam, %llu behind terrain, %llu replies",
+             (unsigned long long)app.dwells_run,
+             (unsigned long long)app.dwells_skipped, (unsigned long long)app.interrogated,
+             (unsigned long long)app.blocked, (unsigned long long)app.replies);
+done:
+    bcis_interrogator_destroy (&app.bcis);
+    cgs_entities_destroy (&app.ents);
+    cgs_terrain_destroy (&app.terrain);
+    cgs_geo_destroy (&app.frame);
+    free (app.targets);
+    free (app.reply_msgs);
+    free (app.reply_ptrs);
+    free (app.reply_pos);
+    cgs_service_fini (&app.svc);
+    return exit_code;
+}
