@@ -165,8 +165,8 @@ int bcis_interrogator_dwell (bcis_interrogator_t *self, const cgs_dwell_t *d, cg
             return -ENOMEM;
         bcis_truth_t *t = &self->truth[self->truth_count++];
         *t = (bcis_truth_t){.entity_id = e->id};
-        t->blocked = !bcis_interrogator_geometry (self, uav, e->position, d->az_center_deg,
-                                                  &t->geometry);
+        t->blocked =
+            !bcis_interrogator_geometry (self, uav, e->position, d->az_center_deg, &t->geometry);
         if (t->blocked)
             continue;
         bcis_budget (p, &t->geometry, &t->budget);
@@ -178,7 +178,8 @@ int bcis_interrogator_dwell (bcis_interrogator_t *self, const cgs_dwell_t *d, cg
         bcis_reply_t *r = &self->replies[self->reply_count++];
         *r = (bcis_reply_t){
             .responder_id = e->id,
-            .range_m = t->geometry.range_m + gsl_ran_gaussian_ziggurat (self->rng, p->range_sigma_m),
+            .range_m =
+                t->geometry.range_m + gsl_ran_gaussian_ziggurat (self->rng, p->range_sigma_m),
             .azimuth_deg = d->az_center_deg,
             .snr_up_db = t->budget.up_ebn0_db,
             .snr_down_db = t->budget.down_ebn0_db,

@@ -50,19 +50,19 @@ typedef struct {
 typedef struct {
     uint32_t responder_id;
     char marking[CGS_MARKING_MAX + 1];
-    cgs_enu_t position;   // the position fix the reply carried
-    double range_m;       // measured
-    double azimuth_deg;   // the beam's, clockwise from north
-    double snr_up_db;     // Eb/N0 of the interrogation at the transponder
-    double snr_down_db;   // Eb/N0 of the reply at the interrogator
+    cgs_enu_t position; // the position fix the reply carried
+    double range_m;     // measured
+    double azimuth_deg; // the beam's, clockwise from north
+    double snr_up_db;   // Eb/N0 of the interrogation at the transponder
+    double snr_down_db; // Eb/N0 of the reply at the interrogator
 } bcis_reply_t;
 
 /* What became of one friendly transponder in the beam (for tests, health and scoring). */
 typedef struct {
     uint32_t entity_id;
-    bool blocked;         // terrain cut the line of sight
-    bool heard;           // the transponder decoded the interrogation
-    bool answered;        // and the interrogator decoded its reply
+    bool blocked;  // terrain cut the line of sight
+    bool heard;    // the transponder decoded the interrogation
+    bool answered; // and the interrogator decoded its reply
     bcis_geometry_t geometry;
     bcis_budget_t budget; // not filled when blocked
 } bcis_truth_t;

@@ -114,8 +114,7 @@ void bcis_budget (const bcis_params_t *p, const bcis_geometry_t *g, bcis_budget_
     b.path_loss_db = b.fspl_db + b.atmospheric_db + b.rain_db + b.foliage_db;
     double rb_db = s_dbw (p->data_rate_bps), kt_db = s_dbw (S_K_BOLTZ * p->noise_temperature_k);
     // Up: the interrogation, interrogator to transponder.
-    b.up_eirp_dbw =
-        s_dbw (p->transmit_power_w) + p->antenna_gain_db - p->losses_db - b.pattern_db;
+    b.up_eirp_dbw = s_dbw (p->transmit_power_w) + p->antenna_gain_db - p->losses_db - b.pattern_db;
     b.up_rx_dbw =
         b.up_eirp_dbw - b.path_loss_db + p->transponder_gain_db - p->transponder_losses_db;
     b.up_noise_dbw = kt_db + p->transponder_noise_figure_db + rb_db;

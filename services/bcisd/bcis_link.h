@@ -35,22 +35,22 @@
 
 /* Geometry of one interrogator-transponder path. */
 typedef struct {
-    double range_m;        // slant range, antenna to antenna
-    double elevation_deg;  // of the path above the horizontal at the transponder
-    double rain_path_m;    // part of the path below the rain height
-    double foliage_m;      // part of the path inside woods
-    double az_off_deg;     // transponder's azimuth off the interrogator's beam centre
-    double el_off_deg;     // and its depression off the elevation beam centre
+    double range_m;       // slant range, antenna to antenna
+    double elevation_deg; // of the path above the horizontal at the transponder
+    double rain_path_m;   // part of the path below the rain height
+    double foliage_m;     // part of the path inside woods
+    double az_off_deg;    // transponder's azimuth off the interrogator's beam centre
+    double el_off_deg;    // and its depression off the elevation beam centre
 } bcis_geometry_t;
 
 /* Every term of the budget, both ways. Losses positive, in dB. */
 typedef struct {
     double fspl_db, atmospheric_db, rain_db_per_km, rain_db, foliage_db;
-    double pattern_db;    // the interrogator's beam, azimuth and elevation, one way
-    double path_loss_db;  // fspl + gases + rain + foliage
-    double up_eirp_dbw;   // interrogator: Pt + G - losses - pattern
-    double up_rx_dbw;     // power at the transponder's receiver
-    double up_noise_dbw;  // k T0 F Rb at the transponder
+    double pattern_db;   // the interrogator's beam, azimuth and elevation, one way
+    double path_loss_db; // fspl + gases + rain + foliage
+    double up_eirp_dbw;  // interrogator: Pt + G - losses - pattern
+    double up_rx_dbw;    // power at the transponder's receiver
+    double up_noise_dbw; // k T0 F Rb at the transponder
     double up_ebn0_db;
     double down_eirp_dbw; // transponder: Pt + G - losses
     double down_rx_dbw;   // at the interrogator's receiver, after its gain, pattern, losses

@@ -54,7 +54,10 @@ typedef struct {
     double min, max;
 } s_real_t;
 
-#define S_R(sec, k, field, lo, hi) {sec, k, offsetof (bcis_params_t, field), lo, hi}
+#define S_R(sec, k, field, lo, hi)                                                                 \
+    {                                                                                              \
+        sec, k, offsetof (bcis_params_t, field), lo, hi                                            \
+    }
 static const s_real_t s_reals[] = {
     S_R ("interrogator", "frequency_hz", frequency_hz, 1e9, 95e9),
     S_R ("interrogator", "transmit_power_w", transmit_power_w, 1e-6, 1e4),
@@ -167,8 +170,8 @@ static int s_read (cgs_config_t *cfg, bcis_params_t *out, char *err, size_t errl
     int rc = cgs_config_check_repeated (cfg, err, errlen);
     for (size_t i = 0; i < sizeof s_reals / sizeof s_reals[0] && rc == 0; i++) {
         double *field = (double *)((char *)&p + s_reals[i].offset);
-        rc = cgs_config_get_double (cfg, s_reals[i].section, s_reals[i].key, *field,
-                                    s_reals[i].min, s_reals[i].max, field, err, errlen);
+        rc = cgs_config_get_double (cfg, s_reals[i].section, s_reals[i].key, *field, s_reals[i].min,
+                                    s_reals[i].max, field, err, errlen);
     }
     for (size_t i = 0; i < sizeof s_ints / sizeof s_ints[0] && rc == 0; i++) {
         int *field = (int *)((char *)&p + s_ints[i].offset);
@@ -190,8 +193,8 @@ static int s_read (cgs_config_t *cfg, bcis_params_t *out, char *err, size_t errl
         rc = cgs_config_get_enum (cfg, "propagation", "polarization", s_pol_names, pol, &pol, err,
                                   errlen);
     if (rc == 0)
-        rc = cgs_config_get_bool (cfg, "propagation", "foliage", p.foliage, &p.foliage, err,
-                                  errlen);
+        rc =
+            cgs_config_get_bool (cfg, "propagation", "foliage", p.foliage, &p.foliage, err, errlen);
     if (rc == 0)
         rc = cgs_config_check_unused (cfg, err, errlen);
     if (rc < 0)

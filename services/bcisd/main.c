@@ -342,9 +342,9 @@ int main (int argc, char **argv)
     cgs_log (LOG_INFO,
              "%llu interrogations (one a dwell; %llu dwells skipped): %llu transponders in the "
              "beam, %llu behind terrain, %llu replies",
-             (unsigned long long)app.dwells_run,
-             (unsigned long long)app.dwells_skipped, (unsigned long long)app.interrogated,
-             (unsigned long long)app.blocked, (unsigned long long)app.replies);
+             (unsigned long long)app.dwells_run, (unsigned long long)app.dwells_skipped,
+             (unsigned long long)app.interrogated, (unsigned long long)app.blocked,
+             (unsigned long long)app.replies);
 done:
     bcis_interrogator_destroy (&app.bcis);
     cgs_entities_destroy (&app.ents);

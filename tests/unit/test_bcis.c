@@ -66,9 +66,8 @@ static bool s_same (const bcis_params_t *a, const bcis_params_t *b)
            S_EQ (transponder_noise_figure_db) && S_EQ (transponder_losses_db) &&
            S_EQ (antenna_height_m) && S_EQ (position_sigma_m) && S_EQ (modulation) &&
            S_EQ (data_rate_bps) && S_EQ (interrogation_bits) && S_EQ (reply_bits) &&
-           S_EQ (correctable_bits) && S_EQ (noise_temperature_k) &&
-           S_EQ (atmospheric_db_per_km) && S_EQ (rain_rate_mmph) && S_EQ (rain_height_m) &&
-           S_EQ (polarization) && S_EQ (foliage);
+           S_EQ (correctable_bits) && S_EQ (noise_temperature_k) && S_EQ (atmospheric_db_per_km) &&
+           S_EQ (rain_rate_mmph) && S_EQ (rain_height_m) && S_EQ (polarization) && S_EQ (foliage);
 #undef S_EQ
 }
 
@@ -123,9 +122,10 @@ static void s_refused (const char *text, const char *expected)
 static void test_params_errors (void **state)
 {
     (void)state;
-    s_refused ("[interrogator]\nfrequency_hz = 120e9\n",
-               "b.ini:2: [interrogator] frequency_hz: expected a number in [1000000000, 95000000000], got "
-               "'120e9'");
+    s_refused (
+        "[interrogator]\nfrequency_hz = 120e9\n",
+        "b.ini:2: [interrogator] frequency_hz: expected a number in [1000000000, 95000000000], got "
+        "'120e9'");
     s_refused ("[link]\nmodulation = ook\n",
                "b.ini:2: [link] modulation: expected one of 'bpsk', 'qpsk', 'bfsk', got 'ook'");
     s_refused ("[link]\nbaud = 9600\n", "b.ini:2: [link] unknown key 'baud'");
@@ -304,8 +304,10 @@ static void test_monte_carlo_messages (void **state)
         int bits, t;
         double ebn0_db;
     } cases[] = {
-        {BCIS_MOD_BFSK, 64, 0, 10.0}, {BCIS_MOD_BFSK, 128, 2, 9.0},
-        {BCIS_MOD_BPSK, 64, 0, 5.5},  {BCIS_MOD_QPSK, 128, 3, 4.0},
+        {BCIS_MOD_BFSK, 64, 0, 10.0},
+        {BCIS_MOD_BFSK, 128, 2, 9.0},
+        {BCIS_MOD_BPSK, 64, 0, 5.5},
+        {BCIS_MOD_QPSK, 128, 3, 4.0},
     };
     const unsigned int trials = 20000;
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
@@ -400,10 +402,16 @@ static void test_terrain_and_range (void **state)
     assert_non_null (b);
     cgs_enu_t uav = {0, 0, 600};
     // Both on a dwell's centre azimuth (3 and 183 degrees), 6 km out.
-    bcis_entity_t behind = {.id = 7, .position = s_at (6000, 3), .force = CGS_FORCE_FRIENDLY,
-                            .transponder = true, .marking = "F7"};
-    bcis_entity_t open = {.id = 8, .position = s_at (6000, 183), .force = CGS_FORCE_FRIENDLY,
-                          .transponder = true, .marking = "F8"};
+    bcis_entity_t behind = {.id = 7,
+                            .position = s_at (6000, 3),
+                            .force = CGS_FORCE_FRIENDLY,
+                            .transponder = true,
+                            .marking = "F7"};
+    bcis_entity_t open = {.id = 8,
+                          .position = s_at (6000, 183),
+                          .force = CGS_FORCE_FRIENDLY,
+                          .transponder = true,
+                          .marking = "F8"};
     bcis_truth_t tr;
     assert_int_equal (s_answers (b, uav, behind, 3, 200, &tr), 0);
     assert_true (tr.blocked);
@@ -420,16 +428,16 @@ static void test_terrain_and_range (void **state)
     p.transponder_power_w = 0.05;
     b = bcis_interrogator_new (&p, flat, 6);
     assert_non_null (b);
-    bcis_entity_t far = {.id = 9, .position = s_at (9000, 93), .force = CGS_FORCE_FRIENDLY,
-                         .transponder = true};
+    bcis_entity_t far = {
+        .id = 9, .position = s_at (9000, 93), .force = CGS_FORCE_FRIENDLY, .transponder = true};
     assert_int_equal (s_answers (b, uav, far, 93, 300, &tr), 0);
     assert_true (tr.budget.p_reply < 1e-6);
-    bcis_entity_t near = {.id = 10, .position = s_at (3000, 93), .force = CGS_FORCE_FRIENDLY,
-                          .transponder = true};
+    bcis_entity_t near = {
+        .id = 10, .position = s_at (3000, 93), .force = CGS_FORCE_FRIENDLY, .transponder = true};
     assert_int_equal (s_answers (b, uav, near, 93, 300, &tr), 300);
     // At a marginal range the reply rate follows the budget (99% interval of 4,000).
-    bcis_entity_t edge = {.id = 11, .position = s_at (5500, 93), .force = CGS_FORCE_FRIENDLY,
-                          .transponder = true};
+    bcis_entity_t edge = {
+        .id = 11, .position = s_at (5500, 93), .force = CGS_FORCE_FRIENDLY, .transponder = true};
     const unsigned int tries = 4000;
     unsigned int got = s_answers (b, uav, edge, 93, tries, &tr), lo, hi;
     s_interval99 (tr.budget.p_reply, tries, &lo, &hi);
@@ -482,8 +490,11 @@ static void test_reply_measurements (void **state)
     bcis_params_t p = s_defaults ();
     bcis_interrogator_t *b = bcis_interrogator_new (&p, NULL, 9);
     cgs_enu_t uav = {0, 0, 1000};
-    bcis_entity_t e = {.id = 1, .position = {0, 4000, 0}, .force = CGS_FORCE_FRIENDLY,
-                       .transponder = true, .marking = "ALPHA-1"};
+    bcis_entity_t e = {.id = 1,
+                       .position = {0, 4000, 0},
+                       .force = CGS_FORCE_FRIENDLY,
+                       .transponder = true,
+                       .marking = "ALPHA-1"};
     double se = 0, se2 = 0, sr = 0, sr2 = 0, range = hypot (4000, 1000 - p.antenna_height_m);
     const int n = 4000;
     for (int k = 0; k < n; k++) {
@@ -525,16 +536,16 @@ static void test_foliage_on_path (void **state)
     cgs_enu_t uav = {0, 0, 1000};
     // Under the trees at 4 km: the path enters the canopy 12.5 m above the
     // antenna, (15 - 2.5) / sin(elevation) metres from it.
-    bcis_entity_t in = {.id = 1, .position = {0, -4000, 0}, .force = CGS_FORCE_FRIENDLY,
-                        .transponder = true};
+    bcis_entity_t in = {
+        .id = 1, .position = {0, -4000, 0}, .force = CGS_FORCE_FRIENDLY, .transponder = true};
     bcis_truth_t tr;
     s_answers (b, uav, in, 180, 1, &tr);
     double el = atan2 (1000 - 2.5, 4000);
     assert_near (tr.geometry.foliage_m, 12.5 / sin (el), 100 / 4.0);
     assert_near (tr.budget.foliage_db, bcis_foliage_db (38, tr.geometry.foliage_m), 1e-12);
     // In the open at the same range: no foliage.
-    bcis_entity_t out = {.id = 2, .position = {0, 4000, 0}, .force = CGS_FORCE_FRIENDLY,
-                         .transponder = true};
+    bcis_entity_t out = {
+        .id = 2, .position = {0, 4000, 0}, .force = CGS_FORCE_FRIENDLY, .transponder = true};
     bcis_truth_t tr2;
     s_answers (b, uav, out, 0, 1, &tr2);
     assert_near (tr2.geometry.foliage_m, 0, 0);
@@ -544,8 +555,8 @@ static void test_foliage_on_path (void **state)
                    tr.geometry.foliage_m, tr.budget.foliage_db, tr.budget.up_ebn0_db,
                    tr2.budget.up_ebn0_db, tr.budget.p_reply, tr2.budget.p_reply);
     // Deep in the wood, far off: the path runs long under the canopy; no reply.
-    bcis_entity_t deep = {.id = 3, .position = {0, -9000, 0}, .force = CGS_FORCE_FRIENDLY,
-                          .transponder = true};
+    bcis_entity_t deep = {
+        .id = 3, .position = {0, -9000, 0}, .force = CGS_FORCE_FRIENDLY, .transponder = true};
     assert_int_equal (s_answers (b, uav, deep, 180, 100, &tr), 0);
     assert_true (tr.budget.foliage_db > 20);
     bcis_interrogator_destroy (&b);
@@ -569,10 +580,14 @@ static void test_sector_scan (void **state)
     cgs_enu_t uav = {0, 0, 1000};
     // One friendly in the sector at 30 deg, one outside it at 120 deg.
     bcis_entity_t e[] = {
-        {.id = 1, .position = {5000 * sin (30 * M_PI / 180), 5000 * cos (30 * M_PI / 180), 0},
-         .force = CGS_FORCE_FRIENDLY, .transponder = true},
-        {.id = 2, .position = {5000 * sin (120 * M_PI / 180), 5000 * cos (120 * M_PI / 180), 0},
-         .force = CGS_FORCE_FRIENDLY, .transponder = true},
+        {.id = 1,
+         .position = {5000 * sin (30 * M_PI / 180), 5000 * cos (30 * M_PI / 180), 0},
+         .force = CGS_FORCE_FRIENDLY,
+         .transponder = true},
+        {.id = 2,
+         .position = {5000 * sin (120 * M_PI / 180), 5000 * cos (120 * M_PI / 180), 0},
+         .force = CGS_FORCE_FRIENDLY,
+         .transponder = true},
     };
     unsigned int asked[3] = {0};
     double last_t[3] = {-1, -1, -1};
