@@ -87,3 +87,29 @@ bool cgs_dwell_contains (const cgs_dwell_t *d, double az_deg)
         return true;
     return cgs_wrap360 (az_deg - cgs_dwell_lo_deg (d)) < d->width_deg;
 }
+
+cgs_pace_t cgs_scan_pace (const cgs_scan_t *self, cgs_scan_pace_t *pace, double t_s,
+                          double history_s, uint64_t *ret_end, uint64_t *ret_skipped)
+{
+    uint64_t now = cgs_scan_dwell_at (self, t_s);
+    *ret_skipped = 0;
+    *ret_end = pace->next;
+    if (!pace->started || now + 1 < pace->next) {
+        cgs_pace_t why = pace->started ? CGS_PACE_BACK : CGS_PACE_START;
+        pace->started = true;
+        pace->next = now + 1;
+        *ret_end = pace->next;
+        return why;
+    }
+    uint64_t most = (uint64_t)(history_s / self->dwell_s);
+    if (most > self->dwells)
+        most = self->dwells;
+    if (now > pace->next + most) {
+        uint64_t skip = now - most - pace->next;
+        pace->skipped += skip;
+        pace->next += skip;
+        *ret_skipped = skip;
+    }
+    *ret_end = now > pace->next ? now : pace->next;
+    return CGS_PACE_RUN;
+}

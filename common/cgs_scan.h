@@ -71,6 +71,27 @@ uint64_t cgs_scan_dwell_at (const cgs_scan_t *self, double t_s);
 bool cgs_dwell_contains (const cgs_dwell_t *d, double az_deg);
 /* The dwell sector's anticlockwise edge (its start when read clockwise). */
 double cgs_dwell_lo_deg (const cgs_dwell_t *d);
+/* Where a service is in the schedule as simulation time passes: each dwell
+ * is run once, after it has ended. */
+typedef struct {
+    bool started;     // a time has been seen
+    uint64_t next;    // the next dwell to run
+    uint64_t skipped; // dwells skipped in all, to catch up
+} cgs_scan_pace_t;
+
+typedef enum {
+    CGS_PACE_RUN = 0,   // run the dwells from pace->next up to *ret_end
+    CGS_PACE_START = 1, // the first time seen: nothing to run, the scan starts here
+    CGS_PACE_BACK = 2,  // time went back (a restarted clock): nothing to run, the scan follows
+} cgs_pace_t;
+
+/* Simulation time is now t_s: the dwells that have ended since the last
+ * call are pace->next .. *ret_end - 1, but no further back than history_s
+ * (older dwells would find no entity history) and no more than a scan; the
+ * dwells passed over are added to pace->skipped and *ret_skipped (0 when
+ * none). The caller runs them, advancing pace->next. */
+cgs_pace_t cgs_scan_pace (const cgs_scan_t *self, cgs_scan_pace_t *pace, double t_s,
+                          double history_s, uint64_t *ret_end, uint64_t *ret_skipped);
 /* An angle in degrees wrapped to [0, 360). */
 double cgs_wrap360 (double a_deg);
 

@@ -30,13 +30,12 @@ typedef struct {
     uint32_t uav_id; // 0 until the UAV's first `uav` message
     cgs_enu_t uav_pos, uav_vel;
     double uav_heading_deg, uav_time_s;
-    bool started;
-    uint64_t next_dwell; // schedule index of the next dwell to run
+    cgs_scan_pace_t pace; // the next dwell to run
     cgs_entities_t *ents;
     bcis_entity_t *targets;
     size_t target_cap;
     uint32_t scan_number;
-    uint64_t dwells_run, dwells_skipped, interrogated, replies, blocked, bad_messages;
+    uint64_t dwells_run, interrogated, replies, blocked, bad_messages;
     /* Output messages, reused. */
     Cgs__BcisReply *reply_msgs;
     Cgs__BcisReply **reply_ptrs;
@@ -213,31 +212,20 @@ static void s_on_uav (void *arg, const char *topic, const ProtobufCMessage *msg,
     app->uav_vel = (cgs_enu_t){u->velocity->east_mps, u->velocity->north_mps, u->velocity->up_mps};
     app->uav_heading_deg = u->heading_deg;
     app->uav_time_s = t;
-    uint64_t now = cgs_scan_dwell_at (app->scan, t);
-    if (!app->started || now + 1 < app->next_dwell) {
-        // First message, or time went back (a restarted uavsim): scan on from here.
-        if (app->started)
-            cgs_log (LOG_NOTICE, "simulation time went back to %.2f s; the scan follows", t);
-        app->started = true;
-        app->next_dwell = now + 1;
-        return;
-    }
-    // Catch up no further back than the entities' history reaches, nor more than a scan.
-    uint64_t most = (uint64_t)(S_STALE_S / app->scan->dwell_s);
-    if (most > app->scan->dwells)
-        most = app->scan->dwells;
-    if (now > app->next_dwell + most) {
-        uint64_t skip = now - most - app->next_dwell;
-        app->dwells_skipped += skip;
-        app->next_dwell += skip;
+    uint64_t end, skipped;
+    cgs_pace_t how = cgs_scan_pace (app->scan, &app->pace, t, S_STALE_S, &end, &skipped);
+    if (how == CGS_PACE_BACK)
+        cgs_log (LOG_NOTICE, "simulation time went back to %.2f s; the scan follows", t);
+    if (skipped) {
         char why[160];
         snprintf (why, sizeof why, "fell behind: %llu dwells skipped in all",
-                  (unsigned long long)app->dwells_skipped);
+                  (unsigned long long)app->pace.skipped);
         cgs_health_set_error (app->svc.health, why);
         cgs_log (LOG_WARNING, "%s", why);
     }
-    while (app->next_dwell < now)
-        s_run_dwell (app, app->next_dwell++);
+    // Run every dwell that has ended by now.
+    while (app->pace.next < end)
+        s_run_dwell (app, app->pace.next++);
 }
 
 static int s_setup (s_app_t *app, char *err, size_t errlen)
@@ -342,7 +330,7 @@ int main (int argc, char **argv)
     cgs_log (LOG_INFO,
              "%llu interrogations (one a dwell; %llu dwells skipped): %llu transponders in the "
              "beam, %llu behind terrain, %llu replies",
-             (unsigned long long)app.dwells_run, (unsigned long long)app.dwells_skipped,
+             (unsigned long long)app.dwells_run, (unsigned long long)app.pace.skipped,
              (unsigned long long)app.interrogated, (unsigned long long)app.blocked,
              (unsigned long long)app.replies);
 done:

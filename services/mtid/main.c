@@ -33,8 +33,7 @@ typedef struct {
     uint32_t uav_id; // 0 until the UAV's first `uav` message
     mti_platform_t plat;
     double plat_time_s;
-    bool started;
-    uint64_t next_dwell; // schedule index of the next dwell to run
+    cgs_scan_pace_t pace; // the next dwell to run
     cgs_entities_t *ents;
     mti_target_t *targets;
     size_t target_cap;
@@ -42,7 +41,7 @@ typedef struct {
     uint32_t scan;
     double scan_start_s;
     uint32_t scan_hits, scan_fas;
-    uint64_t dwells_run, dwells_skipped, bad_messages;
+    uint64_t dwells_run, bad_messages;
     char warned[S_WARNED_MAX][CGS_ENTITY_CLASS_MAX]; // unknown classes already logged
     size_t warned_count;
     /* Output messages, reused. */
@@ -308,33 +307,21 @@ static void s_on_uav (void *arg, const char *topic, const ProtobufCMessage *msg,
         (cgs_enu_t){u->velocity->east_mps, u->velocity->north_mps, u->velocity->up_mps};
     app->plat.heading_deg = u->heading_deg;
     app->plat_time_s = t;
-    uint64_t now = mti_radar_dwell_at (app->radar, t);
-    if (!app->started || now + 1 < app->next_dwell) {
-        // First message, or time went back (a restarted uavsim): scan on from here.
-        if (app->started)
-            cgs_log (LOG_NOTICE, "simulation time went back to %.2f s; the scan follows", t);
-        app->started = true;
-        app->next_dwell = now + 1;
-        return;
-    }
-    // Catch up no further back than the entities' history reaches (older
-    // dwells would see nobody), nor more than a scan.
-    uint64_t most = (uint64_t)(S_STALE_S / mti_radar_dwell_s (app->radar));
-    if (most > mti_radar_dwells_per_scan (app->radar))
-        most = mti_radar_dwells_per_scan (app->radar);
-    if (now > app->next_dwell + most) {
-        uint64_t skip = now - most - app->next_dwell;
-        app->dwells_skipped += skip;
-        app->next_dwell += skip;
+    uint64_t end, skipped;
+    cgs_pace_t how =
+        cgs_scan_pace (mti_radar_scan (app->radar), &app->pace, t, S_STALE_S, &end, &skipped);
+    if (how == CGS_PACE_BACK)
+        cgs_log (LOG_NOTICE, "simulation time went back to %.2f s; the scan follows", t);
+    if (skipped) {
         char why[160];
         snprintf (why, sizeof why, "fell behind: %llu dwells skipped in all",
-                  (unsigned long long)app->dwells_skipped);
+                  (unsigned long long)app->pace.skipped);
         cgs_health_set_error (app->svc.health, why);
         cgs_log (LOG_WARNING, "%s", why);
     }
     // Run every dwell that has ended by now.
-    while (app->next_dwell < now)
-        s_run_dwell (app, app->next_dwell++);
+    while (app->pace.next < end)
+        s_run_dwell (app, app->pace.next++);
 }
 
 /* ---- --monte-carlo ------------------------------------------------------------------- */
@@ -566,7 +553,7 @@ int main (int argc, char **argv)
         goto done;
     exit_code = cgs_service_run (&app.svc);
     cgs_log (LOG_INFO, "%llu dwells run, %llu skipped", (unsigned long long)app.dwells_run,
-             (unsigned long long)app.dwells_skipped);
+             (unsigned long long)app.pace.skipped);
 done:
     mti_radar_destroy (&app.radar);
     cgs_terrain_destroy (&app.terrain);

@@ -124,6 +124,11 @@ struct mti_dsp *mti_radar_dsp (mti_radar_t *self)
     return self->dsp;
 }
 
+const cgs_scan_t *mti_radar_scan (const mti_radar_t *self)
+{
+    return &self->scan;
+}
+
 void mti_radar_schedule (const mti_radar_t *self, uint64_t k, double heading_deg, mti_dwell_t *ret)
 {
     cgs_scan_dwell (&self->scan, k, heading_deg, ret);

@@ -124,6 +124,8 @@ void mti_radar_destroy (mti_radar_t **self_p);
 /* Seconds per dwell, and dwells per scan. */
 double mti_radar_dwell_s (const mti_radar_t *self);
 uint32_t mti_radar_dwells_per_scan (const mti_radar_t *self);
+/* The scan schedule. */
+const cgs_scan_t *mti_radar_scan (const mti_radar_t *self);
 /* Dwell number k of the schedule; heading_deg orients a heading-referenced sector. */
 void mti_radar_schedule (const mti_radar_t *self, uint64_t k, double heading_deg, mti_dwell_t *ret);
 /* Number of the dwell in progress at simulation time t (t >= 0). */

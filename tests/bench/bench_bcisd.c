@@ -41,9 +41,10 @@ static double s_median (double *v, int n)
 }
 
 typedef struct {
-    double scan_cpu_s;          // one revolution, median
-    double interrogations_per_s; // friendly transponders in the beam modelled per CPU second, median
-    size_t interrogations;      // per revolution
+    double scan_cpu_s; // one revolution, median
+    double
+        interrogations_per_s; // friendly transponders in the beam modelled per CPU second, median
+    size_t interrogations;    // per revolution
     size_t in_beam, replies, blocked;
 } s_result_t;
 

@@ -96,6 +96,44 @@ static void test_scan_refused (void **state)
     assert_int_equal (s.dwells, 99); // untouched on failure
 }
 
+/* Pacing: each ended dwell once; a start and a step back run nothing; a
+ * jump ahead catches up no more than the history (or a scan) allows. */
+static void test_scan_pace (void **state)
+{
+    (void)state;
+    cgs_scan_params_t p = {.mode = CGS_SCAN_FULL, .beamwidth_deg = 6, .rate_dps = 60};
+    cgs_scan_t s;
+    assert_int_equal (cgs_scan_init (&p, &s), 0); // 60 dwells of 0.1 s
+    cgs_scan_pace_t pace = {0};
+    uint64_t end, skipped;
+    assert_int_equal (cgs_scan_pace (&s, &pace, 5.05, 10, &end, &skipped), CGS_PACE_START);
+    assert_int_equal (pace.next, 51); // dwell 50 is in progress: the next to run is 51
+    assert_int_equal (end, 51);
+    // 0.1 s on: dwell 51 is in progress, nothing has ended since.
+    assert_int_equal (cgs_scan_pace (&s, &pace, 5.15, 10, &end, &skipped), CGS_PACE_RUN);
+    assert_int_equal (end, 51);
+    // At 5.55 s dwells 51..54 have ended.
+    assert_int_equal (cgs_scan_pace (&s, &pace, 5.55, 10, &end, &skipped), CGS_PACE_RUN);
+    assert_int_equal (end, 55);
+    assert_int_equal (skipped, 0);
+    pace.next = end; // the caller ran them
+    // A jump of 100 s: only the last scan (60 dwells, under the 10 s history) is run.
+    assert_int_equal (cgs_scan_pace (&s, &pace, 105.55, 10, &end, &skipped), CGS_PACE_RUN);
+    assert_int_equal (end, 1055);
+    assert_int_equal (pace.next, 1055 - 60);
+    assert_int_equal (skipped, 1055 - 60 - 55);
+    assert_int_equal (pace.skipped, skipped);
+    // A shorter history bounds it more: 2 s is 20 dwells.
+    pace.next = end;
+    assert_int_equal (cgs_scan_pace (&s, &pace, 205.55, 2, &end, &skipped), CGS_PACE_RUN);
+    assert_int_equal (end - pace.next, 20);
+    pace.next = end;
+    // Time went back (a restarted clock): nothing to run, the scan follows from there.
+    assert_int_equal (cgs_scan_pace (&s, &pace, 3.05, 10, &end, &skipped), CGS_PACE_BACK);
+    assert_int_equal (pace.next, 31);
+    assert_int_equal (end, 31);
+}
+
 static Cgs__Entity *s_entity (uint32_t id, double e, double n)
 {
     Cgs__Entity *x = calloc (1, sizeof *x);
@@ -181,9 +219,8 @@ static void test_entities (void **state)
 int main (void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test (test_scan_full),
-        cmocka_unit_test (test_scan_sector_across_north),
-        cmocka_unit_test (test_scan_refused),
+        cmocka_unit_test (test_scan_full),    cmocka_unit_test (test_scan_sector_across_north),
+        cmocka_unit_test (test_scan_refused), cmocka_unit_test (test_scan_pace),
         cmocka_unit_test (test_entities),
     };
     return cmocka_run_group_tests (tests, NULL, NULL);
