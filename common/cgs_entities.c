@@ -27,12 +27,13 @@ cgs_entities_t *cgs_entities_new (void)
     if (!self)
         return NULL;
     self->slots = calloc (S_MIN_CAP, sizeof *self->slots);
-    if (!self->slots) {
-        free (self);
-        return NULL;
-    }
+    if (!self->slots)
+        goto fail;
     self->cap = S_MIN_CAP;
     return self;
+fail:
+    cgs_entities_destroy (&self);
+    return NULL;
 }
 
 void cgs_entities_destroy (cgs_entities_t **self_p)
@@ -46,9 +47,12 @@ void cgs_entities_destroy (cgs_entities_t **self_p)
     *self_p = NULL;
 }
 
+/* Fibonacci hashing: the high bits of id times 2^32 / phi (the low bits of
+ * the product depend only on the id's low bits). cap is a power of two. */
 static size_t s_find (const s_slot_t *slots, size_t cap, uint32_t id)
 {
-    size_t mask = cap - 1, i = (id * 2654435761u) & mask;
+    int bits = __builtin_ctzll (cap);
+    size_t mask = cap - 1, i = (size_t)((id * 2654435761u) >> (32 - bits)) & mask;
     while (slots[i].used && slots[i].s.id != id)
         i = (i + 1) & mask;
     return i;
@@ -120,7 +124,7 @@ int cgs_entities_update (cgs_entities_t *self, const Cgs__EntityBatch *batch, do
         if (t_s > self->latest_s)
             self->latest_s = t_s;
     }
-    if (ret_bad)
+    if (rc == 0 && ret_bad)
         *ret_bad = bad;
     return rc;
 }

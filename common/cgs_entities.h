@@ -41,7 +41,7 @@ cgs_entities_t *cgs_entities_new (void);
 void cgs_entities_destroy (cgs_entities_t **self_p);
 
 /* Take a batch's states at simulation time t_s. 0, or -ENOMEM (what was
- * taken before stays); *ret_bad (may be NULL) counts the entities refused
+ * taken before stays); on success *ret_bad (may be NULL) counts the entities refused
  * for a missing id, position or velocity or a non-finite value (or all of
  * them for a non-finite time). */
 int cgs_entities_update (cgs_entities_t *self, const Cgs__EntityBatch *batch, double t_s,

@@ -610,8 +610,12 @@ double cgs_terrain_foliage_m (const cgs_terrain_t *self, cgs_enu_t a, cgs_enu_t 
     double span_m = (t1 - t0) * len;
     if (span_m <= 0)
         return 0;
-    // Midpoint samples a quarter of a cell apart (at most 100,000).
-    double steps = ceil (span_m / (self->res_m / 4));
+    // Midpoint samples a quarter of a cell apart, and close enough that the
+    // path climbs at most 0.25 m between them (at most 100,000).
+    double step_m = self->res_m / 4;
+    if (du != 0 && 0.25 * len / fabs (du) < step_m)
+        step_m = 0.25 * len / fabs (du);
+    double steps = ceil (span_m / step_m);
     if (steps > 100000)
         steps = 100000;
     int n = (int)steps;

@@ -91,10 +91,11 @@ double cgs_terrain_canopy (const cgs_terrain_t *self, double e_m, double n_m);
 /* Fraction of the nodes under vegetation. */
 double cgs_terrain_vegetated_fraction (const cgs_terrain_t *self);
 /* Length (metres) of the segment a-b that runs inside vegetation: above the
- * ground and below the canopy of the cell it is over. Sampled at midpoints a
- * quarter of a grid cell apart along the part of the segment below the
- * highest treetop (at most 100,000 samples): within about a quarter cell per
- * edge crossed. 0 without vegetation or for a degenerate segment. */
+ * ground and below the canopy of the cell it is over. Sampled at midpoints
+ * along the part of the segment below the highest treetop, a quarter of a
+ * grid cell apart and never more than 0.25 m of climb apart (at most 100,000
+ * samples): within half a sample per edge crossed (a wood's side, its top or
+ * the ground). 0 without vegetation or for a degenerate segment. */
 double cgs_terrain_foliage_m (const cgs_terrain_t *self, cgs_enu_t a, cgs_enu_t b);
 
 /* Grid geometry and statistics. */

@@ -18,8 +18,8 @@
  *     whose expected bit errors are below 1e-12 is taken as whole without
  *     drawing (the draw would not change it in a trillion messages);
  *   - a reply carries the responder's identity and marking, its own position
- *     fix (true position plus Gaussian noise of position_sigma_m a horizontal
- *     axis), the range measured from the reply's timing (sigma range_sigma_m),
+ *     fix (true position plus Gaussian noise of position_sigma_m on each of
+ *     east, north and up), the range measured from the reply's timing (sigma range_sigma_m),
  *     the beam's azimuth, and both links' Eb/N0.
  * Pure: no sockets, clocks, globals or logging. */
 #ifndef BCIS_INTERROGATOR_H

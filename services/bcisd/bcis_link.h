@@ -13,8 +13,8 @@
  *                   alpha = (kH aH + kV aV + (kH aH - kV aV) cos^2 theta cos 2 tau) / (2 k)
  *   foliage         Weissberger's modified exponential decay, f in GHz, depth d
  *                   in metres: 0.45 f^0.284 d (d <= 14 m), 1.33 f^0.284 d^0.588
- *                   (14 < d <= 400 m; beyond, the 400 m value grows no more
- *                   slowly: the formula is used as it is)
+ *                   (14 < d <= 400 m, the model's stated range; deeper woods,
+ *                   which no link here survives, take the same formula)
  *   beam pattern    one-way Gaussian, 12 (off / beamwidth)^2 dB (3 dB at half
  *                   the beamwidth), in azimuth and in elevation
  *   received power  Pt + Gt - Lt - patterns - path losses + Gr - Lr (dBW)

@@ -143,10 +143,19 @@ static int s_check (cgs_config_t *cfg, const bcis_params_t *p, char *err, size_t
         sec = "scan", key = "sector_width_deg";
         snprintf (msg, sizeof msg, "must be at least the azimuth beamwidth (%g deg), got %g deg",
                   p->azimuth_beamwidth_deg, p->sector_width_deg);
-    } else if ((unsigned)p->modulation > BCIS_MOD_BFSK || (unsigned)p->polarization > 2 ||
-               (unsigned)p->scan_mode > 1 || (unsigned)p->sector_ref > 1) {
+    } else if ((unsigned)p->modulation > BCIS_MOD_BFSK) {
         sec = "link", key = "modulation";
-        snprintf (msg, sizeof msg, "an enumerated value is out of range");
+        snprintf (msg, sizeof msg, "expected bpsk, qpsk or bfsk, got value %d", (int)p->modulation);
+    } else if ((unsigned)p->polarization > BCIS_POL_CIRCULAR) {
+        sec = "propagation", key = "polarization";
+        snprintf (msg, sizeof msg, "expected horizontal, vertical or circular, got value %d",
+                  (int)p->polarization);
+    } else if ((unsigned)p->scan_mode > CGS_SCAN_SECTOR) {
+        sec = "scan", key = "mode";
+        snprintf (msg, sizeof msg, "expected full or sector, got value %d", (int)p->scan_mode);
+    } else if ((unsigned)p->sector_ref > CGS_SECTOR_HEADING) {
+        sec = "scan", key = "sector_reference";
+        snprintf (msg, sizeof msg, "expected north or heading, got value %d", (int)p->sector_ref);
     }
     if (!key)
         return 0;

@@ -34,7 +34,6 @@ typedef struct {
     cgs_entities_t *ents;
     bcis_entity_t *targets;
     size_t target_cap;
-    uint32_t scan_number;
     uint64_t dwells_run, interrogated, replies, blocked, bad_messages;
     /* Output messages, reused. */
     Cgs__BcisReply *reply_msgs;
@@ -63,6 +62,13 @@ static void s_on_entity (void *arg, const char *topic, const ProtobufCMessage *m
         s_bad (app, "an entity without a valid id, position, velocity, heading or time");
 }
 
+/* An entity moved on along its velocity by dt, on the ground there. */
+static cgs_enu_t s_moved (const s_app_t *app, const cgs_entity_state_t *s, double dt)
+{
+    double e = s->position.e_m + s->velocity.e_m * dt, n = s->position.n_m + s->velocity.n_m * dt;
+    return (cgs_enu_t){e, n, cgs_terrain_height_clamped (app->terrain, e, n)};
+}
+
 /* The ground entities as they are at time t (moved on along their velocity). */
 static size_t s_targets_at (s_app_t *app, double t)
 {
@@ -86,8 +92,7 @@ static size_t s_targets_at (s_app_t *app, double t)
             continue;
         app->targets[n++] = (bcis_entity_t){
             .id = s->id,
-            .position = {s->position.e_m + s->velocity.e_m * dt,
-                         s->position.n_m + s->velocity.n_m * dt, s->position.u_m},
+            .position = s_moved (app, s, dt),
             .force = s->force,
             .transponder = s->bcis_transponder,
             .marking = s->marking,
@@ -111,6 +116,20 @@ static int s_reserve (s_app_t *app, size_t n)
     return app->reply_cap ? 0 : -ENOMEM;
 }
 
+/* The scan marker: scan d->scan is complete. */
+static void s_publish_marker (s_app_t *app, const cgs_dwell_t *d)
+{
+    Cgs__Bcis m = CGS__BCIS__INIT;
+    m.uav_id = app->uav_id;
+    m.scan_number = d->scan;
+    m.scan_time_s = d->end_s;
+    m.beam_azimuth_deg = d->az_to_deg;
+    m.scan_end = true;
+    app->svc.sim_time_s = d->end_s;
+    cgs_service_publish (&app->svc, "bcis", &m.base);
+}
+
+/* The dwell's interrogation and its replies. */
 static void s_publish (s_app_t *app, const cgs_dwell_t *d, const bcis_dwell_out_t *out)
 {
     if (s_reserve (app, out->reply_count) < 0) {
@@ -145,17 +164,6 @@ static void s_publish (s_app_t *app, const cgs_dwell_t *d, const bcis_dwell_out_
     b.replies = app->reply_ptrs;
     app->svc.sim_time_s = t;
     cgs_service_publish (&app->svc, "bcis", &b.base);
-    if (d->scan_end) {
-        // The scan marker: this scan is complete.
-        Cgs__Bcis m = CGS__BCIS__INIT;
-        m.uav_id = app->uav_id;
-        m.scan_number = d->scan;
-        m.scan_time_s = d->end_s;
-        m.beam_azimuth_deg = d->az_to_deg;
-        m.scan_end = true;
-        app->svc.sim_time_s = d->end_s;
-        cgs_service_publish (&app->svc, "bcis", &m.base);
-    }
 }
 
 static void s_run_dwell (s_app_t *app, uint64_t k)
@@ -170,17 +178,18 @@ static void s_run_dwell (s_app_t *app, uint64_t k)
     bcis_dwell_out_t out;
     if (bcis_interrogator_dwell (app->bcis, &d, uav, app->targets, n, &out) < 0) {
         cgs_health_set_error (app->svc.health, "out of memory: an interrogation was not modelled");
-        return;
+    } else {
+        app->dwells_run++;
+        app->interrogated += out.truth_count;
+        app->replies += out.reply_count;
+        for (size_t i = 0; i < out.truth_count; i++)
+            app->blocked += out.truth[i].blocked;
+        s_publish (app, &d, &out);
     }
-    app->dwells_run++;
-    app->interrogated += out.truth_count;
-    app->replies += out.reply_count;
-    for (size_t i = 0; i < out.truth_count; i++)
-        app->blocked += out.truth[i].blocked;
-    app->scan_number = d.scan;
-    s_publish (app, &d, &out);
-    if (d.scan_end)
+    if (d.scan_end) { // the scan ends even when a dwell of it could not be modelled
+        s_publish_marker (app, &d);
         cgs_entities_evict (app->ents, t, S_STALE_S);
+    }
 }
 
 static bool s_finite3 (double a, double b, double c)

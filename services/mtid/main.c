@@ -118,14 +118,16 @@ static size_t s_targets_at (s_app_t *app, double t)
         double dt = t - s->time_s;
         if (dt > S_STALE_S || dt < -S_STALE_S)
             continue;
+        // Moved on along its velocity, on the ground there.
+        double east = s->position.e_m + s->velocity.e_m * dt,
+               north = s->position.n_m + s->velocity.n_m * dt;
         bool known;
         mti_params_class (&app->params, s->rcs_class, &known);
         if (!known)
             s_warn_class (app, s);
         app->targets[n++] = (mti_target_t){
             .id = s->id,
-            .position = {s->position.e_m + s->velocity.e_m * dt,
-                         s->position.n_m + s->velocity.n_m * dt, s->position.u_m},
+            .position = {east, north, cgs_terrain_height_clamped (app->terrain, east, north)},
             .velocity = s->velocity,
             .rcs_class = s->rcs_class,
         };

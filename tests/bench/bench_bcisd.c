@@ -141,7 +141,10 @@ int main (int argc, char **argv)
     uav.u_m = cgs_terrain_height_clamped (hills, uav.e_m, uav.n_m) + sc->uavs[0].altitude_agl_m;
     cgs_scan_t scan;
     cgs_scan_params_t sp = bcis_params_scan (&p);
-    cgs_scan_init (&sp, &scan);
+    if (cgs_scan_init (&sp, &scan) < 0) {
+        fprintf (stderr, "bench_bcisd: bad scan parameters\n");
+        return 1;
+    }
     double scan_s = scan.dwells * scan.dwell_s;
     printf ("bench_bcisd: %s, %zu vehicles (%zu friendly transponders), %.0f GHz, %u dwells a "
             "revolution of %.1f s, %d revolutions per world, one core\n",

@@ -379,6 +379,7 @@ static unsigned int s_answers (bcis_interrogator_t *b, cgs_enu_t uav, bcis_entit
         cgs_dwell_t d = s_dwell_at (b, az, k);
         bcis_dwell_out_t out;
         assert_int_equal (bcis_interrogator_dwell (b, &d, uav, &e, 1, &out), 0);
+        assert_int_equal (out.truth_count, 1); // in the beam, interrogated
         n += out.reply_count;
         if (out.reply_count) {
             assert_int_equal (out.replies[0].responder_id, e.id);
@@ -495,7 +496,8 @@ static void test_reply_measurements (void **state)
                        .force = CGS_FORCE_FRIENDLY,
                        .transponder = true,
                        .marking = "ALPHA-1"};
-    double se = 0, se2 = 0, sr = 0, sr2 = 0, range = hypot (4000, 1000 - p.antenna_height_m);
+    double se = 0, se2 = 0, sn = 0, sn2 = 0, sr = 0, sr2 = 0,
+           range = hypot (4000, 1000 - p.antenna_height_m);
     const int n = 4000;
     for (int k = 0; k < n; k++) {
         cgs_dwell_t d = s_dwell_at (b, 0, (uint64_t)k);
@@ -505,6 +507,7 @@ static void test_reply_measurements (void **state)
         const bcis_reply_t *r = &out.replies[0];
         assert_near (r->azimuth_deg, d.az_center_deg, 0);
         se += r->position.e_m, se2 += r->position.e_m * r->position.e_m;
+        sn += r->position.n_m - 4000, sn2 += (r->position.n_m - 4000) * (r->position.n_m - 4000);
         sr += r->range_m - range, sr2 += (r->range_m - range) * (r->range_m - range);
     }
     double me = se / n, sde = sqrt (se2 / n - me * me), mr = sr / n, sdr = sqrt (sr2 / n - mr * mr);
@@ -513,6 +516,9 @@ static void test_reply_measurements (void **state)
                    me, sde, p.position_sigma_m, mr, sdr, p.range_sigma_m);
     assert_near (me, 0, 4 * p.position_sigma_m / sqrt (n));
     assert_near (sde, p.position_sigma_m, 0.05 * p.position_sigma_m);
+    double mn = sn / n, sdn = sqrt (sn2 / n - mn * mn);
+    assert_near (mn, 0, 4 * p.position_sigma_m / sqrt (n));
+    assert_near (sdn, p.position_sigma_m, 0.05 * p.position_sigma_m);
     assert_near (mr, 0, 4 * p.range_sigma_m / sqrt (n));
     assert_near (sdr, p.range_sigma_m, 0.05 * p.range_sigma_m);
     bcis_interrogator_destroy (&b);
@@ -541,7 +547,7 @@ static void test_foliage_on_path (void **state)
     bcis_truth_t tr;
     s_answers (b, uav, in, 180, 1, &tr);
     double el = atan2 (1000 - 2.5, 4000);
-    assert_near (tr.geometry.foliage_m, 12.5 / sin (el), 100 / 4.0);
+    assert_near (tr.geometry.foliage_m, 12.5 / sin (el), 1.0);
     assert_near (tr.budget.foliage_db, bcis_foliage_db (38, tr.geometry.foliage_m), 1e-12);
     // In the open at the same range: no foliage.
     bcis_entity_t out = {
@@ -604,6 +610,10 @@ static void test_sector_scan (void **state)
         assert_int_equal (bcis_interrogator_dwell (b, &d, uav, e, 2, &out), 0);
         for (size_t i = 0; i < out.truth_count; i++) {
             uint32_t id = out.truth[i].entity_id;
+            // 30 deg lies in dwell 2 of a clockwise pass from 15 deg ([27, 33))
+            // and in dwell 7 of an anticlockwise pass from 75 deg.
+            uint64_t pass = k / 10;
+            assert_int_equal (k, pass * 10 + (pass % 2 == 0 ? 2 : 7));
             asked[id]++;
             if (last_t[id] >= 0 && d.start_s - last_t[id] > gap)
                 gap = d.start_s - last_t[id];
@@ -612,9 +622,28 @@ static void test_sector_scan (void **state)
     }
     assert_int_equal (asked[1], 20); // once a pass
     assert_int_equal (asked[2], 0);  // never: outside the sector
-    // Back and forth: 30 deg is 2.5 dwells from the 15 deg edge, so it is
-    // visited 2 dwells and 16 dwells apart in turn; never more than two passes' time.
-    assert_true (gap <= 2 * 10 * 0.2);
+    // Back and forth: visited 15 dwells (3 s) and 5 dwells (1 s) apart in turn.
+    assert_near (gap, 15 * 0.2, 1e-9);
+    bcis_interrogator_destroy (&b);
+    // Referenced to the heading: centre 90 deg off the nose; flying east
+    // (heading 90) the sector is 150..210 deg, and only it is visited.
+    p.sector_center_deg = 90;
+    p.sector_ref = CGS_SECTOR_HEADING;
+    b = bcis_interrogator_new (&p, NULL, 13);
+    assert_non_null (b);
+    s = bcis_interrogator_scan (b);
+    bcis_entity_t south = {
+        .id = 1, .position = {0, -5000, 0}, .force = CGS_FORCE_FRIENDLY, .transponder = true};
+    unsigned int south_asked = 0;
+    for (uint64_t k = 0; k < 10 * 6; k++) {
+        cgs_dwell_t d;
+        cgs_scan_dwell (s, k, 90, &d);
+        assert_true (d.az_center_deg > 150 && d.az_center_deg < 210);
+        bcis_dwell_out_t out;
+        assert_int_equal (bcis_interrogator_dwell (b, &d, uav, &south, 1, &out), 0);
+        south_asked += (unsigned int)out.truth_count;
+    }
+    assert_int_equal (south_asked, 6); // once a pass
     bcis_interrogator_destroy (&b);
 }
 

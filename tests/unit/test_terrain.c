@@ -1009,6 +1009,31 @@ static void test_vegetation (void **state)
     assert_near (cgs_terrain_foliage_m (t, top, (cgs_enu_t){495, 500, 52}), 36, 0.2);
     // Reversed, the same.
     assert_near (cgs_terrain_foliage_m (t, (cgs_enu_t){495, 500, 52}, top), 36, 0.2);
+    // Over a slope (a plane rising 1 m in 10 east) under 20 m of wood
+    // everywhere, from 500 m up at east 0 down to 2.5 m above the ground at
+    // east 600: the height above the ground falls as 500 - 497.5 t along the
+    // path, so it is inside from t = 480 / 497.5 to 1, of a path of
+    // sqrt(600^2 + 437.5^2) m: 26.12 m.
+    {
+        float *hs = calloc (N * N, sizeof *hs), *cs = calloc (N * N, sizeof *cs);
+        assert_non_null (hs);
+        assert_non_null (cs);
+        for (int i = 0; i < N * N; i++) {
+            hs[i] = (float)((i % N) * 1.0);
+            cs[i] = 20;
+        }
+        cgs_terrain_t *slope = cgs_terrain_new_grid (N, N, 0, 0, 10, hs);
+        assert_non_null (slope);
+        assert_int_equal (cgs_terrain_set_canopy (slope, cs), 0);
+        double want = (1 - 480 / 497.5) * sqrt (600.0 * 600 + 437.5 * 437.5);
+        assert_near (want, 26.12, 0.01);
+        assert_near (
+            cgs_terrain_foliage_m (slope, (cgs_enu_t){0, 500, 500}, (cgs_enu_t){600, 500, 62.5}),
+            want, 0.5);
+        cgs_terrain_destroy (&slope);
+        free (hs);
+        free (cs);
+    }
     // Bad canopies refused, the old one kept.
     c[7] = -1;
     assert_int_equal (cgs_terrain_set_canopy (t, c), -EINVAL);
