@@ -8,6 +8,7 @@
 #include "cgs_entities.h"
 #include "cgs_log.h"
 #include "cgs_scenario.h"
+#include "cgs_sensor.h"
 #include "cgs_service.h"
 
 #include <errno.h>
@@ -21,15 +22,10 @@
 
 typedef struct {
     cgs_service_t svc;
-    cgs_geo_t *frame;
-    cgs_terrain_t *terrain;
+    cgs_sensor_t sensor; // its UAV, scenario and terrain
     bcis_params_t params;
     bcis_interrogator_t *bcis;
     const cgs_scan_t *scan;
-    char uav_name[CGS_NAME_MAX];
-    uint32_t uav_id; // 0 until the UAV's first `uav` message
-    cgs_enu_t uav_pos, uav_vel;
-    double uav_heading_deg, uav_time_s;
     cgs_scan_pace_t pace; // the next dwell to run
     cgs_entities_t *ents;
     bcis_entity_t *targets;
@@ -66,7 +62,7 @@ static void s_on_entity (void *arg, const char *topic, const ProtobufCMessage *m
 static cgs_enu_t s_moved (const s_app_t *app, const cgs_entity_state_t *s, double dt)
 {
     double e = s->position.e_m + s->velocity.e_m * dt, n = s->position.n_m + s->velocity.n_m * dt;
-    return (cgs_enu_t){e, n, cgs_terrain_height_clamped (app->terrain, e, n)};
+    return (cgs_enu_t){e, n, cgs_terrain_height_clamped (app->sensor.terrain, e, n)};
 }
 
 /* The ground entities as they are at time t (moved on along their velocity). */
@@ -85,7 +81,7 @@ static size_t s_targets_at (s_app_t *app, double t)
     size_t n = 0, cursor = 0;
     const cgs_entity_state_t *s;
     while ((s = cgs_entities_next (app->ents, &cursor))) {
-        if (s->kind == CGS_KIND_AIR || !s->active || s->id == app->uav_id)
+        if (s->kind == CGS_KIND_AIR || !s->active || s->id == app->sensor.uav_id)
             continue;
         double dt = t - s->time_s;
         if (dt > S_STALE_S || dt < -S_STALE_S)
@@ -120,7 +116,7 @@ static int s_reserve (s_app_t *app, size_t n)
 static void s_publish_marker (s_app_t *app, const cgs_dwell_t *d)
 {
     Cgs__Bcis m = CGS__BCIS__INIT;
-    m.uav_id = app->uav_id;
+    m.uav_id = app->sensor.uav_id;
     m.scan_number = d->scan;
     m.scan_time_s = d->end_s;
     m.beam_azimuth_deg = d->az_to_deg;
@@ -156,7 +152,7 @@ static void s_publish (s_app_t *app, const cgs_dwell_t *d, const bcis_dwell_out_
         app->reply_ptrs[i] = m;
     }
     Cgs__Bcis b = CGS__BCIS__INIT;
-    b.uav_id = app->uav_id;
+    b.uav_id = app->sensor.uav_id;
     b.scan_number = d->scan;
     b.scan_time_s = t;
     b.beam_azimuth_deg = d->az_center_deg;
@@ -169,11 +165,9 @@ static void s_publish (s_app_t *app, const cgs_dwell_t *d, const bcis_dwell_out_
 static void s_run_dwell (s_app_t *app, uint64_t k)
 {
     cgs_dwell_t d;
-    cgs_scan_dwell (app->scan, k, app->uav_heading_deg, &d);
-    double t = (d.start_s + d.end_s) / 2, dt = t - app->uav_time_s;
-    cgs_enu_t uav = {app->uav_pos.e_m + app->uav_vel.e_m * dt,
-                     app->uav_pos.n_m + app->uav_vel.n_m * dt,
-                     app->uav_pos.u_m + app->uav_vel.u_m * dt};
+    cgs_scan_dwell (app->scan, k, app->sensor.heading_deg, &d);
+    double t = (d.start_s + d.end_s) / 2;
+    cgs_enu_t uav = cgs_sensor_uav_at (&app->sensor, t);
     size_t n = s_targets_at (app, t);
     bcis_dwell_out_t out;
     if (bcis_interrogator_dwell (app->bcis, &d, uav, app->targets, n, &out) < 0) {
@@ -192,35 +186,24 @@ static void s_run_dwell (s_app_t *app, uint64_t k)
     }
 }
 
-static bool s_finite3 (double a, double b, double c)
-{
-    return isfinite (a) && isfinite (b) && isfinite (c);
-}
-
 static void s_on_uav (void *arg, const char *topic, const ProtobufCMessage *msg,
                       const Cgs__Header *hdr)
 {
     (void)topic;
     s_app_t *app = arg;
     const Cgs__Uav *u = (const Cgs__Uav *)msg;
-    if (!u->name || strcmp (u->name, app->uav_name) != 0)
-        return;
     double t = hdr->sim_time_s;
-    if (!u->position || !u->velocity || !isfinite (t) || t < 0 || !isfinite (u->heading_deg) ||
-        !s_finite3 (u->position->east_m, u->position->north_m, u->position->up_m) ||
-        !s_finite3 (u->velocity->east_mps, u->velocity->north_mps, u->velocity->up_mps)) {
+    bool new_id = false;
+    int rc = cgs_sensor_take_uav (&app->sensor, u, t, &new_id);
+    if (rc > 0)
+        return; // another UAV's
+    if (rc < 0) {
         s_bad (app, "a uav message without a valid time, position, velocity or heading");
         return;
     }
-    if (app->uav_id != u->entity_id) {
-        cgs_log (LOG_INFO, "interrogator on %s (entity %u) at t=%.2f s", app->uav_name,
-                 u->entity_id, t);
-        app->uav_id = u->entity_id;
-    }
-    app->uav_pos = (cgs_enu_t){u->position->east_m, u->position->north_m, u->position->up_m};
-    app->uav_vel = (cgs_enu_t){u->velocity->east_mps, u->velocity->north_mps, u->velocity->up_mps};
-    app->uav_heading_deg = u->heading_deg;
-    app->uav_time_s = t;
+    if (new_id)
+        cgs_log (LOG_INFO, "interrogator on %s (entity %u) at t=%.2f s", app->sensor.uav_name,
+                 app->sensor.uav_id, t);
     uint64_t end, skipped;
     cgs_pace_t how = cgs_scan_pace (app->scan, &app->pace, t, S_STALE_S, &end, &skipped);
     if (how == CGS_PACE_BACK)
@@ -239,57 +222,26 @@ static void s_on_uav (void *arg, const char *topic, const ProtobufCMessage *msg,
 
 static int s_setup (s_app_t *app, char *err, size_t errlen)
 {
-    if (!*app->svc.instance->uav) {
-        snprintf (err, errlen, "%s: [service %s] names no `uav =`: bcisd serves one UAV",
-                  app->svc.exercise_path, app->svc.instance_name);
-        return -EINVAL;
-    }
-    snprintf (app->uav_name, sizeof app->uav_name, "%s", app->svc.instance->uav);
-    if (!*app->svc.scenario) {
-        snprintf (err, errlen,
-                  "no scenario (its terrain is needed): give --scenario FILE or "
-                  "`scenario =` in %s",
-                  app->svc.exercise_path);
-        return -EINVAL;
-    }
-    cgs_geodetic_t o = cgs_exercise_origin (app->svc.exercise);
-    app->frame = cgs_geo_new (o.lat_deg, o.lon_deg, o.height_m);
-    if (!app->frame) {
-        snprintf (err, errlen, "bad exercise origin");
-        return -EINVAL;
-    }
-    cgs_scenario_t *sc = NULL;
-    int rc = cgs_scenario_load (app->svc.scenario, app->frame,
-                                cgs_exercise_seed (app->svc.exercise), &sc, err, errlen);
+    int rc =
+        cgs_sensor_setup (&app->sensor, &app->svc, "bcisd", 0xC2B2AE3D27D4EB4Full, err, errlen);
     if (rc < 0)
         return rc;
-    const cgs_scenario_uav_t *u = cgs_scenario_uav (sc, app->uav_name);
-    if (!u) {
-        snprintf (err, errlen, "%s: no [uav %s] (named by [service %s] in %s)", app->svc.scenario,
-                  app->uav_name, app->svc.instance_name, app->svc.exercise_path);
-        rc = -EINVAL;
-        goto done;
-    }
+    const cgs_scenario_uav_t *u = app->sensor.uav;
     // Parameters: --params, else the instance's `params =`, else the UAV's bcis_params.
     const char *params = *app->svc.params ? app->svc.params : u->bcis_params;
     bcis_params_defaults (&app->params);
     if (params && *params) {
         if ((rc = bcis_params_load (params, &app->params, err, errlen)) < 0)
-            goto done;
+            return rc;
         cgs_log (LOG_INFO, "BCIS parameters from %s", params);
     } else {
         cgs_log (LOG_INFO, "BCIS parameters: the built-in defaults (no parameter file named)");
     }
-    if ((rc = cgs_scenario_terrain (sc, app->frame, &app->terrain, err, errlen)) < 0)
-        goto done;
-    uint64_t seed = cgs_exercise_seed (app->svc.exercise) * 0x9E3779B97F4A7C15ull ^
-                    (uint64_t)u->id * 0xC2B2AE3D27D4EB4Full;
-    app->bcis = bcis_interrogator_new (&app->params, app->terrain, seed);
+    app->bcis = bcis_interrogator_new (&app->params, app->sensor.terrain, app->sensor.seed);
     app->ents = cgs_entities_new ();
     if (!app->bcis || !app->ents) {
         snprintf (err, errlen, "out of memory");
-        rc = -ENOMEM;
-        goto done;
+        return -ENOMEM;
     }
     app->scan = bcis_interrogator_scan (app->bcis);
     const bcis_params_t *p = &app->params;
@@ -297,15 +249,12 @@ static int s_setup (s_app_t *app, char *err, size_t errlen)
     cgs_log (LOG_INFO,
              "%s: %.1f GHz, %g x %g deg beam at %g deg/s, %u dwells of %.1f ms per %s, %s at "
              "%g bit/s, messages %d/%d bits, range %.0f..%.0f m, rain %g mm/h, foliage %s",
-             app->uav_name, p->frequency_hz / 1e9, p->azimuth_beamwidth_deg,
+             app->sensor.uav_name, p->frequency_hz / 1e9, p->azimuth_beamwidth_deg,
              p->elevation_beamwidth_deg, p->scan_rate_dps, app->scan->dwells,
              app->scan->dwell_s * 1e3, p->scan_mode == CGS_SCAN_FULL ? "revolution" : "sector pass",
              mods[p->modulation], p->data_rate_bps, p->interrogation_bits, p->reply_bits,
              p->min_range_m, p->max_range_m, p->rain_rate_mmph, p->foliage ? "on" : "off");
-    rc = 0;
-done:
-    cgs_scenario_destroy (&sc);
-    return rc;
+    return 0;
 }
 
 int main (int argc, char **argv)
@@ -345,8 +294,7 @@ int main (int argc, char **argv)
 done:
     bcis_interrogator_destroy (&app.bcis);
     cgs_entities_destroy (&app.ents);
-    cgs_terrain_destroy (&app.terrain);
-    cgs_geo_destroy (&app.frame);
+    cgs_sensor_fini (&app.sensor);
     free (app.targets);
     free (app.reply_msgs);
     free (app.reply_ptrs);

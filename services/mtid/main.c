@@ -7,6 +7,7 @@
 #include "cgs_entities.h"
 #include "cgs_log.h"
 #include "cgs_scenario.h"
+#include "cgs_sensor.h"
 #include "cgs_service.h"
 #include "mti_mc.h"
 #include "mti_params.h"
@@ -25,14 +26,9 @@
 
 typedef struct {
     cgs_service_t svc;
-    cgs_geo_t *frame;
-    cgs_terrain_t *terrain;
+    cgs_sensor_t sensor; // its UAV, scenario and terrain
     mti_params_t params;
     mti_radar_t *radar;
-    char uav_name[CGS_NAME_MAX];
-    uint32_t uav_id; // 0 until the UAV's first `uav` message
-    mti_platform_t plat;
-    double plat_time_s;
     cgs_scan_pace_t pace; // the next dwell to run
     cgs_entities_t *ents;
     mti_target_t *targets;
@@ -55,11 +51,6 @@ typedef struct {
 } s_app_t;
 
 /* ---- entities ------------------------------------------------------------------------ */
-
-static bool s_finite3 (double a, double b, double c)
-{
-    return isfinite (a) && isfinite (b) && isfinite (c);
-}
 
 /* A message the model cannot use: counted in health, logged the first time. */
 static void s_bad (s_app_t *app, const char *what)
@@ -113,7 +104,7 @@ static size_t s_targets_at (s_app_t *app, double t)
     size_t n = 0, cursor = 0;
     const cgs_entity_state_t *s;
     while ((s = cgs_entities_next (app->ents, &cursor))) {
-        if (s->kind == CGS_KIND_AIR || !s->active || s->id == app->uav_id)
+        if (s->kind == CGS_KIND_AIR || !s->active || s->id == app->sensor.uav_id)
             continue;
         double dt = t - s->time_s;
         if (dt > S_STALE_S || dt < -S_STALE_S)
@@ -127,7 +118,8 @@ static size_t s_targets_at (s_app_t *app, double t)
             s_warn_class (app, s);
         app->targets[n++] = (mti_target_t){
             .id = s->id,
-            .position = {east, north, cgs_terrain_height_clamped (app->terrain, east, north)},
+            .position = {east, north,
+                         cgs_terrain_height_clamped (app->sensor.terrain, east, north)},
             .velocity = s->velocity,
             .rcs_class = s->rcs_class,
         };
@@ -192,11 +184,11 @@ static void s_publish_dwell (s_app_t *app, const mti_dwell_t *d, const mti_dwell
         app->hit_ptrs[i] = m;
     }
     Cgs__Enu plat = CGS__ENU__INIT;
-    plat.east_m = app->plat.position.e_m;
-    plat.north_m = app->plat.position.n_m;
-    plat.up_m = app->plat.position.u_m;
+    plat.east_m = app->sensor.position.e_m;
+    plat.north_m = app->sensor.position.n_m;
+    plat.up_m = app->sensor.position.u_m;
     Cgs__Mti mti = CGS__MTI__INIT;
-    mti.uav_id = app->uav_id;
+    mti.uav_id = app->sensor.uav_id;
     mti.scan_number = d->scan;
     mti.dwell_number = d->dwell;
     mti.beam_azimuth_deg = d->az_center_deg;
@@ -221,7 +213,7 @@ static void s_publish_dwell (s_app_t *app, const mti_dwell_t *d, const mti_dwell
         app->truth_ptrs[i] = m;
     }
     Cgs__MtiTruth truth = CGS__MTI_TRUTH__INIT;
-    truth.uav_id = app->uav_id;
+    truth.uav_id = app->sensor.uav_id;
     truth.scan_number = d->scan;
     truth.dwell_number = d->dwell;
     truth.n_items = out->truth_count;
@@ -233,14 +225,14 @@ static void s_publish_dwell (s_app_t *app, const mti_dwell_t *d, const mti_dwell
 static void s_publish_scan (s_app_t *app, const mti_dwell_t *d)
 {
     Cgs__MtiScan m = CGS__MTI_SCAN__INIT;
-    m.uav_id = app->uav_id;
+    m.uav_id = app->sensor.uav_id;
     m.scan_number = d->scan;
     m.scan_start_s = app->scan_start_s;
     m.scan_end_s = d->end_s;
     m.full_revolution = app->params.scan_mode == MTI_SCAN_FULL;
     m.sector_center_deg = app->params.sector_center_deg;
     if (app->params.sector_ref == MTI_SECTOR_HEADING) // as an azimuth, at the scan's end
-        m.sector_center_deg = fmod (m.sector_center_deg + app->plat.heading_deg + 720.0, 360.0);
+        m.sector_center_deg = fmod (m.sector_center_deg + app->sensor.heading_deg + 720.0, 360.0);
     m.sector_width_deg = m.full_revolution ? 360.0 : app->params.sector_width_deg;
     m.hit_count = app->scan_hits;
     m.false_alarm_count = app->scan_fas;
@@ -255,17 +247,16 @@ static void s_publish_scan (s_app_t *app, const mti_dwell_t *d)
 static void s_run_dwell (s_app_t *app, uint64_t k)
 {
     mti_dwell_t d;
-    mti_radar_schedule (app->radar, k, app->plat.heading_deg, &d);
+    mti_radar_schedule (app->radar, k, app->sensor.heading_deg, &d);
     if (d.scan != app->scan || d.scan_start) {
         app->scan = d.scan;
         app->scan_start_s = d.start_s;
         app->scan_hits = app->scan_fas = 0;
     }
-    double t = (d.start_s + d.end_s) / 2, dt = t - app->plat_time_s;
-    mti_platform_t plat = app->plat;
-    plat.position.e_m += plat.velocity.e_m * dt;
-    plat.position.n_m += plat.velocity.n_m * dt;
-    plat.position.u_m += plat.velocity.u_m * dt;
+    double t = (d.start_s + d.end_s) / 2;
+    mti_platform_t plat = {.position = cgs_sensor_uav_at (&app->sensor, t),
+                           .velocity = app->sensor.velocity,
+                           .heading_deg = app->sensor.heading_deg};
     size_t n = s_targets_at (app, t);
     mti_dwell_out_t out;
     int rc = mti_radar_dwell (app->radar, &d, &plat, app->targets, n, &out);
@@ -291,24 +282,18 @@ static void s_on_uav (void *arg, const char *topic, const ProtobufCMessage *msg,
     (void)topic;
     s_app_t *app = arg;
     const Cgs__Uav *u = (const Cgs__Uav *)msg;
-    if (!u->name || strcmp (u->name, app->uav_name) != 0)
-        return;
     double t = hdr->sim_time_s;
-    if (!u->position || !u->velocity || !isfinite (t) || t < 0 || !isfinite (u->heading_deg) ||
-        !s_finite3 (u->position->east_m, u->position->north_m, u->position->up_m) ||
-        !s_finite3 (u->velocity->east_mps, u->velocity->north_mps, u->velocity->up_mps)) {
+    bool new_id = false;
+    int rc = cgs_sensor_take_uav (&app->sensor, u, t, &new_id);
+    if (rc > 0)
+        return; // another UAV's
+    if (rc < 0) {
         s_bad (app, "a uav message without a valid time, position, velocity or heading");
         return;
     }
-    if (app->uav_id != u->entity_id) {
-        cgs_log (LOG_INFO, "radar on %s (entity %u) at t=%.2f s", app->uav_name, u->entity_id, t);
-        app->uav_id = u->entity_id;
-    }
-    app->plat.position = (cgs_enu_t){u->position->east_m, u->position->north_m, u->position->up_m};
-    app->plat.velocity =
-        (cgs_enu_t){u->velocity->east_mps, u->velocity->north_mps, u->velocity->up_mps};
-    app->plat.heading_deg = u->heading_deg;
-    app->plat_time_s = t;
+    if (new_id)
+        cgs_log (LOG_INFO, "radar on %s (entity %u) at t=%.2f s", app->sensor.uav_name,
+                 app->sensor.uav_id, t);
     uint64_t end, skipped;
     cgs_pace_t how =
         cgs_scan_pace (mti_radar_scan (app->radar), &app->pace, t, S_STALE_S, &end, &skipped);
@@ -451,73 +436,38 @@ static int s_monte_carlo (int argc, char **argv)
 
 static int s_setup (s_app_t *app, char *err, size_t errlen)
 {
-    if (!*app->svc.instance->uav) {
-        snprintf (err, errlen, "%s: [service %s] names no `uav =`: mtid serves one UAV",
-                  app->svc.exercise_path, app->svc.instance_name);
-        return -EINVAL;
-    }
-    snprintf (app->uav_name, sizeof app->uav_name, "%s", app->svc.instance->uav);
-    if (!*app->svc.scenario) {
-        snprintf (err, errlen,
-                  "no scenario (its terrain is needed): give --scenario FILE or "
-                  "`scenario =` in %s",
-                  app->svc.exercise_path);
-        return -EINVAL;
-    }
-    cgs_geodetic_t o = cgs_exercise_origin (app->svc.exercise);
-    app->frame = cgs_geo_new (o.lat_deg, o.lon_deg, o.height_m);
-    cgs_scenario_t *sc = NULL;
-    int rc = -EINVAL;
-    if (!app->frame) {
-        snprintf (err, errlen, "bad exercise origin");
-        return -EINVAL;
-    }
-    if ((rc = cgs_scenario_load (app->svc.scenario, app->frame,
-                                 cgs_exercise_seed (app->svc.exercise), &sc, err, errlen)) < 0)
+    int rc = cgs_sensor_setup (&app->sensor, &app->svc, "mtid", 0xD1B54A32D192ED03ull, err, errlen);
+    if (rc < 0)
         return rc;
-    const cgs_scenario_uav_t *u = cgs_scenario_uav (sc, app->uav_name);
-    if (!u) {
-        snprintf (err, errlen, "%s: no [uav %s] (named by [service %s] in %s)", app->svc.scenario,
-                  app->uav_name, app->svc.instance_name, app->svc.exercise_path);
-        rc = -EINVAL;
-        goto done;
-    }
+    const cgs_scenario_uav_t *u = app->sensor.uav;
     // Parameters: --params, else the instance's `params =`, else the UAV's radar_params.
     const char *params = *app->svc.params ? app->svc.params : u->radar_params;
     mti_params_defaults (&app->params);
     if (params && *params) {
         if ((rc = mti_params_load (params, &app->params, err, errlen)) < 0)
-            goto done;
+            return rc;
         cgs_log (LOG_INFO, "radar parameters from %s", params);
     } else {
         cgs_log (LOG_INFO, "radar parameters: the built-in defaults (no parameter file named)");
     }
-    if ((rc = cgs_scenario_terrain (sc, app->frame, &app->terrain, err, errlen)) < 0)
-        goto done;
-    uint64_t seed = cgs_exercise_seed (app->svc.exercise) * 0x9E3779B97F4A7C15ull ^
-                    (uint64_t)u->id * 0xD1B54A32D192ED03ull;
-    app->radar = mti_radar_new (&app->params, app->terrain, seed);
+    app->radar = mti_radar_new (&app->params, app->sensor.terrain, app->sensor.seed);
     app->ents = cgs_entities_new ();
     if (!app->radar || !app->ents) {
         snprintf (err, errlen, "out of memory");
-        rc = -ENOMEM;
-        goto done;
+        return -ENOMEM;
     }
     const mti_params_t *p = &app->params;
     cgs_log (LOG_INFO,
              "%s: %.1f GHz, PRF %.0f Hz, %g x %g deg beam at %g deg/s, %u dwells of %.1f ms "
              "per scan, FFT %d, %s, CFAR %d+%d cells Pfa %g, %d of %d, range %.0f..%.0f m",
-             app->uav_name, p->frequency_hz / 1e9, p->prf_hz, p->azimuth_beamwidth_deg,
+             app->sensor.uav_name, p->frequency_hz / 1e9, p->prf_hz, p->azimuth_beamwidth_deg,
              p->elevation_beamwidth_deg, p->sweep_rate_dps, mti_radar_dwells_per_scan (app->radar),
              mti_radar_dwell_s (app->radar) * 1e3, p->fft_size,
              p->canceller == MTI_CANCELLER_THREE ? "three-pulse canceller"
              : p->canceller == MTI_CANCELLER_TWO ? "two-pulse canceller"
                                                  : "no canceller",
              p->ref_cells, p->guard_cells, p->pfa, p->m, p->n, p->min_range_m, p->max_range_m);
-    rc = 0;
-done:
-    cgs_scenario_destroy (&sc);
-    return rc;
+    return 0;
 }
 
 int main (int argc, char **argv)
@@ -558,8 +508,7 @@ int main (int argc, char **argv)
              (unsigned long long)app.pace.skipped);
 done:
     mti_radar_destroy (&app.radar);
-    cgs_terrain_destroy (&app.terrain);
-    cgs_geo_destroy (&app.frame);
+    cgs_sensor_fini (&app.sensor);
     cgs_entities_destroy (&app.ents);
     free (app.targets);
     free (app.hit_msgs);

@@ -4,6 +4,7 @@
  * refused when malformed, found, iterated and evicted. */
 #include "cgs_entities.h"
 #include "cgs_scan.h"
+#include "cgs_sensor.h"
 
 #include <errno.h>
 #include <math.h>
@@ -216,12 +217,55 @@ static void test_entities (void **state)
     cgs_entities_destroy (&t);
 }
 
+/* A sensor's UAV: only its own `uav` messages are taken, malformed ones
+ * refused whole, and its position moved on along its velocity. */
+static void test_sensor_uav (void **state)
+{
+    (void)state;
+    cgs_sensor_t s = {.uav_name = "uav1"};
+    Cgs__Enu pos = CGS__ENU__INIT;
+    Cgs__EnuVelocity vel = CGS__ENU_VELOCITY__INIT;
+    pos.east_m = 100, pos.north_m = -50, pos.up_m = 1500;
+    vel.east_mps = 30, vel.up_mps = -1;
+    Cgs__Uav u = CGS__UAV__INIT;
+    u.name = "uav2";
+    u.entity_id = 4;
+    u.position = &pos;
+    u.velocity = &vel;
+    u.heading_deg = 90;
+    bool new_id = false;
+    assert_int_equal (cgs_sensor_take_uav (&s, &u, 10, &new_id), 1); // another UAV's
+    assert_int_equal (s.uav_id, 0);
+    u.name = "uav1";
+    assert_int_equal (cgs_sensor_take_uav (&s, &u, 10, &new_id), 0);
+    assert_true (new_id);
+    assert_int_equal (s.uav_id, 4);
+    assert_int_equal (cgs_sensor_take_uav (&s, &u, 11, &new_id), 0);
+    assert_false (new_id);
+    cgs_enu_t at = cgs_sensor_uav_at (&s, 13);
+    assert_near (at.e_m, 100 + 30 * 2, 1e-12);
+    assert_near (at.n_m, -50, 1e-12);
+    assert_near (at.u_m, 1500 - 2, 1e-12);
+    // Malformed: nothing taken.
+    u.heading_deg = NAN;
+    assert_int_equal (cgs_sensor_take_uav (&s, &u, 12, &new_id), -EINVAL);
+    u.heading_deg = 90;
+    pos.east_m = INFINITY;
+    assert_int_equal (cgs_sensor_take_uav (&s, &u, 12, &new_id), -EINVAL);
+    pos.east_m = 100;
+    assert_int_equal (cgs_sensor_take_uav (&s, &u, -1, &new_id), -EINVAL);
+    u.velocity = NULL;
+    assert_int_equal (cgs_sensor_take_uav (&s, &u, 12, &new_id), -EINVAL);
+    assert_near (s.time_s, 11, 0);
+    cgs_sensor_fini (&s); // nothing built: safe
+}
+
 int main (void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test (test_scan_full),    cmocka_unit_test (test_scan_sector_across_north),
         cmocka_unit_test (test_scan_refused), cmocka_unit_test (test_scan_pace),
-        cmocka_unit_test (test_entities),
+        cmocka_unit_test (test_entities),     cmocka_unit_test (test_sensor_uav),
     };
     return cmocka_run_group_tests (tests, NULL, NULL);
 }

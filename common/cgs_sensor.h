@@ -1,0 +1,47 @@
+/* cgs_sensor — what the per-UAV sensor services (mtid, bcisd) share around
+ * their models: the UAV they serve (the instance's `uav =`), the exercise
+ * frame, the scenario with that UAV's section, the terrain, a seed for the
+ * model, and the UAV as last heard on `uav`. Pure: no logging; errors name
+ * the files and sections involved. */
+#ifndef CGS_SENSOR_H
+#define CGS_SENSOR_H
+
+#include "cgs_scenario.h"
+#include "cgs_service.h"
+#include "world.pb-c.h"
+
+#include <stdbool.h>
+#include <stdint.h>
+
+typedef struct {
+    char uav_name[CGS_NAME_MAX];
+    cgs_geo_t *frame;
+    cgs_scenario_t *scenario;
+    const cgs_scenario_uav_t *uav; // its section in the scenario
+    cgs_terrain_t *terrain;
+    uint64_t seed; // for the model: from the exercise seed, the UAV's id and the service's salt
+    /* The UAV as last heard on `uav`. */
+    uint32_t uav_id;     // its entity id, 0 until the first message
+    cgs_enu_t position;  // antenna, local frame
+    cgs_enu_t velocity;  // metres per second
+    double heading_deg;  // clockwise from north
+    double time_s;       // simulation time of that state
+} cgs_sensor_t;
+
+/* Read what a sensor service of program (for messages) needs: the
+ * instance's UAV, the scenario (svc->scenario), the UAV's section in it and
+ * the terrain. 0, or -errno with the reason in err; cgs_sensor_fini frees
+ * what was built either way. */
+int cgs_sensor_setup (cgs_sensor_t *self, const cgs_service_t *svc, const char *program,
+                      uint64_t salt, char *err, size_t errlen);
+/* Free what setup built; safe on a half-built or zeroed one. */
+void cgs_sensor_fini (cgs_sensor_t *self);
+/* Take a `uav` message of time t_s: 1 when it is another UAV's (ignored),
+ * -EINVAL when it lacks a valid time, position, velocity or heading
+ * (nothing taken), else 0 and *ret_new_id (may be NULL) says whether the
+ * UAV's entity id is new. */
+int cgs_sensor_take_uav (cgs_sensor_t *self, const Cgs__Uav *u, double t_s, bool *ret_new_id);
+/* The UAV moved on along its velocity to time t_s. */
+cgs_enu_t cgs_sensor_uav_at (const cgs_sensor_t *self, double t_s);
+
+#endif
