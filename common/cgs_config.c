@@ -520,6 +520,18 @@ int cgs_config_error (const cgs_config_t *self, const char *section, const char 
     return rc;
 }
 
+int cgs_config_value_error (const cgs_config_t *self, const char *section, const char *key,
+                            const char *msg, char *err, size_t errlen)
+{
+    if (self && cgs_config_has (self, section, key))
+        return cgs_config_error (self, section, key, 0, err, errlen, "%s", msg);
+    if (self)
+        cgs_errf (err, errlen, "%s: [%s] %s: %s", self->path, section, key, msg);
+    else
+        cgs_errf (err, errlen, "[%s] %s: %s", section, key, msg);
+    return -EINVAL;
+}
+
 // --- typed getters --------------------------------------------------------------
 
 /* The single occurrence of key, or NULL when absent; -EINVAL when it is given
@@ -1040,4 +1052,55 @@ int cgs_config_check_repeated (const cgs_config_t *self, char *err, size_t errle
         }
     }
     return 0;
+}
+
+// --- parameter tables --------------------------------------------------------------
+
+int cgs_config_get_table (cgs_config_t *self, const cgs_config_real_t *reals, size_t nreals,
+                          const cgs_config_int_t *ints, size_t nints, void *base, char *err,
+                          size_t errlen)
+{
+    int rc = 0;
+    for (size_t i = 0; i < nreals && rc == 0; i++) {
+        double *field = (double *)((char *)base + reals[i].offset);
+        rc = cgs_config_get_double (self, reals[i].section, reals[i].key, *field, reals[i].min,
+                                    reals[i].max, field, err, errlen);
+    }
+    for (size_t i = 0; i < nints && rc == 0; i++) {
+        int *field = (int *)((char *)base + ints[i].offset);
+        long v;
+        rc = cgs_config_get_int (self, ints[i].section, ints[i].key, *field, ints[i].min,
+                                 ints[i].max, &v, err, errlen);
+        if (rc == 0)
+            *field = (int)v;
+    }
+    return rc;
+}
+
+bool cgs_config_table_out_of_range (const cgs_config_real_t *reals, size_t nreals,
+                                    const cgs_config_int_t *ints, size_t nints, const void *base,
+                                    const char **ret_section, const char **ret_key, char *msg,
+                                    size_t msglen)
+{
+    for (size_t i = 0; i < nreals; i++) {
+        double v = *(const double *)((const char *)base + reals[i].offset);
+        if (!(v >= reals[i].min && v <= reals[i].max)) {
+            *ret_section = reals[i].section;
+            *ret_key = reals[i].key;
+            snprintf (msg, msglen, "expected a number in [%g, %g], got %g", reals[i].min,
+                      reals[i].max, v);
+            return true;
+        }
+    }
+    for (size_t i = 0; i < nints; i++) {
+        int v = *(const int *)((const char *)base + ints[i].offset);
+        if (v < ints[i].min || v > ints[i].max) {
+            *ret_section = ints[i].section;
+            *ret_key = ints[i].key;
+            snprintf (msg, msglen, "expected an integer in [%ld, %ld], got %d", ints[i].min,
+                      ints[i].max, v);
+            return true;
+        }
+    }
+    return false;
 }

@@ -87,6 +87,37 @@ int cgs_config_error (const cgs_config_t *self, const char *section, const char 
                       char *err, size_t errlen, const char *fmt, ...)
     __attribute__ ((format (printf, 7, 8)));
 
+/* Tables of numeric parameters kept in a struct: each entry names its
+ * section and key, its field's offset, and its closed range. */
+typedef struct {
+    const char *section, *key;
+    size_t offset; // of a double field
+    double min, max;
+} cgs_config_real_t;
+typedef struct {
+    const char *section, *key;
+    size_t offset; // of an int field
+    long min, max;
+} cgs_config_int_t;
+
+/* Read every key of the tables into the fields at base (each field's present
+ * value is its default). 0, or -EINVAL at the first bad key (fields read
+ * before it are written). */
+int cgs_config_get_table (cgs_config_t *self, const cgs_config_real_t *reals, size_t nreals,
+                          const cgs_config_int_t *ints, size_t nints, void *base, char *err,
+                          size_t errlen);
+/* The first field at base outside its range: true with its section and key
+ * and "expected ..., got ..." in msg; false when every field is in range. */
+bool cgs_config_table_out_of_range (const cgs_config_real_t *reals, size_t nreals,
+                                    const cgs_config_int_t *ints, size_t nints, const void *base,
+                                    const char **ret_section, const char **ret_key, char *msg,
+                                    size_t msglen);
+/* An error about a parameter's value found after reading: on the key's line
+ * when self has it, else "file: [section] key: msg" (or "[section] key: msg"
+ * when self is NULL). Returns -EINVAL. */
+int cgs_config_value_error (const cgs_config_t *self, const char *section, const char *key,
+                            const char *msg, char *err, size_t errlen);
+
 /* Parse a position written in any of these forms (case-insensitive keywords):
  *   "1200 -350" or "1200 -350 20"      local metres east, north (, up)
  *   "local 1200 -350"                  the same, explicit

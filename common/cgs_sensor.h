@@ -21,11 +21,11 @@ typedef struct {
     cgs_terrain_t *terrain;
     uint64_t seed; // for the model: from the exercise seed, the UAV's id and the service's salt
     /* The UAV as last heard on `uav`. */
-    uint32_t uav_id;     // its entity id, 0 until the first message
-    cgs_enu_t position;  // antenna, local frame
-    cgs_enu_t velocity;  // metres per second
-    double heading_deg;  // clockwise from north
-    double time_s;       // simulation time of that state
+    uint32_t uav_id;    // its entity id, 0 until the first message
+    cgs_enu_t position; // antenna, local frame
+    cgs_enu_t velocity; // metres per second
+    double heading_deg; // clockwise from north
+    double time_s;      // simulation time of that state
 } cgs_sensor_t;
 
 /* Read what a sensor service of program (for messages) needs: the

@@ -1,7 +1,6 @@
 /* bcis_params — the BCIS parameter file (see bcis_params.h). */
 #include "bcis_params.h"
 #include "cgs_config.h"
-#include "cgs_util.h"
 
 #include <errno.h>
 #include <math.h>
@@ -47,18 +46,11 @@ void bcis_params_defaults (bcis_params_t *p)
     };
 }
 
-/* A real-valued key: section, key, where in the struct, closed range. */
-typedef struct {
-    const char *section, *key;
-    size_t offset;
-    double min, max;
-} s_real_t;
-
 #define S_R(sec, k, field, lo, hi)                                                                 \
     {                                                                                              \
         sec, k, offsetof (bcis_params_t, field), lo, hi                                            \
     }
-static const s_real_t s_reals[] = {
+static const cgs_config_real_t s_reals[] = {
     S_R ("interrogator", "frequency_hz", frequency_hz, 1e9, 95e9),
     S_R ("interrogator", "transmit_power_w", transmit_power_w, 1e-6, 1e4),
     S_R ("interrogator", "antenna_gain_db", antenna_gain_db, -10, 60),
@@ -87,17 +79,14 @@ static const s_real_t s_reals[] = {
 };
 #undef S_R
 
-typedef struct {
-    const char *section, *key;
-    size_t offset;
-    long min, max;
-} s_int_t;
-
-static const s_int_t s_ints[] = {
+static const cgs_config_int_t s_ints[] = {
     {"link", "interrogation_bits", offsetof (bcis_params_t, interrogation_bits), 1, 100000},
     {"link", "reply_bits", offsetof (bcis_params_t, reply_bits), 1, 100000},
     {"link", "correctable_bits", offsetof (bcis_params_t, correctable_bits), 0, 100000},
 };
+
+#define S_NREALS (sizeof s_reals / sizeof s_reals[0])
+#define S_NINTS  (sizeof s_ints / sizeof s_ints[0])
 
 static const char *const s_scan_names[] = {"full", "sector", NULL};
 static const char *const s_ref_names[] = {"north", "heading", NULL};
@@ -110,24 +99,8 @@ static int s_check (cgs_config_t *cfg, const bcis_params_t *p, char *err, size_t
 {
     const char *sec = NULL, *key = NULL;
     char msg[256] = "";
-    for (size_t i = 0; i < sizeof s_reals / sizeof s_reals[0] && !key; i++) {
-        double v = *(const double *)((const char *)p + s_reals[i].offset);
-        if (!(v >= s_reals[i].min && v <= s_reals[i].max)) {
-            sec = s_reals[i].section;
-            key = s_reals[i].key;
-            snprintf (msg, sizeof msg, "expected a number in [%g, %g], got %g", s_reals[i].min,
-                      s_reals[i].max, v);
-        }
-    }
-    for (size_t i = 0; i < sizeof s_ints / sizeof s_ints[0] && !key; i++) {
-        int v = *(const int *)((const char *)p + s_ints[i].offset);
-        if (v < s_ints[i].min || v > s_ints[i].max) {
-            sec = s_ints[i].section;
-            key = s_ints[i].key;
-            snprintf (msg, sizeof msg, "expected an integer in [%ld, %ld], got %d", s_ints[i].min,
-                      s_ints[i].max, v);
-        }
-    }
+    cgs_config_table_out_of_range (s_reals, S_NREALS, s_ints, S_NINTS, p, &sec, &key, msg,
+                                   sizeof msg);
     if (key) {
     } else if (p->max_range_m <= p->min_range_m) {
         sec = "interrogator", key = "max_range_m";
@@ -157,15 +130,7 @@ static int s_check (cgs_config_t *cfg, const bcis_params_t *p, char *err, size_t
         sec = "scan", key = "sector_reference";
         snprintf (msg, sizeof msg, "expected north or heading, got value %d", (int)p->sector_ref);
     }
-    if (!key)
-        return 0;
-    if (cfg && cgs_config_has (cfg, sec, key))
-        return cgs_config_error (cfg, sec, key, 0, err, errlen, "%s", msg);
-    if (cfg)
-        cgs_errf (err, errlen, "%s: [%s] %s: %s", cgs_config_path (cfg), sec, key, msg);
-    else
-        cgs_errf (err, errlen, "[%s] %s: %s", sec, key, msg);
-    return -EINVAL;
+    return key ? cgs_config_value_error (cfg, sec, key, msg, err, errlen) : 0;
 }
 
 int bcis_params_check (const bcis_params_t *p, char *err, size_t errlen)
@@ -177,19 +142,8 @@ static int s_read (cgs_config_t *cfg, bcis_params_t *out, char *err, size_t errl
 {
     bcis_params_t p = *out;
     int rc = cgs_config_check_repeated (cfg, err, errlen);
-    for (size_t i = 0; i < sizeof s_reals / sizeof s_reals[0] && rc == 0; i++) {
-        double *field = (double *)((char *)&p + s_reals[i].offset);
-        rc = cgs_config_get_double (cfg, s_reals[i].section, s_reals[i].key, *field, s_reals[i].min,
-                                    s_reals[i].max, field, err, errlen);
-    }
-    for (size_t i = 0; i < sizeof s_ints / sizeof s_ints[0] && rc == 0; i++) {
-        int *field = (int *)((char *)&p + s_ints[i].offset);
-        long v;
-        rc = cgs_config_get_int (cfg, s_ints[i].section, s_ints[i].key, *field, s_ints[i].min,
-                                 s_ints[i].max, &v, err, errlen);
-        if (rc == 0)
-            *field = (int)v;
-    }
+    if (rc == 0)
+        rc = cgs_config_get_table (cfg, s_reals, S_NREALS, s_ints, S_NINTS, &p, err, errlen);
     int scan = p.scan_mode, ref = p.sector_ref, mod = p.modulation, pol = p.polarization;
     if (rc == 0)
         rc = cgs_config_get_enum (cfg, "scan", "mode", s_scan_names, scan, &scan, err, errlen);
