@@ -1,0 +1,163 @@
+/* trk_params — trackerd's parameter file (see trk_params.h). */
+#include "trk_params.h"
+#include "cgs_config.h"
+
+#include <errno.h>
+#include <gsl/gsl_cdf.h>
+#include <math.h>
+#include <stddef.h>
+#include <stdio.h>
+
+void trk_params_defaults (trk_params_t *p)
+{
+    *p = (trk_params_t){
+        .filter =
+            {
+                .mode = TRK_FILTER_PAPER,
+                .sigma_meas_m = {25, 25},
+                .sigma_mod_mps2 = {0.2, 0.2},
+                .dt_s = 10,
+            },
+        .measurement_noise = TRK_NOISE_PARAMETERS,
+        .gate_probability = 0.999,
+        .max_speed_mps = 30,
+        .maneuver_accel_mps2 = 3,
+        .radial_velocity = true,
+        .radial_sigma_mps = 0.5,
+        .radial_span_mps = 46.875,
+        .confirm_m = 3,
+        .confirm_n = 4,
+        .delete_misses = 3,
+        .history_scans = 20,
+        .bcis_sigma_m = 10,
+        .identity_timeout_s = 20,
+        .turn_threshold_deg = 20,
+        .turn_min_speed_mps = 3,
+        .turn_settle_updates = 3,
+    };
+}
+
+#define S_R(sec, k, field, lo, hi)                                                                 \
+    {                                                                                              \
+        sec, k, offsetof (trk_params_t, field), lo, hi                                             \
+    }
+static const cgs_config_real_t s_reals[] = {
+    S_R ("filter", "sigma_meas_x_m", filter.sigma_meas_m[0], 0.01, 1e5),
+    S_R ("filter", "sigma_meas_y_m", filter.sigma_meas_m[1], 0.01, 1e5),
+    S_R ("filter", "sigma_mod_x_mps2", filter.sigma_mod_mps2[0], 1e-6, 100),
+    S_R ("filter", "sigma_mod_y_mps2", filter.sigma_mod_mps2[1], 1e-6, 100),
+    S_R ("filter", "scan_period_s", filter.dt_s, 0.01, 3600),
+    S_R ("association", "gate_probability", gate_probability, 0.5, 0.999999),
+    S_R ("association", "max_speed_mps", max_speed_mps, 0.1, 1000),
+    S_R ("association", "maneuver_accel_mps2", maneuver_accel_mps2, 0, 1000),
+    S_R ("association", "radial_sigma_mps", radial_sigma_mps, 0.001, 1000),
+    S_R ("association", "radial_span_mps", radial_span_mps, 0, 1e5),
+    S_R ("identity", "bcis_sigma_m", bcis_sigma_m, 0.01, 1e5),
+    S_R ("identity", "timeout_s", identity_timeout_s, 0.01, 86400),
+    S_R ("turn", "threshold_deg", turn_threshold_deg, 0.1, 179),
+    S_R ("turn", "min_speed_mps", turn_min_speed_mps, 0, 1000),
+};
+#undef S_R
+
+static const cgs_config_int_t s_ints[] = {
+    {"association", "confirm_m", offsetof (trk_params_t, confirm_m), 1, 32},
+    {"association", "confirm_n", offsetof (trk_params_t, confirm_n), 1, 32},
+    {"association", "delete_misses", offsetof (trk_params_t, delete_misses), 1, 1000},
+    {"association", "history_scans", offsetof (trk_params_t, history_scans), 1, TRK_HISTORY_MAX},
+    {"turn", "settle_updates", offsetof (trk_params_t, turn_settle_updates), 0, 1000},
+};
+
+#define S_NREALS (sizeof s_reals / sizeof s_reals[0])
+#define S_NINTS (sizeof s_ints / sizeof s_ints[0])
+
+static const char *const s_mode_names[] = {"paper", "kalman", NULL};
+static const char *const s_noise_names[] = {"parameters", "hit", NULL};
+
+/* The consistency of the set, after each value's own range. cfg (may be
+ * NULL) places the error on the key's line. */
+static int s_check (cgs_config_t *cfg, const trk_params_t *p, char *err, size_t errlen)
+{
+    const char *sec = NULL, *key = NULL;
+    char msg[256] = "";
+    cgs_config_table_out_of_range (s_reals, S_NREALS, s_ints, S_NINTS, p, &sec, &key, msg,
+                                   sizeof msg);
+    if (key) {
+    } else if (p->confirm_m > p->confirm_n) {
+        sec = "association", key = "confirm_m";
+        snprintf (msg, sizeof msg, "must be at most confirm_n (%d), got %d", p->confirm_n,
+                  p->confirm_m);
+    } else if ((unsigned)p->filter.mode > TRK_FILTER_KALMAN) {
+        sec = "filter", key = "mode";
+        snprintf (msg, sizeof msg, "expected paper or kalman, got value %d", (int)p->filter.mode);
+    } else if ((unsigned)p->measurement_noise > TRK_NOISE_HIT) {
+        sec = "filter", key = "measurement_noise";
+        snprintf (msg, sizeof msg, "expected parameters or hit, got value %d",
+                  (int)p->measurement_noise);
+    }
+    return key ? cgs_config_value_error (cfg, sec, key, msg, err, errlen) : 0;
+}
+
+int trk_params_check (const trk_params_t *p, char *err, size_t errlen)
+{
+    return s_check (NULL, p, err, errlen);
+}
+
+static int s_read (cgs_config_t *cfg, trk_params_t *out, char *err, size_t errlen)
+{
+    trk_params_t p = *out;
+    int rc = cgs_config_check_repeated (cfg, err, errlen);
+    if (rc == 0)
+        rc = cgs_config_get_table (cfg, s_reals, S_NREALS, s_ints, S_NINTS, &p, err, errlen);
+    int mode = p.filter.mode, noise = p.measurement_noise;
+    if (rc == 0)
+        rc = cgs_config_get_enum (cfg, "filter", "mode", s_mode_names, mode, &mode, err, errlen);
+    if (rc == 0)
+        rc = cgs_config_get_enum (cfg, "filter", "measurement_noise", s_noise_names, noise, &noise,
+                                  err, errlen);
+    if (rc == 0)
+        rc = cgs_config_get_bool (cfg, "association", "radial_velocity", p.radial_velocity,
+                                  &p.radial_velocity, err, errlen);
+    if (rc == 0)
+        rc = cgs_config_check_unused (cfg, err, errlen);
+    if (rc < 0)
+        return rc;
+    p.filter.mode = (trk_filter_mode_t)mode;
+    p.measurement_noise = (trk_noise_t)noise;
+    if ((rc = s_check (cfg, &p, err, errlen)) < 0)
+        return rc;
+    *out = p;
+    return 0;
+}
+
+int trk_params_load (const char *path, trk_params_t *p, char *err, size_t errlen)
+{
+    cgs_config_t *cfg;
+    int rc = cgs_config_load (path, &cfg, err, errlen);
+    if (rc < 0)
+        return rc;
+    rc = s_read (cfg, p, err, errlen);
+    cgs_config_destroy (&cfg);
+    return rc;
+}
+
+int trk_params_load_string (const char *name, const char *text, trk_params_t *p, char *err,
+                            size_t errlen)
+{
+    cgs_config_t *cfg;
+    int rc = cgs_config_load_string (name, text, &cfg, err, errlen);
+    if (rc < 0)
+        return rc;
+    rc = s_read (cfg, p, err, errlen);
+    cgs_config_destroy (&cfg);
+    return rc;
+}
+
+double trk_params_gate (const trk_params_t *p)
+{
+    return -2 * log1p (-p->gate_probability);
+}
+
+double trk_params_gate3 (const trk_params_t *p)
+{
+    return gsl_cdf_chisq_Pinv (p->gate_probability, 3);
+}

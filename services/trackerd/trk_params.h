@@ -1,0 +1,60 @@
+/* trk_params — trackerd's parameter file: an ASCII INI file read at start
+ * with documented defaults (deploy/params/tracker.ini): the filter (the
+ * paper's σ_meas and σ_mod per axis, the nominal scan interval, the paper's
+ * constant gains or a full Kalman filter), association (gate, M of N,
+ * misses to delete, hit history), identity from BCIS and turn detection.
+ * Every value is range-checked and the set for consistency; every error
+ * names the file, the line, the section and key, and what was expected.
+ * Pure: no logging, no globals.
+ *
+ * Sections: [filter], [association], [identity], [turn]. */
+#ifndef TRK_PARAMS_H
+#define TRK_PARAMS_H
+
+#include "trk_filter.h"
+
+#include <stdbool.h>
+#include <stddef.h>
+
+#define TRK_HISTORY_MAX 64 // most scans of hit history a track can keep
+
+typedef enum {
+    TRK_NOISE_PARAMETERS = 0, // R = diag(σ_meas_x², σ_meas_y²), the paper's
+    TRK_NOISE_HIT = 1,        // R from each hit's range and azimuth standard deviations
+} trk_noise_t;
+
+typedef struct {
+    trk_filter_params_t filter;
+    trk_noise_t measurement_noise; // which R the covariance, gates and Kalman gains use
+    double gate_probability;       // probability that a track's own hit falls in its gate
+    double max_speed_mps;          // fastest target: sizes a one-hit track's gate
+    double maneuver_accel_mps2;    // a target may accelerate this much between hits: widens gates
+    bool radial_velocity;          // use the hits' radial velocity in association
+    double radial_sigma_mps;       // its standard deviation
+    double radial_span_mps;        // unambiguous span (λ·PRF/2); 0: no ambiguity
+    int confirm_m, confirm_n;      // confirm with M hits in the last N scans
+    int delete_misses;             // consecutive misses that delete a confirmed track
+    int history_scans;             // scans of hit history kept per track
+    double bcis_sigma_m;           // standard deviation of a BCIS reply's position, per axis
+    double identity_timeout_s;     // friendly for this long after the last reply
+    double turn_threshold_deg;     // τ = cos(turn_threshold_deg)
+    double turn_min_speed_mps;     // no turn detection below this estimated speed
+    int turn_settle_updates;       // updates after initiation before turns are looked for
+} trk_params_t;
+
+/* The defaults (deploy/params/tracker.ini documents each). */
+void trk_params_defaults (trk_params_t *p);
+/* Read a parameter file over the values in *p (usually the defaults); on
+ * error *p is unchanged. 0, or a negative errno with err filled. */
+int trk_params_load (const char *path, trk_params_t *p, char *err, size_t errlen);
+/* The same from text (name stands for the file name in errors). */
+int trk_params_load_string (const char *name, const char *text, trk_params_t *p, char *err,
+                            size_t errlen);
+/* Check a set built in code; 0 or -EINVAL with err filled. */
+int trk_params_check (const trk_params_t *p, char *err, size_t errlen);
+/* The chi-square gate G of two degrees of freedom: −2 ln(1 − P_G). */
+double trk_params_gate (const trk_params_t *p);
+/* The gate of three (position and radial velocity): the χ²₃ quantile of P_G. */
+double trk_params_gate3 (const trk_params_t *p);
+
+#endif

@@ -1,0 +1,172 @@
+/* trk_tracker — tracks from MTI hits, one radar scan at a time: gating
+ * against each track's prediction, global-nearest-neighbour association (an
+ * optimal assignment per cluster of tracks and hits that share gates),
+ * initiation from unassociated hits, confirmation M of N, coasting through
+ * missed scans and deletion after too many; the paper's Track & Update filter
+ * (trk_filter); turn detection (paper, equation 8); identity from BCIS
+ * replies, which ages out; the last scans of each track's hits; and a
+ * checkpoint of everything, so track ids outlive a restart.
+ *
+ * Association uses each hit's radial velocity when the radar measured it
+ * (a third dimension of the gate, against the track's velocity along the
+ * line of sight); the filter uses positions only, as the paper's does.
+ *
+ * Tracks belong to the radar (UAV) whose hits made them; a scan of one radar
+ * touches only its tracks. BCIS replies mark tracks of any radar.
+ * Pure: no logging, no sockets, no clock. */
+#ifndef TRK_TRACKER_H
+#define TRK_TRACKER_H
+
+#include "trk_filter.h"
+#include "trk_params.h"
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+typedef enum {
+    TRK_TENTATIVE = 0, // not yet M hits in N scans
+    TRK_CONFIRMED = 1, // hit in its latest scan
+    TRK_COASTING = 2,  // confirmed, missed its latest scan(s)
+    TRK_DELETED = 3,   // reported once, then forgotten
+} trk_status_t;
+
+/* One MTI hit as the tracker takes it. */
+typedef struct {
+    uint32_t hit_id;
+    double t_s;               // simulation time of the dwell
+    double z[2];              // measured position, east and north, metres
+    double up_m;              // its height (kept for the history)
+    double ground_range_m;    // from the radar, along the ground
+    double azimuth_deg;       // from the radar, clockwise from north
+    double range_sigma_m;     // standard deviations the radar reports (0: unknown)
+    double azimuth_sigma_deg;
+    bool has_radial;          // the radar measured the radial velocity:
+    double radial_mps;        // positive opening
+    double los[2];            // east, north parts of the unit line of sight from the
+                              // radar to the hit: radial velocity = los · v
+} trk_hit_t;
+
+/* One radar scan: what it covered. */
+typedef struct {
+    uint32_t uav_id;
+    uint32_t scan_number;
+    double start_s, end_s;
+    bool full_revolution;      // else a sector:
+    double sector_center_deg;  // clockwise from north
+    double sector_width_deg;
+    double platform[2];        // the radar's ground position (east, north) during the scan
+} trk_scan_t;
+
+/* One past hit of a track. */
+typedef struct {
+    double e_m, n_m, u_m;
+    double t_s;
+    uint32_t scan_number;
+    uint32_t hit_id;
+} trk_history_point_t;
+
+/* A track. */
+typedef struct {
+    uint32_t id;     // stable for the track's life, never reused
+    uint32_t uav_id; // radar whose hits it follows
+    trk_status_t status;
+    trk_estimate_t est;  // the filter's estimate at its last update
+    double up_m;         // height of its latest hit
+    uint32_t hits;       // hits associated in all
+    uint32_t updates;    // filter updates since two-point initiation
+    uint32_t misses;     // consecutive scans without a hit
+    uint32_t window;     // bit k: a hit k scans ago (M of N)
+    uint32_t scans;      // scans it has been through since its first hit
+    double last_hit_s;
+    uint32_t last_scan;
+    trk_history_point_t history[TRK_HISTORY_MAX]; // oldest first
+    uint32_t history_count;
+    // Identity from BCIS.
+    bool friendly;
+    uint32_t friendly_id; // responder id of the latest reply in its gate
+    double friendly_s;    // time of that reply
+    // Turn detection (equation 8).
+    bool have_uv;
+    double v_last[2];    // predicted velocity after the latest update (UV is its unit vector)
+    bool turning;        // dot fell below τ and has not come back
+    double uv_before[2]; // unit velocity before the turn began
+    double v_before[2];  // velocity before the turn began, m/s
+    uint32_t turn_scan;  // scan the turn was flagged in
+} trk_track_t;
+
+/* A turn (paper, equation 8): flagged when dot falls below τ, complete when
+ * it is above τ again. */
+typedef struct {
+    uint32_t track_id;
+    uint32_t scan_number;
+    double t_s;
+    bool complete;       // false: flagged (angle so far); true: the whole change
+    double dot;          // the dot product that triggered the event
+    double angle_deg;    // change of direction, clockwise positive, (−180, 180]
+    double position[2];  // the track's position then
+    double v_before[2];  // velocity before the turn
+    double v_after[2];   // velocity now
+} trk_turn_t;
+
+/* What one scan did. Pointers stay valid until the next call on the tracker. */
+typedef struct {
+    size_t hits;            // hits of the scan
+    size_t pairs;           // track-hit pairs inside a gate
+    size_t clusters;        // groups solved as one assignment
+    size_t largest_cluster; // tracks in the largest
+    size_t updated, missed, born, confirmed, deleted;
+    size_t unused_hits;     // in a confirmed track's gate but not assigned: start nothing
+    size_t time_reset;      // tracks deleted because the scan came before their time
+    const trk_turn_t *turns;
+    size_t turn_count;
+    const trk_track_t *deleted_tracks; // copies, status TRK_DELETED
+    size_t deleted_count;
+} trk_scan_out_t;
+
+typedef struct trk_tracker trk_tracker_t;
+
+/* A tracker with no tracks; NULL when p is inconsistent or memory is short. */
+trk_tracker_t *trk_tracker_new (const trk_params_t *p);
+/* Free; accepts NULL, nulls the pointer. */
+void trk_tracker_destroy (trk_tracker_t **self_p);
+/* Its parameters. */
+const trk_params_t *trk_tracker_params (const trk_tracker_t *self);
+/* The paper's gains per axis, computed once from the parameters. */
+const trk_gains_t *trk_tracker_gains (const trk_tracker_t *self);
+
+/* Process one scan of one radar and its hits (a hit with a non-finite field
+ * is skipped and counted as not a hit). 0, or -ENOMEM (the tracks are as
+ * they were before the call). */
+int trk_tracker_scan (trk_tracker_t *self, const trk_scan_t *scan, const trk_hit_t *hits,
+                      size_t n, trk_scan_out_t *ret);
+
+/* A BCIS reply at time t_s from a transponder that says it is at z: the
+ * track whose gate holds it (the nearest, by Mahalanobis distance, when
+ * several do) becomes friendly. Returns that track's id, or 0 when no gate
+ * holds the reply. */
+uint32_t trk_tracker_bcis (trk_tracker_t *self, double t_s, const double z[2],
+                           uint32_t responder_id);
+/* Friendly tracks whose last reply is older than the identity timeout at
+ * time t_s become unknown again; returns how many. */
+size_t trk_tracker_age_identity (trk_tracker_t *self, double t_s);
+
+/* Number of live tracks, and the i-th (order changes when tracks die). */
+size_t trk_tracker_count (const trk_tracker_t *self);
+const trk_track_t *trk_tracker_at (const trk_tracker_t *self, size_t i);
+/* The live track with this id, or NULL. */
+const trk_track_t *trk_tracker_find (const trk_tracker_t *self, uint32_t id);
+/* A track's estimate moved to time t_s (prediction, covariance grown). */
+void trk_tracker_predict (const trk_tracker_t *self, const trk_track_t *t, double t_s,
+                          trk_estimate_t *ret);
+/* The id the next new track will get. */
+uint32_t trk_tracker_next_id (const trk_tracker_t *self);
+
+/* A checkpoint of every track and the id counter, in a new malloc'd buffer. */
+int trk_tracker_save (const trk_tracker_t *self, uint8_t **ret_buf, size_t *ret_len);
+/* Replace the tracks with a checkpoint's. 0, or -EPROTO with the reason in
+ * err (the tracker is unchanged), -ENOMEM. */
+int trk_tracker_restore (trk_tracker_t *self, const uint8_t *buf, size_t len, char *err,
+                         size_t errlen);
+
+#endif
