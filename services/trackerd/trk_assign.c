@@ -13,11 +13,11 @@
 
 struct trk_assign {
     size_t cap_rows, cap_cols;
-    double *u, *v;      // row and column potentials (index 0 is the virtual row/column)
-    double *minv;       // shortest reduced distance to each column found so far
-    size_t *p;          // p[j]: row matched to column j (0: none), 1-based
-    size_t *way;        // way[j]: the previous column on the path to j
-    bool *used;         // columns already settled in this search
+    double *u, *v; // row and column potentials (index 0 is the virtual row/column)
+    double *minv;  // shortest reduced distance to each column found so far
+    size_t *p;     // p[j]: row matched to column j (0: none), 1-based
+    size_t *way;   // way[j]: the previous column on the path to j
+    bool *used;    // columns already settled in this search
 };
 
 trk_assign_t *trk_assign_new (void)

@@ -23,6 +23,18 @@ int trk_gains_paper (double sigma_meas_m, double sigma_mod_mps2, double dt_s, tr
     return 0;
 }
 
+int trk_filter_steady_error (const trk_gains_t *g, double dt_s, double sigma_m, double *ret_pos_var,
+                             double *ret_vel_var)
+{
+    double a = g->g, b = g->gd_hz * dt_s, s2 = sigma_m * sigma_m;
+    if (!(a > 0 && a < 1 && b > 0 && b < 4 - 2 * a) || !(dt_s > 0))
+        return -EINVAL;
+    double den = a * (4 - 2 * a - b);
+    *ret_pos_var = s2 * (2 * a * a + b * (2 - 3 * a)) / den;
+    *ret_vel_var = s2 * 2 * b * b / (dt_s * dt_s * den);
+    return 0;
+}
+
 void trk_filter_q_axis (double sigma_mod_mps2, double dt_s, double ret_q[3])
 {
     double v = sigma_mod_mps2 * sigma_mod_mps2, dt = fabs (dt_s);
@@ -199,7 +211,7 @@ void trk_filter_polar_covariance (double ground_range_m, double azimuth_deg, dou
                                   double azimuth_sigma_deg, double ret_R[4])
 {
     double az = azimuth_deg * S_PI / 180;
-    double ue = sin (az), un = cos (az); // along the line of sight
+    double ue = sin (az), un = cos (az);  // along the line of sight
     double ce = cos (az), cn = -sin (az); // across it
     double sr = range_sigma_m * range_sigma_m;
     double sc = ground_range_m * azimuth_sigma_deg * S_PI / 180;

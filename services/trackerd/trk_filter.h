@@ -36,9 +36,9 @@ typedef struct {
 
 /* The paper's gains of one axis. */
 typedef struct {
-    double r;      // 4 σ_meas / (σ_mod dt²)
-    double g;      // position gain (dimensionless)
-    double gd_hz;  // velocity gain, 1/s
+    double r;     // 4 σ_meas / (σ_mod dt²)
+    double g;     // position gain (dimensionless)
+    double gd_hz; // velocity gain, 1/s
 } trk_gains_t;
 
 /* A track's estimate: the state at time t_s and its covariance. */
@@ -51,6 +51,16 @@ typedef struct {
 /* The paper's gains for one axis; 0, or -EINVAL unless every input is
  * positive and finite. */
 int trk_gains_paper (double sigma_meas_m, double sigma_mod_mps2, double dt_s, trk_gains_t *ret);
+
+/* Steady-state error of the updated estimate of one axis of a constant-gain
+ * filter (position gain g, velocity gain gd_hz, interval dt) on a
+ * constant-velocity target measured with standard deviation sigma_m
+ * (Kalata's closed form, α = g, β = gd·dt):
+ *   var(x) = σ² (2α² + β(2 − 3α)) / (α(4 − 2α − β)),
+ *   var(v) = σ² 2β² / (dt² α(4 − 2α − β)).
+ * -EINVAL unless the gains are stable (0 < α < 1, 0 < β < 4 − 2α). */
+int trk_filter_steady_error (const trk_gains_t *g, double dt_s, double sigma_m, double *ret_pos_var,
+                             double *ret_vel_var);
 
 /* Process noise Q of one axis over dt: q[0] = dt⁴/4, q[1] = dt³/2, q[2] = dt²
  * times σ_mod². */

@@ -7,7 +7,7 @@
 #include <stdbool.h>
 #include <stdlib.h>
 
-#define S_PI 3.14159265358979323846
+#define S_PI        3.14159265358979323846
 #define S_SPACING_M 5000.0 // between targets
 
 /* One target's truth and what the tracker made of it. */

@@ -68,7 +68,7 @@ static const cgs_config_int_t s_ints[] = {
 };
 
 #define S_NREALS (sizeof s_reals / sizeof s_reals[0])
-#define S_NINTS (sizeof s_ints / sizeof s_ints[0])
+#define S_NINTS  (sizeof s_ints / sizeof s_ints[0])
 
 static const char *const s_mode_names[] = {"paper", "kalman", NULL};
 static const char *const s_noise_names[] = {"parameters", "hit", NULL};

@@ -6,7 +6,9 @@
  *  3. the hits go into a hash grid; each track of the radar looks up the
  *     cells its gate can reach over the scan and keeps the hits inside its
  *     gate as pairs: χ² of the innovation at the hit's own time ≤ G, with S
- *     widened by the manoeuvre allowance (a_m dt²/2)² per axis;
+ *     widened for a confirmed track by the manoeuvre allowance (a_m dt²/2)²
+ *     per axis; a track of one hit takes only hits within its reach at the
+ *     fastest target's speed;
  *  4. tracks and hits joined by pairs form clusters (union-find); each
  *     cluster is one optimal assignment with cost d² + ln|S| per pair and
  *     G + ln|S| for leaving a track without a hit (global nearest neighbour);
@@ -24,26 +26,29 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define S_PI 3.14159265358979323846
-#define S_CELL_M 500.0      // hash grid cell
-#define S_FORBIDDEN 1e9     // cost of a pair outside the gate in a cluster's matrix
-#define S_TIME_SLACK_S 1.0  // a track this far after a scan's end means time went back
+#define S_PI           3.14159265358979323846
+#define S_CELL_M       500.0 // hash grid cell
+#define S_FORBIDDEN    1e9   // cost of a pair outside the gate in a cluster's matrix
+#define S_TIME_SLACK_S 1.0   // a track this far after a scan's end means time went back
 
 /* A hit of the scan being processed. */
 typedef struct {
     trk_hit_t h;
-    double R[4];          // measurement covariance
-    bool in_confirmed;    // inside a confirmed track's gate
-    size_t track;         // assigned track (index), or SIZE_MAX
+    double R[4];       // measurement covariance
+    bool in_confirmed; // inside a confirmed track's gate
+    size_t track;      // assigned track (index), or SIZE_MAX
 } s_hit_t;
 
 /* A track-hit pair inside the gate. */
 typedef struct {
     size_t track, hit; // indices
-    double cost;       // d² + ln|S|
+    double cost;       // d² + ln|S| (what the pass being solved uses)
     double log_det;
-    double gate;       // the gate it passed (2 or 3 degrees of freedom)
-    size_t root;       // its cluster (union-find root)
+    double gate;                      // the gate it passed (2 or 3 degrees of freedom)
+    size_t root;                      // its cluster (union-find root)
+    bool plain;                       // inside the filter's own gate (first pass)
+    double cost_plain, log_det_plain; // without the manoeuvre allowance
+    double cost_wide, log_det_wide;   // with it (second pass)
 } s_pair_t;
 
 struct trk_tracker {
@@ -65,18 +70,20 @@ struct trk_tracker {
     size_t *hit_next;   // next hit in the same cell
     s_pair_t *pairs;
     size_t pair_count, pair_cap;
-    size_t *uf;         // union-find parents over tracks then hits
+    s_pair_t *work; // one pass's pairs
+    size_t work_count, work_cap;
+    size_t *uf; // union-find parents over tracks then hits
     size_t uf_cap;
-    size_t *assigned;   // per track: assigned hit, or SIZE_MAX
-    size_t *act;        // indices of the scanned radar's tracks
+    size_t *assigned; // per track: assigned hit, or SIZE_MAX
+    size_t *act;      // indices of the scanned radar's tracks
     size_t act_cap;
-    double *cost;       // one cluster's matrix
+    double *cost; // one cluster's matrix
     size_t cost_cap;
-    size_t *col;        // its solution
+    size_t *col; // its solution
     size_t col_cap;
-    size_t *ctracks;    // one cluster's tracks
+    size_t *ctracks; // one cluster's tracks
     size_t ctracks_cap;
-    size_t *chits;      // and hits
+    size_t *chits; // and hits
     size_t chits_cap;
     trk_turn_t *turns;
     size_t turn_count, turn_cap;
@@ -137,6 +144,7 @@ void trk_tracker_destroy (trk_tracker_t **self_p)
     free (self->cell_head);
     free (self->hit_next);
     free (self->pairs);
+    free (self->work);
     free (self->uf);
     free (self->assigned);
     free (self->act);
@@ -244,7 +252,8 @@ static void s_grid_build (trk_tracker_t *self, size_t nh)
     for (size_t s = 0; s < self->grid_cap; s++)
         self->cell_head[s] = SIZE_MAX;
     for (size_t i = 0; i < nh; i++) {
-        int64_t key = s_cell_key (s_cell_of (self->hits[i].h.z[0]), s_cell_of (self->hits[i].h.z[1]));
+        int64_t key =
+            s_cell_key (s_cell_of (self->hits[i].h.z[0]), s_cell_of (self->hits[i].h.z[1]));
         size_t s = s_slot (self, key);
         while (self->cell_head[s] != SIZE_MAX && self->cell_keys[s] != key)
             s = (s + 1) & (self->grid_cap - 1);
@@ -307,12 +316,22 @@ static void s_try_pair (trk_tracker_t *self, size_t ti, size_t hi)
     double dt = h->h.t_s - t->est.t_s;
     if (!(dt > 0))
         return; // not after the track's estimate: it cannot be its next hit
+    if (t->hits == 1) {
+        // A track of one hit: the next must not imply a speed above the fastest
+        // target's (with three standard deviations of both positions to spare).
+        double de = h->h.z[0] - t->est.x[0], dn = h->h.z[1] - t->est.x[1];
+        double slack = 3 * sqrt (t->est.P[0] + t->est.P[5] + h->R[0] + h->R[3]);
+        if (hypot (de, dn) > self->p.max_speed_mps * dt + slack)
+            return;
+    }
     trk_estimate_t pr;
     trk_filter_predict (&t->est, &self->p.filter, h->h.t_s, &pr);
-    double m2 = s_maneuver_var (self, dt);
+    // Only a confirmed target is followed through a manoeuvre: tentative
+    // tracks keep the filter's own gate, so clutter cannot lead them astray.
+    double m2 = t->status == TRK_TENTATIVE ? 0 : s_maneuver_var (self, dt);
     double Rg[4] = {h->R[0] + m2, h->R[1], h->R[2], h->R[3] + m2};
-    double log_det, d2_gate = trk_filter_distance (&pr, h->h.z, Rg, NULL);
-    double d2 = trk_filter_distance (&pr, h->h.z, h->R, &log_det), gate = self->gate;
+    double ld_gate, d2_gate = trk_filter_distance (&pr, h->h.z, Rg, &ld_gate);
+    double log_det, d2 = trk_filter_distance (&pr, h->h.z, h->R, &log_det), gate = self->gate;
     if (d2_gate < 0 || d2 < 0 || d2_gate > self->gate3)
         return;
     if (h->h.has_radial && self->p.radial_velocity) {
@@ -322,12 +341,13 @@ static void s_try_pair (trk_tracker_t *self, size_t ti, size_t hi)
         double span = self->p.radial_span_mps;
         if (span > 0)
             nu -= span * round (nu / span);
-        double am = self->p.maneuver_accel_mps2 * dt;
+        double am = t->status == TRK_TENTATIVE ? 0 : self->p.maneuver_accel_mps2 * dt;
         double sr = u[0] * u[0] * P[10] + 2 * u[0] * u[1] * P[11] + u[1] * u[1] * P[15] +
                     self->p.radial_sigma_mps * self->p.radial_sigma_mps;
         d2 += nu * nu / sr;
         d2_gate += nu * nu / (sr + am * am);
         log_det += log (sr);
+        ld_gate += log (sr + am * am);
         gate = self->gate3;
     }
     if (d2_gate > gate)
@@ -335,12 +355,15 @@ static void s_try_pair (trk_tracker_t *self, size_t ti, size_t hi)
     s_pair_t *pp = &self->pairs[self->pair_count++];
     pp->track = ti;
     pp->hit = hi;
-    pp->cost = fmin (d2, gate) + log_det;
-    pp->log_det = log_det;
     pp->gate = gate;
+    pp->plain = d2 <= gate;
+    pp->cost_plain = d2 + log_det;
+    pp->log_det_plain = log_det;
+    pp->cost_wide = d2_gate + ld_gate;
+    pp->log_det_wide = ld_gate;
     // A hit inside a confirmed track's gate proper (no manoeuvre allowance)
     // is that target's, or clutter about it: it starts no track.
-    if (t->status != TRK_TENTATIVE && d2 <= gate)
+    if (t->status != TRK_TENTATIVE && pp->plain)
         h->in_confirmed = true;
 }
 
@@ -355,7 +378,7 @@ static int s_gate (trk_tracker_t *self, size_t nt, size_t nh, double t_lo, doubl
         trk_estimate_t pe;
         trk_filter_predict (&t->est, &self->p.filter, t_end, &pe);
         double lam = s_lambda_max (pe.P[0], pe.P[1], pe.P[5]) + r_max +
-                     s_maneuver_var (self, t_end - t->est.t_s);
+                     (t->status == TRK_TENTATIVE ? 0 : s_maneuver_var (self, t_end - t->est.t_s));
         double speed = hypot (t->est.x[2], t->est.x[3]);
         double reach = sqrt (self->gate3 * lam) + speed * (t_hi - t_lo) / 2 + 1;
         double ce = t->est.x[0] + t->est.x[2] * (t_mid - t->est.t_s);
@@ -397,12 +420,12 @@ static int s_cmp_pair (const void *a, const void *b)
     return x->hit < y->hit ? -1 : x->hit > y->hit;
 }
 
-/* Solve one cluster: pairs[lo..hi). */
+/* Solve one cluster: work[lo..hi). */
 static int s_solve_cluster (trk_tracker_t *self, size_t lo, size_t hi, trk_scan_out_t *out)
 {
     size_t np = hi - lo;
     if (np == 1) { // one track, one hit
-        const s_pair_t *pp = &self->pairs[lo];
+        const s_pair_t *pp = &self->work[lo];
         self->assigned[pp->track] = pp->hit;
         self->hits[pp->hit].track = pp->track;
         if (out->largest_cluster < 1)
@@ -416,7 +439,7 @@ static int s_solve_cluster (trk_tracker_t *self, size_t lo, size_t hi, trk_scan_
         return -ENOMEM;
     size_t k = 0, m = 0;
     for (size_t q = lo; q < hi; q++) {
-        const s_pair_t *pp = &self->pairs[q];
+        const s_pair_t *pp = &self->work[q];
         if (k == 0 || self->ctracks[k - 1] != pp->track)
             self->ctracks[k++] = pp->track;
         bool seen = false;
@@ -436,7 +459,7 @@ static int s_solve_cluster (trk_tracker_t *self, size_t lo, size_t hi, trk_scan_
         c[i] = S_FORBIDDEN;
     size_t i = 0;
     for (size_t q = lo; q < hi; q++) {
-        const s_pair_t *pp = &self->pairs[q];
+        const s_pair_t *pp = &self->work[q];
         while (self->ctracks[i] != pp->track)
             i++;
         size_t j = 0;
@@ -462,23 +485,38 @@ static int s_solve_cluster (trk_tracker_t *self, size_t lo, size_t hi, trk_scan_
     return 0;
 }
 
-static int s_associate (trk_tracker_t *self, size_t nt, size_t nh, trk_scan_out_t *out)
+/* One pass of the association over the pairs keep() admits, with the cost
+ * it chooses: clusters by union-find, each solved optimally. */
+static int s_pass (trk_tracker_t *self, size_t nt, size_t nh, bool wide, trk_scan_out_t *out)
 {
-    size_t nodes = nt + nh;
-    if (self->pair_count == 0)
+    self->work_count = 0;
+    if (s_grow ((void **)&self->work, &self->work_cap, self->pair_count, sizeof *self->work) < 0)
+        return -ENOMEM;
+    for (size_t q = 0; q < self->pair_count; q++) {
+        s_pair_t pp = self->pairs[q];
+        if (!wide && !pp.plain)
+            continue;
+        if (wide && (self->assigned[pp.track] != SIZE_MAX || self->hits[pp.hit].track != SIZE_MAX))
+            continue;
+        pp.cost = wide ? pp.cost_wide : pp.cost_plain;
+        pp.log_det = wide ? pp.log_det_wide : pp.log_det_plain;
+        self->work[self->work_count++] = pp;
+    }
+    if (self->work_count == 0)
         return 0;
+    size_t nodes = nt + nh;
     if (s_grow ((void **)&self->uf, &self->uf_cap, nodes, sizeof *self->uf) < 0)
         return -ENOMEM;
     for (size_t i = 0; i < nodes; i++)
         self->uf[i] = i;
-    for (size_t q = 0; q < self->pair_count; q++)
-        s_union (self->uf, self->pairs[q].track, nt + self->pairs[q].hit);
-    for (size_t q = 0; q < self->pair_count; q++)
-        self->pairs[q].root = s_find (self->uf, self->pairs[q].track);
-    qsort (self->pairs, self->pair_count, sizeof *self->pairs, s_cmp_pair);
-    for (size_t lo = 0; lo < self->pair_count;) {
+    for (size_t q = 0; q < self->work_count; q++)
+        s_union (self->uf, self->work[q].track, nt + self->work[q].hit);
+    for (size_t q = 0; q < self->work_count; q++)
+        self->work[q].root = s_find (self->uf, self->work[q].track);
+    qsort (self->work, self->work_count, sizeof *self->work, s_cmp_pair);
+    for (size_t lo = 0; lo < self->work_count;) {
         size_t hi = lo + 1;
-        while (hi < self->pair_count && self->pairs[hi].root == self->pairs[lo].root)
+        while (hi < self->work_count && self->work[hi].root == self->work[lo].root)
             hi++;
         int rc = s_solve_cluster (self, lo, hi, out);
         if (rc < 0)
@@ -487,6 +525,16 @@ static int s_associate (trk_tracker_t *self, size_t nt, size_t nh, trk_scan_out_
         lo = hi;
     }
     return 0;
+}
+
+/* Global nearest neighbour in two passes: first the pairs inside the
+ * filter's own gates (the usual case, small clusters); then, among the
+ * tracks and hits left over, the pairs only the manoeuvre allowance admits
+ * (a target that turned or braked). */
+static int s_associate (trk_tracker_t *self, size_t nt, size_t nh, trk_scan_out_t *out)
+{
+    int rc = s_pass (self, nt, nh, false, out);
+    return rc < 0 ? rc : s_pass (self, nt, nh, true, out);
 }
 
 /* ---- track upkeep ----------------------------------------------------------------- */
@@ -564,8 +612,12 @@ static void s_history_add (const trk_tracker_t *self, trk_track_t *t, const trk_
         memmove (t->history, t->history + 1, (max - 1) * sizeof t->history[0]);
         t->history_count--;
     }
-    t->history[t->history_count++] = (trk_history_point_t){
-        .e_m = h->z[0], .n_m = h->z[1], .u_m = h->up_m, .t_s = h->t_s, .scan_number = scan, .hit_id = h->hit_id};
+    t->history[t->history_count++] = (trk_history_point_t){.e_m = h->z[0],
+                                                           .n_m = h->z[1],
+                                                           .u_m = h->up_m,
+                                                           .t_s = h->t_s,
+                                                           .scan_number = scan,
+                                                           .hit_id = h->hit_id};
 }
 
 static void s_history_trim (const trk_tracker_t *self, trk_track_t *t, uint32_t scan)
@@ -604,8 +656,8 @@ static bool s_covered (const trk_scan_t *scan, double e, double n)
 
 /* One scan's outcome for a track: hit h (or NULL). Returns false when the
  * track is to be deleted. */
-static bool s_upkeep (trk_tracker_t *self, trk_track_t *t, const s_hit_t *h,
-                      const trk_scan_t *scan, trk_scan_out_t *out)
+static bool s_upkeep (trk_tracker_t *self, trk_track_t *t, const s_hit_t *h, const trk_scan_t *scan,
+                      trk_scan_out_t *out)
 {
     const trk_params_t *p = &self->p;
     if (!h) {
@@ -737,8 +789,8 @@ static int s_reserve (trk_tracker_t *self, size_t nh)
     return 0;
 }
 
-int trk_tracker_scan (trk_tracker_t *self, const trk_scan_t *scan, const trk_hit_t *hits,
-                      size_t n, trk_scan_out_t *ret)
+int trk_tracker_scan (trk_tracker_t *self, const trk_scan_t *scan, const trk_hit_t *hits, size_t n,
+                      trk_scan_out_t *ret)
 {
     trk_scan_out_t out = {0};
     self->turn_count = 0;
@@ -881,7 +933,7 @@ size_t trk_tracker_age_identity (trk_tracker_t *self, double t_s)
 
 /* ---- checkpoint ---------------------------------------------------------------------- */
 
-#define S_MAGIC "MSCGSTRK"
+#define S_MAGIC   "MSCGSTRK"
 #define S_VERSION 1u
 
 typedef struct {
@@ -1117,8 +1169,8 @@ int trk_tracker_restore (trk_tracker_t *self, const uint8_t *buf, size_t len, ch
         for (uint32_t i = 0; i < count && rc == 0; i++)
             if ((i > 0 && ids[i] == ids[i - 1]) || ids[i] >= next_id) {
                 snprintf (err, errlen,
-                          "the checkpoint's track ids are inconsistent (id %u, next id %u)",
-                          ids[i], next_id);
+                          "the checkpoint's track ids are inconsistent (id %u, next id %u)", ids[i],
+                          next_id);
                 rc = -EPROTO;
             }
     }

@@ -34,17 +34,17 @@ typedef enum {
 /* One MTI hit as the tracker takes it. */
 typedef struct {
     uint32_t hit_id;
-    double t_s;               // simulation time of the dwell
-    double z[2];              // measured position, east and north, metres
-    double up_m;              // its height (kept for the history)
-    double ground_range_m;    // from the radar, along the ground
-    double azimuth_deg;       // from the radar, clockwise from north
-    double range_sigma_m;     // standard deviations the radar reports (0: unknown)
+    double t_s;            // simulation time of the dwell
+    double z[2];           // measured position, east and north, metres
+    double up_m;           // its height (kept for the history)
+    double ground_range_m; // from the radar, along the ground
+    double azimuth_deg;    // from the radar, clockwise from north
+    double range_sigma_m;  // standard deviations the radar reports (0: unknown)
     double azimuth_sigma_deg;
-    bool has_radial;          // the radar measured the radial velocity:
-    double radial_mps;        // positive opening
-    double los[2];            // east, north parts of the unit line of sight from the
-                              // radar to the hit: radial velocity = los · v
+    bool has_radial;   // the radar measured the radial velocity:
+    double radial_mps; // positive opening
+    double los[2];     // east, north parts of the unit line of sight from the
+                       // radar to the hit: radial velocity = los · v
 } trk_hit_t;
 
 /* One radar scan: what it covered. */
@@ -52,10 +52,10 @@ typedef struct {
     uint32_t uav_id;
     uint32_t scan_number;
     double start_s, end_s;
-    bool full_revolution;      // else a sector:
-    double sector_center_deg;  // clockwise from north
+    bool full_revolution;     // else a sector:
+    double sector_center_deg; // clockwise from north
     double sector_width_deg;
-    double platform[2];        // the radar's ground position (east, north) during the scan
+    double platform[2]; // the radar's ground position (east, north) during the scan
 } trk_scan_t;
 
 /* One past hit of a track. */
@@ -71,13 +71,13 @@ typedef struct {
     uint32_t id;     // stable for the track's life, never reused
     uint32_t uav_id; // radar whose hits it follows
     trk_status_t status;
-    trk_estimate_t est;  // the filter's estimate at its last update
-    double up_m;         // height of its latest hit
-    uint32_t hits;       // hits associated in all
-    uint32_t updates;    // filter updates since two-point initiation
-    uint32_t misses;     // consecutive scans without a hit
-    uint32_t window;     // bit k: a hit k scans ago (M of N)
-    uint32_t scans;      // scans it has been through since its first hit
+    trk_estimate_t est; // the filter's estimate at its last update
+    double up_m;        // height of its latest hit
+    uint32_t hits;      // hits associated in all
+    uint32_t updates;   // filter updates since two-point initiation
+    uint32_t misses;    // consecutive scans without a hit
+    uint32_t window;    // bit k: a hit k scans ago (M of N)
+    uint32_t scans;     // scans it has been through since its first hit
     double last_hit_s;
     uint32_t last_scan;
     trk_history_point_t history[TRK_HISTORY_MAX]; // oldest first
@@ -101,12 +101,12 @@ typedef struct {
     uint32_t track_id;
     uint32_t scan_number;
     double t_s;
-    bool complete;       // false: flagged (angle so far); true: the whole change
-    double dot;          // the dot product that triggered the event
-    double angle_deg;    // change of direction, clockwise positive, (−180, 180]
-    double position[2];  // the track's position then
-    double v_before[2];  // velocity before the turn
-    double v_after[2];   // velocity now
+    bool complete;      // false: flagged (angle so far); true: the whole change
+    double dot;         // the dot product that triggered the event
+    double angle_deg;   // change of direction, clockwise positive, (−180, 180]
+    double position[2]; // the track's position then
+    double v_before[2]; // velocity before the turn
+    double v_after[2];  // velocity now
 } trk_turn_t;
 
 /* What one scan did. Pointers stay valid until the next call on the tracker. */
@@ -116,8 +116,8 @@ typedef struct {
     size_t clusters;        // groups solved as one assignment
     size_t largest_cluster; // tracks in the largest
     size_t updated, missed, born, confirmed, deleted;
-    size_t unused_hits;     // in a confirmed track's gate but not assigned: start nothing
-    size_t time_reset;      // tracks deleted because the scan came before their time
+    size_t unused_hits; // in a confirmed track's gate but not assigned: start nothing
+    size_t time_reset;  // tracks deleted because the scan came before their time
     const trk_turn_t *turns;
     size_t turn_count;
     const trk_track_t *deleted_tracks; // copies, status TRK_DELETED
@@ -138,8 +138,8 @@ const trk_gains_t *trk_tracker_gains (const trk_tracker_t *self);
 /* Process one scan of one radar and its hits (a hit with a non-finite field
  * is skipped and counted as not a hit). 0, or -ENOMEM (the tracks are as
  * they were before the call). */
-int trk_tracker_scan (trk_tracker_t *self, const trk_scan_t *scan, const trk_hit_t *hits,
-                      size_t n, trk_scan_out_t *ret);
+int trk_tracker_scan (trk_tracker_t *self, const trk_scan_t *scan, const trk_hit_t *hits, size_t n,
+                      trk_scan_out_t *ret);
 
 /* A BCIS reply at time t_s from a transponder that says it is at z: the
  * track whose gate holds it (the nearest, by Mahalanobis distance, when
