@@ -123,7 +123,13 @@ static void test_default_exercise (void **state)
         assert_string_equal (inst->command, commands ? want : "");
         assert_string_equal (inst->uav, strstr (names[i], ".uav1") ? "uav1" : "");
         assert_string_equal (inst->host, "localhost");
-        assert_string_equal (inst->params, "");
+        if (strcmp (names[i], "trackerd") == 0) { // relative to the exercise file
+            const char *p = "deploy/exercises/../params/tracker.ini";
+            assert_true (strlen (inst->params) > strlen (p));
+            assert_string_equal (inst->params + strlen (inst->params) - strlen (p), p);
+        } else {
+            assert_string_equal (inst->params, "");
+        }
         assert_string_equal (inst->public_key, "");
         assert_true (inst->enabled);
     }
