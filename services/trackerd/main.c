@@ -21,29 +21,35 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define S_PI                3.14159265358979323846
-#define S_BATCH_TRACKS      200          // tracks per `track` message
-#define S_CHECKPOINT_S      1.0          // at most one checkpoint write per wall-clock second
-#define S_CHECKPOINT_MAX    (1u << 30)   // a checkpoint file larger than this is refused
-#define S_RADARS_MAX        64           // radars whose open scans are kept
+#define S_PI             3.14159265358979323846
+#define S_BATCH_TRACKS   200        // tracks per `track` message
+#define S_CHECKPOINT_S   1.0        // at most one checkpoint write per wall-clock second
+#define S_CHECKPOINT_MAX (1u << 30) // a checkpoint file larger than this is refused
+#define S_RADARS_MAX     64         // radars whose open scans are kept
 
 /* The hits of one radar's scan in progress. */
 typedef struct {
     uint32_t uav_id;
     uint32_t scan_number;
-    bool open;            // hits have come for scan_number and it has not ended
+    bool open; // hits have come for scan_number and it has not ended
     trk_hit_t *hits;
     size_t count, cap;
     double platform[2];   // the radar's ground position (latest dwell)
+    bool has_closed;      // a scan of it has been processed:
+    uint32_t last_closed; // its number
+    bool has_time;        // the latest simulation time heard from it:
+    double last_time_s;
+    bool full_revolution;                       // what its latest mti.scan covered (for a scan
+    double sector_center_deg, sector_width_deg; // closed without its marker)
 } s_radar_t;
 
 typedef struct {
     cgs_service_t svc;
     trk_params_t params;
     trk_tracker_t *trk;
-    bool fresh;        // --fresh: ignore the checkpoint
+    bool fresh; // --fresh: ignore the checkpoint
     char checkpoint[4200];
-    bool dirty;        // tracks changed since the last checkpoint
+    bool dirty; // tracks changed since the last checkpoint
     s_radar_t radars[S_RADARS_MAX];
     size_t radar_count;
     uint64_t scans, implicit_scans, stale_scans, hits, turns, bcis_marks, bad_messages;
@@ -78,7 +84,38 @@ static s_radar_t *s_radar (s_app_t *app, uint32_t uav_id)
     s_radar_t *r = &app->radars[app->radar_count++];
     memset (r, 0, sizeof *r);
     r->uav_id = uav_id;
+    r->full_revolution = true;
     return r;
+}
+
+/* Simulation time t from radar r: notes it, and says whether it went back by
+ * more than two scans (a new exercise, or uavsim restarted from an older
+ * checkpoint). Then the radar's open scan is of another time line: dropped. */
+static bool s_time_went_back (s_app_t *app, s_radar_t *r, double t)
+{
+    bool back = r->has_time && t < r->last_time_s - 2 * app->params.filter.dt_s;
+    if (back) {
+        cgs_log (LOG_NOTICE,
+                 "radar %u: simulation time went back from %.2f to %.2f s; its scan in progress "
+                 "is dropped and its tracks from later times go at its next scan",
+                 r->uav_id, r->last_time_s, t);
+        r->open = false;
+        r->count = 0;
+        r->has_closed = false;
+        r->last_time_s = t;
+    } else if (!r->has_time || t > r->last_time_s) {
+        r->last_time_s = t;
+    }
+    r->has_time = true;
+    return back;
+}
+
+/* Whether scan number k of radar r is over already (its hits or marker came late). */
+static bool s_stale (const s_radar_t *r, uint32_t k)
+{
+    if (r->open)
+        return k < r->scan_number;
+    return r->has_closed && k <= r->last_closed;
 }
 
 /* ---- publishing ------------------------------------------------------------------- */
@@ -268,6 +305,8 @@ static void s_run_scan (s_app_t *app, s_radar_t *r, const trk_scan_t *scan)
     int rc = trk_tracker_scan (app->trk, scan, r->hits, r->count, &out);
     r->count = 0;
     r->open = false;
+    r->has_closed = true;
+    r->last_closed = scan->scan_number;
     if (rc < 0) {
         cgs_health_set_error (app->svc.health, "out of memory: a scan's hits were dropped");
         cgs_log (LOG_ERR, "out of memory: scan %u of radar %u was dropped", scan->scan_number,
@@ -313,7 +352,9 @@ static void s_close_implicit (s_app_t *app, s_radar_t *r)
         .scan_number = r->scan_number,
         .start_s = r->count ? lo : 0,
         .end_s = r->count ? hi : 0,
-        .full_revolution = true,
+        .full_revolution = r->full_revolution, // as its last scan was
+        .sector_center_deg = r->sector_center_deg,
+        .sector_width_deg = r->sector_width_deg,
         .platform = {r->platform[0], r->platform[1]},
     };
     app->implicit_scans++;
@@ -344,13 +385,14 @@ static void s_on_mti (void *arg, const char *topic, const ProtobufCMessage *msg,
         s_bad (app, "hits of more radars than trackerd keeps scans for");
         return;
     }
-    if (r->open && r->scan_number != m->scan_number) {
-        if (m->scan_number < r->scan_number && r->scan_number - m->scan_number < 1000000) {
-            app->stale_scans++;
-            return; // hits of a scan already closed
-        }
-        s_close_implicit (app, r);
+    if (isfinite (hdr->sim_time_s))
+        s_time_went_back (app, r, hdr->sim_time_s);
+    if (s_stale (r, m->scan_number)) {
+        app->stale_scans++;
+        return; // hits of a scan already closed
     }
+    if (r->open && r->scan_number != m->scan_number)
+        s_close_implicit (app, r); // its end marker was lost
     r->open = true;
     r->scan_number = m->scan_number;
     const Cgs__Enu *pl = m->platform_position;
@@ -374,8 +416,7 @@ static void s_on_mti (void *arg, const char *topic, const ProtobufCMessage *msg,
             continue;
         }
         const Cgs__Enu *q = h->position;
-        double de = q->east_m - pl->east_m, dn = q->north_m - pl->north_m,
-               du = q->up_m - pl->up_m;
+        double de = q->east_m - pl->east_m, dn = q->north_m - pl->north_m, du = q->up_m - pl->up_m;
         double slant = sqrt (de * de + dn * dn + du * du), ground = hypot (de, dn);
         trk_hit_t *t = &r->hits[r->count++];
         *t = (trk_hit_t){
@@ -412,13 +453,16 @@ static void s_on_mti_scan (void *arg, const char *topic, const ProtobufCMessage 
         s_bad (app, "a scan of more radars than trackerd keeps scans for");
         return;
     }
-    if (r->open && r->scan_number != m->scan_number) {
-        if (m->scan_number < r->scan_number && r->scan_number - m->scan_number < 1000000) {
-            app->stale_scans++;
-            return;
-        }
-        s_close_implicit (app, r); // its own end marker was lost
+    s_time_went_back (app, r, m->scan_end_s);
+    if (s_stale (r, m->scan_number)) {
+        app->stale_scans++;
+        return;
     }
+    if (r->open && r->scan_number != m->scan_number)
+        s_close_implicit (app, r); // its own end marker was lost
+    r->full_revolution = m->full_revolution;
+    r->sector_center_deg = m->sector_center_deg;
+    r->sector_width_deg = m->sector_width_deg;
     trk_scan_t scan = {
         .uav_id = m->uav_id,
         .scan_number = m->scan_number,
@@ -447,9 +491,9 @@ static void s_on_bcis (void *arg, const char *topic, const ProtobufCMessage *msg
             continue;
         }
         double z[2] = {r->position->east_m, r->position->north_m};
-        uint32_t id = trk_tracker_bcis (app->trk, r->sim_time_s, z, r->responder_id);
-        if (id) {
-            app->bcis_marks++;
+        size_t marked = trk_tracker_bcis (app->trk, r->sim_time_s, z, r->responder_id);
+        if (marked) {
+            app->bcis_marks += marked;
             app->dirty = true;
         }
     }
@@ -495,6 +539,7 @@ static void s_restore (s_app_t *app)
         return;
     }
     char err[512] = "";
+    uint32_t next_id = 0;
     if (rc == 0 && app->fresh) {
         cgs_log (LOG_NOTICE, "--fresh: the checkpoint %s is ignored", app->checkpoint);
     } else if (rc == 0 && trk_tracker_restore (app->trk, data, len, err, sizeof err) == 0) {
@@ -506,6 +551,17 @@ static void s_restore (s_app_t *app)
                   rc < 0 ? strerror (-rc) : err);
         cgs_log (LOG_WARNING, "%s; starting with no tracks", why);
         cgs_health_set_error (app->svc.health, why);
+        // Keep the damaged file for a look; the next checkpoint takes its name.
+        char aside[4300];
+        snprintf (aside, sizeof aside, "%s.damaged", app->checkpoint);
+        if (rc == 0 && rename (app->checkpoint, aside) == 0)
+            cgs_log (LOG_NOTICE, "the damaged checkpoint is kept as %s", aside);
+    }
+    // Whatever was refused, ids it had given are not given again.
+    if (rc == 0 && trk_tracker_count (app->trk) == 0 &&
+        trk_tracker_checkpoint_next_id (data, len, &next_id) == 0) {
+        trk_tracker_raise_next_id (app->trk, next_id);
+        cgs_log (LOG_INFO, "new track ids start at %u", trk_tracker_next_id (app->trk));
     }
     free (data);
 }
@@ -517,8 +573,8 @@ static int s_number (const char *opt, const char *s, double lo, double hi, doubl
     char *end;
     double v = strtod (s, &end);
     if (end == s || *end || !(v >= lo && v <= hi)) {
-        fprintf (stderr, "trackerd: --%s: expected a number in [%g, %g], got '%s'\n", opt, lo,
-                 hi, s);
+        fprintf (stderr, "trackerd: --%s: expected a number in [%g, %g], got '%s'\n", opt, lo, hi,
+                 s);
         return -EINVAL;
     }
     *ret = v;
@@ -699,8 +755,8 @@ static int s_setup (s_app_t *app, char *err, size_t errlen)
              p->filter.mode == TRK_FILTER_KALMAN ? "kalman" : "paper", p->filter.sigma_meas_m[0],
              p->filter.sigma_meas_m[1], p->filter.sigma_mod_mps2[0], p->filter.sigma_mod_mps2[1],
              p->filter.dt_s, g[0].r, g[1].r, g[0].g, g[1].g, g[0].gd_hz, g[1].gd_hz,
-             p->gate_probability, trk_params_gate (p), p->confirm_m, p->confirm_n,
-             p->delete_misses, p->turn_threshold_deg);
+             p->gate_probability, trk_params_gate (p), p->confirm_m, p->confirm_n, p->delete_misses,
+             p->turn_threshold_deg);
     return 0;
 }
 

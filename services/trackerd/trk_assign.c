@@ -78,6 +78,11 @@ int trk_assign_solve (trk_assign_t *self, const double *cost, size_t rows, size_
 {
     if (rows > cols)
         return -EINVAL;
+    if (rows == 0) {
+        if (ret_total)
+            *ret_total = 0;
+        return 0;
+    }
     for (size_t k = 0; k < rows * cols; k++)
         if (!isfinite (cost[k]))
             return -EINVAL;

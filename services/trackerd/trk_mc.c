@@ -77,8 +77,9 @@ int trk_mc_run (const trk_params_t *p, const trk_mc_config_t *cfg, trk_mc_result
 {
     size_t n = cfg->targets;
     double T = p->filter.dt_s;
-    if (n == 0 || n > 1000000 || cfg->scans < 3 || cfg->settle_scans >= cfg->scans ||
-        !(cfg->speed_mps >= 0) || !(cfg->sigma_meas_m[0] > 0) || !(cfg->sigma_meas_m[1] > 0) ||
+    if (n == 0 || n > 1000000 || cfg->scans < 3 || (double)n * (double)cfg->scans >= 4e9 ||
+        cfg->settle_scans >= cfg->scans || !(cfg->speed_mps >= 0) || !(cfg->sigma_meas_m[0] > 0) ||
+        !(cfg->sigma_meas_m[1] > 0) ||
         (cfg->turn_scan && (cfg->turn_scan <= cfg->settle_scans || cfg->turn_scan >= cfg->scans)))
         return -EINVAL;
     trk_tracker_t *trk = trk_tracker_new (p);

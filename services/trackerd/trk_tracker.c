@@ -11,7 +11,9 @@
  *     fastest target's speed;
  *  4. tracks and hits joined by pairs form clusters (union-find); each
  *     cluster is one optimal assignment with cost d² + ln|S| per pair and
- *     G + ln|S| for leaving a track without a hit (global nearest neighbour);
+ *     G + 1 + ln|S| for leaving a track without a hit (global nearest
+ *     neighbour), first over the pairs inside the filter's own gates, then
+ *     over what is left with the manoeuvre allowance;
  *  5. assigned tracks are updated, the others count a miss when the scan
  *     covered them; unassigned hits start tentative tracks unless they fell
  *     in a confirmed track's gate;
@@ -68,6 +70,7 @@ struct trk_tracker {
     size_t *cell_head;  // first hit of the slot's cell (SIZE_MAX: empty)
     size_t grid_cap;    // slots, a power of two
     size_t *hit_next;   // next hit in the same cell
+    size_t hit_next_cap;
     s_pair_t *pairs;
     size_t pair_count, pair_cap;
     s_pair_t *work; // one pass's pairs
@@ -75,7 +78,8 @@ struct trk_tracker {
     size_t *uf; // union-find parents over tracks then hits
     size_t uf_cap;
     size_t *assigned; // per track: assigned hit, or SIZE_MAX
-    size_t *act;      // indices of the scanned radar's tracks
+    size_t assigned_cap;
+    size_t *act; // indices of the scanned radar's tracks
     size_t act_cap;
     double *cost; // one cluster's matrix
     size_t cost_cap;
@@ -304,11 +308,10 @@ static double s_maneuver_var (const trk_tracker_t *self, double dt)
     return m * m;
 }
 
-/* Try a track-hit pair; adds it when the hit is inside the gate. Inside
- * means within G of the prediction with the manoeuvre allowance added to S;
- * the pair's cost is the plain statistical distance (without the allowance,
- * clipped at G) plus ln|S|, so candidates are ranked by how well they fit
- * the track as it is, while a target that manoeuvred stays assignable. */
+/* Try a track-hit pair; adds it when the hit is inside the gate: within G
+ * of the prediction with the manoeuvre allowance added to S. The pair keeps
+ * two costs: without the allowance (first pass, when it is inside the
+ * filter's own gate too) and with it (second pass). */
 static void s_try_pair (trk_tracker_t *self, size_t ti, size_t hi)
 {
     const trk_track_t *t = &self->tracks[self->act[ti]];
@@ -387,14 +390,16 @@ static int s_gate (trk_tracker_t *self, size_t nt, size_t nh, double t_lo, doubl
         if (s_grow ((void **)&self->pairs, &self->pair_cap, self->pair_count + nh,
                     sizeof *self->pairs) < 0)
             return -ENOMEM;
-        int64_t x0 = s_cell_of (ce - reach), x1 = s_cell_of (ce + reach);
-        int64_t y0 = s_cell_of (cn - reach), y1 = s_cell_of (cn + reach);
-        double cells = (double)(x1 - x0 + 1) * (double)(y1 - y0 + 1);
-        if (!isfinite (reach) || cells > (double)nh) { // a huge gate: every hit is a candidate
+        double span_cells = 2 * reach / S_CELL_M + 2;
+        if (!isfinite (reach) || !isfinite (ce) || !isfinite (cn) ||
+            span_cells * span_cells > (double)nh || fabs (ce) + reach > 1e12 ||
+            fabs (cn) + reach > 1e12) { // a huge gate: every hit is a candidate
             for (size_t hi = 0; hi < nh; hi++)
                 s_try_pair (self, ti, hi);
             continue;
         }
+        int64_t x0 = s_cell_of (ce - reach), x1 = s_cell_of (ce + reach);
+        int64_t y0 = s_cell_of (cn - reach), y1 = s_cell_of (cn + reach);
         for (int64_t ix = x0; ix <= x1; ix++)
             for (int64_t iy = y0; iy <= y1; iy++)
                 for (size_t hi = s_grid_first (self, ix, iy); hi != SIZE_MAX;
@@ -608,9 +613,10 @@ static void s_history_add (const trk_tracker_t *self, trk_track_t *t, const trk_
                            uint32_t scan)
 {
     uint32_t max = (uint32_t)self->p.history_scans;
-    if (t->history_count == max) {
-        memmove (t->history, t->history + 1, (max - 1) * sizeof t->history[0]);
-        t->history_count--;
+    if (t->history_count >= max) { // room for one more (a checkpoint may hold more)
+        uint32_t drop = t->history_count - max + 1;
+        memmove (t->history, t->history + drop, (t->history_count - drop) * sizeof t->history[0]);
+        t->history_count -= drop;
     }
     t->history[t->history_count++] = (trk_history_point_t){.e_m = h->z[0],
                                                            .n_m = h->z[1],
@@ -669,7 +675,6 @@ static bool s_upkeep (trk_tracker_t *self, trk_track_t *t, const s_hit_t *h, con
         out->missed++;
     }
     t->scans++;
-    t->window = (t->window << 1) | (h ? 1u : 0u);
     if (h) {
         if (t->hits == 1) {
             double z1[2] = {t->est.x[0], t->est.x[1]};
@@ -678,11 +683,15 @@ static bool s_upkeep (trk_tracker_t *self, trk_track_t *t, const s_hit_t *h, con
         } else {
             trk_estimate_t pr;
             trk_filter_predict (&t->est, &p->filter, h->h.t_s, &pr);
-            if (trk_filter_update (&pr, &p->filter, self->gains, h->h.z, h->R) == 0) {
+            if (trk_filter_update (&pr, &p->filter, self->gains, h->h.z, h->R) < 0) {
+                h = NULL; // a covariance gone bad: a miss, not a hit
+            } else {
                 t->est = pr;
                 t->updates++;
             }
         }
+    }
+    if (h) {
         t->hits++;
         t->misses = 0;
         t->last_hit_s = h->h.t_s;
@@ -693,6 +702,7 @@ static bool s_upkeep (trk_tracker_t *self, trk_track_t *t, const s_hit_t *h, con
     } else {
         t->misses++;
     }
+    t->window = (t->window << 1) | (h ? 1u : 0u);
     uint32_t nmask = p->confirm_n >= 32 ? UINT32_MAX : (1u << p->confirm_n) - 1;
     int got = s_popcount (t->window & nmask);
     if (t->status == TRK_TENTATIVE) {
@@ -764,24 +774,11 @@ static int s_reserve (trk_tracker_t *self, size_t nh)
             return -ENOMEM;
         self->grid_cap = grid;
     }
-    size_t hn_cap = self->hit_cap;
-    if (s_grow ((void **)&self->hits, &self->hit_cap, nh, sizeof *self->hits) < 0)
+    if (s_grow ((void **)&self->hits, &self->hit_cap, nh, sizeof *self->hits) < 0 ||
+        s_grow ((void **)&self->hit_next, &self->hit_next_cap, nh, sizeof *self->hit_next) < 0 ||
+        s_grow ((void **)&self->act, &self->act_cap, nt + 1, sizeof *self->act) < 0 ||
+        s_grow ((void **)&self->assigned, &self->assigned_cap, nt + 1, sizeof *self->assigned) < 0)
         return -ENOMEM;
-    if (self->hit_cap != hn_cap) {
-        size_t *nx = realloc (self->hit_next, self->hit_cap * sizeof *nx);
-        if (!nx)
-            return -ENOMEM;
-        self->hit_next = nx;
-    }
-    size_t act_cap = self->act_cap;
-    if (s_grow ((void **)&self->act, &self->act_cap, nt + 1, sizeof *self->act) < 0)
-        return -ENOMEM;
-    if (self->act_cap != act_cap || !self->assigned) {
-        size_t *as = realloc (self->assigned, self->act_cap * sizeof *as);
-        if (!as)
-            return -ENOMEM;
-        self->assigned = as;
-    }
     if (s_grow ((void **)&self->tracks, &self->cap, nt + nh, sizeof *self->tracks) < 0 ||
         s_grow ((void **)&self->turns, &self->turn_cap, nt + 1, sizeof *self->turns) < 0 ||
         s_grow ((void **)&self->dead, &self->dead_cap, nt + 1, sizeof *self->dead) < 0)
@@ -803,8 +800,9 @@ int trk_tracker_scan (trk_tracker_t *self, const trk_scan_t *scan, const trk_hit
     size_t nh = 0;
     double t_lo = INFINITY, t_hi = -INFINITY, r_max = 0;
     for (size_t i = 0; i < n; i++) {
-        if (!s_hit_ok (&hits[i]))
-            continue;
+        if (!s_hit_ok (&hits[i]) || hits[i].t_s < scan->start_s - S_TIME_SLACK_S ||
+            hits[i].t_s > scan->end_s + S_TIME_SLACK_S)
+            continue; // not a hit of this scan
         s_hit_t *h = &self->hits[nh++];
         h->h = hits[i];
         s_hit_covariance (self, &hits[i], h->R);
@@ -817,7 +815,7 @@ int trk_tracker_scan (trk_tracker_t *self, const trk_scan_t *scan, const trk_hit
     out.hits = nh;
     if (nh == 0)
         t_lo = t_hi = scan->end_s;
-    double scan_end = isfinite (scan->end_s) ? fmax (scan->end_s, t_hi) : t_hi;
+    double scan_end = scan->end_s;
     // 2. Time went back: tracks after the scan cannot continue (they die below).
     // 3. Gating, over the radar's other tracks.
     size_t nt = 0;
@@ -878,43 +876,52 @@ nomem:
 
 /* ---- identity ------------------------------------------------------------------------ */
 
-uint32_t trk_tracker_bcis (trk_tracker_t *self, double t_s, const double z[2],
-                           uint32_t responder_id)
+size_t trk_tracker_bcis (trk_tracker_t *self, double t_s, const double z[2], uint32_t responder_id)
 {
     if (!isfinite (t_s) || !isfinite (z[0]) || !isfinite (z[1]))
         return 0;
     double s2 = self->p.bcis_sigma_m * self->p.bcis_sigma_m;
     double R[4] = {s2, 0, 0, s2};
-    trk_track_t *best = NULL;
-    double best_d2 = INFINITY;
+    // A track not updated for longer than this is too vague to take an identity.
+    double max_age = (self->p.delete_misses + 1) * self->p.filter.dt_s;
+    // The best track of each radar: a target two radars follow has a track of each.
+    size_t marked = 0;
     for (size_t i = 0; i < self->count; i++) {
-        trk_track_t *t = &self->tracks[i];
-        // A cheap bound first: the gate cannot reach past this.
-        double dt = t_s - t->est.t_s;
-        double e = t->est.x[0] + t->est.x[2] * dt, n = t->est.x[1] + t->est.x[3] * dt;
-        trk_estimate_t pr;
-        double de = z[0] - e, dn = z[1] - n;
-        double far = de * de + dn * dn;
-        if (far > 4e6) { // beyond 2 km: check with the full gate only when it is that wide
-            trk_filter_predict (&t->est, &self->p.filter, t_s, &pr);
-            double lam = s_lambda_max (pr.P[0], pr.P[1], pr.P[5]) + s2;
-            if (far > self->gate * lam)
+        const trk_track_t *t = &self->tracks[i];
+        if (t->status == TRK_TENTATIVE)
+            continue;
+        bool seen = false; // this radar's turn came already
+        for (size_t k = 0; k < i && !seen; k++)
+            seen = self->tracks[k].uav_id == t->uav_id && self->tracks[k].status != TRK_TENTATIVE;
+        if (seen)
+            continue;
+        trk_track_t *best = NULL;
+        double best_cost = INFINITY;
+        for (size_t j = i; j < self->count; j++) {
+            trk_track_t *c = &self->tracks[j];
+            double dt = t_s - c->est.t_s;
+            if (c->uav_id != t->uav_id || c->status == TRK_TENTATIVE || fabs (dt) > max_age)
                 continue;
-        } else {
-            trk_filter_predict (&t->est, &self->p.filter, t_s, &pr);
+            double e = c->est.x[0] + c->est.x[2] * dt, n = c->est.x[1] + c->est.x[3] * dt;
+            double de = z[0] - e, dn = z[1] - n;
+            if (de * de + dn * dn > 25e6) // beyond 5 km: no gate of a track this fresh reaches
+                continue;
+            trk_estimate_t pr;
+            trk_filter_predict (&c->est, &self->p.filter, t_s, &pr);
+            double log_det, d2 = trk_filter_distance (&pr, z, R, &log_det);
+            if (d2 >= 0 && d2 <= self->gate && d2 + log_det < best_cost) {
+                best_cost = d2 + log_det;
+                best = c;
+            }
         }
-        double d2 = trk_filter_distance (&pr, z, R, NULL);
-        if (d2 >= 0 && d2 <= self->gate && d2 < best_d2) {
-            best_d2 = d2;
-            best = t;
+        if (best) {
+            best->friendly = true;
+            best->friendly_id = responder_id;
+            best->friendly_s = fmax (best->friendly_s, t_s);
+            marked++;
         }
     }
-    if (!best)
-        return 0;
-    best->friendly = true;
-    best->friendly_id = responder_id;
-    best->friendly_s = fmax (best->friendly_s, t_s);
-    return best->id;
+    return marked;
 }
 
 size_t trk_tracker_age_identity (trk_tracker_t *self, double t_s)
@@ -1149,6 +1156,7 @@ int trk_tracker_restore (trk_tracker_t *self, const uint8_t *buf, size_t len, ch
     if (count && (!tracks || !ids)) {
         free (tracks);
         free (ids);
+        snprintf (err, errlen, "out of memory for %u tracks", count);
         return -ENOMEM;
     }
     int rc = 0;
@@ -1178,9 +1186,20 @@ int trk_tracker_restore (trk_tracker_t *self, const uint8_t *buf, size_t len, ch
         snprintf (err, errlen, "the checkpoint's next track id is 0");
         rc = -EPROTO;
     }
+    for (uint32_t i = 0; i < count && rc == 0; i++) { // keep the newest history_scans points
+        trk_track_t *t = &tracks[i];
+        uint32_t max = (uint32_t)self->p.history_scans;
+        if (t->history_count > max) {
+            uint32_t drop = t->history_count - max;
+            memmove (t->history, t->history + drop, max * sizeof t->history[0]);
+            t->history_count = max;
+        }
+    }
     if (rc == 0 && count > self->cap &&
-        s_grow ((void **)&self->tracks, &self->cap, count, sizeof *self->tracks) < 0)
+        s_grow ((void **)&self->tracks, &self->cap, count, sizeof *self->tracks) < 0) {
+        snprintf (err, errlen, "out of memory for %u tracks", count);
         rc = -ENOMEM;
+    }
     if (rc == 0) {
         if (count)
             memcpy (self->tracks, tracks, count * sizeof *tracks);
@@ -1190,4 +1209,22 @@ int trk_tracker_restore (trk_tracker_t *self, const uint8_t *buf, size_t len, ch
     free (tracks);
     free (ids);
     return rc;
+}
+
+int trk_tracker_checkpoint_next_id (const uint8_t *buf, size_t len, uint32_t *ret_id)
+{
+    if (len < 20 || memcmp (buf, S_MAGIC, 8) != 0)
+        return -EPROTO;
+    s_reader_t r = {.buf = buf, .len = len, .off = 8};
+    uint32_t version = s_get_u32 (&r), next_id = s_get_u32 (&r);
+    if (version != S_VERSION || next_id == 0)
+        return -EPROTO;
+    *ret_id = next_id;
+    return 0;
+}
+
+void trk_tracker_raise_next_id (trk_tracker_t *self, uint32_t id)
+{
+    if (id > self->next_id)
+        self->next_id = id;
 }

@@ -141,12 +141,12 @@ const trk_gains_t *trk_tracker_gains (const trk_tracker_t *self);
 int trk_tracker_scan (trk_tracker_t *self, const trk_scan_t *scan, const trk_hit_t *hits, size_t n,
                       trk_scan_out_t *ret);
 
-/* A BCIS reply at time t_s from a transponder that says it is at z: the
- * track whose gate holds it (the nearest, by Mahalanobis distance, when
- * several do) becomes friendly. Returns that track's id, or 0 when no gate
- * holds the reply. */
-uint32_t trk_tracker_bcis (trk_tracker_t *self, double t_s, const double z[2],
-                           uint32_t responder_id);
+/* A BCIS reply at time t_s from a transponder that says it is at z: of each
+ * radar's confirmed (or coasting) tracks updated within (delete_misses + 1)
+ * scan periods, the one whose gate holds the reply (the likeliest, by
+ * d² + ln|S|, when several do) becomes friendly. Returns how many tracks it
+ * marked (one a radar at most). */
+size_t trk_tracker_bcis (trk_tracker_t *self, double t_s, const double z[2], uint32_t responder_id);
 /* Friendly tracks whose last reply is older than the identity timeout at
  * time t_s become unknown again; returns how many. */
 size_t trk_tracker_age_identity (trk_tracker_t *self, double t_s);
@@ -164,7 +164,13 @@ uint32_t trk_tracker_next_id (const trk_tracker_t *self);
 
 /* A checkpoint of every track and the id counter, in a new malloc'd buffer. */
 int trk_tracker_save (const trk_tracker_t *self, uint8_t **ret_buf, size_t *ret_len);
-/* Replace the tracks with a checkpoint's. 0, or -EPROTO with the reason in
+/* The next track id a checkpoint's header names, even when its tracks are
+ * damaged; 0, or -EPROTO when the header itself is not a checkpoint's. */
+int trk_tracker_checkpoint_next_id (const uint8_t *buf, size_t len, uint32_t *ret_id);
+/* Never give ids below id (those of a checkpoint set aside). */
+void trk_tracker_raise_next_id (trk_tracker_t *self, uint32_t id);
+/* Replace the tracks with a checkpoint's (history beyond history_scans is
+ * trimmed to the newest). 0, or -EPROTO with the reason in
  * err (the tracker is unchanged), -ENOMEM. */
 int trk_tracker_restore (trk_tracker_t *self, const uint8_t *buf, size_t len, char *err,
                          size_t errlen);

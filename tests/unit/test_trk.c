@@ -472,6 +472,30 @@ static void test_history (void **state)
     assert_int_equal (tr->history_count, 18);
     assert_int_equal (tr->history[0].scan_number, 12);
     trk_tracker_destroy (&t);
+    // A checkpoint with more history than the parameters keep: the newest stay.
+    p.history_scans = 40;
+    t = trk_tracker_new (&p);
+    for (uint32_t k = 0; k < 40; k++) {
+        trk_hit_t h = s_hit (100 + k, 10.0 * k + 1, 10.0 * k, 0);
+        s_scan (t, k, &h, 1);
+    }
+    uint8_t *buf;
+    size_t len;
+    char err[256];
+    assert_int_equal (trk_tracker_save (t, &buf, &len), 0);
+    p.history_scans = 20;
+    trk_tracker_t *u = trk_tracker_new (&p);
+    assert_int_equal (trk_tracker_restore (u, buf, len, err, sizeof err), 0);
+    tr = trk_tracker_at (u, 0);
+    assert_int_equal (tr->history_count, 20);
+    assert_int_equal (tr->history[0].scan_number, 20);
+    trk_hit_t h = s_hit (200, 401, 400, 0);
+    s_scan (u, 40, &h, 1);
+    assert_int_equal (tr->history_count, 20);
+    assert_int_equal (tr->history[19].hit_id, 200);
+    free (buf);
+    trk_tracker_destroy (&t);
+    trk_tracker_destroy (&u);
 }
 
 /* One run of two targets crossing at angle_deg, both at 12 m/s through
@@ -609,16 +633,19 @@ static void test_bad_hits_and_time_reset (void **state)
     (void)state;
     trk_params_t p = s_defaults ();
     trk_tracker_t *t = trk_tracker_new (&p);
-    trk_hit_t h[3] = {s_hit (1, 1, NAN, 0), s_hit (2, INFINITY, 0, 0), s_hit (3, 1, 10, 10)};
-    trk_scan_out_t o = s_scan (t, 50, h, 3);
+    // Not a number, no time, and a time far outside the scan (0..10 s): not hits.
+    trk_hit_t h[4] = {s_hit (1, 1, NAN, 0), s_hit (2, INFINITY, 0, 0), s_hit (3, 1e7, 5, 5),
+                      s_hit (4, 1, 10, 10)};
+    trk_scan_out_t o = s_scan (t, 0, h, 4);
     assert_int_equal (o.hits, 1);
     assert_int_equal (o.born, 1);
-    // Simulation time went back to 0: the track from t = 1 s... cannot be
-    // after a scan at 0..10 s, so nothing; one from 500 s is deleted.
-    trk_hit_t late = s_hit (4, 500, 0, 0);
-    s_scan (t, 51, &late, 1);
+    // A track at 505 s, then simulation time goes back to 0: it is deleted.
+    trk_hit_t late = s_hit (5, 505, 20000, 20000); // out of the first track's reach
+    o = s_scan (t, 50, &late, 1);
+    assert_int_equal (o.born, 1);
     o = s_scan (t, 0, NULL, 0);
     assert_int_equal (o.time_reset, 1);
+    assert_null (s_track_of_hit (t, 5));
     trk_tracker_destroy (&t);
 }
 
@@ -637,7 +664,7 @@ static void test_identity_from_bcis (void **state)
     }
     uint32_t a = s_track_of_hit (t, 41)->id, b = s_track_of_hit (t, 42)->id;
     // A reply from b's position at t = 46 s (b has moved on 5 s since its hit).
-    assert_int_equal (trk_tracker_bcis (t, 46, (double[2]){460, 290}, 7), b);
+    assert_int_equal (trk_tracker_bcis (t, 46, (double[2]){460, 290}, 7), 1);
     assert_true (trk_tracker_find (t, b)->friendly);
     assert_int_equal (trk_tracker_find (t, b)->friendly_id, 7);
     assert_false (trk_tracker_find (t, a)->friendly);
@@ -676,6 +703,7 @@ static void test_checkpoint_keeps_ids (void **state)
     uint8_t *buf;
     size_t len;
     assert_int_equal (trk_tracker_save (t, &buf, &len), 0);
+    uint32_t saved_next = trk_tracker_next_id (t);
     // A fresh tracker (a restarted trackerd) takes it whole.
     trk_tracker_t *u = trk_tracker_new (&p);
     char err[256];
@@ -717,6 +745,19 @@ static void test_checkpoint_keeps_ids (void **state)
     assert_int_equal (trk_tracker_restore (u, bad, len, err, sizeof err), -EPROTO);
     assert_non_null (strstr (err, "inconsistent"));
     assert_int_equal (trk_tracker_count (u), before);
+    // Ids a refused checkpoint gave are not given again: its header still names the next.
+    uint32_t next = 0;
+    assert_int_equal (trk_tracker_checkpoint_next_id (buf, len - 3, &next), 0);
+    assert_int_equal (next, saved_next);
+    trk_tracker_t *fresh = trk_tracker_new (&p);
+    trk_tracker_raise_next_id (fresh, next);
+    assert_int_equal (trk_tracker_next_id (fresh), next);
+    trk_tracker_raise_next_id (fresh, 1); // never lowered
+    assert_int_equal (trk_tracker_next_id (fresh), next);
+    assert_int_equal (
+        trk_tracker_checkpoint_next_id ((const uint8_t *)"garbage!garbage!garbage!", 24, &next),
+        -EPROTO);
+    trk_tracker_destroy (&fresh);
     free (bad);
     free (buf);
     trk_tracker_destroy (&t);
