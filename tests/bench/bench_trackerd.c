@@ -52,9 +52,9 @@ typedef struct {
 } s_target_t;
 
 typedef struct {
-    double scan_cpu_s;     // median
-    size_t tracks, hits;   // in the timed scans (last one)
-    size_t largest;        // largest cluster
+    double scan_cpu_s;   // median
+    size_t tracks, hits; // in the timed scans (last one)
+    size_t largest;      // largest cluster
 } s_result_t;
 
 /* One configuration: n targets over a square of side side_m. */
@@ -167,8 +167,8 @@ int main (int argc, char **argv)
             per_track[d][i] = r.scan_cpu_s / (double)n;
             printf ("  %-7s N=%5zu over %6.0f km2: %zu hits, %zu tracks, largest cluster %zu: "
                     "%.2f ms a scan (%.2f us a track)\n",
-                    dens[d], n, side * side / 1e6, r.hits, r.tracks, r.largest,
-                    r.scan_cpu_s * 1e3, per_track[d][i] * 1e6);
+                    dens[d], n, side * side / 1e6, r.hits, r.tracks, r.largest, r.scan_cpu_s * 1e3,
+                    per_track[d][i] * 1e6);
             printf ("trackerd_%s_%zu_scan_ms=%.3f\n", dens[d], n, r.scan_cpu_s * 1e3);
         }
     double ms1000 = per_track[0][0] * 1000 * 1e3;
