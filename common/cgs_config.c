@@ -1104,3 +1104,16 @@ bool cgs_config_table_out_of_range (const cgs_config_real_t *reals, size_t nreal
     }
     return false;
 }
+
+int cgs_config_read (const char *path, const char *text, cgs_config_read_fn *fn, void *arg,
+                     char *err, size_t errlen)
+{
+    cgs_config_t *cfg;
+    int rc = text ? cgs_config_load_string (path, text, &cfg, err, errlen)
+                  : cgs_config_load (path, &cfg, err, errlen);
+    if (rc < 0)
+        return rc;
+    rc = fn (cfg, arg, err, errlen);
+    cgs_config_destroy (&cfg);
+    return rc;
+}

@@ -87,6 +87,14 @@ int cgs_config_error (const cgs_config_t *self, const char *section, const char 
                       char *err, size_t errlen, const char *fmt, ...)
     __attribute__ ((format (printf, 7, 8)));
 
+/* Reads a loaded config into the caller's struct (arg). */
+typedef int cgs_config_read_fn (cgs_config_t *cfg, void *arg, char *err, size_t errlen);
+/* Load the file at path (or, when text is not NULL, text under the name
+ * path), read it with fn, free it: 0, or the first negative errno with err
+ * filled. */
+int cgs_config_read (const char *path, const char *text, cgs_config_read_fn *fn, void *arg,
+                     char *err, size_t errlen);
+
 /* Tables of numeric parameters kept in a struct: each entry names its
  * section and key, its field's offset, and its closed range. */
 typedef struct {

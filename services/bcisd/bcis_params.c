@@ -138,9 +138,9 @@ int bcis_params_check (const bcis_params_t *p, char *err, size_t errlen)
     return s_check (NULL, p, err, errlen);
 }
 
-static int s_read (cgs_config_t *cfg, bcis_params_t *out, char *err, size_t errlen)
+static int s_read (cgs_config_t *cfg, void *arg, char *err, size_t errlen)
 {
-    bcis_params_t p = *out;
+    bcis_params_t *out = arg, p = *out;
     int rc = cgs_config_check_repeated (cfg, err, errlen);
     if (rc == 0)
         rc = cgs_config_get_table (cfg, s_reals, S_NREALS, s_ints, S_NINTS, &p, err, errlen);
@@ -174,25 +174,13 @@ static int s_read (cgs_config_t *cfg, bcis_params_t *out, char *err, size_t errl
 
 int bcis_params_load (const char *path, bcis_params_t *p, char *err, size_t errlen)
 {
-    cgs_config_t *cfg;
-    int rc = cgs_config_load (path, &cfg, err, errlen);
-    if (rc < 0)
-        return rc;
-    rc = s_read (cfg, p, err, errlen);
-    cgs_config_destroy (&cfg);
-    return rc;
+    return cgs_config_read (path, NULL, s_read, p, err, errlen);
 }
 
 int bcis_params_load_string (const char *name, const char *text, bcis_params_t *p, char *err,
                              size_t errlen)
 {
-    cgs_config_t *cfg;
-    int rc = cgs_config_load_string (name, text, &cfg, err, errlen);
-    if (rc < 0)
-        return rc;
-    rc = s_read (cfg, p, err, errlen);
-    cgs_config_destroy (&cfg);
-    return rc;
+    return cgs_config_read (name, text, s_read, p, err, errlen);
 }
 
 cgs_scan_params_t bcis_params_scan (const bcis_params_t *p)

@@ -538,14 +538,13 @@ void mti_params_defaults (mti_params_t *p)
     p->class_count = S_COUNT (classes);
 }
 
-// Read cfg (consumed) over the defaults into *p.
-static int s_load (cgs_config_t *cfg, mti_params_t *p, char *err, size_t errlen)
+// Read cfg over the defaults into *p (arg).
+static int s_load (cgs_config_t *cfg, void *arg, char *err, size_t errlen)
 {
-    mti_params_t q;
+    mti_params_t *p = arg, q;
     mti_params_defaults (&q);
     s_ctx_t c = {.cfg = cfg, .err = err, .errlen = errlen};
     int rc = s_read (&c, &q);
-    cgs_config_destroy (&cfg);
     if (rc == 0)
         *p = q;
     return rc;
@@ -554,18 +553,14 @@ static int s_load (cgs_config_t *cfg, mti_params_t *p, char *err, size_t errlen)
 int mti_params_load (const char *path, mti_params_t *p, char *err, size_t errlen)
 {
     assert (path && p);
-    cgs_config_t *cfg;
-    int rc = cgs_config_load (path, &cfg, err, errlen);
-    return rc < 0 ? rc : s_load (cfg, p, err, errlen);
+    return cgs_config_read (path, NULL, s_load, p, err, errlen);
 }
 
 int mti_params_load_string (const char *name, const char *text, mti_params_t *p, char *err,
                             size_t errlen)
 {
     assert (name && text && p);
-    cgs_config_t *cfg;
-    int rc = cgs_config_load_string (name, text, &cfg, err, errlen);
-    return rc < 0 ? rc : s_load (cfg, p, err, errlen);
+    return cgs_config_read (name, text, s_load, p, err, errlen);
 }
 
 int mti_params_check (const mti_params_t *p, char *err, size_t errlen)

@@ -302,7 +302,8 @@ static void s_publish_turn (s_app_t *app, const trk_turn_t *ev, uint32_t uav_id)
 static void s_run_scan (s_app_t *app, s_radar_t *r, const trk_scan_t *scan)
 {
     trk_scan_out_t out;
-    int rc = trk_tracker_scan (app->trk, scan, r->hits, r->count, &out);
+    size_t given = r->count;
+    int rc = trk_tracker_scan (app->trk, scan, r->hits, given, &out);
     r->count = 0;
     r->open = false;
     r->has_closed = true;
@@ -313,6 +314,8 @@ static void s_run_scan (s_app_t *app, s_radar_t *r, const trk_scan_t *scan)
                  scan->uav_id);
         return;
     }
+    for (size_t i = out.hits; i < given; i++)
+        s_bad (app, "an MTI hit whose time lies outside its scan");
     app->scans++;
     app->hits += out.hits;
     app->born += out.born;
@@ -444,8 +447,9 @@ static void s_on_mti_scan (void *arg, const char *topic, const ProtobufCMessage 
     s_app_t *app = arg;
     const Cgs__MtiScan *m = (const Cgs__MtiScan *)msg;
     if (!m->uav_id || !isfinite (m->scan_start_s) || !isfinite (m->scan_end_s) ||
-        !isfinite (m->sector_center_deg) || !isfinite (m->sector_width_deg)) {
-        s_bad (app, "an mti.scan message without a radar id or valid times");
+        m->scan_end_s < m->scan_start_s || !isfinite (m->sector_center_deg) ||
+        (!m->full_revolution && !(m->sector_width_deg > 0 && m->sector_width_deg <= 360))) {
+        s_bad (app, "an mti.scan message without a radar id, times in order or a sector");
         return;
     }
     s_radar_t *r = s_radar (app, m->uav_id);

@@ -102,9 +102,9 @@ int trk_params_check (const trk_params_t *p, char *err, size_t errlen)
     return s_check (NULL, p, err, errlen);
 }
 
-static int s_read (cgs_config_t *cfg, trk_params_t *out, char *err, size_t errlen)
+static int s_read (cgs_config_t *cfg, void *arg, char *err, size_t errlen)
 {
-    trk_params_t p = *out;
+    trk_params_t *out = arg, p = *out;
     int rc = cgs_config_check_repeated (cfg, err, errlen);
     if (rc == 0)
         rc = cgs_config_get_table (cfg, s_reals, S_NREALS, s_ints, S_NINTS, &p, err, errlen);
@@ -131,25 +131,13 @@ static int s_read (cgs_config_t *cfg, trk_params_t *out, char *err, size_t errle
 
 int trk_params_load (const char *path, trk_params_t *p, char *err, size_t errlen)
 {
-    cgs_config_t *cfg;
-    int rc = cgs_config_load (path, &cfg, err, errlen);
-    if (rc < 0)
-        return rc;
-    rc = s_read (cfg, p, err, errlen);
-    cgs_config_destroy (&cfg);
-    return rc;
+    return cgs_config_read (path, NULL, s_read, p, err, errlen);
 }
 
 int trk_params_load_string (const char *name, const char *text, trk_params_t *p, char *err,
                             size_t errlen)
 {
-    cgs_config_t *cfg;
-    int rc = cgs_config_load_string (name, text, &cfg, err, errlen);
-    if (rc < 0)
-        return rc;
-    rc = s_read (cfg, p, err, errlen);
-    cgs_config_destroy (&cfg);
-    return rc;
+    return cgs_config_read (name, text, s_read, p, err, errlen);
 }
 
 double trk_params_gate (const trk_params_t *p)

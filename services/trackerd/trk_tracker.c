@@ -32,6 +32,7 @@
 #define S_CELL_M       500.0 // hash grid cell
 #define S_FORBIDDEN    1e9   // cost of a pair outside the gate in a cluster's matrix
 #define S_TIME_SLACK_S 1.0   // a track this far after a scan's end means time went back
+#define S_BCIS_RADARS  64    // radars a BCIS reply can mark a track of
 
 /* A hit of the scan being processed. */
 typedef struct {
@@ -876,6 +877,13 @@ nomem:
 
 /* ---- identity ------------------------------------------------------------------------ */
 
+/* A radar's likeliest track for a BCIS reply. */
+typedef struct {
+    uint32_t uav_id;
+    trk_track_t *best;
+    double cost; // d² + ln|S|
+} s_radar_best_t;
+
 size_t trk_tracker_bcis (trk_tracker_t *self, double t_s, const double z[2], uint32_t responder_id)
 {
     if (!isfinite (t_s) || !isfinite (z[0]) || !isfinite (z[1]))
@@ -884,44 +892,44 @@ size_t trk_tracker_bcis (trk_tracker_t *self, double t_s, const double z[2], uin
     double R[4] = {s2, 0, 0, s2};
     // A track not updated for longer than this is too vague to take an identity.
     double max_age = (self->p.delete_misses + 1) * self->p.filter.dt_s;
-    // The best track of each radar: a target two radars follow has a track of each.
-    size_t marked = 0;
+    // The best track of each radar (a target two radars follow has a track of
+    // each), in one pass: radars are few, kept in a small table.
+    s_radar_best_t radar[S_BCIS_RADARS];
+    size_t nr = 0;
     for (size_t i = 0; i < self->count; i++) {
-        const trk_track_t *t = &self->tracks[i];
-        if (t->status == TRK_TENTATIVE)
+        trk_track_t *c = &self->tracks[i];
+        double dt = t_s - c->est.t_s;
+        if (c->status == TRK_TENTATIVE || fabs (dt) > max_age)
             continue;
-        bool seen = false; // this radar's turn came already
-        for (size_t k = 0; k < i && !seen; k++)
-            seen = self->tracks[k].uav_id == t->uav_id && self->tracks[k].status != TRK_TENTATIVE;
-        if (seen)
+        double e = c->est.x[0] + c->est.x[2] * dt, n = c->est.x[1] + c->est.x[3] * dt;
+        double de = z[0] - e, dn = z[1] - n;
+        if (de * de + dn * dn > 25e6) // beyond 5 km: no gate of a track this fresh reaches
             continue;
-        trk_track_t *best = NULL;
-        double best_cost = INFINITY;
-        for (size_t j = i; j < self->count; j++) {
-            trk_track_t *c = &self->tracks[j];
-            double dt = t_s - c->est.t_s;
-            if (c->uav_id != t->uav_id || c->status == TRK_TENTATIVE || fabs (dt) > max_age)
-                continue;
-            double e = c->est.x[0] + c->est.x[2] * dt, n = c->est.x[1] + c->est.x[3] * dt;
-            double de = z[0] - e, dn = z[1] - n;
-            if (de * de + dn * dn > 25e6) // beyond 5 km: no gate of a track this fresh reaches
-                continue;
-            trk_estimate_t pr;
-            trk_filter_predict (&c->est, &self->p.filter, t_s, &pr);
-            double log_det, d2 = trk_filter_distance (&pr, z, R, &log_det);
-            if (d2 >= 0 && d2 <= self->gate && d2 + log_det < best_cost) {
-                best_cost = d2 + log_det;
-                best = c;
-            }
+        trk_estimate_t pr;
+        trk_filter_predict (&c->est, &self->p.filter, t_s, &pr);
+        double log_det, d2 = trk_filter_distance (&pr, z, R, &log_det);
+        if (d2 < 0 || d2 > self->gate)
+            continue;
+        size_t k = 0;
+        while (k < nr && radar[k].uav_id != c->uav_id)
+            k++;
+        if (k == nr) {
+            if (nr == S_BCIS_RADARS)
+                continue; // more radars than the table holds: the rest go without
+            radar[nr++] = (s_radar_best_t){c->uav_id, NULL, INFINITY};
         }
-        if (best) {
-            best->friendly = true;
-            best->friendly_id = responder_id;
-            best->friendly_s = fmax (best->friendly_s, t_s);
-            marked++;
+        if (d2 + log_det < radar[k].cost) {
+            radar[k].cost = d2 + log_det;
+            radar[k].best = c;
         }
     }
-    return marked;
+    for (size_t k = 0; k < nr; k++) {
+        trk_track_t *b = radar[k].best;
+        b->friendly = true;
+        b->friendly_id = responder_id;
+        b->friendly_s = fmax (b->friendly_s, t_s);
+    }
+    return nr;
 }
 
 size_t trk_tracker_age_identity (trk_tracker_t *self, double t_s)

@@ -11,6 +11,7 @@
  * core (CPU time) over R revolutions; figures are medians over revolutions.
  * Usage: bench_bcisd [--runs R] (other options, meant for other benchmarks,
  * are ignored). */
+#include "bench_util.h"
 #include "bcis_interrogator.h"
 #include "bcis_params.h"
 #include "cgs_scenario.h"
@@ -20,25 +21,6 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
-
-static double s_cpu (void)
-{
-    struct timespec ts;
-    clock_gettime (CLOCK_PROCESS_CPUTIME_ID, &ts);
-    return (double)ts.tv_sec + ts.tv_nsec * 1e-9;
-}
-
-static int s_cmp (const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return x < y ? -1 : x > y;
-}
-
-static double s_median (double *v, int n)
-{
-    qsort (v, (size_t)n, sizeof *v, s_cmp);
-    return n % 2 ? v[n / 2] : (v[n / 2 - 1] + v[n / 2]) / 2;
-}
 
 typedef struct {
     double scan_cpu_s; // one revolution, median
@@ -61,7 +43,7 @@ static s_result_t s_run (const bcis_params_t *p, const cgs_terrain_t *terrain, c
     s_result_t res = {0};
     for (int r = 0; r < runs; r++) {
         size_t asked = 0, in_beam = 0, replies = 0, blocked = 0;
-        double c0 = s_cpu ();
+        double c0 = bench_cpu_s ();
         for (uint32_t k = 0; k < s->dwells; k++) {
             cgs_dwell_t d;
             bcis_dwell_out_t out;
@@ -76,15 +58,15 @@ static s_result_t s_run (const bcis_params_t *p, const cgs_terrain_t *terrain, c
             for (size_t i = 0; i < out.truth_count; i++)
                 blocked += out.truth[i].blocked;
         }
-        cpu[r] = s_cpu () - c0;
+        cpu[r] = bench_cpu_s () - c0;
         rate[r] = asked / cpu[r];
         res.interrogations = asked;
         res.in_beam = in_beam;
         res.replies = replies;
         res.blocked = blocked;
     }
-    res.scan_cpu_s = s_median (cpu, runs);
-    res.interrogations_per_s = s_median (rate, runs);
+    res.scan_cpu_s = bench_median (cpu, runs);
+    res.interrogations_per_s = bench_median (rate, runs);
     free (cpu);
     free (rate);
     bcis_interrogator_destroy (&b);

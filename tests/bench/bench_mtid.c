@@ -12,6 +12,7 @@
  * per scan, for the slower of the two worlds. Goal: at least 10,000.
  * Usage: bench_mtid [--runs R] [--movers T]
  * (other options, meant for other benchmarks, are ignored). */
+#include "bench_util.h"
 #include "cgs_scenario.h"
 #include "mti_params.h"
 #include "mti_radar.h"
@@ -26,25 +27,6 @@
 
 #define S_GOAL 10000.0
 
-static double s_cpu (void)
-{
-    struct timespec ts;
-    clock_gettime (CLOCK_PROCESS_CPUTIME_ID, &ts);
-    return (double)ts.tv_sec + ts.tv_nsec * 1e-9;
-}
-
-static int s_cmp (const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return x < y ? -1 : x > y;
-}
-
-static double s_median (double *v, int n)
-{
-    qsort (v, (size_t)n, sizeof *v, s_cmp);
-    return n % 2 ? v[n / 2] : (v[n / 2 - 1] + v[n / 2]) / 2;
-}
-
 /* A FFTW plan of the chain's size, executed alone: seconds per transform. */
 static double s_fft_cost (int n)
 {
@@ -53,10 +35,10 @@ static double s_fft_cost (int n)
     for (int i = 0; i < n; i++)
         ((double complex *)b)[i] = cos (i) + I * sin (2 * i);
     int reps = 2000000;
-    double c0 = s_cpu ();
+    double c0 = bench_cpu_s ();
     for (int r = 0; r < reps; r++)
         fftw_execute (p);
-    double t = (s_cpu () - c0) / reps;
+    double t = (bench_cpu_s () - c0) / reps;
     fftw_destroy_plan (p);
     fftw_free (b);
     return t;
@@ -96,7 +78,7 @@ static s_result_t s_run (const mti_params_t *p, const cgs_terrain_t *terrain, cg
     s_result_t res = {0};
     for (int r = 0; r < runs; r++) {
         size_t in_beam = 0, chained = 0;
-        double c0 = s_cpu ();
+        double c0 = bench_cpu_s ();
         for (uint32_t k = 0; k < dwells; k++) {
             mti_dwell_t d;
             mti_dwell_out_t out;
@@ -111,13 +93,13 @@ static s_result_t s_run (const mti_params_t *p, const cgs_terrain_t *terrain, cg
             res.hits += out.hit_count - out.false_alarms;
             res.fas += out.false_alarms;
         }
-        scan[r] = s_cpu () - c0;
+        scan[r] = bench_cpu_s () - c0;
         per[r] = scan[r] / (chained ? chained : 1) * 1e6;
         res.in_beam = in_beam;
         res.chained = chained;
     }
-    res.scan_s = s_median (scan, runs);
-    res.per_target_us = s_median (per, runs);
+    res.scan_s = bench_median (scan, runs);
+    res.per_target_us = bench_median (per, runs);
     free (scan);
     free (per);
     free (tg);

@@ -12,6 +12,7 @@
  * 10,000 near-linear (time per track within 2x of the 1,000 case).
  * Usage: bench_trackerd [--runs R] (other options, meant for other
  * benchmarks, are ignored). */
+#include "bench_util.h"
 #include "trk_params.h"
 #include "trk_tracker.h"
 
@@ -22,19 +23,6 @@
 #include <time.h>
 
 #define S_PI 3.14159265358979323846
-
-static double s_cpu (void)
-{
-    struct timespec ts;
-    clock_gettime (CLOCK_PROCESS_CPUTIME_ID, &ts);
-    return (double)ts.tv_sec + ts.tv_nsec * 1e-9;
-}
-
-static int s_cmp (const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return x < y ? -1 : x > y;
-}
 
 static uint64_t s_state = 0x853c49e6748fea9bull;
 static double s_uniform (void)
@@ -109,10 +97,10 @@ static int s_run (const trk_params_t *p, size_t n, double side_m, int runs, s_re
                            .full_revolution = true,
                            .platform = {radar[0], radar[1]}};
         trk_scan_out_t out;
-        double t0 = s_cpu ();
+        double t0 = bench_cpu_s ();
         if (trk_tracker_scan (trk, &scan, hits, m, &out) < 0)
             return -1;
-        double dt = s_cpu () - t0;
+        double dt = bench_cpu_s () - t0;
         if (k >= warm) {
             times[k - warm] = dt;
             r.tracks = trk_tracker_count (trk);
@@ -121,8 +109,7 @@ static int s_run (const trk_params_t *p, size_t n, double side_m, int runs, s_re
                 r.largest = out.largest_cluster;
         }
     }
-    qsort (times, (size_t)runs, sizeof *times, s_cmp);
-    r.scan_cpu_s = runs % 2 ? times[runs / 2] : (times[runs / 2 - 1] + times[runs / 2]) / 2;
+    r.scan_cpu_s = bench_median (times, runs);
     *ret = r;
     trk_tracker_destroy (&trk);
     free (tg);

@@ -8,6 +8,7 @@
  * time.
  * Usage: bench_uavsim [--runs R] [--sim-seconds S] [--scenario FILE]
  * (other options, meant for other benchmarks, are ignored). */
+#include "bench_util.h"
 #include "cgs_bus.h"
 #include "uavsim_msgs.h"
 #include "uavsim_world.h"
@@ -21,26 +22,6 @@
 #include <zmq.h>
 
 #define S_GOAL 50.0
-
-static double s_now (void)
-{
-    struct timespec ts;
-    clock_gettime (CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + ts.tv_nsec * 1e-9;
-}
-
-static double s_cpu (void)
-{
-    struct timespec ts;
-    clock_gettime (CLOCK_PROCESS_CPUTIME_ID, &ts);
-    return (double)ts.tv_sec + ts.tv_nsec * 1e-9;
-}
-
-static int s_cmp (const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return x < y ? -1 : x > y;
-}
 
 int main (int argc, char **argv)
 {
@@ -102,14 +83,14 @@ int main (int argc, char **argv)
     uavsim_msgs_t *m = uavsim_msgs_new (w);
     uint64_t every = (uint64_t)llround (1.0 / (rate_hz * step_s));
     uint64_t warm = (uint64_t)ceil (latest_start / step_s) + 1;
-    double tw = s_now ();
+    double tw = bench_wall_s ();
     for (uint64_t k = 0; k < warm; k++)
         uavsim_world_step (w);
     printf ("  warm-up: %.0f s of simulation (every vehicle started) in %.2f s\n",
-            uavsim_world_time (w), s_now () - tw);
+            uavsim_world_time (w), bench_wall_s () - tw);
     for (int r = 0; r < runs; r++) {
         uint64_t steps = (uint64_t)llround (sim_s / step_s);
-        double t0 = s_now (), c0 = s_cpu ();
+        double t0 = bench_wall_s (), c0 = bench_cpu_s ();
         for (uint64_t k = 1; k <= steps; k++) {
             uavsim_world_step (w);
             if (uavsim_world_tick (w) % every)
@@ -129,7 +110,7 @@ int main (int argc, char **argv)
                 pub, "clock",
                 &uavsim_msgs_clock (m, w, 1, false, (cgs_geodetic_t){35.96, -121.23, 0})->base, t);
         }
-        double wall = s_now () - t0, cpu = s_cpu () - c0;
+        double wall = bench_wall_s () - t0, cpu = bench_cpu_s () - c0;
         factor[r] = sim_s / wall;
         cpu_total += cpu;
         wall_total += wall;
@@ -139,7 +120,7 @@ int main (int argc, char **argv)
     }
     uavsim_msgs_destroy (&m);
     uavsim_world_destroy (&w);
-    qsort (factor, (size_t)runs, sizeof *factor, s_cmp);
+    qsort (factor, (size_t)runs, sizeof *factor, bench_cmp_double);
     double median = factor[runs / 2];
     printf ("uavsim: %zu vehicles, step %.3f s, entities published at %.0f Hz of simulation time "
             "(%.0f entity states per wall second at the median)\n",

@@ -182,6 +182,8 @@ check "naming the file, line and key" grep -q "bad.ini:$line: \[association\] co
 sed 's/^mode = paper$/mode = fast/' "$TMP/tracker.ini" >"$TMP/bad2.ini"
 "$TRACKERD" --exercise "$EX" --params "$TMP/bad2.ini" --check >"$TMP/bad2.log" 2>&1
 is "$?" 1 "trackerd --check refuses mode = fast"
-check "saying what it expected" grep -q "mode" "$TMP/bad2.log"
+line=$(grep -n '^mode' "$TMP/bad2.ini" | cut -d: -f1)
+check "naming the file, line and what it expected" \
+    grep -q "bad2.ini:$line: \[filter\] mode: expected one of 'paper', 'kalman', got 'fast'" "$TMP/bad2.log"
 
 finish

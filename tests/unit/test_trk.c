@@ -686,6 +686,48 @@ static void test_identity_from_bcis (void **state)
     trk_tracker_destroy (&t);
 }
 
+/* Two radars following one friendly each have a track of it: a reply marks
+ * both; a tentative track takes no identity. */
+static void test_identity_per_radar (void **state)
+{
+    (void)state;
+    trk_params_t p = s_defaults ();
+    trk_tracker_t *t = trk_tracker_new (&p);
+    for (uint32_t k = 0; k < 4; k++)
+        for (uint32_t radar = 1; radar <= 2; radar++) {
+            trk_hit_t h = s_hit (10 * k + radar, 10.0 * k + radar, 10.0 * (10 * k), 0);
+            trk_scan_t sc = {.uav_id = radar,
+                             .scan_number = k,
+                             .start_s = 10.0 * k,
+                             .end_s = 10.0 * k + 10,
+                             .full_revolution = true};
+            trk_scan_out_t o;
+            assert_int_equal (trk_tracker_scan (t, &sc, &h, 1, &o), 0);
+        }
+    // And a third radar that has only a tentative track, right beside the target.
+    trk_hit_t x = s_hit (99, 41, 405, 5);
+    trk_scan_t sc = {
+        .uav_id = 3, .scan_number = 4, .start_s = 40, .end_s = 50, .full_revolution = true};
+    trk_scan_out_t o;
+    assert_int_equal (trk_tracker_scan (t, &sc, &x, 1, &o), 0);
+    const trk_track_t *tent = s_track_of_hit (t, 99);
+    assert_non_null (tent);
+    assert_int_equal (tent->status, TRK_TENTATIVE);
+    uint32_t tent_id = tent->id;
+    assert_int_equal (trk_tracker_bcis (t, 42, (double[2]){420, 0}, 5), 2);
+    size_t friendly = 0;
+    for (size_t i = 0; i < trk_tracker_count (t); i++) {
+        const trk_track_t *tr = trk_tracker_at (t, i);
+        if (tr->friendly) {
+            friendly++;
+            assert_int_not_equal (tr->id, tent_id);
+            assert_int_equal (tr->friendly_id, 5);
+        }
+    }
+    assert_int_equal (friendly, 2);
+    trk_tracker_destroy (&t);
+}
+
 /* ---- checkpoint ------------------------------------------------------------------- */
 
 static void test_checkpoint_keeps_ids (void **state)
@@ -855,6 +897,7 @@ int main (void)
         cmocka_unit_test (test_sector_coverage),
         cmocka_unit_test (test_bad_hits_and_time_reset),
         cmocka_unit_test (test_identity_from_bcis),
+        cmocka_unit_test (test_identity_per_radar),
         cmocka_unit_test (test_checkpoint_keeps_ids),
         cmocka_unit_test (test_params),
         cmocka_unit_test (test_polar_covariance),
