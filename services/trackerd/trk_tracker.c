@@ -7,8 +7,8 @@
  *     cells its gate can reach over the scan and keeps the hits inside its
  *     gate as pairs: χ² of the innovation at the hit's own time ≤ G, with S
  *     widened for a confirmed track by the manoeuvre allowance (a_m dt²/2)²
- *     per axis; a track of one hit takes only hits within its reach at the
- *     fastest target's speed;
+ *     per axis; no track takes a hit beyond its reach at the fastest
+ *     target's speed since its estimate;
  *  4. tracks and hits joined by pairs form clusters (union-find); each
  *     cluster is one optimal assignment with cost d² + ln|S| per pair and
  *     G + 1 + ln|S| for leaving a track without a hit (global nearest
@@ -320,9 +320,12 @@ static void s_try_pair (trk_tracker_t *self, size_t ti, size_t hi)
     double dt = h->h.t_s - t->est.t_s;
     if (!(dt > 0))
         return; // not after the track's estimate: it cannot be its next hit
-    if (t->hits == 1) {
-        // A track of one hit: the next must not imply a speed above the fastest
-        // target's (with three standard deviations of both positions to spare).
+    {
+        // The hit must not imply a speed above the fastest target's since the
+        // track's estimate (with three standard deviations of both positions
+        // to spare). For a track of one hit this is its whole gate; for a
+        // coasting one it bounds the manoeuvre allowance, which grows as dt²
+        // and would otherwise take in clutter kilometres away.
         double de = h->h.z[0] - t->est.x[0], dn = h->h.z[1] - t->est.x[1];
         double slack = 3 * sqrt (t->est.P[0] + t->est.P[5] + h->R[0] + h->R[3]);
         if (hypot (de, dn) > self->p.max_speed_mps * dt + slack)
