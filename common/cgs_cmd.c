@@ -95,6 +95,12 @@ cgs_cmd_client_t *cgs_cmd_client_new_exact (void *ctx, const char *endpoint, con
     return self;
 }
 
+void cgs_cmd_client_set_next_number (cgs_cmd_client_t *self, uint64_t n)
+{
+    if (self && n > 0)
+        self->next_number = n;
+}
+
 void cgs_cmd_client_destroy (cgs_cmd_client_t **self_p)
 {
     if (!self_p || !*self_p)

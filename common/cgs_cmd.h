@@ -37,6 +37,10 @@ cgs_cmd_client_t *cgs_cmd_client_new (void *ctx, const char *endpoint, const cha
  * by the server. NULL with errno on failure. */
 cgs_cmd_client_t *cgs_cmd_client_new_exact (void *ctx, const char *endpoint, const char *client_id,
                                             uint64_t first_number);
+/* Number the next command n (> 0): a sender that keeps its own numbering
+ * (and resends a command under the number it first had) sets it before
+ * each call. */
+void cgs_cmd_client_set_next_number (cgs_cmd_client_t *self, uint64_t n);
 /* Close and free; accepts NULL; nulls the pointer. */
 void cgs_cmd_client_destroy (cgs_cmd_client_t **self_p);
 /* The client's id. */
