@@ -4,6 +4,7 @@
 #   make run        install missing packages, build, run the default exercise
 #   make test       install missing packages, build under ASan+UBSan, run every test
 #   make bench      build optimised, run the benchmarks
+#   make montecarlo 200 whole intercepts in one process (MC_RUNS, MC_SEED)
 #   make install    install binaries and deploy files (PREFIX, DESTDIR)
 #   make clean      remove build/
 #   make format     clang-format every C, C++ and header file
@@ -85,20 +86,20 @@ JOBS    ?= $(shell nproc 2>/dev/null || echo 2)
 # Keep objects that pattern chains would otherwise delete as intermediates.
 .SECONDARY:
 
-.PHONY: all run test test-build bench fuzz fuzz-build install clean format deps help
+.PHONY: all run test test-build bench montecarlo fuzz fuzz-build install clean format deps help
 .DEFAULT_GOAL := all
 
 all: $(BINS)
 
 help:
-	@sed -n '2,12p' Makefile | sed 's/^# \{0,1\}//'
+	@sed -n '2,13p' Makefile | sed 's/^# \{0,1\}//'
 
 deps:
 	@scripts/install-deps
 
 run: deps
 	@$(MAKE) --no-print-directory -j$(JOBS) all
-	$(O)/bin/mscgs run --exercise deploy/exercises/default.ini --out $(O)/run $(RUN_ARGS)
+	$(O)/bin/mscgs run --exercise deploy/exercises/default.ini --out $(O)/run --stop-after-intercept 20 $(RUN_ARGS)
 
 # The test build lives in its own folder so it never mixes with release objects.
 test: deps
@@ -110,6 +111,14 @@ test-build: $(BINS) $(UNIT_BINS) $(INTEG_BINS)
 bench: deps
 	@$(MAKE) --no-print-directory -j$(JOBS) O=build/release SAN=0 $(addprefix build/release/bench/,$(notdir $(BENCH_BINS))) $(addprefix build/release/bin/,$(SERVICES))
 	@tests/bench/run build/release
+
+# Whole intercepts with the cores of uavsim, mtid, trackerd and guidanced in
+# lockstep over random geometries (opt-in; MC_RUNS, MC_SEED).
+MC_RUNS ?= 200
+MC_SEED ?= 1
+montecarlo: deps
+	@$(MAKE) --no-print-directory -j$(JOBS) O=build/release SAN=0 build/release/bin/guidanced
+	build/release/bin/guidanced --monte-carlo --runs $(MC_RUNS) --seed $(MC_SEED)
 
 # Coverage-guided fuzzing of the parsers (opt-in: not part of `make test`).
 fuzz:
@@ -169,7 +178,9 @@ endif
 
 # --- binaries ------------------------------------------------------------------
 .SECONDEXPANSION:
-$(O)/bin/%: $$(foreach f,$$(wildcard services/$$*/*.c),$(O)/obj/$$(basename $$(f)).o) $(LIB)
+# Every service's core objects ($(SVC_LIB)) come after the service's own, so
+# any program may use another service's core (mscgs scores with guidanced's).
+$(O)/bin/%: $$(foreach f,$$(wildcard services/$$*/*.c),$(O)/obj/$$(basename $$(f)).o) $(SVC_LIB) $(LIB)
 	@mkdir -p $(dir $@)
 	$(CC) $(LDFLAGS) $^ -o $@ $(LDLIBS)
 

@@ -1,0 +1,542 @@
+/* gd_geom — intercept geometry, Dubins paths and the sensor footprint. */
+#include "gd_geom.h"
+
+#include <errno.h>
+#include <float.h>
+#include <math.h>
+
+#define S_PI        3.14159265358979323846
+#define S_TWO_PI    (2.0 * S_PI)
+#define S_DEG       (S_PI / 180.0)
+#define S_ITER_MAX  200 // fixed-point iterations of t_pred
+#define S_T_TOL_S   1e-6
+#define S_BISECT    60 // bisection steps of a ray meeting the terrain
+
+/* ---- vectors ------------------------------------------------------------------------ */
+
+gd_v2_t gd_v2 (double e, double n)
+{
+    gd_v2_t v = {e, n};
+    return v;
+}
+
+gd_v2_t gd_add (gd_v2_t a, gd_v2_t b)
+{
+    return gd_v2 (a.e + b.e, a.n + b.n);
+}
+
+gd_v2_t gd_sub (gd_v2_t a, gd_v2_t b)
+{
+    return gd_v2 (a.e - b.e, a.n - b.n);
+}
+
+gd_v2_t gd_scale (gd_v2_t a, double k)
+{
+    return gd_v2 (a.e * k, a.n * k);
+}
+
+double gd_dot (gd_v2_t a, gd_v2_t b)
+{
+    return a.e * b.e + a.n * b.n;
+}
+
+double gd_cross (gd_v2_t a, gd_v2_t b)
+{
+    return a.e * b.n - a.n * b.e;
+}
+
+double gd_norm (gd_v2_t a)
+{
+    return hypot (a.e, a.n);
+}
+
+gd_v2_t gd_heading_unit (double heading_deg)
+{
+    return gd_v2 (sin (heading_deg * S_DEG), cos (heading_deg * S_DEG));
+}
+
+double gd_heading_of (gd_v2_t v)
+{
+    double h = atan2 (v.e, v.n) / S_DEG;
+    if (h < 0)
+        h += 360.0;
+    return h >= 360.0 ? 0.0 : h;
+}
+
+double gd_heading_diff (double a_deg, double b_deg)
+{
+    double d = fmod (b_deg - a_deg, 360.0);
+    if (d <= -180.0)
+        d += 360.0;
+    else if (d > 180.0)
+        d -= 360.0;
+    return d;
+}
+
+static double s_mod2pi (double a)
+{
+    double m = fmod (a, S_TWO_PI);
+    return m < 0 ? m + S_TWO_PI : m;
+}
+
+static bool s_finite2 (gd_v2_t v)
+{
+    return isfinite (v.e) && isfinite (v.n);
+}
+
+/* ---- the arc that joins the UAV to a point ----------------------------------------- */
+
+/* Length of a turn of side `left` from (p, math angle th) with radius r, then
+ * the tangent to q; INFINITY when q lies inside that turn circle. */
+static double s_turn_then_straight (gd_v2_t p, double th, double r, gd_v2_t q, bool left)
+{
+    // Centre of the turn: left of the velocity for an anticlockwise turn.
+    double sgn = left ? 1.0 : -1.0;
+    gd_v2_t c = gd_v2 (p.e - sgn * r * sin (th), p.n + sgn * r * cos (th));
+    gd_v2_t v = gd_sub (q, c);
+    double dist = gd_norm (v);
+    if (dist < r * (1 - 1e-9))
+        return INFINITY; // inside the circle (a point on it, within rounding, is reached by the arc)
+    double tangent = sqrt (fmax (0.0, dist * dist - r * r));
+    double ang_v = atan2 (v.n, v.e);
+    // Exit direction u: q − c = r·(u turned towards the centre's opposite) + T·u.
+    double ang_u = ang_v + sgn * atan2 (r, tangent);
+    double turn = left ? s_mod2pi (ang_u - th) : s_mod2pi (th - ang_u);
+    if (turn > S_TWO_PI - 1e-9)
+        turn = 0; // already heading at it
+    return r * turn + tangent;
+}
+
+double gd_arc_length (gd_v2_t p, double heading_deg, double r_m, gd_v2_t q)
+{
+    double th = (90.0 - heading_deg) * S_DEG;
+    double l = s_turn_then_straight (p, th, r_m, q, true);
+    double r = s_turn_then_straight (p, th, r_m, q, false);
+    double best = fmin (l, r);
+    if (isfinite (best))
+        return best;
+    // Inside both circles: away and around.
+    return S_TWO_PI * r_m + gd_norm (gd_sub (q, p));
+}
+
+/* ---- waypoint initialisation --------------------------------------------------------- */
+
+void gd_to_target_frame (gd_v2_t o, gd_v2_t dir, gd_v2_t q, double *ret_x, double *ret_y)
+{
+    gd_v2_t d = gd_sub (q, o);
+    *ret_x = dir.n * d.e - dir.e * d.n;
+    *ret_y = dir.e * d.e + dir.n * d.n;
+}
+
+int gd_waypoint (const gd_engage_t *in, gd_waypoint_t *ret)
+{
+    if (!in || !ret || !s_finite2 (in->uav) || !s_finite2 (in->target) ||
+        !s_finite2 (in->target_vel) || !isfinite (in->uav_heading_deg))
+        return -EINVAL;
+    double vt = gd_norm (in->target_vel);
+    double s = in->uav_speed_mps;
+    if (!(s > vt) || !isfinite (s) || !(in->turn_radius_m > 0) ||
+        !isfinite (in->turn_radius_m) || !(in->agl_m > 0) || !isfinite (in->agl_m) ||
+        !(in->depression_deg > 0 && in->depression_deg < 90) || !(in->secondary_scale >= 0) ||
+        !isfinite (in->secondary_scale) || !(in->lead_in_m >= 0) || !isfinite (in->lead_in_m))
+        return -EINVAL;
+    gd_waypoint_t w = {0};
+    w.lookahead_m = in->agl_m / tan (in->depression_deg * S_DEG);
+    if (vt > 0) {
+        w.dir = gd_scale (in->target_vel, 1.0 / vt);
+    } else { // standing still: come in along the line from the UAV
+        gd_v2_t away = gd_sub (in->uav, in->target);
+        double d = gd_norm (away);
+        w.dir = d > 0 ? gd_scale (away, 1.0 / d) : gd_v2 (0, 1);
+    }
+    // t_pred: fixed point of t = L(P_T + V_T·t) / s_ug.
+    double t = gd_arc_length (in->uav, in->uav_heading_deg, in->turn_radius_m, in->target) / s;
+    double prev = t;
+    int k = 0;
+    for (k = 1; k <= S_ITER_MAX; k++) {
+        gd_v2_t q = gd_add (in->target, gd_scale (in->target_vel, t));
+        double next = gd_arc_length (in->uav, in->uav_heading_deg, in->turn_radius_m, q) / s;
+        prev = t;
+        t = next;
+        if (fabs (t - prev) <= S_T_TOL_S * (1.0 + t))
+            break;
+    }
+    if (k > S_ITER_MAX)
+        t = fmax (t, prev); // oscillating about a jump of the arc (a side switch): the later
+    if (!isfinite (t))
+        return -EINVAL;
+    w.t_pred_s = t;
+    w.iterations = k > S_ITER_MAX ? S_ITER_MAX : k;
+    w.meet = gd_add (in->target, gd_scale (in->target_vel, t));
+    w.waypoint = gd_add (w.meet, gd_scale (w.dir, w.lookahead_m)); // equation 1
+    gd_to_target_frame (w.waypoint, w.dir, in->uav, &w.x_u_m, &w.y_u_m); // equation 2
+    w.secondary = !(w.y_u_m > 0);
+    if (w.secondary) { // equation 3, Δ = Rᵀ diag(1, −k) R
+        double y2 = fmax (in->secondary_scale * -w.y_u_m, in->lead_in_m);
+        gd_v2_t right = gd_v2 (w.dir.n, -w.dir.e);
+        w.second = gd_add (w.waypoint, gd_add (gd_scale (right, w.x_u_m), gd_scale (w.dir, y2)));
+    }
+    *ret = w;
+    return 0;
+}
+
+gd_v2_t gd_precision_step (gd_v2_t p, gd_v2_t target, gd_v2_t uv, double speed_mps, double dt_s)
+{
+    double along = gd_dot (gd_sub (p, target), uv);
+    gd_v2_t on_line = gd_add (target, gd_scale (uv, along));
+    return gd_sub (on_line, gd_scale (uv, speed_mps * dt_s));
+}
+
+/* ---- Dubins paths -------------------------------------------------------------------- */
+
+/* Segment kinds of each word: 'L' anticlockwise, 'R' clockwise, 'S' straight. */
+static const char *const s_words[6] = {"LSL", "LSR", "RSL", "RSR", "RLR", "LRL"};
+
+/* Normalised lengths (t, p, q) of word w for the standard form (d, alpha,
+ * beta); false when the word does not exist for this geometry. */
+static bool s_word (int w, double d, double a, double b, double out[3])
+{
+    double sa = sin (a), sb = sin (b), ca = cos (a), cb = cos (b), cab = cos (a - b);
+    double p2, tmp, t, p, q;
+    switch (w) {
+    case GD_LSL:
+        p2 = 2 + d * d - 2 * cab + 2 * d * (sa - sb);
+        if (p2 < 0)
+            return false;
+        tmp = atan2 (cb - ca, d + sa - sb);
+        t = s_mod2pi (tmp - a);
+        p = sqrt (p2);
+        q = s_mod2pi (b - tmp);
+        break;
+    case GD_RSR:
+        p2 = 2 + d * d - 2 * cab + 2 * d * (sb - sa);
+        if (p2 < 0)
+            return false;
+        tmp = atan2 (ca - cb, d - sa + sb);
+        t = s_mod2pi (a - tmp);
+        p = sqrt (p2);
+        q = s_mod2pi (tmp - b);
+        break;
+    case GD_LSR:
+        p2 = -2 + d * d + 2 * cab + 2 * d * (sa + sb);
+        if (p2 < 0)
+            return false;
+        p = sqrt (p2);
+        tmp = atan2 (-ca - cb, d + sa + sb) - atan2 (-2.0, p);
+        t = s_mod2pi (tmp - a);
+        q = s_mod2pi (tmp - b);
+        break;
+    case GD_RSL:
+        p2 = -2 + d * d + 2 * cab - 2 * d * (sa + sb);
+        if (p2 < 0)
+            return false;
+        p = sqrt (p2);
+        tmp = atan2 (ca + cb, d - sa - sb) - atan2 (2.0, p);
+        t = s_mod2pi (a - tmp);
+        q = s_mod2pi (b - tmp);
+        break;
+    case GD_RLR:
+        tmp = (6 - d * d + 2 * cab + 2 * d * (sa - sb)) / 8;
+        if (fabs (tmp) > 1)
+            return false;
+        p = s_mod2pi (S_TWO_PI - acos (tmp));
+        t = s_mod2pi (a - atan2 (ca - cb, d - sa + sb) + p / 2);
+        q = s_mod2pi (a - b - t + p);
+        break;
+    default: // GD_LRL
+        tmp = (6 - d * d + 2 * cab + 2 * d * (sb - sa)) / 8;
+        if (fabs (tmp) > 1)
+            return false;
+        p = s_mod2pi (S_TWO_PI - acos (tmp));
+        t = s_mod2pi (-a - atan2 (ca - cb, d + sa - sb) + p / 2);
+        q = s_mod2pi (b - a - t + p);
+        break;
+    }
+    out[0] = t;
+    out[1] = p;
+    out[2] = q;
+    return true;
+}
+
+/* Move (x, y, th) (math angle) along a segment of kind k for length s. */
+static void s_move (char k, double r, double s, double *x, double *y, double *th)
+{
+    if (k == 'S') {
+        *x += s * cos (*th);
+        *y += s * sin (*th);
+        return;
+    }
+    double phi = s / r;
+    if (k == 'L') {
+        *x += r * (sin (*th + phi) - sin (*th));
+        *y += r * (cos (*th) - cos (*th + phi));
+        *th += phi;
+    } else {
+        *x += r * (sin (*th) - sin (*th - phi));
+        *y += r * (cos (*th - phi) - cos (*th));
+        *th -= phi;
+    }
+}
+
+static void s_end (gd_v2_t p0, double h0_deg, int w, double r, const double len[3], gd_v2_t *ret_p,
+                   double *ret_th)
+{
+    double x = p0.e, y = p0.n, th = (90.0 - h0_deg) * S_DEG;
+    for (int i = 0; i < 3; i++)
+        s_move (s_words[w][i], r, len[i], &x, &y, &th);
+    *ret_p = gd_v2 (x, y);
+    *ret_th = th;
+}
+
+int gd_dubins (gd_v2_t p0, double h0_deg, gd_v2_t p1, double h1_deg, double r_m, gd_dubins_t *ret)
+{
+    if (!ret || !s_finite2 (p0) || !s_finite2 (p1) || !isfinite (h0_deg) || !isfinite (h1_deg) ||
+        !(r_m > 0) || !isfinite (r_m))
+        return -EINVAL;
+    double dx = p1.e - p0.e, dy = p1.n - p0.n;
+    double d = hypot (dx, dy) / r_m;
+    double th0 = (90.0 - h0_deg) * S_DEG, th1 = (90.0 - h1_deg) * S_DEG;
+    // Same place: measure the angles from the start heading, so the same
+    // pose gives the empty path exactly.
+    double phi = d > 1e-12 ? atan2 (dy, dx) : th0;
+    double a = s_mod2pi (th0 - phi), b = s_mod2pi (th1 - phi);
+    double best = INFINITY;
+    int best_w = -1;
+    double best_len[3] = {0, 0, 0};
+    double tol = 1e-6 * (1.0 + hypot (dx, dy));
+    for (int w = 0; w < 6; w++) {
+        double n[3];
+        if (!s_word (w, d, a, b, n))
+            continue;
+        double len[3] = {n[0] * r_m, n[1] * r_m, n[2] * r_m};
+        double total = len[0] + len[1] + len[2];
+        if (!(total < best))
+            continue;
+        // Keep only a word that really ends at the goal with the goal's heading.
+        gd_v2_t e;
+        double th;
+        s_end (p0, h0_deg, w, r_m, len, &e, &th);
+        double dh = fabs (remainder (th - th1, S_TWO_PI));
+        if (gd_norm (gd_sub (e, p1)) > tol + 1e-6 * r_m || dh > 1e-6)
+            continue;
+        best = total;
+        best_w = w;
+        for (int i = 0; i < 3; i++)
+            best_len[i] = len[i];
+    }
+    if (best_w < 0)
+        return -EINVAL;
+    gd_dubins_t out = {p0, h0_deg, r_m, (gd_dubins_word_t)best_w, {0, 0, 0}};
+    for (int i = 0; i < 3; i++)
+        out.len[i] = best_len[i];
+    *ret = out;
+    return 0;
+}
+
+double gd_dubins_length (const gd_dubins_t *d)
+{
+    return d->len[0] + d->len[1] + d->len[2];
+}
+
+void gd_dubins_at (const gd_dubins_t *d, double s, gd_v2_t *ret_p, double *ret_h_deg)
+{
+    double x = d->p0.e, y = d->p0.n, th = (90.0 - d->h0_deg) * S_DEG;
+    double left = fmax (0.0, s);
+    for (int i = 0; i < 3 && left > 0; i++) {
+        double step = fmin (left, d->len[i]);
+        s_move (s_words[d->word][i], d->r_m, step, &x, &y, &th);
+        left -= step;
+    }
+    *ret_p = gd_v2 (x, y);
+    double h = 90.0 - th / S_DEG;
+    h = fmod (h, 360.0);
+    *ret_h_deg = h < 0 ? h + 360.0 : h;
+}
+
+size_t gd_dubins_sample (const gd_dubins_t *d, double step_deg, gd_v2_t *out, size_t max)
+{
+    if (max == 0)
+        return 0;
+    size_t n = 0;
+    double s0 = 0;
+    double step = (step_deg > 0 ? step_deg : 10.0) * S_DEG * d->r_m;
+    for (int i = 0; i < 3; i++) {
+        double len = d->len[i];
+        if (len <= 1e-9)
+            continue;
+        size_t parts = 1;
+        if (s_words[d->word][i] != 'S')
+            parts = (size_t)fmax (2.0, ceil (len / step));
+        for (size_t k = 1; k <= parts; k++) {
+            gd_v2_t p;
+            double h;
+            gd_dubins_at (d, s0 + len * (double)k / (double)parts, &p, &h);
+            out[n < max ? n : max - 1] = p; // when full, the last slot keeps the latest
+            if (n < max)
+                n++;
+        }
+        s0 += len;
+    }
+    if (n == 0) { // a path of length zero: its end is its start
+        out[0] = d->p0;
+        n = 1;
+    }
+    return n;
+}
+
+/* ---- footprint ----------------------------------------------------------------------- */
+
+typedef struct {
+    double e, n, u;
+} s_v3_t;
+
+static s_v3_t s_v3 (double e, double n, double u)
+{
+    s_v3_t v = {e, n, u};
+    return v;
+}
+
+static s_v3_t s_comb (double a, s_v3_t x, double b, s_v3_t y)
+{
+    return s_v3 (a * x.e + b * y.e, a * x.n + b * y.n, a * x.u + b * y.u);
+}
+
+static double s_h (const cgs_terrain_t *t, double e, double n)
+{
+    return t ? cgs_terrain_height_clamped (t, e, n) : 0.0;
+}
+
+/* Where the ray from p along d meets the ground; false (and the point at
+ * max range, on the ground below) when it meets none within max_range. */
+static bool s_ray (const cgs_terrain_t *t, cgs_enu_t p, s_v3_t d, double max_range, gd_v2_t *ret,
+                   double *ret_up)
+{
+    double len = sqrt (d.e * d.e + d.n * d.n + d.u * d.u);
+    d = s_v3 (d.e / len, d.n / len, d.u / len);
+    double above = p.u_m - s_h (t, p.e_m, p.n_m);
+    if (above <= 0) {
+        *ret = gd_v2 (p.e_m, p.n_m);
+        *ret_up = s_h (t, p.e_m, p.n_m);
+        return true;
+    }
+    if (!t) {
+        if (d.u < 0 && above / -d.u <= max_range) {
+            double s = above / -d.u;
+            *ret = gd_v2 (p.e_m + s * d.e, p.n_m + s * d.n);
+            *ret_up = 0.0;
+            return true;
+        }
+    } else {
+        double step = fmax (1.0, cgs_terrain_resolution (t) / 2.0);
+        double s_lo = 0, s_hi = -1;
+        for (double s = step;; s += step) {
+            if (s > max_range)
+                s = max_range;
+            double h = s_h (t, p.e_m + s * d.e, p.n_m + s * d.n);
+            if (p.u_m + s * d.u <= h) {
+                s_hi = s;
+                break;
+            }
+            s_lo = s;
+            if (s >= max_range)
+                break;
+        }
+        if (s_hi > 0) {
+            for (int k = 0; k < S_BISECT; k++) {
+                double m = 0.5 * (s_lo + s_hi);
+                double h = s_h (t, p.e_m + m * d.e, p.n_m + m * d.n);
+                if (p.u_m + m * d.u <= h)
+                    s_hi = m;
+                else
+                    s_lo = m;
+            }
+            *ret = gd_v2 (p.e_m + s_hi * d.e, p.n_m + s_hi * d.n);
+            *ret_up = p.u_m + s_hi * d.u;
+            return true;
+        }
+    }
+    // No ground within range: cut at max_range along the ground track of the ray.
+    double hl = hypot (d.e, d.n);
+    double s = hl > 0 ? max_range : 0;
+    *ret = gd_v2 (p.e_m + (hl > 0 ? s * d.e / hl : 0), p.n_m + (hl > 0 ? s * d.n / hl : 0));
+    *ret_up = s_h (t, ret->e, ret->n);
+    return false;
+}
+
+int gd_footprint (const gd_sensor_t *s, const cgs_terrain_t *terrain, gd_footprint_t *ret)
+{
+    if (!s || !ret || !isfinite (s->position.e_m) || !isfinite (s->position.n_m) ||
+        !isfinite (s->position.u_m) || !isfinite (s->heading_deg) || !isfinite (s->pitch_deg) ||
+        !isfinite (s->roll_deg) || !(s->depression_deg > -90 && s->depression_deg < 90) ||
+        !(s->hfov_deg > 0 && s->hfov_deg < 180) || !(s->vfov_deg > 0 && s->vfov_deg < 180) ||
+        !(s->max_range_m > 0))
+        return -EINVAL;
+    double h = s->heading_deg * S_DEG, th = s->pitch_deg * S_DEG, ph = s->roll_deg * S_DEG;
+    double ep = s->depression_deg * S_DEG;
+    // Body axes in east-north-up: forward, right (level before roll), up.
+    s_v3_t f = s_v3 (sin (h) * cos (th), cos (h) * cos (th), sin (th));
+    s_v3_t r0 = s_v3 (cos (h), -sin (h), 0);
+    s_v3_t u0 = s_v3 (r0.n * f.u - r0.u * f.n, r0.u * f.e - r0.e * f.u, r0.e * f.n - r0.n * f.e);
+    s_v3_t r = s_comb (cos (ph), r0, -sin (ph), u0);
+    s_v3_t u = s_comb (sin (ph), r0, cos (ph), u0);
+    // Camera: the body pitched down by the depression angle.
+    s_v3_t fc = s_comb (cos (ep), f, -sin (ep), u);
+    s_v3_t uc = s_comb (sin (ep), f, cos (ep), u);
+    double a = tan (s->hfov_deg * S_DEG / 2), b = tan (s->vfov_deg * S_DEG / 2);
+    const double sa[4] = {-a, -a, a, a}; // near-left, far-left, far-right, near-right
+    const double sb[4] = {-b, b, b, -b};
+    gd_footprint_t out = {0};
+    bool all = true;
+    for (int i = 0; i < 4; i++) {
+        s_v3_t d = s_comb (1.0, fc, 1.0, s_comb (sa[i], r, sb[i], uc));
+        all &= s_ray (terrain, s->position, d, s->max_range_m, &out.corner[i], &out.corner_up_m[i]);
+    }
+    all &= s_ray (terrain, s->position, fc, s->max_range_m, &out.center, &out.center_up_m);
+    out.clipped = !all;
+    *ret = out;
+    return 0;
+}
+
+void gd_footprint_scale (const gd_footprint_t *f, double k, gd_footprint_t *ret)
+{
+    gd_footprint_t out = *f;
+    for (int i = 0; i < 4; i++)
+        out.corner[i] = gd_add (f->center, gd_scale (gd_sub (f->corner[i], f->center), k));
+    *ret = out;
+}
+
+bool gd_footprint_contains (const gd_footprint_t *f, gd_v2_t p)
+{
+    // Clockwise seen from above: the inside is on the right of every edge.
+    double scale = 0;
+    for (int i = 0; i < 4; i++)
+        scale = fmax (scale, gd_norm (gd_sub (f->corner[i], f->center)));
+    double tol = 1e-9 * (1.0 + scale);
+    for (int i = 0; i < 4; i++) {
+        gd_v2_t a = f->corner[i], b = f->corner[(i + 1) % 4];
+        gd_v2_t ab = gd_sub (b, a);
+        double len = gd_norm (ab);
+        if (gd_cross (ab, gd_sub (p, a)) > tol * (len > 0 ? len : 1.0))
+            return false;
+    }
+    return true;
+}
+
+static double s_seg_dist (gd_v2_t p, gd_v2_t a, gd_v2_t b)
+{
+    gd_v2_t ab = gd_sub (b, a);
+    double l2 = gd_dot (ab, ab);
+    double t = l2 > 0 ? gd_dot (gd_sub (p, a), ab) / l2 : 0;
+    t = t < 0 ? 0 : (t > 1 ? 1 : t);
+    return gd_norm (gd_sub (p, gd_add (a, gd_scale (ab, t))));
+}
+
+double gd_footprint_distance (const gd_footprint_t *f, gd_v2_t p)
+{
+    if (gd_footprint_contains (f, p))
+        return 0;
+    double d = INFINITY;
+    for (int i = 0; i < 4; i++)
+        d = fmin (d, s_seg_dist (p, f->corner[i], f->corner[(i + 1) % 4]));
+    return d;
+}

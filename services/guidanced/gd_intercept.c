@@ -1,0 +1,933 @@
+/* gd_intercept — one UAV's intercept of a designated track (see gd_intercept.h). */
+#include "gd_intercept.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define S_G_MPS2      9.80665
+#define S_DEG         (3.14159265358979323846 / 180.0)
+#define S_PASS_M      80.0 // a route point within this is reached
+#define S_OUT_S       2.0  // the target out of the footprint this long after overflight: done
+#define S_MISS_M      50.0 // behind the footprint's near edge by this much: missed
+#define S_TRAIL_GAP_M 50.0 // trail points closer than this to the previous are dropped
+#define S_SAVE_MAGIC  "gd_intercept 1"
+
+struct gd_intercept {
+    gd_params_t p;
+    const cgs_terrain_t *terrain;
+    gd_method_t method;
+    uint32_t scale;
+    // The UAV.
+    bool have_uav;
+    gd_uav_t uav;
+    bool have_fp;
+    gd_footprint_t fp;
+    // The designation.
+    gd_phase_t phase;
+    uint32_t track_id;
+    uint64_t designation_number;
+    double designation_s;
+    bool have_track;
+    gd_track_t track;
+    bool need_plan;
+    bool orphan;       // its track was deleted: waiting for a new track of the target
+    uint32_t orphan_id; // the deleted track
+    // The plan.
+    bool has_plan;
+    gd_waypoint_t wp;
+    double plan_s;
+    size_t i_second, i_waypoint; // their indices in the task's points
+    size_t progress;             // the route point the UAV flies to next
+    // Precision approach and overflight.
+    gd_v2_t p_close;
+    double close_s;
+    bool inside, was_inside;
+    double overflight_s;
+    double out_since_s;
+    uint32_t replans;
+    double time_to_go_s;
+    char reason[160];
+    gd_task_t task;
+};
+
+static bool s_active (gd_phase_t ph)
+{
+    return ph == GD_TO_SECONDARY || ph == GD_TO_WAYPOINT || ph == GD_APPROACH ||
+           ph == GD_PRECISION || ph == GD_OVERFLIGHT;
+}
+
+static void s_reason (gd_intercept_t *self, const char *fmt, ...) __attribute__ ((format (printf, 2, 3)));
+static void s_reason (gd_intercept_t *self, const char *fmt, ...)
+{
+    va_list ap;
+    va_start (ap, fmt);
+    vsnprintf (self->reason, sizeof self->reason, fmt, ap);
+    va_end (ap);
+}
+
+const char *gd_phase_name (gd_phase_t p)
+{
+    static const char *const names[] = {"IDLE",      "TO_SECONDARY", "TO_WAYPOINT",
+                                        "APPROACH",  "PRECISION",    "OVERFLIGHT",
+                                        "DONE",      "CANCELLED",    "LOST"};
+    return (unsigned)p <= GD_LOST ? names[p] : "?";
+}
+
+gd_intercept_t *gd_intercept_new (const gd_params_t *p, const cgs_terrain_t *terrain)
+{
+    char err[256];
+    if (!p || gd_params_check (p, err, sizeof err) < 0)
+        return NULL;
+    gd_intercept_t *self = calloc (1, sizeof *self);
+    if (!self)
+        return NULL;
+    self->p = *p;
+    self->terrain = terrain;
+    self->scale = 1;
+    self->overflight_s = NAN;
+    self->time_to_go_s = NAN;
+    self->designation_s = NAN;
+    snprintf (self->reason, sizeof self->reason, "nothing designated");
+    return self;
+}
+
+void gd_intercept_destroy (gd_intercept_t **self_p)
+{
+    if (!self_p || !*self_p)
+        return;
+    free (*self_p);
+    *self_p = NULL;
+}
+
+/* ---- geometry of the present state --------------------------------------------------- */
+
+static gd_v2_t s_uav_ground (const gd_intercept_t *self)
+{
+    return gd_v2 (self->uav.position.e_m, self->uav.position.n_m);
+}
+
+static double s_uav_speed (const gd_intercept_t *self)
+{
+    return fmax (self->uav.ground_speed_mps, 1.0);
+}
+
+double gd_intercept_turn_radius (const gd_intercept_t *self)
+{
+    if (!self->have_uav)
+        return 0;
+    double v = fmax (self->uav.airspeed_mps, self->uav.ground_speed_mps);
+    double bank = self->uav.bank_limit_deg > 1 ? self->uav.bank_limit_deg : 30.0;
+    return self->p.turn_radius_factor * v * v / (S_G_MPS2 * tan (bank * S_DEG));
+}
+
+/* The target's position predicted to t_s from its latest track update. */
+static gd_v2_t s_target_at (const gd_intercept_t *self, double t_s)
+{
+    return gd_add (self->track.pos, gd_scale (self->track.vel, t_s - self->track.t_s));
+}
+
+/* The target's direction now, or false when it is too slow to have one. */
+static bool s_target_dir (const gd_intercept_t *self, gd_v2_t vel, gd_v2_t *ret)
+{
+    double v = gd_norm (vel);
+    if (v < self->p.min_target_speed_mps)
+        return false;
+    *ret = gd_scale (vel, 1.0 / v);
+    return true;
+}
+
+/* Angle between two unit vectors, degrees. */
+static double s_angle (gd_v2_t a, gd_v2_t b)
+{
+    return fabs (atan2 (gd_cross (a, b), gd_dot (a, b))) / S_DEG;
+}
+
+/* ---- tasks ----------------------------------------------------------------------------- */
+
+static void s_task_loiter_here (gd_intercept_t *self)
+{
+    self->task.number++;
+    self->task.kind = GD_TASK_LOITER_HERE;
+    self->task.count = 0;
+}
+
+static bool s_push (gd_task_t *t, gd_v2_t p)
+{
+    if (t->count >= GD_ROUTE_MAX)
+        return false;
+    t->points[t->count++] = p;
+    return true;
+}
+
+/* Append the Dubins path from (p, h) to (q, hq), sampled; false when it
+ * cannot be built or does not fit. */
+static bool s_push_dubins (gd_intercept_t *self, gd_task_t *t, gd_v2_t p, double h, gd_v2_t q,
+                           double hq, double r)
+{
+    gd_dubins_t d;
+    if (gd_dubins (p, h, q, hq, r, &d) < 0)
+        return false;
+    size_t room = GD_ROUTE_MAX - t->count;
+    if (room < 2)
+        return false;
+    size_t n = gd_dubins_sample (&d, self->p.arc_step_deg, t->points + t->count, room);
+    t->count += n;
+    return true;
+}
+
+/* The reversed hit trail for "Intercept by MTI TGT Hits": each hit, newest
+ * first, moved by the look-ahead along the trail's direction there, so the
+ * footprint centre runs along the trail while the UAV flies it; only points
+ * beyond the waypoint (along −D_T) are taken. */
+static void s_push_trail (gd_intercept_t *self, gd_task_t *t)
+{
+    const gd_track_t *tr = &self->track;
+    size_t n = tr->history_count;
+    gd_v2_t back = gd_scale (self->wp.dir, -1.0);
+    for (size_t k = n; k-- > 0;) {
+        size_t a = k > 0 ? k - 1 : 0, b = k > 0 ? k : (n > 1 ? 1 : 0);
+        gd_v2_t d = gd_sub (tr->history[b], tr->history[a]);
+        double len = gd_norm (d);
+        gd_v2_t dir = len > 1e-6 ? gd_scale (d, 1.0 / len) : self->wp.dir;
+        gd_v2_t pt = gd_add (tr->history[k], gd_scale (dir, self->wp.lookahead_m));
+        if (gd_dot (gd_sub (pt, self->wp.waypoint), back) <= 0)
+            continue;
+        if (gd_norm (gd_sub (pt, t->points[t->count - 1])) < S_TRAIL_GAP_M)
+            continue;
+        if (!s_push (t, pt))
+            return;
+    }
+}
+
+/* ---- planning ---------------------------------------------------------------------------- */
+
+/* A new plan from the UAV's present state and the latest track. */
+static void s_plan (gd_intercept_t *self)
+{
+    if (!self->have_uav || !self->have_track) {
+        self->need_plan = true;
+        return;
+    }
+    self->need_plan = false;
+    double t = self->uav.t_s;
+    gd_v2_t dir;
+    bool moving = s_target_dir (self, self->track.vel, &dir);
+    double r = gd_intercept_turn_radius (self);
+    gd_engage_t in = {
+        .uav = s_uav_ground (self),
+        .uav_heading_deg = self->uav.heading_deg,
+        .uav_speed_mps = s_uav_speed (self),
+        .turn_radius_m = r,
+        .agl_m = self->uav.agl_m,
+        .depression_deg = self->uav.depression_deg,
+        .target = s_target_at (self, t),
+        .target_vel = moving ? self->track.vel : gd_v2 (0, 0),
+        .secondary_scale = self->p.secondary_scale,
+        .lead_in_m = fmax (self->p.lead_in_m, 4 * r),
+    };
+    gd_waypoint_t wp;
+    if (gd_waypoint (&in, &wp) < 0) {
+        s_reason (self, "no plan: the target (%.1f m/s) is not slower than the UAV (%.1f m/s), "
+                        "or the UAV's state is incomplete",
+                  gd_norm (self->track.vel), in.uav_speed_mps);
+        self->need_plan = true;
+        return;
+    }
+    gd_task_t *tk = &self->task;
+    gd_task_t old = *tk;
+    tk->count = 0;
+    double h_final = gd_heading_of (gd_scale (wp.dir, -1.0));
+    gd_v2_t cur = in.uav;
+    double cur_h = in.uav_heading_deg;
+    bool ok = true;
+    size_t i_second = 0;
+    if (wp.secondary) {
+        gd_v2_t to_wp = gd_sub (wp.waypoint, wp.second);
+        double h2 = gd_norm (to_wp) > 1 ? gd_heading_of (to_wp) : h_final;
+        ok = s_push_dubins (self, tk, cur, cur_h, wp.second, h2, r);
+        i_second = tk->count - 1;
+        cur = wp.second;
+        cur_h = h2;
+    }
+    ok = ok && s_push_dubins (self, tk, cur, cur_h, wp.waypoint, h_final, r);
+    size_t i_waypoint = tk->count ? tk->count - 1 : 0;
+    self->wp = wp; // the trail needs it
+    if (ok && self->method == GD_MTI_HITS && self->track.history_count >= 2)
+        s_push_trail (self, tk);
+    gd_v2_t end = gd_sub (wp.waypoint, gd_scale (wp.dir, wp.lookahead_m + self->p.runout_m));
+    if (ok && (self->method == GD_HEAD_ON || tk->count == i_waypoint + 1))
+        ok = s_push (tk, end);
+    if (!ok) {
+        *tk = old;
+        s_reason (self, "no plan: the route does not fit in %d points", GD_ROUTE_MAX);
+        return;
+    }
+    tk->number = old.number + 1;
+    tk->kind = GD_TASK_ROUTE;
+    self->has_plan = true;
+    self->plan_s = t;
+    self->i_second = i_second;
+    self->i_waypoint = i_waypoint;
+    self->progress = 0;
+    self->inside = false;
+    self->out_since_s = NAN;
+    self->phase = wp.secondary ? GD_TO_SECONDARY : GD_TO_WAYPOINT;
+}
+
+static void s_replan (gd_intercept_t *self, const char *why)
+{
+    char keep[sizeof self->reason];
+    snprintf (keep, sizeof keep, "%s", why);
+    self->replans++;
+    s_plan (self);
+    if (self->has_plan && !self->need_plan)
+        s_reason (self, "re-planned (%s)", keep);
+}
+
+/* ---- phases ----------------------------------------------------------------------------- */
+
+/* Established on the final approach: heading along −D_T, near the target's
+ * line, and the footprint still in front of the target. */
+static bool s_on_final (const gd_intercept_t *self, gd_v2_t target, gd_v2_t dir)
+{
+    double want = gd_heading_of (gd_scale (dir, -1.0));
+    if (fabs (gd_heading_diff (self->uav.heading_deg, want)) > self->p.align_deg)
+        return false;
+    double x, y;
+    gd_to_target_frame (target, dir, s_uav_ground (self), &x, &y);
+    return fabs (x) < self->p.offset_m && y > 0.8 * self->wp.lookahead_m;
+}
+
+/* Has the UAV reached route point k (coming from point k − 1)? */
+static bool s_reached (const gd_intercept_t *self, size_t k)
+{
+    const gd_task_t *t = &self->task;
+    gd_v2_t u = s_uav_ground (self), pk = t->points[k];
+    double d = gd_norm (gd_sub (u, pk));
+    if (d < S_PASS_M)
+        return true;
+    gd_v2_t prev = k > 0 ? t->points[k - 1] : pk;
+    gd_v2_t in = gd_sub (pk, prev);
+    double len = gd_norm (in);
+    if (k == 0 || len < 1e-6)
+        return false;
+    // Past the perpendicular at the point, and not far from it.
+    return gd_dot (gd_sub (u, pk), in) >= 0 && d < 2 * len + 2 * gd_intercept_turn_radius (self);
+}
+
+static void s_enter_precision (gd_intercept_t *self, gd_v2_t start, const char *why)
+{
+    self->phase = GD_PRECISION;
+    self->p_close = start;
+    self->close_s = self->uav.t_s;
+    s_reason (self, "%s", why);
+}
+
+static void s_update_time_to_go (gd_intercept_t *self, gd_v2_t target)
+{
+    double s = s_uav_speed (self);
+    self->time_to_go_s = NAN;
+    if (self->phase == GD_OVERFLIGHT) {
+        self->time_to_go_s = 0;
+    } else if ((self->phase == GD_TO_SECONDARY || self->phase == GD_TO_WAYPOINT) &&
+               self->task.kind == GD_TASK_ROUTE && self->progress <= self->i_waypoint) {
+        const gd_task_t *t = &self->task;
+        double len = gd_norm (gd_sub (t->points[self->progress], s_uav_ground (self)));
+        for (size_t k = self->progress + 1; k <= self->i_waypoint && k < t->count; k++)
+            len += gd_norm (gd_sub (t->points[k], t->points[k - 1]));
+        self->time_to_go_s = len / s;
+    } else if ((self->phase == GD_PRECISION || self->phase == GD_APPROACH) && self->have_fp) {
+        gd_v2_t h = gd_heading_unit (self->uav.heading_deg);
+        double gap = gd_dot (gd_sub (target, self->fp.center), h);
+        double closing = s - gd_dot (self->track.vel, h);
+        if (closing > 0.1 && gap >= 0)
+            self->time_to_go_s = gap / closing;
+    }
+}
+
+void gd_intercept_uav (gd_intercept_t *self, const gd_uav_t *u)
+{
+    if (!u || !isfinite (u->t_s) || !isfinite (u->position.e_m) || !isfinite (u->position.n_m) ||
+        !isfinite (u->heading_deg))
+        return;
+    self->uav = *u;
+    self->have_uav = true;
+    gd_sensor_t s = {
+        .position = u->position,
+        .heading_deg = u->heading_deg,
+        .pitch_deg = u->pitch_deg,
+        .roll_deg = u->roll_deg,
+        .depression_deg = u->depression_deg,
+        .hfov_deg = u->hfov_deg,
+        .vfov_deg = u->vfov_deg,
+        .max_range_m = self->p.max_range_m,
+    };
+    self->have_fp = gd_footprint (&s, self->terrain, &self->fp) == 0;
+    if (self->need_plan && s_active (self->phase))
+        s_plan (self);
+    if (!s_active (self->phase) || !self->has_plan)
+        return;
+    const gd_task_t *t = &self->task;
+    while (t->kind == GD_TASK_ROUTE && self->progress < t->count && s_reached (self, self->progress))
+        self->progress++;
+    gd_v2_t target = s_target_at (self, u->t_s);
+    gd_v2_t dir = self->wp.dir;
+    s_target_dir (self, self->track.vel, &dir);
+    bool inside = self->have_fp && gd_footprint_contains (&self->fp, target);
+    self->inside = inside;
+    switch (self->phase) {
+    case GD_TO_SECONDARY:
+        if (self->progress > self->i_second) {
+            self->phase = GD_TO_WAYPOINT;
+            s_reason (self, "passed the secondary waypoint");
+        }
+        break;
+    case GD_TO_WAYPOINT:
+        if (self->progress > self->i_waypoint) {
+            if (self->method == GD_MTI_HITS) {
+                self->phase = GD_APPROACH;
+                s_reason (self, "passed the waypoint: flying the reversed hit trail");
+            } else {
+                s_enter_precision (self, self->wp.waypoint, "passed the waypoint");
+            }
+        } else if (self->method == GD_HEAD_ON && s_on_final (self, target, dir)) {
+            double along = gd_dot (gd_sub (s_uav_ground (self), target), dir);
+            s_enter_precision (self, gd_add (target, gd_scale (dir, along)),
+                               "on the final approach with the target in front");
+        }
+        break;
+    default:
+        break;
+    }
+    if (self->phase != GD_OVERFLIGHT && inside) {
+        self->phase = GD_OVERFLIGHT;
+        if (!self->was_inside)
+            self->overflight_s = u->t_s;
+        self->was_inside = true;
+        self->out_since_s = NAN;
+        s_reason (self, "the target is in the footprint");
+    } else if (self->phase == GD_OVERFLIGHT && !inside) {
+        if (!isfinite (self->out_since_s))
+            self->out_since_s = u->t_s;
+        else if (u->t_s - self->out_since_s >= S_OUT_S) {
+            self->phase = GD_DONE;
+            s_reason (self, "the target passed through the footprint: loitering at the route's end");
+        }
+    } else if (self->phase == GD_OVERFLIGHT) {
+        self->out_since_s = NAN;
+    } else if ((self->phase == GD_PRECISION || self->phase == GD_APPROACH) && self->have_fp) {
+        // Missed: the target is behind the footprint's near edge.
+        gd_v2_t h = gd_heading_unit (u->heading_deg), g = s_uav_ground (self);
+        double near = fmin (gd_dot (gd_sub (self->fp.corner[0], g), h),
+                            gd_dot (gd_sub (self->fp.corner[3], g), h));
+        if (gd_dot (gd_sub (target, g), h) < near - S_MISS_M)
+            s_replan (self, "the target passed outside the footprint: another pass");
+    }
+    s_update_time_to_go (self, target);
+}
+
+/* A new track of the designated target after its own was deleted: a
+ * confirmed or coasting one, with a credible velocity, where the target
+ * should be now. */
+static bool s_takes_over (const gd_intercept_t *self, const gd_track_t *t)
+{
+    if (!self->orphan || !s_active (self->phase) || t->id == self->orphan_id ||
+        (t->status != 1 && t->status != 2) ||
+        gd_norm (t->vel) > self->p.max_target_speed_mps)
+        return false;
+    double age = fmax (0.0, t->t_s - self->track.t_s);
+    return gd_norm (gd_sub (t->pos, s_target_at (self, t->t_s))) <=
+           self->p.handover_m + self->p.handover_growth_mps * age;
+}
+
+void gd_intercept_track (gd_intercept_t *self, const gd_track_t *t)
+{
+    if (!t || self->track_id == 0 || !isfinite (t->t_s) || !isfinite (t->pos.e) ||
+        !isfinite (t->pos.n) || !isfinite (t->vel.e) || !isfinite (t->vel.n))
+        return;
+    if (t->id != self->track_id) {
+        if (!s_takes_over (self, t))
+            return;
+        s_reason (self, "track %u was deleted; its target goes on as track %u", self->orphan_id,
+                  t->id);
+        self->track_id = t->id;
+        self->orphan = false;
+    } else if (self->orphan) {
+        return; // the deleted track's last word
+    }
+    double prev_t = self->track.t_s;
+    gd_v2_t prev_vel = self->track.vel;
+    bool had = self->have_track;
+    self->track = *t;
+    self->have_track = true;
+    // A velocity no ground vehicle has: the estimate is broken (a false
+    // alarm taken into the track); keep the previous one and plan nothing on it.
+    bool credible = gd_norm (t->vel) <= self->p.max_target_speed_mps;
+    if (!credible && had)
+        self->track.vel = prev_vel;
+    if (!s_active (self->phase))
+        return;
+    if (t->status == 3) {
+        // Keep flying on the prediction; a new track of the target near it
+        // takes over (s_takes_over); none within lost_after_s: lost.
+        self->orphan = true;
+        self->orphan_id = t->id;
+        self->track.t_s = prev_t;
+        self->track.vel = prev_vel;
+        self->track.pos = gd_sub (t->pos, gd_scale (prev_vel, t->t_s - prev_t));
+        s_reason (self, "track %u was deleted: flying on its prediction", t->id);
+        return;
+    }
+    if (self->need_plan) {
+        s_plan (self);
+        return;
+    }
+    if (!self->has_plan || self->phase == GD_OVERFLIGHT || !credible)
+        return;
+    gd_v2_t dir;
+    bool moving = s_target_dir (self, t->vel, &dir);
+    gd_v2_t target = s_target_at (self, self->have_uav ? self->uav.t_s : t->t_s);
+    double turned = moving ? s_angle (self->wp.dir, dir) : 0;
+    char why[128];
+    if (turned > self->p.threshold_deg) {
+        snprintf (why, sizeof why, "the target's direction changed by %.0f°", turned);
+        s_replan (self, why);
+        return;
+    }
+    if (self->phase == GD_PRECISION) {
+        double dt = t->t_s - (self->close_s > prev_t ? self->close_s : prev_t);
+        if (!(dt > 0) || !moving)
+            return;
+        // Equation 9, on the target's present line.
+        self->p_close = gd_precision_step (self->p_close, target, dir, s_uav_speed (self), dt);
+        self->close_s = t->t_s;
+        gd_task_t *tk = &self->task;
+        tk->number++;
+        tk->kind = GD_TASK_ROUTE;
+        tk->count = 0;
+        s_push (tk, self->p_close);
+        s_push (tk, gd_sub (self->p_close,
+                            gd_scale (dir, self->wp.lookahead_m + self->p.runout_m)));
+        self->progress = 0;
+        self->i_waypoint = 0;
+        return;
+    }
+    if (self->phase == GD_APPROACH)
+        return;
+    double x, y;
+    gd_to_target_frame (self->wp.meet, self->wp.dir, target, &x, &y);
+    if (fabs (x) > self->p.offset_m) {
+        snprintf (why, sizeof why, "the target left the planned line by %.0f m", fabs (x));
+        s_replan (self, why);
+        return;
+    }
+    gd_to_target_frame (self->wp.waypoint, self->wp.dir, target, &x, &y);
+    if (y > 0 && !(self->have_uav && s_on_final (self, target, self->wp.dir)))
+        s_replan (self, "the target passed the waypoint first");
+}
+
+void gd_intercept_turn (gd_intercept_t *self, uint32_t track_id, double t_s, gd_v2_t vel_after,
+                        double angle_deg)
+{
+    (void)angle_deg;
+    if (track_id == 0 || track_id != self->track_id || !s_active (self->phase) ||
+        self->phase == GD_OVERFLIGHT || !self->has_plan || !isfinite (vel_after.e) ||
+        !isfinite (vel_after.n) || !isfinite (t_s))
+        return;
+    gd_v2_t dir;
+    if (!s_target_dir (self, vel_after, &dir) || gd_norm (vel_after) > self->p.max_target_speed_mps)
+        return;
+    double turned = s_angle (self->wp.dir, dir);
+    if (turned <= self->p.threshold_deg)
+        return;
+    // The filter's velocity after the turn, from the latest position.
+    self->track.pos = s_target_at (self, t_s);
+    self->track.t_s = t_s;
+    self->track.vel = vel_after;
+    char why[128];
+    snprintf (why, sizeof why, "turn event: direction changed by %.0f°", turned);
+    s_replan (self, why);
+}
+
+void gd_intercept_tick (gd_intercept_t *self, double t_s)
+{
+    if (!s_active (self->phase) || !self->have_track)
+        return;
+    if (t_s - self->track.t_s > self->p.lost_after_s) {
+        self->phase = GD_LOST;
+        s_task_loiter_here (self);
+        s_reason (self, "track %u not updated for %.0f s: loitering here", self->track_id,
+                  t_s - self->track.t_s);
+    }
+}
+
+/* ---- commands ----------------------------------------------------------------------------- */
+
+int gd_intercept_designate (gd_intercept_t *self, const gd_track_t *t, double t_s, char *why,
+                            size_t whylen)
+{
+    if (!t || t->id == 0 || !isfinite (t->pos.e) || !isfinite (t->pos.n) || !isfinite (t->vel.e) ||
+        !isfinite (t->vel.n) || !isfinite (t->t_s)) {
+        snprintf (why, whylen, "the track has no valid position or velocity");
+        return -EINVAL;
+    }
+    if (t->status == 3) {
+        snprintf (why, whylen, "track %u was deleted", t->id);
+        return -EINVAL;
+    }
+    if (t->status == 0) {
+        snprintf (why, whylen, "track %u is tentative (not yet confirmed)", t->id);
+        return -EINVAL;
+    }
+    if (gd_norm (t->vel) > self->p.max_target_speed_mps) {
+        snprintf (why, whylen, "track %u's velocity (%.0f m/s) is not credible", t->id,
+                  gd_norm (t->vel));
+        return -EINVAL;
+    }
+    uint32_t before = s_active (self->phase) ? self->track_id : 0;
+    self->track_id = t->id;
+    self->track = *t;
+    self->have_track = true;
+    self->designation_number++;
+    self->designation_s = t_s;
+    self->replans = 0;
+    self->was_inside = false;
+    self->inside = false;
+    self->overflight_s = NAN;
+    self->has_plan = false;
+    self->orphan = false;
+    self->phase = GD_TO_WAYPOINT;
+    s_plan (self);
+    if (before && before != t->id)
+        s_reason (self, "designated track %u (pre-empts track %u)", t->id, before);
+    else
+        s_reason (self, "designated track %u", t->id);
+    return 0;
+}
+
+int gd_intercept_cancel (gd_intercept_t *self, double t_s)
+{
+    (void)t_s;
+    if (self->phase == GD_IDLE || self->phase == GD_CANCELLED)
+        return -EALREADY;
+    self->phase = GD_CANCELLED;
+    self->need_plan = false;
+    s_task_loiter_here (self);
+    s_reason (self, "cancelled by the operator: loitering here");
+    return 0;
+}
+
+void gd_intercept_set_method (gd_intercept_t *self, gd_method_t m)
+{
+    if (m != GD_HEAD_ON && m != GD_MTI_HITS)
+        return;
+    bool changed = m != self->method;
+    self->method = m;
+    if (changed && s_active (self->phase) && self->phase != GD_OVERFLIGHT)
+        s_replan (self, m == GD_HEAD_ON ? "method: head-on" : "method: MTI hits");
+}
+
+int gd_intercept_set_scale (gd_intercept_t *self, uint32_t scale)
+{
+    if (scale != 1 && scale != 5 && scale != 10)
+        return -EINVAL;
+    self->scale = scale;
+    return 0;
+}
+
+/* ---- queries ------------------------------------------------------------------------------ */
+
+const gd_task_t *gd_intercept_task (const gd_intercept_t *self)
+{
+    return &self->task;
+}
+
+void gd_intercept_status (const gd_intercept_t *self, gd_status_t *ret)
+{
+    gd_status_t s = {0};
+    s.phase = self->phase;
+    s.method = self->method;
+    s.track_id = self->phase == GD_IDLE ? 0 : self->track_id;
+    s.designation_number = self->designation_number;
+    s.has_plan = self->has_plan && s_active (self->phase);
+    s.waypoint = self->wp.waypoint;
+    s.has_secondary = s.has_plan && self->wp.secondary;
+    s.secondary = self->wp.second;
+    s.route = self->task.kind == GD_TASK_ROUTE ? self->task.points : NULL;
+    s.route_count = self->task.kind == GD_TASK_ROUTE ? self->task.count : 0;
+    s.t_pred_s = self->wp.t_pred_s;
+    s.has_footprint = self->have_fp && s_active (self->phase);
+    s.footprint = self->fp;
+    s.display_scale = self->scale;
+    s.target_in_footprint = s_active (self->phase) && self->inside;
+    s.time_to_go_s = s_active (self->phase) ? self->time_to_go_s : NAN;
+    s.replans = self->replans;
+    s.reason = self->reason;
+    s.designation_s = self->designation_s;
+    s.overflight_s = self->overflight_s;
+    s.y_u_m = self->wp.y_u_m;
+    *ret = s;
+}
+
+int gd_pick_nearest (const gd_track_t *tracks, size_t n, gd_v2_t p, gd_pick_t pick,
+                     double *ret_d_m)
+{
+    int best = -ENOENT;
+    double best_d = INFINITY;
+    for (size_t i = 0; i < n; i++) {
+        const gd_track_t *t = &tracks[i];
+        if (t->status != 1 && t->status != 2)
+            continue;
+        if ((pick == GD_PICK_UNKNOWN && t->friendly) || (pick == GD_PICK_FRIENDLY && !t->friendly))
+            continue;
+        gd_v2_t at = t->history_count ? t->history[t->history_count - 1] : t->pos;
+        double d = gd_norm (gd_sub (at, p));
+        if (d < best_d) {
+            best_d = d;
+            best = (int)i;
+        }
+    }
+    if (best >= 0 && ret_d_m)
+        *ret_d_m = best_d;
+    return best;
+}
+
+/* ---- save and restore ------------------------------------------------------------------------
+ * Text, one record a line, numbers with 17 significant digits (so a restore
+ * is exact); NaN and infinity as printf writes them. */
+
+typedef struct {
+    char *buf;
+    size_t len, cap;
+    bool failed;
+} s_out_t;
+
+static void s_put (s_out_t *o, const char *fmt, ...) __attribute__ ((format (printf, 2, 3)));
+static void s_put (s_out_t *o, const char *fmt, ...)
+{
+    if (o->failed)
+        return;
+    for (;;) {
+        va_list ap;
+        va_start (ap, fmt);
+        int n = vsnprintf (o->buf + o->len, o->cap - o->len, fmt, ap);
+        va_end (ap);
+        if (n < 0) {
+            o->failed = true;
+            return;
+        }
+        if ((size_t)n < o->cap - o->len) {
+            o->len += (size_t)n;
+            return;
+        }
+        size_t cap = o->cap * 2 + (size_t)n + 64;
+        char *b = realloc (o->buf, cap);
+        if (!b) {
+            o->failed = true;
+            return;
+        }
+        o->buf = b;
+        o->cap = cap;
+    }
+}
+
+#define S_G "%.17g"
+
+int gd_intercept_save (const gd_intercept_t *self, uint8_t **ret_buf, size_t *ret_len)
+{
+    s_out_t o = {malloc (4096), 0, 4096, false};
+    if (!o.buf)
+        return -ENOMEM;
+    const gd_uav_t *u = &self->uav;
+    const gd_track_t *t = &self->track;
+    const gd_waypoint_t *w = &self->wp;
+    s_put (&o, "%s\n", S_SAVE_MAGIC);
+    s_put (&o, "settings %d %u\n", (int)self->method, self->scale);
+    s_put (&o,
+           "uav %d " S_G " " S_G " " S_G " " S_G " " S_G " " S_G " " S_G " " S_G " " S_G " " S_G
+           " " S_G " " S_G " " S_G " " S_G "\n",
+           self->have_uav, u->t_s, u->position.e_m, u->position.n_m, u->position.u_m,
+           u->heading_deg, u->pitch_deg, u->roll_deg, u->ground_speed_mps, u->airspeed_mps,
+           u->agl_m, u->bank_limit_deg, u->depression_deg, u->hfov_deg, u->vfov_deg);
+    s_put (&o, "designation %d %u %llu " S_G " %d %d %d %u\n", (int)self->phase, self->track_id,
+           (unsigned long long)self->designation_number, self->designation_s, self->need_plan,
+           self->have_track, self->orphan, self->orphan_id);
+    s_put (&o, "track %u %d %d " S_G " " S_G " " S_G " " S_G " " S_G " %zu\n", t->id, t->status,
+           t->friendly, t->t_s, t->pos.e, t->pos.n, t->vel.e, t->vel.n, t->history_count);
+    for (size_t k = 0; k < t->history_count; k++)
+        s_put (&o, "hit " S_G " " S_G " " S_G "\n", t->history[k].e, t->history[k].n,
+               t->history_t_s[k]);
+    s_put (&o,
+           "plan %d " S_G " " S_G " " S_G " " S_G " %d " S_G " " S_G " " S_G " " S_G
+           " %d " S_G " " S_G " " S_G " " S_G " " S_G " %zu %zu %zu\n",
+           self->has_plan, w->lookahead_m, w->dir.e, w->dir.n, w->t_pred_s, w->iterations,
+           w->waypoint.e, w->waypoint.n, w->x_u_m, w->y_u_m, w->secondary, w->second.e,
+           w->second.n, w->meet.e, w->meet.n, self->plan_s, self->i_second, self->i_waypoint,
+           self->progress);
+    s_put (&o, "approach " S_G " " S_G " " S_G " %d %d " S_G " " S_G " %u " S_G "\n",
+           self->p_close.e, self->p_close.n, self->close_s, self->inside, self->was_inside,
+           self->overflight_s, self->out_since_s, self->replans, self->time_to_go_s);
+    s_put (&o, "task %llu %d %zu\n", (unsigned long long)self->task.number, (int)self->task.kind,
+           self->task.count);
+    for (size_t k = 0; k < self->task.count; k++)
+        s_put (&o, "point " S_G " " S_G "\n", self->task.points[k].e, self->task.points[k].n);
+    s_put (&o, "reason %s\nend\n", self->reason);
+    if (o.failed) {
+        free (o.buf);
+        return -ENOMEM;
+    }
+    *ret_buf = (uint8_t *)o.buf;
+    *ret_len = o.len;
+    return 0;
+}
+
+/* The next line of the saved text into line (NUL-terminated); false at the end. */
+static bool s_line (const char **cur, const char *end, char *line, size_t size, int *lineno)
+{
+    if (*cur >= end)
+        return false;
+    const char *nl = memchr (*cur, '\n', (size_t)(end - *cur));
+    size_t n = (size_t)((nl ? nl : end) - *cur);
+    if (n >= size)
+        n = size - 1;
+    memcpy (line, *cur, n);
+    line[n] = '\0';
+    *cur = nl ? nl + 1 : end;
+    (*lineno)++;
+    return true;
+}
+
+static bool s_finite_all (const double *v, size_t n)
+{
+    for (size_t i = 0; i < n; i++)
+        if (!isfinite (v[i]))
+            return false;
+    return true;
+}
+
+int gd_intercept_restore (gd_intercept_t *self, const uint8_t *buf, size_t len, char *err,
+                          size_t errlen)
+{
+    gd_intercept_t *x = malloc (sizeof *x);
+    if (!x)
+        return -ENOMEM;
+    *x = *self;
+    const char *cur = (const char *)buf, *end = cur + len;
+    char line[512];
+    int ln = 0, a = 0, b = 0, c = 0, d = 0;
+    unsigned ua = 0;
+    unsigned long long ull = 0;
+    const char *what = "the header";
+    gd_uav_t *u = &x->uav;
+    gd_track_t *t = &x->track;
+    gd_waypoint_t *w = &x->wp;
+    if (!s_line (&cur, end, line, sizeof line, &ln) || strcmp (line, S_SAVE_MAGIC) != 0)
+        goto bad;
+    what = "settings";
+    if (!s_line (&cur, end, line, sizeof line, &ln) ||
+        sscanf (line, "settings %d %u", &a, &x->scale) != 2 || a < 0 || a > 1 ||
+        (x->scale != 1 && x->scale != 5 && x->scale != 10))
+        goto bad;
+    x->method = (gd_method_t)a;
+    what = "uav";
+    if (!s_line (&cur, end, line, sizeof line, &ln) ||
+        sscanf (line, "uav %d %lf %lf %lf %lf %lf %lf %lf %lf %lf %lf %lf %lf %lf %lf", &a, &u->t_s,
+                &u->position.e_m, &u->position.n_m, &u->position.u_m, &u->heading_deg,
+                &u->pitch_deg, &u->roll_deg, &u->ground_speed_mps, &u->airspeed_mps, &u->agl_m,
+                &u->bank_limit_deg, &u->depression_deg, &u->hfov_deg, &u->vfov_deg) != 15)
+        goto bad;
+    x->have_uav = a != 0;
+    what = "designation";
+    if (!s_line (&cur, end, line, sizeof line, &ln) ||
+        sscanf (line, "designation %d %u %llu %lf %d %d %d %u", &a, &x->track_id, &ull,
+                &x->designation_s, &b, &c, &d, &x->orphan_id) != 8 ||
+        a < 0 || a > GD_LOST)
+        goto bad;
+    x->phase = (gd_phase_t)a;
+    x->designation_number = ull;
+    x->need_plan = b != 0;
+    x->have_track = c != 0;
+    x->orphan = d != 0;
+    what = "track";
+    size_t hn = 0;
+    if (!s_line (&cur, end, line, sizeof line, &ln) ||
+        sscanf (line, "track %u %d %d %lf %lf %lf %lf %lf %zu", &t->id, &t->status, &a, &t->t_s,
+                &t->pos.e, &t->pos.n, &t->vel.e, &t->vel.n, &hn) != 9 ||
+        hn > GD_HISTORY_MAX || t->status < 0 || t->status > 3)
+        goto bad;
+    t->friendly = a != 0;
+    t->history_count = hn;
+    what = "a hit";
+    for (size_t k = 0; k < hn; k++)
+        if (!s_line (&cur, end, line, sizeof line, &ln) ||
+            sscanf (line, "hit %lf %lf %lf", &t->history[k].e, &t->history[k].n,
+                    &t->history_t_s[k]) != 3)
+            goto bad;
+    what = "plan";
+    if (!s_line (&cur, end, line, sizeof line, &ln) ||
+        sscanf (line,
+                "plan %d %lf %lf %lf %lf %d %lf %lf %lf %lf %d %lf %lf %lf %lf %lf %zu %zu %zu",
+                &a, &w->lookahead_m, &w->dir.e, &w->dir.n, &w->t_pred_s, &w->iterations,
+                &w->waypoint.e, &w->waypoint.n, &w->x_u_m, &w->y_u_m, &b, &w->second.e,
+                &w->second.n, &w->meet.e, &w->meet.n, &x->plan_s, &x->i_second, &x->i_waypoint,
+                &x->progress) != 19)
+        goto bad;
+    x->has_plan = a != 0;
+    w->secondary = b != 0;
+    what = "approach";
+    if (!s_line (&cur, end, line, sizeof line, &ln) ||
+        sscanf (line, "approach %lf %lf %lf %d %d %lf %lf %u %lf", &x->p_close.e, &x->p_close.n,
+                &x->close_s, &a, &b, &x->overflight_s, &x->out_since_s, &ua,
+                &x->time_to_go_s) != 9)
+        goto bad;
+    x->inside = a != 0;
+    x->was_inside = b != 0;
+    x->replans = ua;
+    what = "task";
+    size_t tn = 0;
+    if (!s_line (&cur, end, line, sizeof line, &ln) ||
+        sscanf (line, "task %llu %d %zu", &ull, &d, &tn) != 3 || d < 0 ||
+        d > GD_TASK_LOITER_HERE || tn > GD_ROUTE_MAX)
+        goto bad;
+    x->task.number = ull;
+    x->task.kind = (gd_task_kind_t)d;
+    x->task.count = tn;
+    what = "a route point";
+    for (size_t k = 0; k < tn; k++)
+        if (!s_line (&cur, end, line, sizeof line, &ln) ||
+            sscanf (line, "point %lf %lf", &x->task.points[k].e, &x->task.points[k].n) != 2 ||
+            !s_finite_all ((const double[]){x->task.points[k].e, x->task.points[k].n}, 2))
+            goto bad;
+    what = "reason";
+    if (!s_line (&cur, end, line, sizeof line, &ln) || strncmp (line, "reason ", 7) != 0)
+        goto bad;
+    snprintf (x->reason, sizeof x->reason, "%s", line + 7);
+    what = "end";
+    if (!s_line (&cur, end, line, sizeof line, &ln) || strcmp (line, "end") != 0)
+        goto bad;
+    what = "indices";
+    if ((x->has_plan && x->task.kind == GD_TASK_ROUTE &&
+         (x->i_waypoint >= GD_ROUTE_MAX || x->i_second >= GD_ROUTE_MAX ||
+          x->progress > x->task.count)) ||
+        (x->have_uav && !s_finite_all ((const double[]){u->t_s, u->position.e_m, u->position.n_m,
+                                                        u->heading_deg},
+                                       4)))
+        goto bad;
+    // The footprint follows from the UAV's state.
+    if (x->have_uav) {
+        gd_sensor_t s = {u->position,      u->heading_deg, u->pitch_deg,     u->roll_deg,
+                         u->depression_deg, u->hfov_deg,    u->vfov_deg,      x->p.max_range_m};
+        x->have_fp = gd_footprint (&s, x->terrain, &x->fp) == 0;
+    }
+    *self = *x;
+    free (x);
+    return 0;
+bad:
+    snprintf (err, errlen, "not a guidanced intercept: line %d: bad or missing %s", ln, what);
+    free (x);
+    return -EPROTO;
+}

@@ -1,0 +1,192 @@
+/* gd_intercept — one UAV's intercept of a designated track, as the UAV
+ * control station runs it (paper, sections 4 and 5): designation,
+ * waypoint initialisation (equations 1–3) into a flyable route, Track &
+ * Update re-planning, the precision approach (equation 9), overflight,
+ * loiter. It decides the UAV's lateral task (a route, or a loiter) and its
+ * altitude and speed commands; the caller delivers them to uavsim. Pure: no
+ * sockets, clocks, globals or logging; inputs carry their simulation times.
+ *
+ * Phases (proto InterceptState):
+ *   IDLE          nothing designated.
+ *   TO_SECONDARY  head-on plan with y'_u ≤ 0: flying to P_2.
+ *   TO_WAYPOINT   flying the route into the waypoint, heading −D_T there.
+ *   APPROACH      "Intercept by MTI TGT Hits": flying the reversed hit trail.
+ *   PRECISION     head-on, past the waypoint (or established on the final
+ *                 approach with the target in front): each track update
+ *                 moves P_close by equation 9 and re-tasks the UAV to it and
+ *                 on along the target's reverse direction.
+ *   OVERFLIGHT    the target's predicted position is inside the footprint.
+ *   DONE          the target has passed through the footprint; the UAV
+ *                 loiters above the end of its route; no footprint shown.
+ *   CANCELLED     the operator cancelled: loiter about the present position.
+ *   LOST          the track was deleted or not updated for lost_after_s:
+ *                 loiter about the present position.
+ *
+ * Re-planning (sections 4.2): before the precision approach, a track update
+ * or turn event whose direction differs from the plan's by more than the
+ * threshold, a target that left the planned line by more than offset_m, or
+ * a target that has gone past the waypoint while the UAV is not yet on its
+ * final approach makes a new plan from the UAV's present state. During the
+ * precision approach a direction change beyond the threshold also makes a
+ * new plan (the UAV must turn). A target that passes the UAV's footprint
+ * without entering it makes a new plan too (another pass). */
+#ifndef GD_INTERCEPT_H
+#define GD_INTERCEPT_H
+
+#include "gd_geom.h"
+#include "gd_params.h"
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#define GD_ROUTE_MAX   512 // points in a route task (uavsim takes up to 1024)
+#define GD_HISTORY_MAX 64  // hits of a track's history used by the MTI-hits method
+
+/* The numbers of proto InterceptState and InterceptMethod. */
+typedef enum {
+    GD_IDLE = 0,
+    GD_TO_SECONDARY = 1,
+    GD_TO_WAYPOINT = 2,
+    GD_APPROACH = 3,
+    GD_PRECISION = 4,
+    GD_OVERFLIGHT = 5,
+    GD_DONE = 6,
+    GD_CANCELLED = 7,
+    GD_LOST = 8,
+} gd_phase_t;
+
+typedef enum {
+    GD_HEAD_ON = 0,  // section 4
+    GD_MTI_HITS = 1, // section 5
+} gd_method_t;
+
+/* The UAV as heard on `uav`. */
+typedef struct {
+    double t_s;
+    cgs_enu_t position; // absolute up
+    double heading_deg, pitch_deg, roll_deg;
+    double ground_speed_mps;
+    double airspeed_mps;           // commanded airspeed when known, else present
+    double agl_m;                  // height above the terrain under it
+    double bank_limit_deg;         // for the smallest turn radius
+    double depression_deg;         // imaging sensor: ε
+    double hfov_deg, vfov_deg;     // γ, β
+} gd_uav_t;
+
+/* A track as heard on `track`. */
+typedef struct {
+    uint32_t id;
+    int status; // proto TrackStatus: 0 tentative, 1 confirmed, 2 coasting, 3 deleted
+    bool friendly;
+    double t_s;  // time of position and velocity
+    gd_v2_t pos; // filtered
+    gd_v2_t vel;
+    gd_v2_t history[GD_HISTORY_MAX]; // past hits, oldest first
+    double history_t_s[GD_HISTORY_MAX];
+    size_t history_count;
+} gd_track_t;
+
+typedef enum {
+    GD_TASK_NONE = 0,
+    GD_TASK_ROUTE = 1,       // fly points, then loiter about the last
+    GD_TASK_LOITER_HERE = 2, // loiter about the present position
+} gd_task_kind_t;
+
+/* The UAV's lateral task as guidanced wants it; number increments with
+ * every new task. */
+typedef struct {
+    uint64_t number;
+    gd_task_kind_t kind;
+    gd_v2_t points[GD_ROUTE_MAX];
+    size_t count;
+} gd_task_t;
+
+/* What the `intercept` message shows. Pointers valid until the next call. */
+typedef struct {
+    gd_phase_t phase;
+    gd_method_t method;
+    uint32_t track_id; // 0 when none
+    uint64_t designation_number;
+    bool has_plan;
+    gd_v2_t waypoint;
+    bool has_secondary;
+    gd_v2_t secondary;
+    const gd_v2_t *route; // the present task's points
+    size_t route_count;
+    double t_pred_s;
+    bool has_footprint; // shown while an intercept is under way
+    gd_footprint_t footprint;
+    uint32_t display_scale; // 1, 5 or 10
+    bool target_in_footprint;
+    double time_to_go_s; // predicted time to overflight (NaN when unknown)
+    uint32_t replans;
+    const char *reason; // why the latest change of phase or plan happened
+    double designation_s;
+    double overflight_s; // first time in the footprint (NaN before)
+    double y_u_m;        // of the latest plan (eq. 2)
+} gd_status_t;
+
+typedef struct gd_intercept gd_intercept_t;
+
+/* An idle intercept for one UAV over terrain (borrowed; NULL: flat ground
+ * at height 0). NULL on bad parameters or no memory. */
+gd_intercept_t *gd_intercept_new (const gd_params_t *p, const cgs_terrain_t *terrain);
+void gd_intercept_destroy (gd_intercept_t **self_p);
+
+/* Designate a track at t_s (pre-empts any intercept). 0, or -EINVAL with the
+ * reason in why (deleted or tentative track, no position). */
+int gd_intercept_designate (gd_intercept_t *self, const gd_track_t *t, double t_s, char *why,
+                            size_t whylen);
+/* Cancel: the UAV loiters about its present position. 0, or -EALREADY when
+ * there is nothing to cancel. */
+int gd_intercept_cancel (gd_intercept_t *self, double t_s);
+/* The method of the next plans (a running intercept is re-planned with it). */
+void gd_intercept_set_method (gd_intercept_t *self, gd_method_t m);
+/* Footprint display scale: 1, 5 or 10; else -EINVAL. */
+int gd_intercept_set_scale (gd_intercept_t *self, uint32_t scale);
+
+/* The UAV's latest state: footprint, progress along the route, phase
+ * changes that depend on where the UAV is. */
+void gd_intercept_uav (gd_intercept_t *self, const gd_uav_t *u);
+/* A track update (any track: others are ignored). */
+void gd_intercept_track (gd_intercept_t *self, const gd_track_t *t);
+/* A turn event of a track (paper, equation 8): velocity after the turn. */
+void gd_intercept_turn (gd_intercept_t *self, uint32_t track_id, double t_s, gd_v2_t vel_after,
+                        double angle_deg);
+/* Time has come to t_s: a designated track silent for lost_after_s is lost. */
+void gd_intercept_tick (gd_intercept_t *self, double t_s);
+
+/* The lateral task wanted now (kind NONE until the first). */
+const gd_task_t *gd_intercept_task (const gd_intercept_t *self);
+/* The present status. */
+void gd_intercept_status (const gd_intercept_t *self, gd_status_t *ret);
+/* The UAV's planning turn radius (metres) at its present speed; 0 before any UAV state. */
+double gd_intercept_turn_radius (const gd_intercept_t *self);
+
+/* Serialise the intercept (everything but the parameters and terrain) into
+ * a new malloc'd buffer (text, versioned). 0 or -ENOMEM. */
+int gd_intercept_save (const gd_intercept_t *self, uint8_t **ret_buf, size_t *ret_len);
+/* Restore a saved intercept. 0, or -EPROTO with the reason in err (self
+ * unchanged). */
+int gd_intercept_restore (gd_intercept_t *self, const uint8_t *buf, size_t len, char *err,
+                          size_t errlen);
+
+/* Which tracks an operator's pick may take. */
+typedef enum {
+    GD_PICK_ANY = 0,
+    GD_PICK_UNKNOWN = 1,  // not identified as friendly
+    GD_PICK_FRIENDLY = 2,
+} gd_pick_t;
+
+/* Of tracks[0..n-1] (confirmed or coasting ones only, of the kind pick),
+ * the index of the one whose newest hit (its filtered position when it has
+ * no history) is nearest p; -ENOENT when none qualifies. *ret_d_m the
+ * distance. */
+int gd_pick_nearest (const gd_track_t *tracks, size_t n, gd_v2_t p, gd_pick_t pick,
+                     double *ret_d_m);
+
+/* Names of phases and methods, as in the proto enums' suffixes ("DONE"). */
+const char *gd_phase_name (gd_phase_t p);
+
+#endif

@@ -1,0 +1,84 @@
+/* gd_score — how well an intercept imaged its target, judged from ground
+ * truth: each target position against the latest true footprint. */
+#include "gd_score.h"
+
+#include <math.h>
+#include <string.h>
+
+#define GD_SCORE_MAX_AGE_S 0.5 // default: a footprint older than this judges nothing
+
+void gd_score_init (gd_score_t *self)
+{
+    memset (self, 0, sizeof *self);
+    self->max_age_s = GD_SCORE_MAX_AGE_S;
+    self->designation_s = NAN;
+    self->first_inside_s = NAN;
+    self->closest_m = INFINITY;
+    self->closest_s = NAN;
+    self->closest_edge_m = INFINITY;
+}
+
+void gd_score_designated (gd_score_t *self, double t_s)
+{
+    if (self->designated)
+        return;
+    self->designated = true;
+    self->designation_s = t_s;
+}
+
+void gd_score_footprint (gd_score_t *self, double t_s, const gd_footprint_t *fp)
+{
+    self->have_fp = fp != NULL;
+    if (!fp)
+        return;
+    self->fp = *fp;
+    self->fp_t_s = t_s;
+}
+
+/* True when the latest footprint may judge a target seen at t_s: one is
+ * shown and its time is within max_age_s of t_s (either way: footprints and
+ * target positions come from different publishers, so a footprint a little
+ * newer than the target position is as good as one a little older). */
+static bool s_footprint_fresh (const gd_score_t *self, double t_s)
+{
+    return self->have_fp && fabs (t_s - self->fp_t_s) <= self->max_age_s;
+}
+
+/* Judge p at t_s against the footprint; returns whether it is inside. */
+static bool s_judge (gd_score_t *self, double t_s, gd_v2_t p)
+{
+    self->judged++;
+    bool inside = gd_footprint_contains (&self->fp, p);
+    double centre_m = gd_norm (gd_sub (p, self->fp.center));
+    if (centre_m < self->closest_m) {
+        self->closest_m = centre_m;
+        self->closest_s = t_s;
+    }
+    double edge_m = inside ? 0.0 : gd_footprint_distance (&self->fp, p);
+    if (edge_m < self->closest_edge_m)
+        self->closest_edge_m = edge_m;
+    if (inside && !self->imaged) {
+        self->imaged = true;
+        self->first_inside_s = t_s;
+    }
+    return inside;
+}
+
+void gd_score_target (gd_score_t *self, double t_s, gd_v2_t p)
+{
+    self->samples++;
+    bool inside = s_footprint_fresh (self, t_s) && s_judge (self, t_s, p);
+    // An interval counts when both of its ends were inside.
+    if (inside && self->have_target && self->last_inside && t_s > self->last_t_s)
+        self->inside_s += t_s - self->last_t_s;
+    self->have_target = true;
+    self->last_inside = inside;
+    self->last_t_s = t_s;
+}
+
+double gd_score_time_to_image (const gd_score_t *self)
+{
+    if (!self->designated || !self->imaged)
+        return NAN;
+    return self->first_inside_s - self->designation_s;
+}
