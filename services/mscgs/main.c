@@ -1,11 +1,14 @@
 /* mscgs — the command-line tool: run an exercise on this machine, echo a
- * topic, show every service's health. Later issues add operator commands.
+ * topic, show every service's health, send operator commands.
  *
  *   mscgs run [--exercise F] [--scenario F] [--speed X] [--duration S] [--out DIR]
+ *             [--resume] [--stop-after-intercept S]
  *   mscgs echo TOPIC [--json] [--count N] [--timeout S] [--exercise F]
  *   mscgs status [--wait S] [--exercise F]
  *   mscgs ping INSTANCE [--exercise F]
  *   mscgs topics
+ *   mscgs loiter|goto|route|altitude|speed|pause|resume|time-scale ...   (uavsim)
+ *   mscgs designate|cancel|footprint-scale|intercept-mode ...            (guidanced)
  */
 #include "cgs_bus.h"
 #include "cgs_config.h"
@@ -16,6 +19,7 @@
 #include "cgs_service.h"
 #include "cgs_state.h"
 #include "cgs_topics.h"
+#include "gd_score.h"
 
 #include <dirent.h>
 #include <errno.h>
@@ -50,13 +54,18 @@ static void s_usage (FILE *f)
                 "           --duration S   stop after S seconds of simulation time\n"
                 "                          (wall time while no clock is published)\n"
                 "           --out DIR      logs, state and outputs (default ./out)\n"
+                "           --resume       keep the state the previous run left\n"
+                "           --stop-after-intercept S  stop S seconds of simulation time\n"
+                "                          after the intercept ends (DONE, LOST, CANCELLED)\n"
                 "  echo     print the messages of a topic: echo TOPIC [--json] [--count N]\n"
                 "           [--timeout S]\n"
                 "  status   a table of every service's health [--wait S]\n"
                 "  ping     ask a service's command endpoint for a reply: ping INSTANCE\n"
                 "  topics   list the bus topics\n"
                 "  loiter, goto, route, altitude, speed task a UAV (uavsim); --help for each\n"
-                "  pause, resume, time-scale X          the simulation clock (uavsim)\n\n"
+                "  pause, resume, time-scale X          the simulation clock (uavsim)\n"
+                "  designate TRACK_ID | designate --at POS, cancel, footprint-scale 1|5|10,\n"
+                "  intercept-mode head-on|mti-hits      the intercept (guidanced); --help\n\n"
                 "The exercise file is --exercise F, else $MSCGS_EXERCISE, else\n"
                 "/etc/mscgs/exercise.ini, else the installed or source tree's default exercise.\n");
 }
@@ -596,6 +605,18 @@ static double s_number (const char *what, const char *text)
     return v;
 }
 
+/* A whole number in 0 .. UINT32_MAX (an entity or track id); exits 2 if not. */
+static uint32_t s_id (const char *what, const char *expected, const char *text)
+{
+    char *end = NULL;
+    double v = strtod (text, &end);
+    if (!end || end == text || *end || !(v >= 0) || v > UINT32_MAX || v != floor (v)) {
+        fprintf (stderr, "mscgs: %s: expected %s, got '%s'\n", what, expected, text);
+        exit (2);
+    }
+    return (uint32_t)v;
+}
+
 /* mscgs loiter|route|altitude|speed|pause|resume|time-scale ... */
 static int s_cmd_task (const char *tool, int argc, char **argv)
 {
@@ -620,15 +641,9 @@ static int s_cmd_task (const char *tool, int argc, char **argv)
         case 't':
             to = optarg;
             break;
-        case 'u': {
-            double v = s_number ("--uav", optarg);
-            if (v < 0 || v > UINT32_MAX || v != floor (v)) {
-                fprintf (stderr, "mscgs: --uav: expected an entity id, got '%s'\n", optarg);
-                return 2;
-            }
-            uav = (uint32_t)v;
+        case 'u':
+            uav = s_id ("--uav", "an entity id", optarg);
             break;
-        }
         case 'H':
             here = true;
             break;
@@ -661,8 +676,9 @@ static int s_cmd_task (const char *tool, int argc, char **argv)
                      "       mscgs speed MPS           (airspeed)\n"
                      "       mscgs pause | resume | time-scale X\n"
                      "Common options: --uav ID (entity id; default the only UAV), --to INSTANCE\n"
-                     "(default the exercise's uavsim), --exercise F. POS is E,N in local metres,\n"
-                     "or quoted: 'geo LAT LON', '36.6N 121.2W', 'mgrs GRID'.\n");
+                     "(default the exercise's uavsim; guidanced also takes altitude and speed),\n"
+                     "--exercise F. POS is E,N in local metres, or quoted: 'geo LAT LON',\n"
+                     "'36.6N 121.2W', 'mgrs GRID'.\n");
             return c == 'h' ? 0 : 2;
         }
     }
@@ -770,6 +786,137 @@ done:
     return rc;
 }
 
+/* ---- guidanced's operator commands ----------------------------------------------------- */
+
+static void s_guide_usage (FILE *f)
+{
+    fprintf (f, "usage: mscgs designate TRACK_ID      designate a track by its id\n"
+                "       mscgs designate --at POS      the track whose latest hit is nearest POS\n"
+                "       mscgs cancel                  stop the intercept (the UAV loiters)\n"
+                "       mscgs footprint-scale 1|5|10  the footprint's display scale\n"
+                "       mscgs intercept-mode head-on|mti-hits\n"
+                "Common options: --uav ID (entity id; default the only UAV), --to INSTANCE\n"
+                "(default the exercise's guidanced), --exercise F. POS is E,N in local metres,\n"
+                "or quoted: 'geo LAT LON', '36.6N 121.2W', 'mgrs GRID' (or the bare grid,\n"
+                "10SFE5964179460).\n");
+}
+
+/* Fill des from a track id argument, or from --at's position (kept in
+ * *point); 0, or 2 (usage) after saying why. */
+static int s_guide_designate (const cgs_exercise_t *ex, const char *at, int nargs, char **args,
+                              Cgs__Designate *des, Cgs__Enu *point)
+{
+    if ((at != NULL) == (nargs == 1) || nargs > 1) {
+        fprintf (stderr, "mscgs designate: give a track id, or --at POS\n");
+        return 2;
+    }
+    if (at) {
+        if (s_position (ex, at, point) < 0)
+            return 2;
+        des->target_case = CGS__DESIGNATE__TARGET_POINT;
+        des->point = point;
+        return 0;
+    }
+    uint32_t id = s_id ("designate", "a track id (a position needs --at POS)", args[0]);
+    if (id == 0) {
+        fprintf (stderr, "mscgs designate: track ids start at 1\n");
+        return 2;
+    }
+    des->target_case = CGS__DESIGNATE__TARGET_TRACK_ID;
+    des->track_id = id;
+    return 0;
+}
+
+/* The method named on the command line; 0 or -EINVAL. */
+static int s_method (const char *text, Cgs__InterceptMethod *ret)
+{
+    if (strcmp (text, "head-on") == 0)
+        *ret = CGS__INTERCEPT_METHOD__INTERCEPT_METHOD_HEAD_ON;
+    else if (strcmp (text, "mti-hits") == 0)
+        *ret = CGS__INTERCEPT_METHOD__INTERCEPT_METHOD_MTI_HITS;
+    else
+        return -EINVAL;
+    return 0;
+}
+
+/* mscgs designate|cancel|footprint-scale|intercept-mode ... */
+static int s_cmd_guide (const char *tool, int argc, char **argv)
+{
+    const char *exercise = NULL, *to = NULL, *at = NULL;
+    uint32_t uav = 0;
+    static const struct option opts[] = {
+        {"exercise", required_argument, NULL, 'e'}, {"to", required_argument, NULL, 't'},
+        {"uav", required_argument, NULL, 'u'},      {"at", required_argument, NULL, 'a'},
+        {"help", no_argument, NULL, 'h'},           {NULL, 0, NULL, 0}};
+    int c;
+    while ((c = getopt_long (argc, argv, "h", opts, NULL)) != -1) {
+        if (c == 'e')
+            exercise = optarg;
+        else if (c == 't')
+            to = optarg;
+        else if (c == 'u')
+            uav = s_id ("--uav", "an entity id", optarg);
+        else if (c == 'a' && strcmp (tool, "designate") == 0)
+            at = optarg;
+        else if (c == 'a') {
+            fprintf (stderr, "mscgs %s: --at is for designate\n", tool);
+            return 2;
+        } else {
+            s_guide_usage (c == 'h' ? stdout : stderr);
+            return c == 'h' ? 0 : 2;
+        }
+    }
+    int nargs = argc - optind;
+    char **args = argv + optind;
+    cgs_exercise_t *ex = s_load_exercise (exercise);
+    if (!ex)
+        return 1;
+    Cgs__Command cmd = CGS__COMMAND__INIT;
+    Cgs__Designate des = CGS__DESIGNATE__INIT;
+    Cgs__Cancel cancel = CGS__CANCEL__INIT;
+    Cgs__SetFootprintScale scale = CGS__SET_FOOTPRINT_SCALE__INIT;
+    Cgs__SetInterceptMode mode = CGS__SET_INTERCEPT_MODE__INIT;
+    Cgs__Enu point = CGS__ENU__INIT;
+    int rc = 2;
+    if (strcmp (tool, "designate") == 0) {
+        if (s_guide_designate (ex, at, nargs, args, &des, &point) != 0)
+            goto done;
+        des.uav_id = uav;
+        cmd.body_case = CGS__COMMAND__BODY_DESIGNATE;
+        cmd.designate = &des;
+    } else if (strcmp (tool, "cancel") == 0) {
+        if (nargs != 0) {
+            fprintf (stderr, "mscgs cancel: takes no arguments\n");
+            goto done;
+        }
+        cancel.uav_id = uav;
+        cmd.body_case = CGS__COMMAND__BODY_CANCEL;
+        cmd.cancel = &cancel;
+    } else if (strcmp (tool, "footprint-scale") == 0) {
+        uint32_t k = nargs == 1 ? s_id ("footprint-scale", "1, 5 or 10", args[0]) : 0;
+        if (k != 1 && k != 5 && k != 10) {
+            fprintf (stderr, "mscgs footprint-scale: give 1, 5 or 10\n");
+            goto done;
+        }
+        scale.uav_id = uav;
+        scale.scale = k;
+        cmd.body_case = CGS__COMMAND__BODY_SET_FOOTPRINT_SCALE;
+        cmd.set_footprint_scale = &scale;
+    } else {
+        if (nargs != 1 || s_method (args[0], &mode.method) < 0) {
+            fprintf (stderr, "mscgs intercept-mode: give head-on or mti-hits\n");
+            goto done;
+        }
+        mode.uav_id = uav;
+        cmd.body_case = CGS__COMMAND__BODY_SET_INTERCEPT_MODE;
+        cmd.set_intercept_mode = &mode;
+    }
+    rc = s_send (tool, ex, to, "guidanced", &cmd);
+done:
+    cgs_exercise_destroy (&ex);
+    return rc;
+}
+
 /* ---- topics -------------------------------------------------------------------------- */
 
 static int s_cmd_topics (void)
@@ -781,6 +928,348 @@ static int s_cmd_topics (void)
                 strcmp (t->publishers, "*") == 0 ? "every service" : t->publishers, t->what);
     }
     return 0;
+}
+
+/* ---- the intercept's score (run) ----------------------------------------------------- */
+
+#define S_HITS_MAX   4096 // hits remembered per radar (from mti.truth), the newest
+#define S_RADARS_MAX 8    // radars whose hits are remembered
+#define S_VOTES_MAX  32   // distinct entities counted among a track's hits
+
+/* The entity that produced each recent hit of one radar: a ring, oldest
+ * overwritten first. */
+typedef struct {
+    uint32_t uav_id; // the radar
+    size_t next;     // slot the next hit goes to
+    size_t count;    // slots filled
+    uint32_t hit_id[S_HITS_MAX];
+    uint32_t entity_id[S_HITS_MAX];
+} s_hits_t;
+
+/* What `mscgs run` knows of the intercept, from ground truth. */
+typedef struct {
+    // The latest `intercept` message, whatever its designation (progress line).
+    bool seen;
+    Cgs__InterceptState state;
+    uint32_t track_id;
+    double latest_s; // latest simulation time of an intercept or entity message
+    // The present designation (at the end of the run, the last one).
+    bool designated;
+    uint64_t designation_number;
+    uint32_t desig_track_id;
+    Cgs__InterceptState desig_state; // its latest state; kept once final
+    uint32_t replans;
+    bool final;         // reached DONE, LOST or CANCELLED
+    double final_s;     // simulation time it did
+    uint32_t entity_id; // the target's true entity, 0 until known
+    char marking[32];
+    gd_score_t score;
+    // Which entity produced each recent hit, per radar.
+    s_hits_t radars[S_RADARS_MAX];
+    size_t nradars;
+    uint64_t radars_ignored; // mti.truth of radars beyond S_RADARS_MAX
+} s_icpt_t;
+
+static void s_icpt_init (s_icpt_t *ic)
+{
+    memset (ic, 0, sizeof *ic);
+    ic->final_s = NAN;
+    gd_score_init (&ic->score);
+}
+
+/* The state's name without its prefix ("DONE"). */
+static const char *s_icpt_state_name (Cgs__InterceptState state)
+{
+    static const char *names[] = {"IDLE",     "TO_SECONDARY", "TO_WAYPOINT",
+                                  "APPROACH", "PRECISION",    "OVERFLIGHT",
+                                  "DONE",     "CANCELLED",    "LOST"};
+    if ((unsigned)state < sizeof names / sizeof names[0])
+        return names[state];
+    return "UNKNOWN";
+}
+
+static bool s_icpt_state_final (Cgs__InterceptState state)
+{
+    return state == CGS__INTERCEPT_STATE__INTERCEPT_STATE_DONE ||
+           state == CGS__INTERCEPT_STATE__INTERCEPT_STATE_LOST ||
+           state == CGS__INTERCEPT_STATE__INTERCEPT_STATE_CANCELLED;
+}
+
+/* The hits of radar uav_id; a new slot when create (NULL when full). */
+static s_hits_t *s_icpt_radar (s_icpt_t *ic, uint32_t uav_id, bool create)
+{
+    for (size_t i = 0; i < ic->nradars; i++)
+        if (ic->radars[i].uav_id == uav_id)
+            return &ic->radars[i];
+    if (!create || ic->nradars == S_RADARS_MAX)
+        return NULL;
+    s_hits_t *h = &ic->radars[ic->nradars++];
+    h->uav_id = uav_id;
+    return h;
+}
+
+static void s_hits_add (s_hits_t *h, uint32_t hit_id, uint32_t entity_id)
+{
+    h->hit_id[h->next] = hit_id;
+    h->entity_id[h->next] = entity_id;
+    h->next = (h->next + 1) % S_HITS_MAX;
+    if (h->count < S_HITS_MAX)
+        h->count++;
+}
+
+/* The entity that produced hit_id (the newest such hit), 0 if not remembered. */
+static uint32_t s_hits_entity (const s_hits_t *h, uint32_t hit_id)
+{
+    for (size_t k = 1; k <= h->count; k++) {
+        size_t i = (h->next + S_HITS_MAX - k) % S_HITS_MAX;
+        if (h->hit_id[i] == hit_id)
+            return h->entity_id[i];
+    }
+    return 0;
+}
+
+/* The entity that produced most of the track's remembered hits, 0 if none. */
+static uint32_t s_icpt_track_entity (s_icpt_t *ic, uint32_t radar, const Cgs__Track *tr)
+{
+    const s_hits_t *h = s_icpt_radar (ic, radar, false);
+    if (!h)
+        return 0;
+    uint32_t entity[S_VOTES_MAX];
+    size_t votes[S_VOTES_MAX], n = 0, best = 0;
+    for (size_t i = 0; i < tr->n_history; i++) {
+        uint32_t e = tr->history[i]->hit_id ? s_hits_entity (h, tr->history[i]->hit_id) : 0;
+        if (e == 0)
+            continue;
+        size_t k = 0;
+        while (k < n && entity[k] != e)
+            k++;
+        if (k == n) {
+            if (n == S_VOTES_MAX)
+                continue;
+            entity[n] = e;
+            votes[n++] = 0;
+        }
+        votes[k]++;
+        if (votes[k] > votes[best])
+            best = k;
+    }
+    return n ? entity[best] : 0;
+}
+
+/* A new designation: the score starts again. */
+static void s_icpt_designate (s_icpt_t *ic, const Cgs__Intercept *m, double t_s)
+{
+    ic->designated = true;
+    ic->designation_number = m->designation_number;
+    ic->desig_track_id = m->track_id;
+    ic->desig_state = m->state;
+    ic->replans = 0;
+    ic->final = false;
+    ic->final_s = NAN;
+    ic->entity_id = 0;
+    ic->marking[0] = '\0';
+    gd_score_init (&ic->score);
+    gd_score_designated (&ic->score, t_s);
+}
+
+/* The footprint of an intercept message; false when it shows none. */
+static bool s_icpt_footprint (const Cgs__Footprint *f, gd_footprint_t *ret)
+{
+    if (!f || f->n_corners < 4)
+        return false;
+    memset (ret, 0, sizeof *ret);
+    double e = 0, n = 0;
+    for (size_t i = 0; i < 4; i++) {
+        ret->corner[i] = (gd_v2_t){f->corners[i]->east_m, f->corners[i]->north_m};
+        ret->corner_up_m[i] = f->corners[i]->up_m;
+        e += f->corners[i]->east_m / 4;
+        n += f->corners[i]->north_m / 4;
+    }
+    ret->center = f->center ? (gd_v2_t){f->center->east_m, f->center->north_m} : (gd_v2_t){e, n};
+    ret->center_up_m = f->center ? f->center->up_m : 0;
+    return true;
+}
+
+static void s_on_intercept (void *arg, const char *topic, const ProtobufCMessage *msg,
+                            const Cgs__Header *hdr)
+{
+    (void)topic;
+    s_icpt_t *ic = arg;
+    const Cgs__Intercept *m = (const Cgs__Intercept *)msg;
+    double t = hdr->sim_time_s;
+    ic->seen = true;
+    ic->state = m->state;
+    ic->track_id = m->track_id;
+    ic->latest_s = fmax (ic->latest_s, t);
+    if (m->track_id != 0 && (!ic->designated || m->designation_number != ic->designation_number))
+        s_icpt_designate (ic, m, t);
+    if (!ic->designated || m->designation_number != ic->designation_number)
+        return; // nothing designated yet
+    if (m->track_id != 0)
+        ic->desig_track_id = m->track_id;
+    ic->replans = m->replans;
+    if (!ic->final) {
+        ic->desig_state = m->state;
+        ic->final = s_icpt_state_final (m->state);
+        ic->final_s = ic->final ? t : NAN;
+    }
+    gd_footprint_t fp;
+    gd_score_footprint (&ic->score, t, s_icpt_footprint (m->footprint, &fp) ? &fp : NULL);
+}
+
+static void s_on_mti_truth (void *arg, const char *topic, const ProtobufCMessage *msg,
+                            const Cgs__Header *hdr)
+{
+    (void)topic;
+    (void)hdr;
+    s_icpt_t *ic = arg;
+    const Cgs__MtiTruth *m = (const Cgs__MtiTruth *)msg;
+    s_hits_t *h = s_icpt_radar (ic, m->uav_id, true);
+    if (!h) {
+        ic->radars_ignored++;
+        return;
+    }
+    for (size_t i = 0; i < m->n_items; i++)
+        if (m->items[i]->hit_id && m->items[i]->entity_id)
+            s_hits_add (h, m->items[i]->hit_id, m->items[i]->entity_id);
+}
+
+static void s_on_track (void *arg, const char *topic, const ProtobufCMessage *msg,
+                        const Cgs__Header *hdr)
+{
+    (void)topic;
+    (void)hdr;
+    s_icpt_t *ic = arg;
+    const Cgs__TrackBatch *b = (const Cgs__TrackBatch *)msg;
+    if (!ic->designated)
+        return;
+    for (size_t i = 0; i < b->n_tracks; i++) {
+        const Cgs__Track *tr = b->tracks[i];
+        if (tr->track_id != ic->desig_track_id)
+            continue;
+        uint32_t e = s_icpt_track_entity (ic, tr->uav_id ? tr->uav_id : b->uav_id, tr);
+        if (e != 0 && e != ic->entity_id) {
+            ic->entity_id = e;
+            ic->marking[0] = '\0';
+        }
+    }
+}
+
+static void s_on_entity (void *arg, const char *topic, const ProtobufCMessage *msg,
+                         const Cgs__Header *hdr)
+{
+    (void)topic;
+    s_icpt_t *ic = arg;
+    const Cgs__EntityBatch *b = (const Cgs__EntityBatch *)msg;
+    ic->latest_s = fmax (ic->latest_s, hdr->sim_time_s);
+    if (!ic->designated || ic->entity_id == 0)
+        return;
+    for (size_t i = 0; i < b->n_entities; i++) {
+        const Cgs__Entity *en = b->entities[i];
+        if (en->entity_id != ic->entity_id)
+            continue;
+        snprintf (ic->marking, sizeof ic->marking, "%s", en->marking);
+        if (en->active && en->position)
+            gd_score_target (&ic->score, hdr->sim_time_s,
+                             (gd_v2_t){en->position->east_m, en->position->north_m});
+    }
+}
+
+/* The intercept section of the summary, for a person. */
+static void s_icpt_print (const s_icpt_t *ic, FILE *f)
+{
+    const gd_score_t *sc = &ic->score;
+    fprintf (f, "Intercept\n");
+    if (!ic->designated) {
+        fprintf (f, "  no target was designated\n");
+        return;
+    }
+    fprintf (f, "  designated        track %u at sim %.1f s (designation %llu)\n",
+             ic->desig_track_id, sc->designation_s, (unsigned long long)ic->designation_number);
+    if (ic->entity_id)
+        fprintf (f, "  true target       entity %u \"%s\" (most of the track's MTI hits)\n",
+                 ic->entity_id, ic->marking);
+    else
+        fprintf (f, "  true target       unknown (no MTI truth for the track's hits)\n");
+    fprintf (f, "  state             %s", s_icpt_state_name (ic->desig_state));
+    if (ic->final)
+        fprintf (f, " at sim %.1f s", ic->final_s);
+    fprintf (f, ", %u replan%s\n", ic->replans, ic->replans == 1 ? "" : "s");
+    if (sc->imaged)
+        fprintf (f,
+                 "  imaged            yes: %.1f s inside the footprint, first at sim %.1f s, "
+                 "%.1f s after designation\n",
+                 sc->inside_s, sc->first_inside_s, gd_score_time_to_image (sc));
+    else if (isfinite (sc->closest_edge_m))
+        fprintf (f, "  imaged            no: %.1f m from the footprint at closest\n",
+                 sc->closest_edge_m);
+    else
+        fprintf (f, "  imaged            no: no footprint was seen with the target\n");
+    if (isfinite (sc->closest_m))
+        fprintf (f, "  closest approach  %.1f m from the footprint centre at sim %.1f s\n",
+                 sc->closest_m, sc->closest_s);
+    fprintf (f, "  judged            %zu of %zu target positions against a footprint\n", sc->judged,
+             sc->samples);
+}
+
+/* A JSON number, or null when not finite. */
+static void s_json_number (FILE *f, const char *key, double v, const char *end)
+{
+    if (isfinite (v))
+        fprintf (f, "  \"%s\": %.3f%s\n", key, v, end);
+    else
+        fprintf (f, "  \"%s\": null%s\n", key, end);
+}
+
+/* A JSON string (markings are ASCII; anything else is escaped). */
+static void s_json_string (FILE *f, const char *key, const char *s, const char *end)
+{
+    fprintf (f, "  \"%s\": \"", key);
+    for (const unsigned char *c = (const unsigned char *)s; *c; c++) {
+        if (*c == '"' || *c == '\\')
+            fprintf (f, "\\%c", *c);
+        else if (*c < 0x20 || *c >= 0x7f)
+            fprintf (f, "\\u%04x", *c);
+        else
+            fputc (*c, f);
+    }
+    fprintf (f, "\"%s\n", end);
+}
+
+/* The intercept summary as JSON to path; 0 or -errno. */
+static int s_icpt_write_json (const s_icpt_t *ic, const char *path)
+{
+    FILE *f = fopen (path, "w");
+    if (!f)
+        return -errno;
+    const gd_score_t *sc = &ic->score;
+    bool d = ic->designated;
+    fprintf (f, "{\n  \"designated\": %s,\n", d ? "true" : "false");
+    if (d)
+        fprintf (f, "  \"track_id\": %u,\n", ic->desig_track_id);
+    else
+        fprintf (f, "  \"track_id\": null,\n");
+    if (d && ic->entity_id) {
+        fprintf (f, "  \"target_entity_id\": %u,\n", ic->entity_id);
+        s_json_string (f, "target_marking", ic->marking, ",");
+    } else
+        fprintf (f, "  \"target_entity_id\": null,\n  \"target_marking\": null,\n");
+    s_json_number (f, "designation_time_s", d ? sc->designation_s : NAN, ",");
+    if (d) {
+        s_json_string (f, "final_state", s_icpt_state_name (ic->desig_state), ",");
+        fprintf (f, "  \"replans\": %u,\n", ic->replans);
+    } else
+        fprintf (f, "  \"final_state\": null,\n  \"replans\": null,\n");
+    fprintf (f, "  \"imaged\": %s,\n", d && sc->imaged ? "true" : "false");
+    s_json_number (f, "time_in_footprint_s", d ? sc->inside_s : NAN, ",");
+    s_json_number (f, "closest_approach_m", d ? sc->closest_m : NAN, ",");
+    s_json_number (f, "closest_approach_time_s", d ? sc->closest_s : NAN, ",");
+    s_json_number (f, "designation_to_overflight_s", gd_score_time_to_image (sc), "");
+    fprintf (f, "}\n");
+    int rc = ferror (f) ? -EIO : 0;
+    if (fclose (f) != 0 && rc == 0)
+        rc = -errno;
+    return rc;
 }
 
 /* ---- run ------------------------------------------------------------------------------ */
@@ -803,13 +1292,15 @@ typedef struct {
     const char *scenario;
     double speed;
     double duration_s;
-    bool resume; // keep the state of the previous run in OUT/state
+    double stop_after_intercept_s; // stop this long after the intercept ends; < 0: never
+    bool resume;                   // keep the state of the previous run in OUT/state
     char out[PATH_MAX];
     char logs[PATH_MAX + 8];
     char state[PATH_MAX + 8];
     s_child_t children[S_MAX_INSTANCES];
     size_t nchildren;
     s_table_t table;
+    s_icpt_t icpt;
     cgs_sub_t *sub;
     double start;
     bool tty;
@@ -933,25 +1424,30 @@ static void s_progress (s_run_t *run)
                   run->table.time_scale, run->table.paused ? " paused" : "");
     else
         snprintf (sim, sizeof sim, "no clock yet");
+    char icpt[64] = "";
+    const s_icpt_t *ic = &run->icpt;
+    if (ic->seen && (ic->track_id != 0 || ic->state != CGS__INTERCEPT_STATE__INTERCEPT_STATE_IDLE))
+        snprintf (icpt, sizeof icpt, " | intercept %s track %u", s_icpt_state_name (ic->state),
+                  ic->track_id);
     fprintf (stdout,
              "%s[%6.1f s] %s | %zu/%zu running, %zu reporting | in %.0f msg/s | gaps %llu drops "
-             "%llu malformed %llu%s%s%s%s",
+             "%llu malformed %llu%s%s%s%s%s",
              run->tty ? "\r\033[K" : "", now - run->start, sim, running, run->nchildren, up, in,
              (unsigned long long)gaps, (unsigned long long)drops, (unsigned long long)malformed,
-             error ? " | " : "", error_from ? error_from : "", error ? ": " : "",
+             icpt, error ? " | " : "", error_from ? error_from : "", error ? ": " : "",
              error ? error : "");
     if (!run->tty)
         fputc ('\n', stdout);
     fflush (stdout);
 }
 
-static void s_write_summary (s_run_t *run)
+/* DIR/summary.txt: the run, the services, their last health and the
+ * intercept. 0 or -errno. */
+static int s_write_summary_text (s_run_t *run, const char *path)
 {
-    char path[PATH_MAX + 16];
-    snprintf (path, sizeof path, "%s/summary.txt", run->out);
     FILE *f = fopen (path, "w");
     if (!f)
-        return;
+        return -errno;
     fprintf (f, "mscgs run of exercise %s (%s)\n", cgs_exercise_name (run->ex), run->exercise_path);
     fprintf (f, "wall time %.1f s", cgs_loop_now () - run->start);
     if (run->table.have_clock)
@@ -964,7 +1460,46 @@ static void s_write_summary (s_run_t *run)
                  run->children[i].given_up ? ", gave up" : "");
     fprintf (f, "\nlast health:\n");
     s_table_print (&run->table, f);
-    fclose (f);
+    fprintf (f, "\n");
+    s_icpt_print (&run->icpt, f);
+    int rc = ferror (f) ? -EIO : 0;
+    if (fclose (f) != 0 && rc == 0)
+        rc = -errno;
+    return rc;
+}
+
+/* DIR/summary.txt and DIR/summary.json; the intercept's part to stdout too. */
+static void s_write_summary (s_run_t *run)
+{
+    char path[PATH_MAX + 16];
+    snprintf (path, sizeof path, "%s/summary.txt", run->out);
+    int rc = s_write_summary_text (run, path);
+    if (rc < 0)
+        fprintf (stderr, "mscgs run: cannot write %s: %s\n", path, strerror (-rc));
+    snprintf (path, sizeof path, "%s/summary.json", run->out);
+    rc = s_icpt_write_json (&run->icpt, path);
+    if (rc < 0)
+        fprintf (stderr, "mscgs run: cannot write %s: %s\n", path, strerror (-rc));
+    s_icpt_print (&run->icpt, stdout);
+}
+
+/* True when --duration has passed, or --stop-after-intercept's time after
+ * the intercept ended (simulation time: the clock's, or the latest the
+ * intercept and entity messages carried while nobody publishes clock). */
+static bool s_run_over (const s_run_t *run)
+{
+    if (run->duration_s > 0) {
+        double elapsed =
+            run->table.have_clock ? run->table.sim_time_s : cgs_loop_now () - run->start;
+        if (elapsed >= run->duration_s)
+            return true;
+    }
+    if (run->stop_after_intercept_s >= 0 && run->icpt.final) {
+        double sim_s = run->table.have_clock ? run->table.sim_time_s : run->icpt.latest_s;
+        if (sim_s >= run->icpt.final_s + run->stop_after_intercept_s)
+            return true;
+    }
+    return false;
 }
 
 /* Remove the plain files of a folder (the services' state files). */
@@ -989,11 +1524,16 @@ static int s_cmd_run (int argc, char **argv)
     static s_run_t run;
     const char *exercise = NULL;
     snprintf (run.out, sizeof run.out, "out");
-    static const struct option opts[] = {
-        {"exercise", required_argument, NULL, 'e'}, {"scenario", required_argument, NULL, 's'},
-        {"speed", required_argument, NULL, 'x'},    {"duration", required_argument, NULL, 'd'},
-        {"out", required_argument, NULL, 'o'},      {"resume", no_argument, NULL, 'R'},
-        {"help", no_argument, NULL, 'h'},           {NULL, 0, NULL, 0}};
+    run.stop_after_intercept_s = -1;
+    static const struct option opts[] = {{"exercise", required_argument, NULL, 'e'},
+                                         {"scenario", required_argument, NULL, 's'},
+                                         {"speed", required_argument, NULL, 'x'},
+                                         {"duration", required_argument, NULL, 'd'},
+                                         {"out", required_argument, NULL, 'o'},
+                                         {"resume", no_argument, NULL, 'R'},
+                                         {"stop-after-intercept", required_argument, NULL, 'I'},
+                                         {"help", no_argument, NULL, 'h'},
+                                         {NULL, 0, NULL, 0}};
     int c;
     while ((c = getopt_long (argc, argv, "h", opts, NULL)) != -1) {
         switch (c) {
@@ -1015,15 +1555,26 @@ static int s_cmd_run (int argc, char **argv)
         case 'R':
             run.resume = true;
             break;
+        case 'I':
+            run.stop_after_intercept_s = s_number ("--stop-after-intercept", optarg);
+            if (run.stop_after_intercept_s < 0) {
+                fprintf (stderr, "mscgs run: --stop-after-intercept: expected seconds >= 0\n");
+                return 2;
+            }
+            break;
         default:
             fprintf (c == 'h' ? stdout : stderr,
                      "usage: mscgs run [--exercise F] [--scenario F] [--speed X] [--duration S] "
                      "[--out DIR] [--resume]\n"
+                     "                 [--stop-after-intercept S]\n"
                      "Start every enabled service of the exercise whose program is built (beside\n"
                      "this mscgs), restart any that dies, show progress, and stop them all on\n"
-                     "Ctrl-C or after --duration. Logs go to DIR/logs, state to DIR/state, and a\n"
-                     "summary to DIR/summary.txt. A run starts from the scenario; --resume\n"
-                     "keeps the state the previous run left in DIR/state.\n");
+                     "Ctrl-C, after --duration, or --stop-after-intercept S seconds of simulation\n"
+                     "time after the intercept ends (DONE, LOST or CANCELLED). Logs go to\n"
+                     "DIR/logs, state to DIR/state, a summary to DIR/summary.txt (with how the\n"
+                     "intercept imaged its true target, also in DIR/summary.json). A run starts\n"
+                     "from the scenario; --resume keeps the state the previous run left in\n"
+                     "DIR/state.\n");
             return c == 'h' ? 0 : 2;
         }
     }
@@ -1080,9 +1631,14 @@ static int s_cmd_run (int argc, char **argv)
     if (!run.sub)
         return 1;
     s_table_init (&run.table, run.ex);
+    s_icpt_init (&run.icpt);
     cgs_sub_on (run.sub, "health", s_on_health, &run.table);
     cgs_sub_on (run.sub, "clock", s_on_clock, &run.table);
-    s_connect_publishers (run.sub, run.ex, "health");
+    cgs_sub_on (run.sub, "intercept", s_on_intercept, &run.icpt);
+    cgs_sub_on (run.sub, "track", s_on_track, &run.icpt);
+    cgs_sub_on (run.sub, "mti.truth", s_on_mti_truth, &run.icpt);
+    cgs_sub_on (run.sub, "entity", s_on_entity, &run.icpt);
+    s_connect_publishers (run.sub, run.ex, "health"); // every service publishes health
     run.start = cgs_loop_now ();
     run.tty = isatty (STDOUT_FILENO);
     for (size_t i = 0; i < run.nchildren; i++)
@@ -1109,14 +1665,14 @@ static int s_cmd_run (int argc, char **argv)
             s_progress (&run);
             next_progress = now + progress_every;
         }
-        if (run.duration_s > 0) {
-            double elapsed = run.table.have_clock ? run.table.sim_time_s : now - run.start;
-            if (elapsed >= run.duration_s)
-                break;
-        }
+        if (s_run_over (&run))
+            break;
     }
     if (run.tty)
         fputc ('\n', stdout);
+    if (run.icpt.final && run.stop_after_intercept_s >= 0)
+        printf ("mscgs run: the intercept ended (%s) at sim %.1f s\n",
+                s_icpt_state_name (run.icpt.desig_state), run.icpt.final_s);
     printf ("mscgs run: stopping %zu services\n", run.nchildren);
     for (size_t i = 0; i < run.nchildren; i++)
         if (run.children[i].pid > 0)
@@ -1180,6 +1736,10 @@ int main (int argc, char **argv)
     for (size_t i = 0; i < sizeof tasks / sizeof tasks[0]; i++)
         if (strcmp (cmd, tasks[i]) == 0)
             return s_cmd_task (cmd, argc, argv);
+    const char *guide[] = {"designate", "cancel", "footprint-scale", "intercept-mode"};
+    for (size_t i = 0; i < sizeof guide / sizeof guide[0]; i++)
+        if (strcmp (cmd, guide[i]) == 0)
+            return s_cmd_guide (cmd, argc, argv);
     if (strcmp (cmd, "help") == 0 || strcmp (cmd, "-h") == 0 || strcmp (cmd, "--help") == 0) {
         s_usage (stdout);
         return 0;
