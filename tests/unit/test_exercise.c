@@ -123,8 +123,12 @@ static void test_default_exercise (void **state)
         assert_string_equal (inst->command, commands ? want : "");
         assert_string_equal (inst->uav, strstr (names[i], ".uav1") ? "uav1" : "");
         assert_string_equal (inst->host, "localhost");
-        if (strcmp (names[i], "trackerd") == 0) { // relative to the exercise file
-            const char *p = "deploy/exercises/../params/tracker.ini";
+        const char *file = strcmp (names[i], "trackerd") == 0    ? "tracker.ini"
+                           : strcmp (names[i], "guidanced") == 0 ? "guidance.ini"
+                                                                 : NULL;
+        if (file) { // relative to the exercise file
+            char p[64];
+            snprintf (p, sizeof p, "deploy/exercises/../params/%s", file);
             assert_true (strlen (inst->params) > strlen (p));
             assert_string_equal (inst->params + strlen (inst->params) - strlen (p), p);
         } else {
