@@ -5,12 +5,12 @@
 #include <float.h>
 #include <math.h>
 
-#define S_PI        3.14159265358979323846
-#define S_TWO_PI    (2.0 * S_PI)
-#define S_DEG       (S_PI / 180.0)
-#define S_ITER_MAX  200 // fixed-point iterations of t_pred
-#define S_T_TOL_S   1e-6
-#define S_BISECT    60 // bisection steps of a ray meeting the terrain
+#define S_PI       3.14159265358979323846
+#define S_TWO_PI   (2.0 * S_PI)
+#define S_DEG      (S_PI / 180.0)
+#define S_ITER_MAX 200 // fixed-point iterations of t_pred
+#define S_T_TOL_S  1e-6
+#define S_BISECT   60 // bisection steps of a ray meeting the terrain
 
 /* ---- vectors ------------------------------------------------------------------------ */
 
@@ -96,7 +96,8 @@ static double s_turn_then_straight (gd_v2_t p, double th, double r, gd_v2_t q, b
     gd_v2_t v = gd_sub (q, c);
     double dist = gd_norm (v);
     if (dist < r * (1 - 1e-9))
-        return INFINITY; // inside the circle (a point on it, within rounding, is reached by the arc)
+        return INFINITY; // inside the circle (a point on it, within rounding, is reached by the
+                         // arc)
     double tangent = sqrt (fmax (0.0, dist * dist - r * r));
     double ang_v = atan2 (v.n, v.e);
     // Exit direction u: q − c = r·(u turned towards the centre's opposite) + T·u.
@@ -135,8 +136,8 @@ int gd_waypoint (const gd_engage_t *in, gd_waypoint_t *ret)
         return -EINVAL;
     double vt = gd_norm (in->target_vel);
     double s = in->uav_speed_mps;
-    if (!(s > vt) || !isfinite (s) || !(in->turn_radius_m > 0) ||
-        !isfinite (in->turn_radius_m) || !(in->agl_m > 0) || !isfinite (in->agl_m) ||
+    if (!(s > vt) || !isfinite (s) || !(in->turn_radius_m > 0) || !isfinite (in->turn_radius_m) ||
+        !(in->agl_m > 0) || !isfinite (in->agl_m) ||
         !(in->depression_deg > 0 && in->depression_deg < 90) || !(in->secondary_scale >= 0) ||
         !isfinite (in->secondary_scale) || !(in->lead_in_m >= 0) || !isfinite (in->lead_in_m))
         return -EINVAL;
@@ -168,7 +169,7 @@ int gd_waypoint (const gd_engage_t *in, gd_waypoint_t *ret)
     w.t_pred_s = t;
     w.iterations = k > S_ITER_MAX ? S_ITER_MAX : k;
     w.meet = gd_add (in->target, gd_scale (in->target_vel, t));
-    w.waypoint = gd_add (w.meet, gd_scale (w.dir, w.lookahead_m)); // equation 1
+    w.waypoint = gd_add (w.meet, gd_scale (w.dir, w.lookahead_m));       // equation 1
     gd_to_target_frame (w.waypoint, w.dir, in->uav, &w.x_u_m, &w.y_u_m); // equation 2
     w.secondary = !(w.y_u_m > 0);
     if (w.secondary) { // equation 3, Δ = Rᵀ diag(1, −k) R

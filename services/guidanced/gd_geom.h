@@ -91,9 +91,9 @@ typedef struct {
     gd_v2_t waypoint; // P_waypt
     double x_u_m;     // the UAV in the target's frame about the waypoint (eq. 2)
     double y_u_m;
-    bool secondary;    // y'_u ≤ 0: go through P_2 first
-    gd_v2_t second;    // P_2 (when secondary)
-    gd_v2_t meet;      // P_T + V_T·t_pred: where the target should be at the waypoint time
+    bool secondary; // y'_u ≤ 0: go through P_2 first
+    gd_v2_t second; // P_2 (when secondary)
+    gd_v2_t meet;   // P_T + V_T·t_pred: where the target should be at the waypoint time
 } gd_waypoint_t;
 
 /* Equations 1–3. 0, or -EINVAL (bad input; a target not slower than the UAV;
@@ -136,8 +136,7 @@ typedef struct {
 
 /* The shortest of the six words (Dubins 1957; Shkel and Lumelsky 2001). 0, or
  * -EINVAL (r ≤ 0 or non-finite input). */
-int gd_dubins (gd_v2_t p0, double h0_deg, gd_v2_t p1, double h1_deg, double r_m,
-               gd_dubins_t *ret);
+int gd_dubins (gd_v2_t p0, double h0_deg, gd_v2_t p1, double h1_deg, double r_m, gd_dubins_t *ret);
 /* Its total length, metres. */
 double gd_dubins_length (const gd_dubins_t *d);
 /* The point and heading at distance s along it (0 ≤ s ≤ length). */
@@ -164,7 +163,7 @@ typedef struct {
 typedef struct {
     gd_v2_t corner[4]; // clockwise seen from above: near-left, far-left, far-right, near-right
     double corner_up_m[4];
-    gd_v2_t center;   // where the boresight meets the ground
+    gd_v2_t center; // where the boresight meets the ground
     double center_up_m;
     bool clipped; // a ray met no ground within max_range (its point is at max_range)
 } gd_footprint_t;

@@ -34,7 +34,7 @@ struct gd_intercept {
     bool have_track;
     gd_track_t track;
     bool need_plan;
-    bool orphan;       // its track was deleted: waiting for a new track of the target
+    bool orphan;        // its track was deleted: waiting for a new track of the target
     uint32_t orphan_id; // the deleted track
     // The plan.
     bool has_plan;
@@ -60,7 +60,8 @@ static bool s_active (gd_phase_t ph)
            ph == GD_PRECISION || ph == GD_OVERFLIGHT;
 }
 
-static void s_reason (gd_intercept_t *self, const char *fmt, ...) __attribute__ ((format (printf, 2, 3)));
+static void s_reason (gd_intercept_t *self, const char *fmt, ...)
+    __attribute__ ((format (printf, 2, 3)));
 static void s_reason (gd_intercept_t *self, const char *fmt, ...)
 {
     va_list ap;
@@ -71,9 +72,9 @@ static void s_reason (gd_intercept_t *self, const char *fmt, ...)
 
 const char *gd_phase_name (gd_phase_t p)
 {
-    static const char *const names[] = {"IDLE",      "TO_SECONDARY", "TO_WAYPOINT",
-                                        "APPROACH",  "PRECISION",    "OVERFLIGHT",
-                                        "DONE",      "CANCELLED",    "LOST"};
+    static const char *const names[] = {"IDLE",     "TO_SECONDARY", "TO_WAYPOINT",
+                                        "APPROACH", "PRECISION",    "OVERFLIGHT",
+                                        "DONE",     "CANCELLED",    "LOST"};
     return (unsigned)p <= GD_LOST ? names[p] : "?";
 }
 
@@ -231,8 +232,9 @@ static void s_plan (gd_intercept_t *self)
     };
     gd_waypoint_t wp;
     if (gd_waypoint (&in, &wp) < 0) {
-        s_reason (self, "no plan: the target (%.1f m/s) is not slower than the UAV (%.1f m/s), "
-                        "or the UAV's state is incomplete",
+        s_reason (self,
+                  "no plan: the target (%.1f m/s) is not slower than the UAV (%.1f m/s), "
+                  "or the UAV's state is incomplete",
                   gd_norm (self->track.vel), in.uav_speed_mps);
         self->need_plan = true;
         return;
@@ -372,7 +374,8 @@ void gd_intercept_uav (gd_intercept_t *self, const gd_uav_t *u)
     if (!s_active (self->phase) || !self->has_plan)
         return;
     const gd_task_t *t = &self->task;
-    while (t->kind == GD_TASK_ROUTE && self->progress < t->count && s_reached (self, self->progress))
+    while (t->kind == GD_TASK_ROUTE && self->progress < t->count &&
+           s_reached (self, self->progress))
         self->progress++;
     gd_v2_t target = s_target_at (self, u->t_s);
     gd_v2_t dir = self->wp.dir;
@@ -415,7 +418,8 @@ void gd_intercept_uav (gd_intercept_t *self, const gd_uav_t *u)
             self->out_since_s = u->t_s;
         else if (u->t_s - self->out_since_s >= S_OUT_S) {
             self->phase = GD_DONE;
-            s_reason (self, "the target passed through the footprint: loitering at the route's end");
+            s_reason (self,
+                      "the target passed through the footprint: loitering at the route's end");
         }
     } else if (self->phase == GD_OVERFLIGHT) {
         self->out_since_s = NAN;
@@ -436,8 +440,7 @@ void gd_intercept_uav (gd_intercept_t *self, const gd_uav_t *u)
 static bool s_takes_over (const gd_intercept_t *self, const gd_track_t *t)
 {
     if (!self->orphan || !s_active (self->phase) || t->id == self->orphan_id ||
-        (t->status != 1 && t->status != 2) ||
-        gd_norm (t->vel) > self->p.max_target_speed_mps)
+        (t->status != 1 && t->status != 2) || gd_norm (t->vel) > self->p.max_target_speed_mps)
         return false;
     double age = fmax (0.0, t->t_s - self->track.t_s);
     return gd_norm (gd_sub (t->pos, s_target_at (self, t->t_s))) <=
@@ -510,8 +513,8 @@ void gd_intercept_track (gd_intercept_t *self, const gd_track_t *t)
         tk->kind = GD_TASK_ROUTE;
         tk->count = 0;
         s_push (tk, self->p_close);
-        s_push (tk, gd_sub (self->p_close,
-                            gd_scale (dir, self->wp.lookahead_m + self->p.runout_m)));
+        s_push (tk,
+                gd_sub (self->p_close, gd_scale (dir, self->wp.lookahead_m + self->p.runout_m)));
         self->progress = 0;
         self->i_waypoint = 0;
         return;
@@ -598,6 +601,7 @@ int gd_intercept_designate (gd_intercept_t *self, const gd_track_t *t, double t_
     self->was_inside = false;
     self->inside = false;
     self->overflight_s = NAN;
+    self->time_to_go_s = NAN;
     self->has_plan = false;
     self->orphan = false;
     self->phase = GD_TO_WAYPOINT;
@@ -673,8 +677,7 @@ void gd_intercept_status (const gd_intercept_t *self, gd_status_t *ret)
     *ret = s;
 }
 
-int gd_pick_nearest (const gd_track_t *tracks, size_t n, gd_v2_t p, gd_pick_t pick,
-                     double *ret_d_m)
+int gd_pick_nearest (const gd_track_t *tracks, size_t n, gd_v2_t p, gd_pick_t pick, double *ret_d_m)
 {
     int best = -ENOENT;
     double best_d = INFINITY;
@@ -762,12 +765,11 @@ int gd_intercept_save (const gd_intercept_t *self, uint8_t **ret_buf, size_t *re
         s_put (&o, "hit " S_G " " S_G " " S_G "\n", t->history[k].e, t->history[k].n,
                t->history_t_s[k]);
     s_put (&o,
-           "plan %d " S_G " " S_G " " S_G " " S_G " %d " S_G " " S_G " " S_G " " S_G
-           " %d " S_G " " S_G " " S_G " " S_G " " S_G " %zu %zu %zu\n",
+           "plan %d " S_G " " S_G " " S_G " " S_G " %d " S_G " " S_G " " S_G " " S_G " %d " S_G
+           " " S_G " " S_G " " S_G " " S_G " %zu %zu %zu\n",
            self->has_plan, w->lookahead_m, w->dir.e, w->dir.n, w->t_pred_s, w->iterations,
-           w->waypoint.e, w->waypoint.n, w->x_u_m, w->y_u_m, w->secondary, w->second.e,
-           w->second.n, w->meet.e, w->meet.n, self->plan_s, self->i_second, self->i_waypoint,
-           self->progress);
+           w->waypoint.e, w->waypoint.n, w->x_u_m, w->y_u_m, w->secondary, w->second.e, w->second.n,
+           w->meet.e, w->meet.n, self->plan_s, self->i_second, self->i_waypoint, self->progress);
     s_put (&o, "approach " S_G " " S_G " " S_G " %d %d " S_G " " S_G " %u " S_G "\n",
            self->p_close.e, self->p_close.n, self->close_s, self->inside, self->was_inside,
            self->overflight_s, self->out_since_s, self->replans, self->time_to_go_s);
@@ -870,19 +872,17 @@ int gd_intercept_restore (gd_intercept_t *self, const uint8_t *buf, size_t len, 
     what = "plan";
     if (!s_line (&cur, end, line, sizeof line, &ln) ||
         sscanf (line,
-                "plan %d %lf %lf %lf %lf %d %lf %lf %lf %lf %d %lf %lf %lf %lf %lf %zu %zu %zu",
-                &a, &w->lookahead_m, &w->dir.e, &w->dir.n, &w->t_pred_s, &w->iterations,
-                &w->waypoint.e, &w->waypoint.n, &w->x_u_m, &w->y_u_m, &b, &w->second.e,
-                &w->second.n, &w->meet.e, &w->meet.n, &x->plan_s, &x->i_second, &x->i_waypoint,
-                &x->progress) != 19)
+                "plan %d %lf %lf %lf %lf %d %lf %lf %lf %lf %d %lf %lf %lf %lf %lf %zu %zu %zu", &a,
+                &w->lookahead_m, &w->dir.e, &w->dir.n, &w->t_pred_s, &w->iterations, &w->waypoint.e,
+                &w->waypoint.n, &w->x_u_m, &w->y_u_m, &b, &w->second.e, &w->second.n, &w->meet.e,
+                &w->meet.n, &x->plan_s, &x->i_second, &x->i_waypoint, &x->progress) != 19)
         goto bad;
     x->has_plan = a != 0;
     w->secondary = b != 0;
     what = "approach";
     if (!s_line (&cur, end, line, sizeof line, &ln) ||
         sscanf (line, "approach %lf %lf %lf %d %d %lf %lf %u %lf", &x->p_close.e, &x->p_close.n,
-                &x->close_s, &a, &b, &x->overflight_s, &x->out_since_s, &ua,
-                &x->time_to_go_s) != 9)
+                &x->close_s, &a, &b, &x->overflight_s, &x->out_since_s, &ua, &x->time_to_go_s) != 9)
         goto bad;
     x->inside = a != 0;
     x->was_inside = b != 0;
@@ -890,8 +890,8 @@ int gd_intercept_restore (gd_intercept_t *self, const uint8_t *buf, size_t len, 
     what = "task";
     size_t tn = 0;
     if (!s_line (&cur, end, line, sizeof line, &ln) ||
-        sscanf (line, "task %llu %d %zu", &ull, &d, &tn) != 3 || d < 0 ||
-        d > GD_TASK_LOITER_HERE || tn > GD_ROUTE_MAX)
+        sscanf (line, "task %llu %d %zu", &ull, &d, &tn) != 3 || d < 0 || d > GD_TASK_LOITER_HERE ||
+        tn > GD_ROUTE_MAX)
         goto bad;
     x->task.number = ull;
     x->task.kind = (gd_task_kind_t)d;
@@ -913,14 +913,22 @@ int gd_intercept_restore (gd_intercept_t *self, const uint8_t *buf, size_t len, 
     if ((x->has_plan && x->task.kind == GD_TASK_ROUTE &&
          (x->i_waypoint >= GD_ROUTE_MAX || x->i_second >= GD_ROUTE_MAX ||
           x->progress > x->task.count)) ||
-        (x->have_uav && !s_finite_all ((const double[]){u->t_s, u->position.e_m, u->position.n_m,
-                                                        u->heading_deg},
-                                       4)))
+        (x->have_uav &&
+         !s_finite_all ((const double[]){u->t_s, u->position.e_m, u->position.n_m, u->heading_deg},
+                        4)))
+        goto bad;
+    what = "a value (not finite)";
+    if (!s_finite_all ((const double[]){t->pos.e, t->pos.n, t->vel.e, t->vel.n, t->t_s}, 5) ||
+        (x->has_plan && !s_finite_all ((const double[]){w->lookahead_m, w->dir.e, w->dir.n,
+                                                        w->waypoint.e, w->waypoint.n, w->meet.e,
+                                                        w->meet.n, x->p_close.e, x->p_close.n},
+                                       9)))
         goto bad;
     // The footprint follows from the UAV's state.
+    x->have_fp = false;
     if (x->have_uav) {
-        gd_sensor_t s = {u->position,      u->heading_deg, u->pitch_deg,     u->roll_deg,
-                         u->depression_deg, u->hfov_deg,    u->vfov_deg,      x->p.max_range_m};
+        gd_sensor_t s = {u->position,       u->heading_deg, u->pitch_deg, u->roll_deg,
+                         u->depression_deg, u->hfov_deg,    u->vfov_deg,  x->p.max_range_m};
         x->have_fp = gd_footprint (&s, x->terrain, &x->fp) == 0;
     }
     *self = *x;

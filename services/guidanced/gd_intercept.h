@@ -67,11 +67,11 @@ typedef struct {
     cgs_enu_t position; // absolute up
     double heading_deg, pitch_deg, roll_deg;
     double ground_speed_mps;
-    double airspeed_mps;           // commanded airspeed when known, else present
-    double agl_m;                  // height above the terrain under it
-    double bank_limit_deg;         // for the smallest turn radius
-    double depression_deg;         // imaging sensor: ε
-    double hfov_deg, vfov_deg;     // γ, β
+    double airspeed_mps;       // commanded airspeed when known, else present
+    double agl_m;              // height above the terrain under it
+    double bank_limit_deg;     // for the smallest turn radius
+    double depression_deg;     // imaging sensor: ε
+    double hfov_deg, vfov_deg; // γ, β
 } gd_uav_t;
 
 /* A track as heard on `track`. */
@@ -138,8 +138,9 @@ void gd_intercept_destroy (gd_intercept_t **self_p);
  * reason in why (deleted or tentative track, no position). */
 int gd_intercept_designate (gd_intercept_t *self, const gd_track_t *t, double t_s, char *why,
                             size_t whylen);
-/* Cancel: the UAV loiters about its present position. 0, or -EALREADY when
- * there is nothing to cancel. */
+/* Cancel: the UAV loiters about its present position (also after DONE or
+ * LOST: it leaves the route's end or the place it lost the track). 0, or
+ * -EALREADY when idle or already cancelled. */
 int gd_intercept_cancel (gd_intercept_t *self, double t_s);
 /* The method of the next plans (a running intercept is re-planned with it). */
 void gd_intercept_set_method (gd_intercept_t *self, gd_method_t m);
@@ -175,7 +176,7 @@ int gd_intercept_restore (gd_intercept_t *self, const uint8_t *buf, size_t len, 
 /* Which tracks an operator's pick may take. */
 typedef enum {
     GD_PICK_ANY = 0,
-    GD_PICK_UNKNOWN = 1,  // not identified as friendly
+    GD_PICK_UNKNOWN = 1, // not identified as friendly
     GD_PICK_FRIENDLY = 2,
 } gd_pick_t;
 

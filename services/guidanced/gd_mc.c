@@ -13,12 +13,12 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define S_PI      3.14159265358979323846
-#define S_STEP_S  0.05 // simulation step (uavsim's default)
-#define S_UAV_S   0.1  // the intercept hears the UAV at 10 Hz, as on `uav`
-#define S_UAV_ID  1
-#define S_TGT_ID  2
-#define S_PICK_M  500.0 // the designated track is the confirmed one nearest the target, this near
+#define S_PI     3.14159265358979323846
+#define S_STEP_S 0.05 // simulation step (uavsim's default)
+#define S_UAV_S  0.1  // the intercept hears the UAV at 10 Hz, as on `uav`
+#define S_UAV_ID 1
+#define S_TGT_ID 2
+#define S_PICK_M 500.0 // the designated track is the confirmed one nearest the target, this near
 
 typedef struct {
     uint64_t s;
@@ -65,8 +65,8 @@ static int s_check (const gd_mc_config_t *c)
               c->speed_max_mps < 30 && c->turn_fraction >= 0 && c->turn_fraction <= 1 &&
               c->turn_min_deg >= 0 && c->turn_max_deg >= c->turn_min_deg &&
               c->turn_max_deg <= 170 && c->turn_after_min_s >= 0 &&
-              c->turn_after_max_s >= c->turn_after_min_s && c->preroll_s >= 30 &&
-              c->limit_s > 0 && (c->method == GD_HEAD_ON || c->method == GD_MTI_HITS);
+              c->turn_after_max_s >= c->turn_after_min_s && c->preroll_s >= 30 && c->limit_s > 0 &&
+              (c->method == GD_HEAD_ON || c->method == GD_MTI_HITS);
     return ok ? 0 : -EINVAL;
 }
 
@@ -208,7 +208,8 @@ static int s_one (const gd_mc_config_t *c, mti_radar_t *radar, s_rng_t *rng, s_r
     vp.corner_cut_m = 30;
     // The UAV: range_min..range_max from where the target will be at the designation.
     gd_v2_t at_des = gd_scale (d0, v * c->preroll_s);
-    double bearing = s_uniform (rng, 0, 360), range = s_uniform (rng, c->range_min_m, c->range_max_m);
+    double bearing = s_uniform (rng, 0, 360),
+           range = s_uniform (rng, c->range_min_m, c->range_max_m);
     gd_v2_t up = gd_add (at_des, gd_scale (gd_heading_unit (bearing), range));
     uavsim_uav_params_t upar;
     uavsim_uav_params_defaults (&upar);
@@ -470,10 +471,14 @@ int gd_mc_main (int argc, char **argv)
     gd_mc_defaults (&c);
     bool quiet = false;
     static const struct option opts[] = {
-        {"monte-carlo", no_argument, NULL, 'M'}, {"runs", required_argument, NULL, 'n'},
-        {"seed", required_argument, NULL, 's'},  {"method", required_argument, NULL, 'm'},
-        {"turn-fraction", required_argument, NULL, 't'}, {"quiet", no_argument, NULL, 'q'},
-        {"help", no_argument, NULL, 'h'},        {NULL, 0, NULL, 0},
+        {"monte-carlo", no_argument, NULL, 'M'},
+        {"runs", required_argument, NULL, 'n'},
+        {"seed", required_argument, NULL, 's'},
+        {"method", required_argument, NULL, 'm'},
+        {"turn-fraction", required_argument, NULL, 't'},
+        {"quiet", no_argument, NULL, 'q'},
+        {"help", no_argument, NULL, 'h'},
+        {NULL, 0, NULL, 0},
     };
     int o;
     char *end = NULL;
@@ -485,7 +490,8 @@ int gd_mc_main (int argc, char **argv)
         case 'n':
             c.runs = (size_t)strtoul (optarg, &end, 10);
             if (*end || c.runs == 0 || c.runs > 1000000) {
-                fprintf (stderr, "guidanced: --runs: expected a count 1..1000000, got '%s'\n", optarg);
+                fprintf (stderr, "guidanced: --runs: expected a count 1..1000000, got '%s'\n",
+                         optarg);
                 return 2;
             }
             break;
@@ -538,8 +544,8 @@ int gd_mc_main (int argc, char **argv)
     printf ("%zu runs (seed %llu, %s): %zu designated, %zu imaged (%.1f%%)\n", r.runs,
             (unsigned long long)c.seed, c.method == GD_HEAD_ON ? "head-on" : "MTI hits",
             r.designated, r.imaged, s_pct (r.imaged, r.designated));
-    printf ("  UAV ahead (y'_u > 0): %zu/%zu imaged; behind (y'_u <= 0): %zu/%zu\n",
-            r.ahead_imaged, r.ahead, r.behind_imaged, r.behind);
+    printf ("  UAV ahead (y'_u > 0): %zu/%zu imaged; behind (y'_u <= 0): %zu/%zu\n", r.ahead_imaged,
+            r.ahead, r.behind_imaged, r.behind);
     printf ("  straight: %zu/%zu imaged; turning 45-120 deg after designation: %zu/%zu\n",
             r.straight_imaged, r.straight, r.turned_imaged, r.turned);
     printf ("  closest approach to the footprint centre: median %.1f m, 90%% %.1f m, 95%% %.1f m, "
@@ -554,9 +560,9 @@ int gd_mc_main (int argc, char **argv)
             "\"turned_imaged\":%zu,\"closest_p50_m\":%.2f,\"closest_p90_m\":%.2f,"
             "\"closest_p95_m\":%.2f,\"closest_max_m\":%.2f,\"miss_p95_m\":%.2f,\"miss_max_m\":%.2f,"
             "\"time_to_image_p50_s\":%.1f,\"time_to_image_p95_s\":%.1f,\"replans_mean\":%.3f}\n",
-            r.runs, r.designated, r.imaged, s_pct (r.imaged, r.designated), r.ahead,
-            r.ahead_imaged, r.behind, r.behind_imaged, r.turned, r.turned_imaged, r.closest_p50_m,
-            r.closest_p90_m, r.closest_p95_m, r.closest_max_m, r.miss_p95_m, r.miss_max_m,
-            r.time_to_image_p50_s, r.time_to_image_p95_s, r.replans_mean);
+            r.runs, r.designated, r.imaged, s_pct (r.imaged, r.designated), r.ahead, r.ahead_imaged,
+            r.behind, r.behind_imaged, r.turned, r.turned_imaged, r.closest_p50_m, r.closest_p90_m,
+            r.closest_p95_m, r.closest_max_m, r.miss_p95_m, r.miss_max_m, r.time_to_image_p50_s,
+            r.time_to_image_p95_s, r.replans_mean);
     return 0;
 }

@@ -23,28 +23,28 @@ typedef struct {
     size_t runs;
     uint64_t seed;
     gd_method_t method;
-    double range_min_m, range_max_m;   // UAV from the target at designation
-    double speed_min_mps, speed_max_mps; // target speed
-    double turn_fraction;              // share of runs whose target turns
-    double turn_min_deg, turn_max_deg; // its turn
+    double range_min_m, range_max_m;           // UAV from the target at designation
+    double speed_min_mps, speed_max_mps;       // target speed
+    double turn_fraction;                      // share of runs whose target turns
+    double turn_min_deg, turn_max_deg;         // its turn
     double turn_after_min_s, turn_after_max_s; // when, after the designation
-    double preroll_s;                  // radar and tracker run this long before designating
-    double limit_s;                    // a run ends this long after the designation
+    double preroll_s;                          // radar and tracker run this long before designating
+    double limit_s;                            // a run ends this long after the designation
 } gd_mc_config_t;
 
 /* One run's outcome. */
 typedef struct {
-    bool designated;     // a confirmed track of the target existed in time
-    bool imaged;         // inside the true footprint at some moment
-    bool ahead;          // first plan's y'_u > 0
-    bool turned;         // the target turned
+    bool designated; // a confirmed track of the target existed in time
+    bool imaged;     // inside the true footprint at some moment
+    bool ahead;      // first plan's y'_u > 0
+    bool turned;     // the target turned
     double speed_mps;
-    double turn_deg;     // signed, clockwise positive; 0 without a turn
-    double closest_m;    // closest distance of the target to the footprint centre
-    double miss_m;       // closest distance to the footprint (0 when imaged)
+    double turn_deg;  // signed, clockwise positive; 0 without a turn
+    double closest_m; // closest distance of the target to the footprint centre
+    double miss_m;    // closest distance to the footprint (0 when imaged)
     double time_to_image_s;
     uint32_t replans;
-    int final_phase;     // gd_phase_t at the end
+    int final_phase; // gd_phase_t at the end
 } gd_mc_run_t;
 
 typedef struct {

@@ -11,25 +11,25 @@
 
 typedef struct {
     // [plan]
-    double turn_radius_factor; // planning radius = this × the UAV's smallest turn radius
-    double secondary_scale;    // k of Δ in equation 3 (1: the paper's mirror)
-    double lead_in_m;          // least distance of P_2 ahead of the waypoint
-    double runout_m;           // route goes on this far past the target's meeting point
-    double arc_step_deg;       // turns are sent as route points this many degrees apart
+    double turn_radius_factor;   // planning radius = this × the UAV's smallest turn radius
+    double secondary_scale;      // k of Δ in equation 3 (1: the paper's mirror)
+    double lead_in_m;            // least distance of P_2 ahead of the waypoint
+    double runout_m;             // route goes on this far past the target's meeting point
+    double arc_step_deg;         // turns are sent as route points this many degrees apart
     double min_target_speed_mps; // slower targets are taken as standing still
     double max_target_speed_mps; // a track faster than this has a broken velocity: not used
     // [replan]
     double threshold_deg; // re-plan when the target's direction changed by more
     double offset_m;      // re-plan when the target left the planned line by more
     // [approach]
-    double align_deg;     // on final approach: heading within this of the target's reverse
-    double lost_after_s;  // no update of the designated track for this long: lost
-    double handover_m;    // a deleted track's target is taken up by a new track this near
+    double align_deg;           // on final approach: heading within this of the target's reverse
+    double lost_after_s;        // no update of the designated track for this long: lost
+    double handover_m;          // a deleted track's target is taken up by a new track this near
     double handover_growth_mps; // ... plus this much per second since its last update
     // [designation]
     double pick_radius_m; // a designation by point takes a track whose newest hit is this near
     // [footprint]
-    double max_range_m;   // a sensor ray that meets no ground within this is cut there
+    double max_range_m; // a sensor ray that meets no ground within this is cut there
 } gd_params_t;
 
 /* The defaults (deploy/params/guidance.ini documents each). */

@@ -29,11 +29,11 @@ typedef struct {
     double designation_s; // simulation time of the designation
     bool imaged;          // the target was inside the true footprint at least once
     double first_inside_s;
-    double inside_s;          // time inside the true footprint, seconds
-    double closest_m;         // closest distance of the target to the footprint centre
-    double closest_s;         // when
-    double closest_edge_m;    // closest distance to the footprint (0 once inside)
-    size_t samples, judged;   // target positions fed, and judged against a footprint
+    double inside_s;        // time inside the true footprint, seconds
+    double closest_m;       // closest distance of the target to the footprint centre
+    double closest_s;       // when
+    double closest_edge_m;  // closest distance to the footprint (0 once inside)
+    size_t samples, judged; // target positions fed, and judged against a footprint
 } gd_score_t;
 
 /* A score with nothing seen yet (closest_m and closest_edge_m +inf). */

@@ -31,11 +31,11 @@ typedef struct {
     uint32_t entity_id;
     char name[64];
     gd_intercept_t *core;
-    uint64_t delivered;     // task number uavsim has answered
-    uint64_t pending_task;  // task number being delivered
-    uint64_t pending_seq;   // the command number it goes under
+    uint64_t delivered;    // task number uavsim has answered
+    uint64_t pending_task; // task number being delivered
+    uint64_t pending_seq;  // the command number it goes under
     double last_uav_s;
-    int logged_phase;         // phase and re-plans last written to the log
+    int logged_phase; // phase and re-plans last written to the log
     uint32_t logged_replans;
     uint32_t logged_track;
 } s_uav_t;
@@ -251,7 +251,8 @@ static void s_on_deliver (void *arg)
     }
 }
 
-/* ---- tracks ------------------------------------------------------------------------------------ */
+/* ---- tracks ------------------------------------------------------------------------------------
+ */
 
 static gd_track_t *s_track_find (s_app_t *app, uint32_t id)
 {
@@ -403,8 +404,7 @@ static void s_on_uav (void *arg, const char *topic, const ProtobufCMessage *msg,
         .pitch_deg = m->pitch_deg,
         .roll_deg = m->roll_deg,
         .ground_speed_mps = m->ground_speed_mps,
-        .airspeed_mps = m->commanded_airspeed_mps > 0 ? m->commanded_airspeed_mps
-                                                      : m->airspeed_mps,
+        .airspeed_mps = m->commanded_airspeed_mps > 0 ? m->commanded_airspeed_mps : m->airspeed_mps,
         .agl_m = m->altitude_agl_m > 1 ? m->altitude_agl_m : 1,
         .bank_limit_deg = m->bank_limit_deg,
         .depression_deg = m->sensor->depression_deg,
@@ -417,7 +417,8 @@ static void s_on_uav (void *arg, const char *topic, const ProtobufCMessage *msg,
     s_publish (app, u);
 }
 
-/* ---- the operator's script -------------------------------------------------------------------- */
+/* ---- the operator's script --------------------------------------------------------------------
+ */
 
 static void s_run_script (s_app_t *app)
 {
@@ -437,8 +438,8 @@ static void s_run_script (s_app_t *app)
                          : d->pick == CGS_PICK_FRIENDLY ? GD_PICK_FRIENDLY
                                                         : GD_PICK_ANY;
         double dist = 0;
-        int i = gd_pick_nearest (app->tracks, app->track_count,
-                                 gd_v2 (d->near.e_m, d->near.n_m), pick, &dist);
+        int i = gd_pick_nearest (app->tracks, app->track_count, gd_v2 (d->near.e_m, d->near.n_m),
+                                 pick, &dist);
         if (i < 0 || dist > app->params.pick_radius_m) {
             if (!app->script_waiting_logged)
                 cgs_log (LOG_INFO,
@@ -468,7 +469,8 @@ static void s_run_script (s_app_t *app)
     }
 }
 
-/* ---- commands ------------------------------------------------------------------------------------ */
+/* ---- commands
+ * ------------------------------------------------------------------------------------ */
 
 static void s_refuse (s_app_t *app, Cgs__Reply *reply, const char *fmt, ...)
     __attribute__ ((format (printf, 3, 4)));
@@ -530,8 +532,8 @@ static void s_designate (s_app_t *app, const Cgs__Designate *d, Cgs__Reply *repl
                   gd_phase_name (st.phase), st.waypoint.e, st.waypoint.n, st.t_pred_s,
                   st.has_secondary ? ", through a secondary waypoint" : "");
     else
-        snprintf (app->detail, sizeof app->detail, "%s: %s; planned when the UAV is heard",
-                  u->name, st.reason);
+        snprintf (app->detail, sizeof app->detail, "%s: %s; planned when the UAV is heard", u->name,
+                  st.reason);
     reply->detail = app->detail;
 }
 
@@ -741,11 +743,13 @@ static void s_on_checkpoint (void *arg)
     s_save_now (app);
 }
 
-/* ---- setup and main ------------------------------------------------------------------------------ */
+/* ---- setup and main
+ * ------------------------------------------------------------------------------ */
 
 static const cgs_service_option_t s_options[] = {
     {"fresh", false, NULL, "start idle, ignoring the saved intercept"},
-    {"monte-carlo", false, NULL, "run the Monte Carlo of whole intercepts (see --monte-carlo --help)"},
+    {"monte-carlo", false, NULL,
+     "run the Monte Carlo of whole intercepts (see --monte-carlo --help)"},
     {NULL, false, NULL, NULL},
 };
 
@@ -773,8 +777,9 @@ static int s_setup (s_app_t *app, char *err, size_t errlen)
         cgs_log (LOG_INFO, "guidance parameters: the built-in defaults (no parameter file named)");
     }
     if (!*app->svc.scenario) {
-        snprintf (err, errlen, "no scenario (its UAVs and terrain are needed): give --scenario FILE "
-                               "or `scenario =` in %s",
+        snprintf (err, errlen,
+                  "no scenario (its UAVs and terrain are needed): give --scenario FILE "
+                  "or `scenario =` in %s",
                   app->svc.exercise_path);
         return -EINVAL;
     }
@@ -784,8 +789,8 @@ static int s_setup (s_app_t *app, char *err, size_t errlen)
         snprintf (err, errlen, "bad exercise origin");
         return -EINVAL;
     }
-    int rc = cgs_scenario_load (app->svc.scenario, app->frame, cgs_exercise_seed (app->svc.exercise),
-                                &app->scenario, err, errlen);
+    int rc = cgs_scenario_load (app->svc.scenario, app->frame,
+                                cgs_exercise_seed (app->svc.exercise), &app->scenario, err, errlen);
     if (rc < 0)
         return rc;
     if ((rc = cgs_scenario_terrain (app->scenario, app->frame, &app->terrain, err, errlen)) < 0)

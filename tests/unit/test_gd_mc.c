@@ -64,7 +64,8 @@ static void test_same_seed_same_result (void **state)
     assert_int_equal (gd_mc_run (&c, b, NULL, NULL, &rb), 0);
     for (int i = 0; i < 4; i++) {
         assert_int_equal (a[i].imaged, b[i].imaged);
-        assert_true (a[i].closest_m == b[i].closest_m || (isnan (a[i].closest_m) && isnan (b[i].closest_m)));
+        assert_true (a[i].closest_m == b[i].closest_m ||
+                     (isnan (a[i].closest_m) && isnan (b[i].closest_m)));
     }
 }
 
