@@ -379,13 +379,6 @@ static uint64_t s_mix64 (uint64_t z)
     return z ^ (z >> 31);
 }
 
-/* splitmix64: the generator that draws each octave's key and offset. */
-static uint64_t s_splitmix64 (uint64_t *state)
-{
-    *state += 0x9e3779b97f4a7c15ULL;
-    return s_mix64 (*state);
-}
-
 #define S_DIAG 0.70710678118654752440
 static const double s_gradients[8][2] = {{1, 0},
                                          {-1, 0},
@@ -430,9 +423,9 @@ static void s_fbm_field (const cgs_terrain_t *self, uint64_t seed, double featur
     uint64_t state = seed, key[16];
     double off_x[16], off_y[16], freq[16], amp[16];
     for (int k = 0; k < octaves; k++) {
-        key[k] = s_splitmix64 (&state);
-        off_x[k] = (double)(s_splitmix64 (&state) >> 11) * 0x1p-53 * 1024;
-        off_y[k] = (double)(s_splitmix64 (&state) >> 11) * 0x1p-53 * 1024;
+        key[k] = cgs_splitmix64 (&state);
+        off_x[k] = (double)(cgs_splitmix64 (&state) >> 11) * 0x1p-53 * 1024;
+        off_y[k] = (double)(cgs_splitmix64 (&state) >> 11) * 0x1p-53 * 1024;
         freq[k] = ldexp (1, k) / feature_m;
         amp[k] = k == 0 ? 1 : amp[k - 1] * persistence;
     }

@@ -1,7 +1,9 @@
 /* cgs_util — small helpers shared by the common modules. */
 #include "cgs_util.h"
 
+#include <errno.h>
 #include <stdarg.h>
+#include <stdlib.h>
 #include <stdio.h>
 #include <zlib.h>
 
@@ -13,6 +15,32 @@ void cgs_errf (char *err, size_t errlen, const char *fmt, ...)
     va_start (ap, fmt);
     vsnprintf (err, errlen, fmt, ap);
     va_end (ap);
+}
+
+int cgs_parse_u64 (const char *text, uint64_t max, uint64_t *ret)
+{
+    if (!text || !(*text >= '0' && *text <= '9'))
+        return -EINVAL;
+    char *end = NULL;
+    errno = 0;
+    unsigned long long v = strtoull (text, &end, 10);
+    if (*end || errno == ERANGE || v > max)
+        return -EINVAL;
+    *ret = (uint64_t)v;
+    return 0;
+}
+
+uint64_t cgs_splitmix64 (uint64_t *state)
+{
+    uint64_t z = (*state += 0x9E3779B97F4A7C15ull);
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+    return z ^ (z >> 31);
+}
+
+double cgs_uniform01 (uint64_t *state)
+{
+    return ((double)(cgs_splitmix64 (state) >> 11) + 0.5) * 0x1p-53;
 }
 
 uint32_t cgs_crc32 (const void *data, size_t n)

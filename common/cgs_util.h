@@ -9,6 +9,15 @@
 void cgs_errf (char *err, size_t errlen, const char *fmt, ...)
     __attribute__ ((format (printf, 3, 4)));
 
+/* A whole number written in decimal digits only (no sign, space or
+ * exponent), at most max: 0 and *ret, or -EINVAL (*ret untouched). */
+int cgs_parse_u64 (const char *text, uint64_t max, uint64_t *ret);
+/* splitmix64 (Steele, Lea and Flood 2014): the next number of the sequence
+ * whose state is *state (advanced). Seeded generators of models and Monte
+ * Carlo drivers draw from it. */
+uint64_t cgs_splitmix64 (uint64_t *state);
+/* A uniform number in the open interval (0, 1) from splitmix64. */
+double cgs_uniform01 (uint64_t *state);
 /* CRC-32 (IEEE 802.3, as zlib and PNG compute it) of n bytes. */
 uint32_t cgs_crc32 (const void *data, size_t n);
 

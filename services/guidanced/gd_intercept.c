@@ -1,5 +1,6 @@
 /* gd_intercept — one UAV's intercept of a designated track (see gd_intercept.h). */
 #include "gd_intercept.h"
+#include "uavsim_uav.h"
 
 #include <errno.h>
 #include <math.h>
@@ -8,7 +9,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define S_G_MPS2      9.80665
 #define S_DEG         (3.14159265358979323846 / 180.0)
 #define S_PASS_M      80.0 // a route point within this is reached
 #define S_OUT_S       2.0  // the target out of the footprint this long after overflight: done
@@ -122,7 +122,7 @@ double gd_intercept_turn_radius (const gd_intercept_t *self)
         return 0;
     double v = fmax (self->uav.airspeed_mps, self->uav.ground_speed_mps);
     double bank = self->uav.bank_limit_deg > 1 ? self->uav.bank_limit_deg : 30.0;
-    return self->p.turn_radius_factor * v * v / (S_G_MPS2 * tan (bank * S_DEG));
+    return self->p.turn_radius_factor * uavsim_uav_turn_radius (v, bank);
 }
 
 /* The target's position predicted to t_s from its latest track update. */

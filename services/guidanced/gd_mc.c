@@ -1,5 +1,6 @@
 /* gd_mc — Monte Carlo runs of whole intercepts (see gd_mc.h). */
 #include "gd_mc.h"
+#include "cgs_util.h"
 #include "gd_score.h"
 #include "mti_radar.h"
 #include "trk_tracker.h"
@@ -24,18 +25,9 @@ typedef struct {
     uint64_t s;
 } s_rng_t;
 
-static uint64_t s_next (s_rng_t *r)
-{ // splitmix64
-    uint64_t z = (r->s += 0x9E3779B97F4A7C15ull);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    return z ^ (z >> 31);
-}
-
 static double s_uniform (s_rng_t *r, double lo, double hi)
 {
-    double u = ((double)(s_next (r) >> 11) + 0.5) * (1.0 / 9007199254740992.0);
-    return lo + (hi - lo) * u;
+    return lo + (hi - lo) * cgs_uniform01 (&r->s);
 }
 
 void gd_mc_defaults (gd_mc_config_t *c)
@@ -119,22 +111,9 @@ static int s_add_hit (s_run_t *r, const mti_hit_t *h, const mti_platform_t *pl, 
         r->hits = n;
         r->cap = cap;
     }
-    double de = h->position.e_m - pl->position.e_m, dn = h->position.n_m - pl->position.n_m;
-    double du = h->position.u_m - pl->position.u_m;
-    double slant = sqrt (de * de + dn * dn + du * du), ground = hypot (de, dn);
-    r->hits[r->nhits++] = (trk_hit_t){
-        .hit_id = h->hit_id,
-        .t_s = t_s,
-        .z = {h->position.e_m, h->position.n_m},
-        .up_m = h->position.u_m,
-        .ground_range_m = ground,
-        .azimuth_deg = h->azimuth_deg,
-        .range_sigma_m = ground > 0 ? h->range_sigma_m * slant / ground : 0,
-        .azimuth_sigma_deg = h->azimuth_sigma_deg,
-        .has_radial = slant > 0,
-        .radial_mps = h->radial_velocity_mps,
-        .los = {slant > 0 ? de / slant : 0, slant > 0 ? dn / slant : 0},
-    };
+    r->hits[r->nhits++] =
+        trk_hit_from_mti (h->hit_id, t_s, h->position, pl->position, h->azimuth_deg,
+                          h->range_sigma_m, h->azimuth_sigma_deg, h->radial_velocity_mps);
     return 0;
 }
 
@@ -482,22 +461,22 @@ int gd_mc_main (int argc, char **argv)
     };
     int o;
     char *end = NULL;
+    uint64_t u = 0;
     optind = 1;
     while ((o = getopt_long (argc, argv, "n:s:m:t:qh", opts, NULL)) != -1) {
         switch (o) {
         case 'M':
             break;
         case 'n':
-            c.runs = (size_t)strtoul (optarg, &end, 10);
-            if (*end || c.runs == 0 || c.runs > 1000000) {
+            if (cgs_parse_u64 (optarg, 1000000, &u) < 0 || u == 0) {
                 fprintf (stderr, "guidanced: --runs: expected a count 1..1000000, got '%s'\n",
                          optarg);
                 return 2;
             }
+            c.runs = (size_t)u;
             break;
         case 's':
-            c.seed = strtoull (optarg, &end, 10);
-            if (*end) {
+            if (cgs_parse_u64 (optarg, UINT64_MAX, &c.seed) < 0) {
                 fprintf (stderr, "guidanced: --seed: expected an integer, got '%s'\n", optarg);
                 return 2;
             }

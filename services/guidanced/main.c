@@ -226,6 +226,16 @@ static void s_deliver (s_app_t *app, s_uav_t *u)
         cgs_health_set_error (app->svc.health, err);
         return; // tried again at the next delivery tick
     }
+    if (reply->status == CGS__REPLY_STATUS__REPLY_STATUS_BAD_REQUEST && !reply->duplicate) {
+        // The number was taken (a forwarded command used it, and the state
+        // that counted it was lost in a crash): the task goes again under a
+        // new number at the next delivery tick.
+        cgs_log (LOG_NOTICE, "%s: task %" PRIu64 ": uavsim: %s; sending it under a new number",
+                 u->name, t->number, reply->error ? reply->error : "bad request");
+        u->pending_task = 0;
+        cgs_cmd_reply_free (&reply);
+        return;
+    }
     if (reply->status != CGS__REPLY_STATUS__REPLY_STATUS_OK &&
         reply->status != CGS__REPLY_STATUS__REPLY_STATUS_NOT_SAVED) {
         char why[384];
@@ -389,9 +399,15 @@ static void s_on_uav (void *arg, const char *topic, const ProtobufCMessage *msg,
     if (!u || m->entity_id == 0)
         return; // a UAV of another scenario or exercise: not ours
     const Cgs__Enu *p = m->position;
+    const Cgs__ImagingSensor *sn = m->sensor;
     if (!p || !isfinite (p->east_m) || !isfinite (p->north_m) || !isfinite (p->up_m) ||
-        !isfinite (m->heading_deg) || !isfinite (hdr->sim_time_s) || !m->sensor) {
-        s_bad (app, "a uav message without a valid position, heading, time or sensor");
+        !isfinite (m->heading_deg) || !isfinite (m->pitch_deg) || !isfinite (m->roll_deg) ||
+        !isfinite (m->ground_speed_mps) || !isfinite (m->airspeed_mps) ||
+        !isfinite (m->commanded_airspeed_mps) || !isfinite (hdr->sim_time_s) || !sn ||
+        !(sn->depression_deg > 0 && sn->depression_deg < 90) ||
+        !(sn->hfov_deg > 0 && sn->hfov_deg < 180) || !(sn->vfov_deg > 0 && sn->vfov_deg < 180)) {
+        s_bad (app, "a uav message without a valid position, attitude, speed, time or imaging "
+                    "sensor (depression in (0, 90), fields of view in (0, 180) degrees)");
         return;
     }
     double t = hdr->sim_time_s;

@@ -17,6 +17,7 @@
 #include "cgs_lifecycle.h"
 #include "cgs_loop.h"
 #include "cgs_service.h"
+#include "cgs_util.h"
 #include "cgs_state.h"
 #include "cgs_topics.h"
 #include "gd_score.h"
@@ -608,9 +609,8 @@ static double s_number (const char *what, const char *text)
 /* A whole number in 0 .. UINT32_MAX (an entity or track id); exits 2 if not. */
 static uint32_t s_id (const char *what, const char *expected, const char *text)
 {
-    char *end = NULL;
-    double v = strtod (text, &end);
-    if (!end || end == text || *end || !(v >= 0) || v > UINT32_MAX || v != floor (v)) {
+    uint64_t v = 0;
+    if (cgs_parse_u64 (text, UINT32_MAX, &v) < 0) {
         fprintf (stderr, "mscgs: %s: expected %s, got '%s'\n", what, expected, text);
         exit (2);
     }
@@ -940,6 +940,7 @@ static int s_cmd_topics (void)
  * overwritten first. */
 typedef struct {
     uint32_t uav_id; // the radar
+    uint64_t epoch;  // its mtid's epoch: hit ids start again at each start
     size_t next;     // slot the next hit goes to
     size_t count;    // slots filled
     uint32_t hit_id[S_HITS_MAX];
@@ -968,6 +969,7 @@ typedef struct {
     s_hits_t radars[S_RADARS_MAX];
     size_t nradars;
     uint64_t radars_ignored; // mti.truth of radars beyond S_RADARS_MAX
+    uint64_t malformed;      // messages with a non-finite time, position or corner, ignored
 } s_icpt_t;
 
 static void s_icpt_init (s_icpt_t *ic)
@@ -1077,6 +1079,11 @@ static bool s_icpt_footprint (const Cgs__Footprint *f, gd_footprint_t *ret)
 {
     if (!f || f->n_corners < 4)
         return false;
+    for (size_t i = 0; i < 4; i++)
+        if (!isfinite (f->corners[i]->east_m) || !isfinite (f->corners[i]->north_m))
+            return false;
+    if (f->center && (!isfinite (f->center->east_m) || !isfinite (f->center->north_m)))
+        return false;
     memset (ret, 0, sizeof *ret);
     double e = 0, n = 0;
     for (size_t i = 0; i < 4; i++) {
@@ -1097,6 +1104,10 @@ static void s_on_intercept (void *arg, const char *topic, const ProtobufCMessage
     s_icpt_t *ic = arg;
     const Cgs__Intercept *m = (const Cgs__Intercept *)msg;
     double t = hdr->sim_time_s;
+    if (!isfinite (t)) {
+        ic->malformed++;
+        return;
+    }
     ic->seen = true;
     ic->state = m->state;
     ic->track_id = m->track_id;
@@ -1114,20 +1125,26 @@ static void s_on_intercept (void *arg, const char *topic, const ProtobufCMessage
         ic->final_s = ic->final ? t : NAN;
     }
     gd_footprint_t fp;
-    gd_score_footprint (&ic->score, t, s_icpt_footprint (m->footprint, &fp) ? &fp : NULL);
+    bool shown = s_icpt_footprint (m->footprint, &fp);
+    if (!shown && m->footprint && m->footprint->n_corners >= 4)
+        ic->malformed++; // a footprint with a non-finite corner: judges nothing
+    gd_score_footprint (&ic->score, t, shown ? &fp : NULL);
 }
 
 static void s_on_mti_truth (void *arg, const char *topic, const ProtobufCMessage *msg,
                             const Cgs__Header *hdr)
 {
     (void)topic;
-    (void)hdr;
     s_icpt_t *ic = arg;
     const Cgs__MtiTruth *m = (const Cgs__MtiTruth *)msg;
     s_hits_t *h = s_icpt_radar (ic, m->uav_id, true);
     if (!h) {
         ic->radars_ignored++;
         return;
+    }
+    if (hdr->epoch != h->epoch) { // a restarted mtid numbers its hits from 1 again
+        h->epoch = hdr->epoch;
+        h->next = h->count = 0;
     }
     for (size_t i = 0; i < m->n_items; i++)
         if (m->items[i]->hit_id && m->items[i]->entity_id)
@@ -1161,6 +1178,10 @@ static void s_on_entity (void *arg, const char *topic, const ProtobufCMessage *m
     (void)topic;
     s_icpt_t *ic = arg;
     const Cgs__EntityBatch *b = (const Cgs__EntityBatch *)msg;
+    if (!isfinite (hdr->sim_time_s)) {
+        ic->malformed++;
+        return;
+    }
     ic->latest_s = fmax (ic->latest_s, hdr->sim_time_s);
     if (!ic->designated || ic->entity_id == 0)
         return;
@@ -1169,7 +1190,10 @@ static void s_on_entity (void *arg, const char *topic, const ProtobufCMessage *m
         if (en->entity_id != ic->entity_id)
             continue;
         snprintf (ic->marking, sizeof ic->marking, "%s", en->marking);
-        if (en->active && en->position)
+        if (en->active && en->position &&
+            !(isfinite (en->position->east_m) && isfinite (en->position->north_m)))
+            ic->malformed++;
+        else if (en->active && en->position)
             gd_score_target (&ic->score, hdr->sim_time_s,
                              (gd_v2_t){en->position->east_m, en->position->north_m});
     }
@@ -1210,6 +1234,15 @@ static void s_icpt_print (const s_icpt_t *ic, FILE *f)
                  sc->closest_m, sc->closest_s);
     fprintf (f, "  judged            %zu of %zu target positions against a footprint\n", sc->judged,
              sc->samples);
+    if (ic->radars_ignored)
+        fprintf (
+            f, "  not read          MTI truth of %llu message%s from radars beyond the first %d\n",
+            (unsigned long long)ic->radars_ignored, ic->radars_ignored == 1 ? "" : "s",
+            S_RADARS_MAX);
+    if (ic->malformed)
+        fprintf (f,
+                 "  ignored           %llu message%s with a non-finite time, position or corner\n",
+                 (unsigned long long)ic->malformed, ic->malformed == 1 ? "" : "s");
 }
 
 /* A JSON number, or null when not finite. */

@@ -8,6 +8,7 @@
 #include "cgs_lifecycle.h"
 #include "cgs_log.h"
 #include "cgs_service.h"
+#include "cgs_util.h"
 #include "cgs_state.h"
 #include "trk_mc.h"
 #include "trk_params.h"
@@ -419,23 +420,10 @@ static void s_on_mti (void *arg, const char *topic, const ProtobufCMessage *msg,
             continue;
         }
         const Cgs__Enu *q = h->position;
-        double de = q->east_m - pl->east_m, dn = q->north_m - pl->north_m, du = q->up_m - pl->up_m;
-        double slant = sqrt (de * de + dn * dn + du * du), ground = hypot (de, dn);
-        trk_hit_t *t = &r->hits[r->count++];
-        *t = (trk_hit_t){
-            .hit_id = h->hit_id,
-            .t_s = h->sim_time_s,
-            .z = {q->east_m, q->north_m},
-            .up_m = q->up_m,
-            .ground_range_m = ground,
-            .azimuth_deg = h->azimuth_deg,
-            // The range's standard deviation on the ground: slant / ground times longer.
-            .range_sigma_m = ground > 0 ? h->range_sigma_m * slant / ground : 0,
-            .azimuth_sigma_deg = h->azimuth_sigma_deg,
-            .has_radial = slant > 0,
-            .radial_mps = h->radial_velocity_mps,
-            .los = {slant > 0 ? de / slant : 0, slant > 0 ? dn / slant : 0},
-        };
+        r->hits[r->count++] =
+            trk_hit_from_mti (h->hit_id, h->sim_time_s, (cgs_enu_t){q->east_m, q->north_m, q->up_m},
+                              (cgs_enu_t){pl->east_m, pl->north_m, pl->up_m}, h->azimuth_deg,
+                              h->range_sigma_m, h->azimuth_sigma_deg, h->radial_velocity_mps);
     }
 }
 
@@ -585,6 +573,19 @@ static int s_number (const char *opt, const char *s, double lo, double hi, doubl
     return 0;
 }
 
+/* A whole number lo..hi in decimal digits; -EINVAL after saying why. */
+static int s_count (const char *what, const char *text, uint64_t lo, uint64_t hi, uint64_t *ret)
+{
+    uint64_t v = 0;
+    if (cgs_parse_u64 (text, hi, &v) < 0 || v < lo) {
+        fprintf (stderr, "trackerd: --%s: expected a whole number %llu..%llu, got '%s'\n", what,
+                 (unsigned long long)lo, (unsigned long long)hi, text);
+        return -EINVAL;
+    }
+    *ret = v;
+    return 0;
+}
+
 static int s_monte_carlo (int argc, char **argv)
 {
     static const struct option opts[] = {
@@ -602,7 +603,8 @@ static int s_monte_carlo (int argc, char **argv)
     trk_params_t p;
     trk_params_defaults (&p);
     const char *params = NULL;
-    double speed = 15, turn = 90, targets = 3000, scans = 32, seed = 1, sigma = NAN;
+    double speed = 15, turn = 90, sigma = NAN;
+    uint64_t targets = 3000, scans = 32, seed = 1;
     int o;
     optind = 1;
     while ((o = getopt_long (argc, argv, "h", opts, NULL)) != -1) {
@@ -623,13 +625,13 @@ static int s_monte_carlo (int argc, char **argv)
             rc = s_number ("sigma-meas", optarg, 0.01, 1e5, &sigma);
             break;
         case 'n':
-            rc = s_number ("targets", optarg, 1, 1e6, &targets);
+            rc = s_count ("targets", optarg, 1, 1000000, &targets);
             break;
         case 'k':
-            rc = s_number ("scans", optarg, 12, 1e6, &scans);
+            rc = s_count ("scans", optarg, 12, 1000000, &scans);
             break;
         case 'S':
-            rc = s_number ("seed", optarg, 0, 1.8e19, &seed);
+            rc = s_count ("seed", optarg, 0, UINT64_MAX, &seed);
             break;
         case 'h':
             printf ("usage: trackerd --monte-carlo [--params F] [--speed MPS] [--turn-deg A]\n"
@@ -670,7 +672,7 @@ static int s_monte_carlo (int argc, char **argv)
         .sigma_meas_m = {sigma, sigma},
         .turn_scan = turn > 0 ? (size_t)scans - 6 : 0,
         .turn_deg = turn,
-        .seed = (uint64_t)seed,
+        .seed = seed,
     };
     trk_mc_result_t r;
     int rc = trk_mc_run (&p, &c, &r);

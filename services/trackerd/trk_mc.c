@@ -1,6 +1,7 @@
 /* trk_mc — Monte Carlo runs of the tracker (see trk_mc.h). */
 #include "trk_mc.h"
 #include "trk_tracker.h"
+#include "cgs_util.h"
 
 #include <errno.h>
 #include <math.h>
@@ -27,17 +28,9 @@ typedef struct {
     double spare;
 } s_rng_t;
 
-static uint64_t s_next (s_rng_t *r)
-{ // splitmix64
-    uint64_t z = (r->s += 0x9E3779B97F4A7C15ull);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    return z ^ (z >> 31);
-}
-
 static double s_uniform (s_rng_t *r)
 {
-    return ((double)(s_next (r) >> 11) + 0.5) * (1.0 / 9007199254740992.0);
+    return cgs_uniform01 (&r->s);
 }
 
 static double s_gauss (s_rng_t *r)

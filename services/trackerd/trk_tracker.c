@@ -299,6 +299,27 @@ static void s_union (size_t *uf, size_t a, size_t b)
         uf[a > b ? a : b] = a < b ? a : b;
 }
 
+trk_hit_t trk_hit_from_mti (uint32_t hit_id, double t_s, cgs_enu_t hit, cgs_enu_t platform,
+                            double azimuth_deg, double range_sigma_m, double azimuth_sigma_deg,
+                            double radial_mps)
+{
+    double de = hit.e_m - platform.e_m, dn = hit.n_m - platform.n_m, du = hit.u_m - platform.u_m;
+    double slant = sqrt (de * de + dn * dn + du * du), ground = hypot (de, dn);
+    return (trk_hit_t){
+        .hit_id = hit_id,
+        .t_s = t_s,
+        .z = {hit.e_m, hit.n_m},
+        .up_m = hit.u_m,
+        .ground_range_m = ground,
+        .azimuth_deg = azimuth_deg,
+        .range_sigma_m = ground > 0 ? range_sigma_m * slant / ground : 0,
+        .azimuth_sigma_deg = azimuth_sigma_deg,
+        .has_radial = slant > 0,
+        .radial_mps = radial_mps,
+        .los = {slant > 0 ? de / slant : 0, slant > 0 ? dn / slant : 0},
+    };
+}
+
 /* ---- gating ------------------------------------------------------------------------ */
 
 /* The manoeuvre allowance of a gate dt after the track's estimate: the

@@ -17,6 +17,7 @@
 #ifndef TRK_TRACKER_H
 #define TRK_TRACKER_H
 
+#include "cgs_geo.h"
 #include "trk_filter.h"
 #include "trk_params.h"
 
@@ -46,6 +47,15 @@ typedef struct {
     double los[2];     // east, north parts of the unit line of sight from the
                        // radar to the hit: radial velocity = los · v
 } trk_hit_t;
+
+/* A hit from an MTI detection at hit (on the ground) seen from the radar at
+ * platform, at time t_s: the slant range's standard deviation becomes one
+ * along the ground (slant / ground times longer), the line of sight is the
+ * ground-plane part of the unit vector from the radar to the hit, and the
+ * radial velocity counts as measured when the two are apart. */
+trk_hit_t trk_hit_from_mti (uint32_t hit_id, double t_s, cgs_enu_t hit, cgs_enu_t platform,
+                            double azimuth_deg, double range_sigma_m, double azimuth_sigma_deg,
+                            double radial_mps);
 
 /* One radar scan: what it covered. */
 typedef struct {

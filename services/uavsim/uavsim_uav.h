@@ -159,6 +159,8 @@ const cgs_enu_t *uavsim_uav_route_points (const uavsim_uav_model_t *self, size_t
 const uavsim_uav_params_t *uavsim_uav_params (const uavsim_uav_model_t *self);
 /* Smallest turn radius at airspeed v_mps and the bank limit, metres. */
 double uavsim_uav_min_turn_radius (const uavsim_uav_model_t *self, double v_mps);
+/* The same for any UAV: V² / (g·tan(bank_limit)), metres. */
+double uavsim_uav_turn_radius (double v_mps, double bank_limit_deg);
 
 /* Bytes uavsim_uav_save needs for the present state. */
 size_t uavsim_uav_save_size (const uavsim_uav_model_t *self);

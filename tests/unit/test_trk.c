@@ -881,9 +881,32 @@ static void test_polar_covariance (void **state)
     assert_near (R[0] + R[3], 100 + cross * cross, 1e-9 * cross * cross);
 }
 
+/* A detection as the tracker takes it: radar 1000 m up at the origin, hit
+ * 1000 m east on the ground. Slant range 1000·√2, ground range 1000, so the
+ * slant range's σ of 10 m is 10·√2 m along the ground; the line of sight's
+ * ground part is (1/√2, 0). A hit right below the radar has no line of
+ * sight along the ground, and no σ along it. */
+static void test_hit_from_mti (void **state)
+{
+    (void)state;
+    trk_hit_t h = trk_hit_from_mti (7, 12.5, (cgs_enu_t){1000, 0, 0}, (cgs_enu_t){0, 0, 1000}, 90,
+                                    10, 0.5, -3);
+    assert_int_equal (h.hit_id, 7);
+    assert_true (h.t_s == 12.5);
+    assert_true (h.z[0] == 1000 && h.z[1] == 0);
+    assert_true (fabs (h.ground_range_m - 1000) < 1e-9);
+    assert_true (fabs (h.range_sigma_m - 10 * sqrt (2)) < 1e-9);
+    assert_true (fabs (h.los[0] - 1 / sqrt (2)) < 1e-12 && fabs (h.los[1]) < 1e-12);
+    assert_true (h.has_radial && h.radial_mps == -3 && h.azimuth_sigma_deg == 0.5);
+    h = trk_hit_from_mti (8, 0, (cgs_enu_t){5, 5, 0}, (cgs_enu_t){5, 5, 800}, 0, 10, 0.5, 0);
+    assert_true (h.ground_range_m == 0 && h.range_sigma_m == 0);
+    assert_true (h.los[0] == 0 && h.los[1] == 0 && h.has_radial);
+}
+
 int main (void)
 {
     const struct CMUnitTest tests[] = {
+        cmocka_unit_test (test_hit_from_mti),
         cmocka_unit_test (test_gains_are_steady_state_kalman),
         cmocka_unit_test (test_kalman_converges_to_paper_gains),
         cmocka_unit_test (test_kalman_follows_dt),
