@@ -962,8 +962,10 @@ typedef struct {
     uint32_t replans;
     bool final;         // reached DONE, LOST or CANCELLED
     double final_s;     // simulation time it did
-    uint32_t entity_id; // the target's true entity, 0 until known
+    uint32_t entity_id; // the designated target's true entity, 0 until known
     char marking[32];
+    uint32_t other_entity_id; // the designated track (after a hand-over) follows this one instead
+    char other_marking[32];
     gd_score_t score;
     // Which entity produced each recent hit, per radar.
     s_hits_t radars[S_RADARS_MAX];
@@ -1070,6 +1072,8 @@ static void s_icpt_designate (s_icpt_t *ic, const Cgs__Intercept *m, double t_s)
     ic->final_s = NAN;
     ic->entity_id = 0;
     ic->marking[0] = '\0';
+    ic->other_entity_id = 0;
+    ic->other_marking[0] = '\0';
     gd_score_init (&ic->score);
     gd_score_designated (&ic->score, t_s);
 }
@@ -1164,10 +1168,16 @@ static void s_on_track (void *arg, const char *topic, const ProtobufCMessage *ms
         const Cgs__Track *tr = b->tracks[i];
         if (tr->track_id != ic->desig_track_id)
             continue;
+        // The designated target is the vehicle the designated track followed
+        // first; a track that took over and follows another vehicle is
+        // reported, and the score stays with the designated one.
         uint32_t e = s_icpt_track_entity (ic, tr->uav_id ? tr->uav_id : b->uav_id, tr);
-        if (e != 0 && e != ic->entity_id) {
+        if (e != 0 && ic->entity_id == 0) {
             ic->entity_id = e;
             ic->marking[0] = '\0';
+        } else if (e != 0 && e != ic->entity_id && e != ic->other_entity_id) {
+            ic->other_entity_id = e;
+            ic->other_marking[0] = '\0';
         }
     }
 }
@@ -1187,6 +1197,8 @@ static void s_on_entity (void *arg, const char *topic, const ProtobufCMessage *m
         return;
     for (size_t i = 0; i < b->n_entities; i++) {
         const Cgs__Entity *en = b->entities[i];
+        if (ic->other_entity_id && en->entity_id == ic->other_entity_id)
+            snprintf (ic->other_marking, sizeof ic->other_marking, "%s", en->marking);
         if (en->entity_id != ic->entity_id)
             continue;
         snprintf (ic->marking, sizeof ic->marking, "%s", en->marking);
@@ -1215,6 +1227,11 @@ static void s_icpt_print (const s_icpt_t *ic, FILE *f)
                  ic->entity_id, ic->marking);
     else
         fprintf (f, "  true target       unknown (no MTI truth for the track's hits)\n");
+    if (ic->other_entity_id)
+        fprintf (f,
+                 "  hand-over         track %u now follows entity %u \"%s\", not the designated "
+                 "target\n",
+                 ic->desig_track_id, ic->other_entity_id, ic->other_marking);
     fprintf (f, "  state             %s", s_icpt_state_name (ic->desig_state));
     if (ic->final)
         fprintf (f, " at sim %.1f s", ic->final_s);
@@ -1287,6 +1304,10 @@ static int s_icpt_write_json (const s_icpt_t *ic, const char *path)
         s_json_string (f, "target_marking", ic->marking, ",");
     } else
         fprintf (f, "  \"target_entity_id\": null,\n  \"target_marking\": null,\n");
+    if (d && ic->other_entity_id)
+        fprintf (f, "  \"handed_over_to_entity_id\": %u,\n", ic->other_entity_id);
+    else
+        fprintf (f, "  \"handed_over_to_entity_id\": null,\n");
     s_json_number (f, "designation_time_s", d ? sc->designation_s : NAN, ",");
     if (d) {
         s_json_string (f, "final_state", s_icpt_state_name (ic->desig_state), ",");
