@@ -5,12 +5,15 @@
 #include <float.h>
 #include <math.h>
 
-#define S_PI       3.14159265358979323846
-#define S_TWO_PI   (2.0 * S_PI)
-#define S_DEG      (S_PI / 180.0)
-#define S_ITER_MAX 200 // fixed-point iterations of t_pred
-#define S_T_TOL_S  1e-6
-#define S_BISECT   60 // bisection steps of a ray meeting the terrain
+#define S_PI             3.14159265358979323846
+#define S_TWO_PI         (2.0 * S_PI)
+#define S_DEG            (S_PI / 180.0)
+#define S_ITER_MAX       200 // fixed-point iterations of t_pred
+#define S_T_TOL_S        1e-6
+#define S_ROUTE_TOL_S    0.5 // the route's time and t_pred agree this closely
+#define S_ROUTE_ITER_MAX 100 // steps of the route timing before it is given up
+#define S_ROUTE_T_MAX_S  1e5 // a t_pred beyond this is divergence
+#define S_BISECT         60  // bisection steps of a ray meeting the terrain
 
 /* ---- vectors ------------------------------------------------------------------------ */
 
@@ -164,6 +167,8 @@ int gd_waypoint (const gd_engage_t *in, gd_waypoint_t *ret)
     }
     if (k > S_ITER_MAX)
         t = fmax (t, prev); // oscillating about a jump of the arc (a side switch): the later
+    if (isfinite (in->min_t_pred_s) && t < in->min_t_pred_s)
+        t = in->min_t_pred_s;
     if (!isfinite (t))
         return -EINVAL;
     w.t_pred_s = t;
@@ -177,6 +182,67 @@ int gd_waypoint (const gd_engage_t *in, gd_waypoint_t *ret)
         gd_v2_t right = gd_v2 (w.dir.n, -w.dir.e);
         w.second = gd_add (w.waypoint, gd_add (gd_scale (right, w.x_u_m), gd_scale (w.dir, y2)));
     }
+    *ret = w;
+    return 0;
+}
+
+void gd_waypoint_headings (const gd_waypoint_t *w, double *ret_second_deg, double *ret_final_deg)
+{
+    double h_final = gd_heading_of (gd_scale (w->dir, -1.0));
+    gd_v2_t to_wp = gd_sub (w->waypoint, w->second);
+    *ret_final_deg = h_final;
+    *ret_second_deg = gd_norm (to_wp) > 1 ? gd_heading_of (to_wp) : h_final;
+}
+
+double gd_route_length (const gd_engage_t *in, const gd_waypoint_t *w)
+{
+    double h2, hf;
+    gd_waypoint_headings (w, &h2, &hf);
+    gd_dubins_t d;
+    double len = 0;
+    gd_v2_t from = in->uav;
+    double h = in->uav_heading_deg;
+    if (w->secondary) {
+        if (gd_dubins (from, h, w->second, h2, in->turn_radius_m, &d) < 0)
+            return NAN;
+        len += gd_dubins_length (&d);
+        from = w->second;
+        h = h2;
+    }
+    if (gd_dubins (from, h, w->waypoint, hf, in->turn_radius_m, &d) < 0)
+        return NAN;
+    return len + gd_dubins_length (&d);
+}
+
+int gd_waypoint_flyable (const gd_engage_t *in, gd_waypoint_t *ret)
+{
+    if (!ret)
+        return -EINVAL;
+    gd_waypoint_t w0;
+    int rc = gd_waypoint (in, &w0);
+    if (rc < 0)
+        return rc;
+    gd_engage_t e = *in;
+    gd_waypoint_t w = w0;
+    double len0 = gd_route_length (&e, &w0), len = len0;
+    bool settled = !isfinite (len);
+    for (int k = 0; k < S_ROUTE_ITER_MAX && !settled; k++) {
+        double t = len / in->uav_speed_mps;
+        if (t <= w.t_pred_s + S_ROUTE_TOL_S) {
+            settled = true;
+            break;
+        }
+        e.min_t_pred_s = t;
+        if (t > S_ROUTE_T_MAX_S || gd_waypoint (&e, &w) < 0)
+            break;
+        len = gd_route_length (&e, &w);
+        settled = !isfinite (len);
+    }
+    if (!settled || !isfinite (len)) { // no fixed point: equation 1's plan
+        w = w0;
+        len = len0;
+    }
+    w.route_m = isfinite (len) ? len : 0;
     *ret = w;
     return 0;
 }

@@ -81,6 +81,7 @@ typedef struct {
                             // D_T is taken from the target towards the UAV
     double secondary_scale; // k of Δ (1: the paper's mirror)
     double lead_in_m;       // least distance of P_2 ahead of the waypoint
+    double min_t_pred_s;    // t_pred at least this (0: equation 1's alone)
 } gd_engage_t;
 
 typedef struct {
@@ -94,11 +95,35 @@ typedef struct {
     bool secondary; // y'_u ≤ 0: go through P_2 first
     gd_v2_t second; // P_2 (when secondary)
     gd_v2_t meet;   // P_T + V_T·t_pred: where the target should be at the waypoint time
+    double route_m; // gd_waypoint_flyable: the flyable route's length (else 0)
 } gd_waypoint_t;
 
 /* Equations 1–3. 0, or -EINVAL (bad input; a target not slower than the UAV;
  * no convergence). *ret written only on success. */
 int gd_waypoint (const gd_engage_t *in, gd_waypoint_t *ret);
+
+/* The heading the route holds into P_2 (towards the waypoint) and into the
+ * waypoint (−D_T), degrees. */
+void gd_waypoint_headings (const gd_waypoint_t *w, double *ret_second_deg, double *ret_final_deg);
+
+/* Length of the flyable route of plan w: Dubins paths of radius
+ * in->turn_radius_m from the UAV through P_2 (when w has one, arriving with
+ * the heading towards the waypoint) into the waypoint heading −D_T. NaN
+ * when a leg cannot be built. */
+double gd_route_length (const gd_engage_t *in, const gd_waypoint_t *w);
+
+/* Equations 1–3 with t_pred lengthened, where it is too short, to the time
+ * the flyable route takes (gd_route_length at the UAV's speed): equation 1
+ * times the arc straight to the target, but a UAV behind the target goes
+ * through P_2 first, and without this the target reaches the waypoint long
+ * before the UAV does. Iterated, t ← route(t)/s, until the route takes at
+ * most t + 0.5 s. Behind the target the route grows by about (1 + 2k)·|V_T|
+ * per second of t_pred (P_2 runs k·|y'_u| ahead of the waypoint), so the
+ * iteration settles only for targets slower than s/(1 + 2k) (25 m/s at
+ * k = 0.25 and 38 m/s); when it does not settle within 100 steps,
+ * equation 1's plan is returned. ret->route_m the returned plan's route
+ * length (0 when a leg cannot be built). 0 or -EINVAL as gd_waypoint. */
+int gd_waypoint_flyable (const gd_engage_t *in, gd_waypoint_t *ret);
 
 /* Equation 2: q in the frame of direction dir (unit) about origin o:
  * ret x' (right of dir), y' (along dir). */

@@ -14,7 +14,14 @@
 #define S_OUT_S       2.0  // the target out of the footprint this long after overflight: done
 #define S_MISS_M      50.0 // behind the footprint's near edge by this much: missed
 #define S_TRAIL_GAP_M 50.0 // trail points closer than this to the previous are dropped
-#define S_SAVE_MAGIC  "gd_intercept 1"
+#define S_SAVE_MAGIC  "gd_intercept 2"
+#define S_SAMPLES     3 // moments of an overflight kept for its confirmation
+
+/* One moment of an overflight: the footprint then. */
+typedef struct {
+    double t_s;
+    gd_footprint_t fp;
+} s_sample_t;
 
 struct gd_intercept {
     gd_params_t p;
@@ -36,6 +43,11 @@ struct gd_intercept {
     bool need_plan;
     bool orphan;        // its track was deleted: waiting for a new track of the target
     uint32_t orphan_id; // the deleted track
+    int last_status;    // of the designated track's latest update
+    double heard_hit_s; // its newest hit heard (held or not)
+    double heard_s;     // its latest update heard (held or not)
+    bool holding;       // a hit after a coast is held until another confirms it
+    gd_track_t held;    // that update (no history)
     // The plan.
     bool has_plan;
     gd_waypoint_t wp;
@@ -48,6 +60,10 @@ struct gd_intercept {
     bool inside, was_inside;
     double overflight_s;
     double out_since_s;
+    bool confirming; // out of the footprint: waiting for a hit to confirm the overflight
+    size_t n_samples;
+    s_sample_t samples[S_SAMPLES]; // entering, nearest the centre, latest inside
+    double best_d;                 // predicted target to the footprint's centre at samples[1]
     uint32_t replans;
     double time_to_go_s;
     char reason[160];
@@ -92,6 +108,8 @@ gd_intercept_t *gd_intercept_new (const gd_params_t *p, const cgs_terrain_t *ter
     self->overflight_s = NAN;
     self->time_to_go_s = NAN;
     self->designation_s = NAN;
+    self->heard_hit_s = -INFINITY;
+    self->heard_s = -INFINITY;
     snprintf (self->reason, sizeof self->reason, "nothing designated");
     return self;
 }
@@ -231,7 +249,9 @@ static void s_plan (gd_intercept_t *self)
         .lead_in_m = fmax (self->p.lead_in_m, 4 * r),
     };
     gd_waypoint_t wp;
-    if (gd_waypoint (&in, &wp) < 0) {
+    int rc =
+        self->p.timing == GD_TIMING_ARC ? gd_waypoint (&in, &wp) : gd_waypoint_flyable (&in, &wp);
+    if (rc < 0) {
         s_reason (self,
                   "no plan: the target (%.1f m/s) is not slower than the UAV (%.1f m/s), "
                   "or the UAV's state is incomplete",
@@ -242,14 +262,13 @@ static void s_plan (gd_intercept_t *self)
     gd_task_t *tk = &self->task;
     gd_task_t old = *tk;
     tk->count = 0;
-    double h_final = gd_heading_of (gd_scale (wp.dir, -1.0));
+    double h2, h_final;
+    gd_waypoint_headings (&wp, &h2, &h_final);
     gd_v2_t cur = in.uav;
     double cur_h = in.uav_heading_deg;
     bool ok = true;
     size_t i_second = 0;
     if (wp.secondary) {
-        gd_v2_t to_wp = gd_sub (wp.waypoint, wp.second);
-        double h2 = gd_norm (to_wp) > 1 ? gd_heading_of (to_wp) : h_final;
         ok = s_push_dubins (self, tk, cur, cur_h, wp.second, h2, r);
         i_second = tk->count - 1;
         cur = wp.second;
@@ -277,6 +296,8 @@ static void s_plan (gd_intercept_t *self)
     self->progress = 0;
     self->inside = false;
     self->out_since_s = NAN;
+    self->confirming = false;
+    self->n_samples = 0;
     self->phase = wp.secondary ? GD_TO_SECONDARY : GD_TO_WAYPOINT;
 }
 
@@ -328,6 +349,26 @@ static void s_enter_precision (gd_intercept_t *self, gd_v2_t start, const char *
     self->close_s = self->uav.t_s;
     s_reason (self, "%s", why);
 }
+
+/* Keep a moment of the overflight (the target predicted at target). */
+static void s_sample (gd_intercept_t *self, gd_v2_t target)
+{
+    s_sample_t now = {self->uav.t_s, self->fp};
+    double d = gd_norm (gd_sub (target, self->fp.center));
+    if (self->n_samples == 0) {
+        self->samples[0] = self->samples[1] = self->samples[2] = now;
+        self->n_samples = S_SAMPLES;
+        self->best_d = d;
+        return;
+    }
+    if (d < self->best_d) {
+        self->samples[1] = now;
+        self->best_d = d;
+    }
+    self->samples[2] = now;
+}
+
+static void s_try_confirm (gd_intercept_t *self);
 
 static void s_update_time_to_go (gd_intercept_t *self, gd_v2_t target)
 {
@@ -406,23 +447,28 @@ void gd_intercept_uav (gd_intercept_t *self, const gd_uav_t *u)
     default:
         break;
     }
-    if (self->phase != GD_OVERFLIGHT && inside) {
-        self->phase = GD_OVERFLIGHT;
-        if (!self->was_inside)
-            self->overflight_s = u->t_s;
-        self->was_inside = true;
+    if (inside) {
+        if (self->phase != GD_OVERFLIGHT || self->confirming) {
+            if (self->phase != GD_OVERFLIGHT || !self->was_inside)
+                self->n_samples = 0;
+            self->phase = GD_OVERFLIGHT;
+            if (!self->was_inside)
+                self->overflight_s = u->t_s;
+            self->was_inside = true;
+            self->confirming = false;
+            s_reason (self, "the target is in the footprint");
+        }
         self->out_since_s = NAN;
-        s_reason (self, "the target is in the footprint");
-    } else if (self->phase == GD_OVERFLIGHT && !inside) {
+        s_sample (self, target);
+    } else if (self->phase == GD_OVERFLIGHT && !self->confirming) {
         if (!isfinite (self->out_since_s))
             self->out_since_s = u->t_s;
         else if (u->t_s - self->out_since_s >= S_OUT_S) {
-            self->phase = GD_DONE;
-            s_reason (self,
-                      "the target passed through the footprint: loitering at the route's end");
+            self->confirming = true;
+            s_reason (self, "the target left the footprint: waiting for its next hit to confirm "
+                            "the overflight");
+            s_try_confirm (self);
         }
-    } else if (self->phase == GD_OVERFLIGHT) {
-        self->out_since_s = NAN;
     } else if ((self->phase == GD_PRECISION || self->phase == GD_APPROACH) && self->have_fp) {
         // Missed: the target is behind the footprint's near edge.
         gd_v2_t h = gd_heading_unit (u->heading_deg), g = s_uav_ground (self);
@@ -434,17 +480,123 @@ void gd_intercept_uav (gd_intercept_t *self, const gd_uav_t *u)
     s_update_time_to_go (self, target);
 }
 
+/* ---- track updates ----------------------------------------------------------------------- */
+
+/* Has t a hit newer than any heard of the designated track? */
+static bool s_fresh (const gd_intercept_t *self, const gd_track_t *t)
+{
+    if (t->status != 1)
+        return false;
+    return !isfinite (t->last_hit_s) || !(t->last_hit_s <= self->heard_hit_s);
+}
+
+/* Does t disagree with ref: a direction more than the re-plan threshold
+ * apart, or a position more than offset_m from ref's prediction? */
+static bool s_jumps (const gd_intercept_t *self, const gd_track_t *ref, const gd_track_t *t)
+{
+    gd_v2_t a, b;
+    if (s_target_dir (self, ref->vel, &a) && s_target_dir (self, t->vel, &b) &&
+        s_angle (a, b) > self->p.threshold_deg)
+        return true;
+    gd_v2_t at = gd_add (ref->pos, gd_scale (ref->vel, t->t_s - ref->t_s));
+    return gd_norm (gd_sub (t->pos, at)) > self->p.offset_m;
+}
+
+/* Is p, seen at t_s, where ref's target could be: within handover_m, plus
+ * handover_growth_mps for each second since ref's latest hit, of its
+ * prediction? */
+static bool s_near_prediction (const gd_intercept_t *self, const gd_track_t *ref, gd_v2_t p,
+                               double t_s)
+{
+    double seen =
+        isfinite (ref->last_hit_s) && ref->last_hit_s < ref->t_s ? ref->last_hit_s : ref->t_s;
+    double age = fmax (0.0, t_s - seen);
+    gd_v2_t at = gd_add (ref->pos, gd_scale (ref->vel, t_s - ref->t_s));
+    return gd_norm (gd_sub (p, at)) <= self->p.handover_m + self->p.handover_growth_mps * age;
+}
+
 /* A new track of the designated target after its own was deleted: a
- * confirmed or coasting one, with a credible velocity, where the target
- * should be now. */
+ * confirmed or coasting one with a credible velocity, born after the
+ * deleted track's last hit (when its hit count says so), whose first hit
+ * or present position is where the target could be (s_near_prediction of
+ * the trusted estimate, or of a held one). Tracks older than the loss
+ * belong to other vehicles. */
 static bool s_takes_over (const gd_intercept_t *self, const gd_track_t *t)
 {
     if (!self->orphan || !s_active (self->phase) || t->id == self->orphan_id ||
         (t->status != 1 && t->status != 2) || gd_norm (t->vel) > self->p.max_target_speed_mps)
         return false;
-    double age = fmax (0.0, t->t_s - self->track.t_s);
-    return gd_norm (gd_sub (t->pos, s_target_at (self, t->t_s))) <=
-           self->p.handover_m + self->p.handover_growth_mps * age;
+    const gd_track_t *refs[2] = {&self->track, self->holding ? &self->held : NULL};
+    bool whole = t->hits > 0 && t->hits <= t->history_count;
+    if (t->hits > 0 && isfinite (self->track.last_hit_s) &&
+        !(whole && t->history_t_s[0] > self->track.last_hit_s))
+        return false;
+    for (size_t k = 0; k < 2; k++) {
+        if (!refs[k])
+            continue;
+        if (s_near_prediction (self, refs[k], t->pos, t->t_s) ||
+            (whole && s_near_prediction (self, refs[k], t->history[0], t->history_t_s[0])))
+            return true;
+    }
+    return false;
+}
+
+/* The overflight's confirmation: the track's hit nearest in time to the
+ * overflight (one after the target was predicted to enter the footprint),
+ * carried along the track's velocity to each recorded moment of the
+ * overflight, against the footprint of that moment. -1 when the track has
+ * no such hit yet; else the smallest distance outside (0: inside). */
+static double s_confirm_distance (const gd_intercept_t *self, const gd_track_t *t)
+{
+    if (self->n_samples == 0)
+        return -1;
+    double t_in = self->samples[0].t_s, t_best = self->samples[1].t_s;
+    gd_v2_t hit = gd_v2 (0, 0);
+    double t_hit = NAN;
+    for (size_t k = 0; k < t->history_count; k++)
+        if (t->history_t_s[k] > t_in &&
+            !(fabs (t->history_t_s[k] - t_best) >= fabs (t_hit - t_best))) {
+            hit = t->history[k];
+            t_hit = t->history_t_s[k];
+        }
+    if (!isfinite (t_hit)) {
+        if (t->history_count > 0 || t->status != 1 || !(t->t_s > t_in))
+            return -1;
+        hit = t->pos; // no history: its filtered position at a hit
+        t_hit = t->t_s;
+    }
+    double best = INFINITY;
+    for (size_t k = 0; k < self->n_samples; k++) {
+        gd_v2_t p = gd_add (hit, gd_scale (t->vel, self->samples[k].t_s - t_hit));
+        best = fmin (best, gd_footprint_distance (&self->samples[k].fp, p));
+    }
+    return best;
+}
+
+/* While waiting for the confirmation: decide on the track's latest word. */
+static void s_try_confirm (gd_intercept_t *self)
+{
+    if (self->phase != GD_OVERFLIGHT || !self->confirming)
+        return;
+    double d = s_confirm_distance (self, &self->track);
+    if (d < 0)
+        return;
+    self->confirming = false;
+    if (d <= self->p.confirm_margin_m) {
+        self->phase = GD_DONE;
+        s_reason (self, "the target passed through the footprint (its hits confirm it): "
+                        "loitering at the route's end");
+        return;
+    }
+    char why[128];
+    snprintf (why, sizeof why,
+              "its hits show the target passed %.0f m outside the footprint: "
+              "another pass",
+              d);
+    self->was_inside = false;
+    self->overflight_s = NAN;
+    self->n_samples = 0;
+    s_replan (self, why);
 }
 
 void gd_intercept_track (gd_intercept_t *self, const gd_track_t *t)
@@ -459,8 +611,44 @@ void gd_intercept_track (gd_intercept_t *self, const gd_track_t *t)
                   t->id);
         self->track_id = t->id;
         self->orphan = false;
+        self->holding = false;
+        self->heard_hit_s = -INFINITY;
+        self->heard_s = t->t_s;
+        self->last_status = 1;
     } else if (self->orphan) {
         return; // the deleted track's last word
+    }
+    bool active = s_active (self->phase) && self->have_track;
+    if (active && t->status == 3) {
+        // Keep flying on the trusted estimate; a new track of the target near
+        // it takes over (s_takes_over); none within lost_after_s: lost.
+        self->orphan = true;
+        self->orphan_id = t->id;
+        s_reason (self, "track %u was deleted: flying on its prediction", t->id);
+        return;
+    }
+    if (active) {
+        // A hit that ends a coast and moves the target far from its trusted
+        // estimate may be clutter the widened gate took in: it is held until
+        // a second hit agrees with it (a real manoeuvre) or disagrees.
+        bool fresh = s_fresh (self, t);
+        int before = self->last_status;
+        self->last_status = t->status;
+        self->heard_s = fmax (self->heard_s, t->t_s);
+        if (self->holding && !fresh)
+            return; // the held estimate, coasting
+        if (fresh)
+            self->heard_hit_s = t->last_hit_s;
+        if (fresh && (before == 2 || self->holding) && s_jumps (self, &self->track, t) &&
+            !(self->holding && !s_jumps (self, &self->held, t))) {
+            self->held = *t;
+            self->held.history_count = 0;
+            self->holding = true;
+            s_reason (self, "track %u's hit after a coast is held until another confirms it",
+                      t->id);
+            return;
+        }
+        self->holding = false;
     }
     double prev_t = self->track.t_s;
     gd_v2_t prev_vel = self->track.vel;
@@ -474,22 +662,15 @@ void gd_intercept_track (gd_intercept_t *self, const gd_track_t *t)
         self->track.vel = prev_vel;
     if (!s_active (self->phase))
         return;
-    if (t->status == 3) {
-        // Keep flying on the prediction; a new track of the target near it
-        // takes over (s_takes_over); none within lost_after_s: lost.
-        self->orphan = true;
-        self->orphan_id = t->id;
-        self->track.t_s = prev_t;
-        self->track.vel = prev_vel;
-        self->track.pos = gd_sub (t->pos, gd_scale (prev_vel, t->t_s - prev_t));
-        s_reason (self, "track %u was deleted: flying on its prediction", t->id);
-        return;
-    }
     if (self->need_plan) {
         s_plan (self);
         return;
     }
-    if (!self->has_plan || self->phase == GD_OVERFLIGHT || !credible)
+    if (self->phase == GD_OVERFLIGHT) {
+        s_try_confirm (self);
+        return;
+    }
+    if (!self->has_plan || !credible)
         return;
     gd_v2_t dir;
     bool moving = s_target_dir (self, t->vel, &dir);
@@ -537,9 +718,12 @@ void gd_intercept_turn (gd_intercept_t *self, uint32_t track_id, double t_s, gd_
                         double angle_deg)
 {
     (void)angle_deg;
+    // A turn seen at a hit that ends a coast is judged with that track
+    // update (which may hold it: gd_intercept_track).
     if (track_id == 0 || track_id != self->track_id || !s_active (self->phase) ||
-        self->phase == GD_OVERFLIGHT || !self->has_plan || !isfinite (vel_after.e) ||
-        !isfinite (vel_after.n) || !isfinite (t_s))
+        self->phase == GD_OVERFLIGHT || !self->has_plan || self->orphan || self->holding ||
+        self->last_status == 2 || !isfinite (vel_after.e) || !isfinite (vel_after.n) ||
+        !isfinite (t_s))
         return;
     gd_v2_t dir;
     if (!s_target_dir (self, vel_after, &dir) || gd_norm (vel_after) > self->p.max_target_speed_mps)
@@ -560,11 +744,13 @@ void gd_intercept_tick (gd_intercept_t *self, double t_s)
 {
     if (!s_active (self->phase) || !self->have_track)
         return;
-    if (t_s - self->track.t_s > self->p.lost_after_s) {
+    // Held updates count as heard: the track is alive.
+    double heard = self->holding ? fmax (self->track.t_s, self->heard_s) : self->track.t_s;
+    if (t_s - heard > self->p.lost_after_s) {
         self->phase = GD_LOST;
         s_task_loiter_here (self);
         s_reason (self, "track %u not updated for %.0f s: loitering here", self->track_id,
-                  t_s - self->track.t_s);
+                  t_s - heard);
     }
 }
 
@@ -604,6 +790,12 @@ int gd_intercept_designate (gd_intercept_t *self, const gd_track_t *t, double t_
     self->time_to_go_s = NAN;
     self->has_plan = false;
     self->orphan = false;
+    self->last_status = t->status;
+    self->heard_hit_s = isfinite (t->last_hit_s) ? t->last_hit_s : -INFINITY;
+    self->heard_s = t->t_s;
+    self->holding = false;
+    self->confirming = false;
+    self->n_samples = 0;
     self->phase = GD_TO_WAYPOINT;
     s_plan (self);
     if (before && before != t->id)
@@ -620,6 +812,8 @@ int gd_intercept_cancel (gd_intercept_t *self, double t_s)
         return -EALREADY;
     self->phase = GD_CANCELLED;
     self->need_plan = false;
+    self->confirming = false;
+    self->holding = false;
     s_task_loiter_here (self);
     s_reason (self, "cancelled by the operator: loitering here");
     return 0;
@@ -759,11 +953,17 @@ int gd_intercept_save (const gd_intercept_t *self, uint8_t **ret_buf, size_t *re
     s_put (&o, "designation %d %u %llu " S_G " %d %d %d %u\n", (int)self->phase, self->track_id,
            (unsigned long long)self->designation_number, self->designation_s, self->need_plan,
            self->have_track, self->orphan, self->orphan_id);
-    s_put (&o, "track %u %d %d " S_G " " S_G " " S_G " " S_G " " S_G " %zu\n", t->id, t->status,
-           t->friendly, t->t_s, t->pos.e, t->pos.n, t->vel.e, t->vel.n, t->history_count);
+    s_put (&o, "track %u %d %d " S_G " " S_G " " S_G " " S_G " " S_G " %u " S_G " %zu\n", t->id,
+           t->status, t->friendly, t->t_s, t->pos.e, t->pos.n, t->vel.e, t->vel.n, t->hits,
+           t->last_hit_s, t->history_count);
     for (size_t k = 0; k < t->history_count; k++)
         s_put (&o, "hit " S_G " " S_G " " S_G "\n", t->history[k].e, t->history[k].n,
                t->history_t_s[k]);
+    const gd_track_t *h = &self->held;
+    s_put (&o,
+           "held %d %d " S_G " " S_G " %u %d " S_G " " S_G " " S_G " " S_G " " S_G " %u " S_G "\n",
+           self->holding, self->last_status, self->heard_hit_s, self->heard_s, h->id, h->status,
+           h->t_s, h->pos.e, h->pos.n, h->vel.e, h->vel.n, h->hits, h->last_hit_s);
     s_put (&o,
            "plan %d " S_G " " S_G " " S_G " " S_G " %d " S_G " " S_G " " S_G " " S_G " %d " S_G
            " " S_G " " S_G " " S_G " " S_G " %zu %zu %zu\n",
@@ -773,6 +973,14 @@ int gd_intercept_save (const gd_intercept_t *self, uint8_t **ret_buf, size_t *re
     s_put (&o, "approach " S_G " " S_G " " S_G " %d %d " S_G " " S_G " %u " S_G "\n",
            self->p_close.e, self->p_close.n, self->close_s, self->inside, self->was_inside,
            self->overflight_s, self->out_since_s, self->replans, self->time_to_go_s);
+    s_put (&o, "confirm %d %zu " S_G "\n", self->confirming, self->n_samples, self->best_d);
+    for (size_t k = 0; k < self->n_samples; k++) {
+        const s_sample_t *m = &self->samples[k];
+        s_put (&o, "sample " S_G, m->t_s);
+        for (int c = 0; c < 4; c++)
+            s_put (&o, " " S_G " " S_G, m->fp.corner[c].e, m->fp.corner[c].n);
+        s_put (&o, " " S_G " " S_G "\n", m->fp.center.e, m->fp.center.n);
+    }
     s_put (&o, "task %llu %d %zu\n", (unsigned long long)self->task.number, (int)self->task.kind,
            self->task.count);
     for (size_t k = 0; k < self->task.count; k++)
@@ -857,8 +1065,9 @@ int gd_intercept_restore (gd_intercept_t *self, const uint8_t *buf, size_t len, 
     what = "track";
     size_t hn = 0;
     if (!s_line (&cur, end, line, sizeof line, &ln) ||
-        sscanf (line, "track %u %d %d %lf %lf %lf %lf %lf %zu", &t->id, &t->status, &a, &t->t_s,
-                &t->pos.e, &t->pos.n, &t->vel.e, &t->vel.n, &hn) != 9 ||
+        sscanf (line, "track %u %d %d %lf %lf %lf %lf %lf %u %lf %zu", &t->id, &t->status, &a,
+                &t->t_s, &t->pos.e, &t->pos.n, &t->vel.e, &t->vel.n, &t->hits, &t->last_hit_s,
+                &hn) != 11 ||
         hn > GD_HISTORY_MAX || t->status < 0 || t->status > 3)
         goto bad;
     t->friendly = a != 0;
@@ -869,6 +1078,17 @@ int gd_intercept_restore (gd_intercept_t *self, const uint8_t *buf, size_t len, 
             sscanf (line, "hit %lf %lf %lf", &t->history[k].e, &t->history[k].n,
                     &t->history_t_s[k]) != 3)
             goto bad;
+    what = "held";
+    gd_track_t *h = &x->held;
+    if (!s_line (&cur, end, line, sizeof line, &ln) ||
+        sscanf (line, "held %d %d %lf %lf %u %d %lf %lf %lf %lf %lf %u %lf", &a, &x->last_status,
+                &x->heard_hit_s, &x->heard_s, &h->id, &h->status, &h->t_s, &h->pos.e, &h->pos.n,
+                &h->vel.e, &h->vel.n, &h->hits, &h->last_hit_s) != 13 ||
+        x->last_status < 0 || x->last_status > 3 || h->status < 0 || h->status > 3 ||
+        (a && !s_finite_all ((const double[]){h->t_s, h->pos.e, h->pos.n, h->vel.e, h->vel.n}, 5)))
+        goto bad;
+    x->holding = a != 0;
+    h->history_count = 0;
     what = "plan";
     if (!s_line (&cur, end, line, sizeof line, &ln) ||
         sscanf (line,
@@ -887,6 +1107,28 @@ int gd_intercept_restore (gd_intercept_t *self, const uint8_t *buf, size_t len, 
     x->inside = a != 0;
     x->was_inside = b != 0;
     x->replans = ua;
+    what = "confirm";
+    size_t sn = 0;
+    if (!s_line (&cur, end, line, sizeof line, &ln) ||
+        sscanf (line, "confirm %d %zu %lf", &a, &sn, &x->best_d) != 3 ||
+        (sn != 0 && sn != S_SAMPLES))
+        goto bad;
+    x->confirming = a != 0;
+    x->n_samples = sn;
+    what = "a sample";
+    for (size_t k = 0; k < sn; k++) {
+        s_sample_t *m = &x->samples[k];
+        memset (m, 0, sizeof *m);
+        gd_v2_t *c = m->fp.corner;
+        if (!s_line (&cur, end, line, sizeof line, &ln) ||
+            sscanf (line, "sample %lf %lf %lf %lf %lf %lf %lf %lf %lf %lf %lf", &m->t_s, &c[0].e,
+                    &c[0].n, &c[1].e, &c[1].n, &c[2].e, &c[2].n, &c[3].e, &c[3].n, &m->fp.center.e,
+                    &m->fp.center.n) != 11 ||
+            !s_finite_all ((const double[]){m->t_s, c[0].e, c[0].n, c[1].e, c[1].n, c[2].e, c[2].n,
+                                            c[3].e, c[3].n, m->fp.center.e, m->fp.center.n},
+                           11))
+            goto bad;
+    }
     what = "task";
     size_t tn = 0;
     if (!s_line (&cur, end, line, sizeof line, &ln) ||

@@ -64,7 +64,7 @@ static int s_check (const gd_mc_config_t *c)
 
 /* Everything one run needs. */
 typedef struct {
-    mti_radar_t *radar; // shared by the runs (its schedule is a function of time)
+    mti_radar_t *radar; // its own noise (seeded by the run's number)
     trk_tracker_t *trk;
     gd_intercept_t *gd;
     uavsim_uav_model_t *uav;
@@ -93,6 +93,8 @@ static void s_gd_track (const trk_tracker_t *trk, const trk_track_t *t, double t
     g->t_s = t_s;
     g->pos = gd_v2 (e.x[0], e.x[1]);
     g->vel = gd_v2 (e.x[2], e.x[3]);
+    g->hits = t->hits;
+    g->last_hit_s = t->last_hit_s;
     g->history_count = 0;
     for (uint32_t k = 0; k < t->history_count && k < GD_HISTORY_MAX; k++) {
         g->history[k] = gd_v2 (t->history[k].e_m, t->history[k].n_m);
@@ -154,9 +156,42 @@ static void s_uav_for_gd (const uavsim_uav_model_t *m, double t_s, gd_uav_t *ret
     };
 }
 
+static void s_gd_track (const trk_tracker_t *trk, const trk_track_t *t, double t_s, gd_track_t *g);
+
+static void s_trace (const s_run_t *r, double t, const uavsim_vehicle_state_t *vs,
+                     const uavsim_uav_state_t *us, const gd_status_t *st, gd_mc_trace_fn *fn,
+                     void *arg)
+{
+    gd_mc_sample_t s = {
+        .t_s = t,
+        .target = gd_v2 (vs->e_m, vs->n_m),
+        .target_vel = gd_v2 (vs->ve_mps, vs->vn_mps),
+        .track_id = st->track_id,
+        .uav = gd_v2 (us->position.e_m, us->position.n_m),
+        .uav_heading_deg = us->heading_deg,
+        .status = st,
+    };
+    gd_track_t nearby[8];
+    for (size_t k = 0; k < trk_tracker_count (r->trk); k++) {
+        const trk_track_t *tt = trk_tracker_at (r->trk, k);
+        trk_estimate_t e;
+        trk_tracker_predict (r->trk, tt, t, &e);
+        if (tt->id == st->track_id) {
+            s.has_track = true;
+            s.track_pos = gd_v2 (e.x[0], e.x[1]);
+            s.track_vel = gd_v2 (e.x[2], e.x[3]);
+        } else if (tt->status != TRK_TENTATIVE && s.nearby_count < 8 &&
+                   hypot (e.x[0] - vs->e_m, e.x[1] - vs->n_m) < 3000) {
+            s_gd_track (r->trk, tt, t, &nearby[s.nearby_count++]);
+        }
+    }
+    s.nearby = nearby;
+    fn (arg, &s);
+}
+
 /* One run. */
 static int s_one (const gd_mc_config_t *c, mti_radar_t *radar, s_rng_t *rng, s_run_t *r,
-                  gd_mc_run_t *out)
+                  gd_mc_trace_fn *trace, void *trace_arg, gd_mc_run_t *out)
 {
     *out = (gd_mc_run_t){.closest_m = INFINITY, .miss_m = INFINITY, .time_to_image_s = NAN};
     // The target: straight from the origin, perhaps turning once.
@@ -219,7 +254,8 @@ static int s_one (const gd_mc_config_t *c, mti_radar_t *radar, s_rng_t *rng, s_r
     uint64_t dwell = 0, applied = 0;
     uint32_t track_id = 0;
     bool designated = false, first_plan = false;
-    double t = 0, next_uav = 0, t_des = NAN, scan_start = 0;
+    double t = 0, next_uav = 0, t_des = NAN, scan_start = 0, next_trace = 0;
+    gd_phase_t traced = GD_IDLE;
     double end_s = c->preroll_s + 60 + c->limit_s;
     r->nhits = 0;
     while (t < end_s) {
@@ -320,6 +356,11 @@ static int s_one (const gd_mc_config_t *c, mti_radar_t *radar, s_rng_t *rng, s_r
             gd_score_footprint (&score, t, st.has_footprint ? &st.footprint : NULL);
             gd_score_target (&score, t, gd_v2 (vs.e_m, vs.n_m));
             s_apply_task (r, &applied);
+            if (trace && (t + 1e-9 >= next_trace || st.phase != traced)) {
+                s_trace (r, t, &vs, &us, &st, trace, trace_arg);
+                next_trace = floor (t) + 1;
+                traced = st.phase;
+            }
             if (st.phase == GD_DONE || st.phase == GD_LOST || t - t_des > c->limit_s)
                 break;
         }
@@ -352,14 +393,40 @@ static double s_quantile (double *v, size_t n, double q)
     return v[k == 0 ? 0 : k - 1];
 }
 
+/* Run number i of the set: its own geometry and its own radar noise, both
+ * from the seed and i alone, so any run can be repeated by itself. */
+static int s_run_number (const gd_mc_config_t *c, mti_radar_t *radar, size_t i, s_run_t *r,
+                         gd_mc_trace_fn *trace, void *trace_arg, gd_mc_run_t *out)
+{
+    uint64_t base = c->seed * 0x100000001b3ull + i;
+    s_rng_t rng = {base};
+    uint64_t mix = base ^ 0x6d6331ull;
+    mti_radar_reseed (radar, cgs_splitmix64 (&mix));
+    int rc = s_one (c, radar, &rng, r, trace, trace_arg, out);
+    s_free_run (r);
+    return rc;
+}
+
+static mti_radar_t *s_radar (void)
+{
+    mti_params_t mp;
+    mti_params_defaults (&mp);
+    return mti_radar_new (&mp, NULL, 1);
+}
+
+/* Geometries drawn at most: a set where most draw no confirmed track is
+ * broken, not unlucky. */
+static size_t s_draw_cap (const gd_mc_config_t *c)
+{
+    return 2 * c->runs + 50;
+}
+
 int gd_mc_run (const gd_mc_config_t *c, gd_mc_run_t *runs_out, gd_mc_progress_fn *progress,
                void *arg, gd_mc_result_t *ret)
 {
     if (!c || !ret || s_check (c) < 0)
         return -EINVAL;
-    mti_params_t mp;
-    mti_params_defaults (&mp);
-    mti_radar_t *radar = mti_radar_new (&mp, NULL, c->seed ^ 0x6d6331ull);
+    mti_radar_t *radar = s_radar ();
     double *closest = calloc (c->runs, sizeof *closest);
     double *miss = calloc (c->runs, sizeof *miss);
     double *tti = calloc (c->runs, sizeof *tti);
@@ -368,21 +435,22 @@ int gd_mc_run (const gd_mc_config_t *c, gd_mc_run_t *runs_out, gd_mc_progress_fn
     gd_mc_result_t res = {0};
     size_t nc = 0, nt = 0;
     double replans = 0;
-    for (size_t i = 0; rc == 0 && i < c->runs; i++) {
-        s_rng_t rng = {c->seed * 0x100000001b3ull + i};
+    size_t cap = s_draw_cap (c);
+    for (size_t i = 0; rc == 0 && res.designated < c->runs && i < cap; i++) {
         gd_mc_run_t one;
-        rc = s_one (c, radar, &rng, &r, &one);
-        s_free_run (&r);
+        rc = s_run_number (c, radar, i, &r, NULL, NULL, &one);
         if (rc < 0)
             break;
-        if (runs_out)
-            runs_out[i] = one;
-        res.runs++;
+        one.index = i;
+        res.drawn++;
+        if (one.designated)
+            res.designated++;
         if (progress)
-            progress (arg, i, &one);
+            progress (arg, res.designated, &one);
         if (!one.designated)
             continue;
-        res.designated++;
+        if (runs_out)
+            runs_out[res.designated - 1] = one;
         res.imaged += one.imaged;
         if (one.ahead) {
             res.ahead++;
@@ -410,6 +478,7 @@ int gd_mc_run (const gd_mc_config_t *c, gd_mc_run_t *runs_out, gd_mc_progress_fn
         res.closest_p95_m = s_quantile (closest, nc, 0.95);
         res.closest_max_m = s_quantile (closest, nc, 1.0);
         res.miss_p95_m = s_quantile (miss, nc, 0.95);
+        res.miss_p99_m = s_quantile (miss, nc, 0.99);
         res.miss_max_m = s_quantile (miss, nc, 1.0);
         res.time_to_image_p50_s = s_quantile (tti, nt, 0.5);
         res.time_to_image_p95_s = s_quantile (tti, nt, 0.95);
@@ -424,19 +493,63 @@ int gd_mc_run (const gd_mc_config_t *c, gd_mc_run_t *runs_out, gd_mc_progress_fn
     return rc;
 }
 
+int gd_mc_trace (const gd_mc_config_t *c, size_t run, gd_mc_trace_fn *fn, void *arg,
+                 gd_mc_run_t *ret)
+{
+    if (!c || !fn || !ret || s_check (c) < 0 || run >= s_draw_cap (c))
+        return -EINVAL;
+    mti_radar_t *radar = s_radar ();
+    if (!radar)
+        return -ENOMEM;
+    s_run_t r = {0};
+    int rc = s_run_number (c, radar, run, &r, fn, arg, ret);
+    free (r.hits);
+    mti_radar_destroy (&radar);
+    return rc;
+}
+
 /* ---- the command line ---------------------------------------------------------------------- */
 
-static void s_progress (void *arg, size_t i, const gd_mc_run_t *run)
+static void s_progress (void *arg, size_t done, const gd_mc_run_t *run)
 {
     const gd_mc_config_t *c = arg;
-    if (run->designated && !run->imaged)
+    if (!run->designated)
+        fprintf (stderr, "  run %zu: no confirmed track of the target in time: drawn again\n",
+                 run->index);
+    else if (!run->imaged)
         fprintf (stderr,
                  "  run %zu: missed by %.0f m (speed %.1f m/s, %s, turn %+.0f deg, %u re-plans, "
                  "ended %s)\n",
-                 i, run->miss_m, run->speed_mps, run->ahead ? "ahead" : "behind", run->turn_deg,
-                 run->replans, gd_phase_name ((gd_phase_t)run->final_phase));
-    if ((i + 1) % 20 == 0 || i + 1 == c->runs)
-        fprintf (stderr, "monte carlo: %zu/%zu runs\n", i + 1, c->runs);
+                 run->index, run->miss_m, run->speed_mps, run->ahead ? "ahead" : "behind",
+                 run->turn_deg, run->replans, gd_phase_name ((gd_phase_t)run->final_phase));
+    if (run->designated && (done % 20 == 0 || done == c->runs))
+        fprintf (stderr, "monte carlo: %zu/%zu intercepts\n", done, c->runs);
+}
+
+static void s_print_sample (void *arg, const gd_mc_sample_t *s)
+{
+    (void)arg;
+    const gd_status_t *st = s->status;
+    printf ("%8.1f %-12s target %8.0f %8.0f v %5.1f %5.1f", s->t_s, gd_phase_name (st->phase),
+            s->target.e, s->target.n, s->target_vel.e, s->target_vel.n);
+    if (s->has_track)
+        printf (" | track %u %8.0f %8.0f v %5.1f %5.1f", s->track_id, s->track_pos.e,
+                s->track_pos.n, s->track_vel.e, s->track_vel.n);
+    else
+        printf (" | track %u none%34s", s->track_id, "");
+    printf (" | uav %8.0f %8.0f hdg %5.1f", s->uav.e, s->uav.n, s->uav_heading_deg);
+    if (st->has_footprint) {
+        gd_v2_t c = st->footprint.center;
+        printf (" | fp %8.0f %8.0f", c.e, c.n);
+    }
+    printf (" | %s", st->reason);
+    for (size_t k = 0; k < s->nearby_count; k++) {
+        const gd_track_t *o = &s->nearby[k];
+        printf (" | other track %u (%s, %u hits, first at %.0f s) %.0f %.0f v %.1f %.1f", o->id,
+                o->status == 1 ? "confirmed" : "coasting", o->hits,
+                o->history_count ? o->history_t_s[0] : NAN, o->pos.e, o->pos.n, o->vel.e, o->vel.n);
+    }
+    printf ("\n");
 }
 
 static double s_pct (size_t a, size_t b)
@@ -449,6 +562,7 @@ int gd_mc_main (int argc, char **argv)
     gd_mc_config_t c;
     gd_mc_defaults (&c);
     bool quiet = false;
+    long trace = -1;
     static const struct option opts[] = {
         {"monte-carlo", no_argument, NULL, 'M'},
         {"runs", required_argument, NULL, 'n'},
@@ -456,6 +570,7 @@ int gd_mc_main (int argc, char **argv)
         {"method", required_argument, NULL, 'm'},
         {"turn-fraction", required_argument, NULL, 't'},
         {"quiet", no_argument, NULL, 'q'},
+        {"trace", required_argument, NULL, 'T'},
         {"help", no_argument, NULL, 'h'},
         {NULL, 0, NULL, 0},
     };
@@ -463,7 +578,7 @@ int gd_mc_main (int argc, char **argv)
     char *end = NULL;
     uint64_t u = 0;
     optind = 1;
-    while ((o = getopt_long (argc, argv, "n:s:m:t:qh", opts, NULL)) != -1) {
+    while ((o = getopt_long (argc, argv, "n:s:m:t:qT:h", opts, NULL)) != -1) {
         switch (o) {
         case 'M':
             break;
@@ -502,27 +617,57 @@ int gd_mc_main (int argc, char **argv)
         case 'q':
             quiet = true;
             break;
+        case 'T':
+            if (cgs_parse_u64 (optarg, 999999, &u) < 0) {
+                fprintf (stderr, "guidanced: --trace: expected a run number, got '%s'\n", optarg);
+                return 2;
+            }
+            trace = (long)u;
+            break;
         case 'h':
             printf ("usage: guidanced --monte-carlo [--runs N] [--seed S] [--method "
                     "head-on|mti-hits]\n"
-                    "                 [--turn-fraction F] [--quiet]\n"
+                    "                 [--turn-fraction F] [--quiet] [--trace RUN]\n"
                     "Runs N whole intercepts (default 200) with the cores of uavsim, mtid, "
                     "trackerd and\nguidanced in lockstep over random geometries and prints how "
-                    "many imaged their\ntarget, with the miss distances; the last line is JSON.\n");
+                    "many imaged their\ntarget, with the miss distances; the last line is JSON.\n"
+                    "--trace RUN repeats run RUN (from 0) alone and prints its target, track, UAV "
+                    "and\nfootprint every second after the designation.\n");
             return 0;
         default:
             return 2;
         }
     }
+    if (trace >= 0) {
+        gd_mc_run_t one;
+        int rc = gd_mc_trace (&c, (size_t)trace, s_print_sample, NULL, &one);
+        if (rc < 0) {
+            fprintf (stderr, "guidanced: monte carlo failed: %s\n", strerror (-rc));
+            return 1;
+        }
+        printf ("run %ld: %s, closest %.0f m to the footprint centre, miss %.0f m, ended %s\n",
+                trace, one.imaged ? "imaged" : "not imaged", one.closest_m, one.miss_m,
+                gd_phase_name ((gd_phase_t)one.final_phase));
+        return one.imaged ? 0 : 3;
+    }
     gd_mc_result_t r;
-    int rc = gd_mc_run (&c, NULL, quiet ? NULL : s_progress, &c, &r);
+    gd_mc_run_t *runs = calloc (c.runs, sizeof *runs);
+    int rc = runs ? gd_mc_run (&c, runs, quiet ? NULL : s_progress, &c, &r) : -ENOMEM;
     if (rc < 0) {
         fprintf (stderr, "guidanced: monte carlo failed: %s\n", strerror (-rc));
+        free (runs);
         return 1;
     }
-    printf ("%zu runs (seed %llu, %s): %zu designated, %zu imaged (%.1f%%)\n", r.runs,
-            (unsigned long long)c.seed, c.method == GD_HEAD_ON ? "head-on" : "MTI hits",
-            r.designated, r.imaged, s_pct (r.imaged, r.designated));
+    if (r.designated < c.runs)
+        fprintf (stderr,
+                 "guidanced: only %zu of %zu geometries had a confirmed track of the target in "
+                 "time\n",
+                 r.designated, r.drawn);
+    printf ("%zu intercepts (seed %llu, %s): %zu imaged (%.1f%%); %zu geometries drawn, %zu "
+            "without a confirmed track of the target in time\n",
+            r.designated, (unsigned long long)c.seed,
+            c.method == GD_HEAD_ON ? "head-on" : "MTI hits", r.imaged,
+            s_pct (r.imaged, r.designated), r.drawn, r.drawn - r.designated);
     printf ("  UAV ahead (y'_u > 0): %zu/%zu imaged; behind (y'_u <= 0): %zu/%zu\n", r.ahead_imaged,
             r.ahead, r.behind_imaged, r.behind);
     printf ("  straight: %zu/%zu imaged; turning 45-120 deg after designation: %zu/%zu\n",
@@ -530,18 +675,27 @@ int gd_mc_main (int argc, char **argv)
     printf ("  closest approach to the footprint centre: median %.1f m, 90%% %.1f m, 95%% %.1f m, "
             "max %.1f m\n",
             r.closest_p50_m, r.closest_p90_m, r.closest_p95_m, r.closest_max_m);
-    printf ("  miss distance (0 when imaged): 95%% %.1f m, max %.1f m\n", r.miss_p95_m,
-            r.miss_max_m);
+    printf ("  miss distance (outside the footprint, 0 when imaged): 95%% %.1f m, 99%% %.1f m, max "
+            "%.1f m",
+            r.miss_p95_m, r.miss_p99_m, r.miss_max_m);
+    size_t listed = 0;
+    for (size_t i = 0; i < r.designated && listed < 20; i++)
+        if (!runs[i].imaged)
+            printf ("%s run %zu %.0f m", listed++ ? "," : "; missed:", runs[i].index,
+                    runs[i].miss_m);
+    printf ("\n");
+    free (runs);
     printf ("  designation to imaging: median %.0f s, 95%% %.0f s; re-plans per run %.2f\n",
             r.time_to_image_p50_s, r.time_to_image_p95_s, r.replans_mean);
-    printf ("{\"runs\":%zu,\"designated\":%zu,\"imaged\":%zu,\"imaged_pct\":%.2f,\"ahead\":%zu,"
+    printf ("{\"drawn\":%zu,\"runs\":%zu,\"imaged\":%zu,\"imaged_pct\":%.2f,\"ahead\":%zu,"
             "\"ahead_imaged\":%zu,\"behind\":%zu,\"behind_imaged\":%zu,\"turned\":%zu,"
             "\"turned_imaged\":%zu,\"closest_p50_m\":%.2f,\"closest_p90_m\":%.2f,"
-            "\"closest_p95_m\":%.2f,\"closest_max_m\":%.2f,\"miss_p95_m\":%.2f,\"miss_max_m\":%.2f,"
+            "\"closest_p95_m\":%.2f,\"closest_max_m\":%.2f,\"miss_p95_m\":%.2f,\"miss_p99_m\":%.2f,"
+            "\"miss_max_m\":%.2f,"
             "\"time_to_image_p50_s\":%.1f,\"time_to_image_p95_s\":%.1f,\"replans_mean\":%.3f}\n",
-            r.runs, r.designated, r.imaged, s_pct (r.imaged, r.designated), r.ahead, r.ahead_imaged,
-            r.behind, r.behind_imaged, r.turned, r.turned_imaged, r.closest_p50_m, r.closest_p90_m,
-            r.closest_p95_m, r.closest_max_m, r.miss_p95_m, r.miss_max_m, r.time_to_image_p50_s,
-            r.time_to_image_p95_s, r.replans_mean);
+            r.drawn, r.designated, r.imaged, s_pct (r.imaged, r.designated), r.ahead,
+            r.ahead_imaged, r.behind, r.behind_imaged, r.turned, r.turned_imaged, r.closest_p50_m,
+            r.closest_p90_m, r.closest_p95_m, r.closest_max_m, r.miss_p95_m, r.miss_p99_m,
+            r.miss_max_m, r.time_to_image_p50_s, r.time_to_image_p95_s, r.replans_mean);
     return 0;
 }

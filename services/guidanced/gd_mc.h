@@ -7,7 +7,11 @@
  * share of the runs a turn of 45 to 120 degrees (either side) some time
  * after the designation. The radar and tracker run from the start; the
  * track nearest the target is designated once one is confirmed (after a
- * pre-roll); the UAV flies the tasks the intercept gives it. Each run is
+ * pre-roll); a geometry with no confirmed track of the target within 60 s
+ * of the pre-roll is drawn again (and counted), so every run is a whole
+ * intercept; the UAV flies the tasks the intercept gives it. Each geometry
+ * has its own radar noise, both from the seed and its number alone, so any
+ * run can be repeated by itself (gd_mc_trace). Each run is
  * judged from ground truth (gd_score): was the target inside the true
  * footprint at some moment before the time limit. Flat ground. Pure:
  * seeded, no logging (progress through a callback). */
@@ -20,7 +24,7 @@
 #include <stdint.h>
 
 typedef struct {
-    size_t runs;
+    size_t runs; // whole intercepts wanted
     uint64_t seed;
     gd_method_t method;
     double range_min_m, range_max_m;           // UAV from the target at designation
@@ -32,8 +36,28 @@ typedef struct {
     double limit_s;                            // a run ends this long after the designation
 } gd_mc_config_t;
 
+/* One moment of a traced run (every second of simulation time after the
+ * designation, and at each change of phase). */
+typedef struct {
+    double t_s;
+    gd_v2_t target; // ground truth
+    gd_v2_t target_vel;
+    bool has_track; // the designated track's latest update
+    uint32_t track_id;
+    gd_v2_t track_pos; // predicted to t_s
+    gd_v2_t track_vel;
+    gd_v2_t uav;
+    double uav_heading_deg;
+    const gd_status_t *status;
+    const gd_track_t *nearby; // other confirmed or coasting tracks within 3 km of the target
+    size_t nearby_count;
+} gd_mc_sample_t;
+
+typedef void (gd_mc_trace_fn) (void *arg, const gd_mc_sample_t *s);
+
 /* One run's outcome. */
 typedef struct {
+    size_t index;    // the geometry's number (gd_mc_trace repeats it)
     bool designated; // a confirmed track of the target existed in time
     bool imaged;     // inside the true footprint at some moment
     bool ahead;      // first plan's y'_u > 0
@@ -48,11 +72,13 @@ typedef struct {
 } gd_mc_run_t;
 
 typedef struct {
-    size_t runs, designated, imaged;
+    size_t drawn;      // geometries drawn
+    size_t designated; // of them with a confirmed track of the target in time: the runs
+    size_t imaged;
     size_t ahead, ahead_imaged, behind, behind_imaged;
     size_t turned, turned_imaged, straight, straight_imaged;
     double closest_p50_m, closest_p90_m, closest_p95_m, closest_max_m; // of every designated run
-    double miss_p95_m, miss_max_m;
+    double miss_p95_m, miss_p99_m, miss_max_m;
     double time_to_image_p50_s, time_to_image_p95_s;
     double replans_mean;
 } gd_mc_result_t;
@@ -62,13 +88,21 @@ typedef struct {
  * 1500 s limit. */
 void gd_mc_defaults (gd_mc_config_t *c);
 
-/* Progress: called after each run with its number (from 0) and outcome. */
-typedef void (gd_mc_progress_fn) (void *arg, size_t i, const gd_mc_run_t *run);
+/* Progress: called after each geometry with the number of whole intercepts
+ * so far and its outcome (run->designated false: it is drawn again). */
+typedef void (gd_mc_progress_fn) (void *arg, size_t done, const gd_mc_run_t *run);
 
-/* Run them. runs_out (may be NULL) receives each run's outcome (c->runs of
- * them). 0, -EINVAL (bad configuration), -ENOMEM. */
+/* Run them: geometries are drawn until c->runs of them were designated (at
+ * most 2·runs + 50 draws; ret->designated tells how many were). runs_out
+ * (may be NULL) receives each designated run's outcome (up to c->runs).
+ * 0, -EINVAL (bad configuration), -ENOMEM. */
 int gd_mc_run (const gd_mc_config_t *c, gd_mc_run_t *runs_out, gd_mc_progress_fn *progress,
                void *arg, gd_mc_result_t *ret);
+
+/* Run only geometry number `run` (from 0; gd_mc_run_t.index) of the set c describes, exactly as
+ * gd_mc_run would, calling fn with its samples. 0, -EINVAL, -ENOMEM. */
+int gd_mc_trace (const gd_mc_config_t *c, size_t run, gd_mc_trace_fn *fn, void *arg,
+                 gd_mc_run_t *ret);
 
 /* `guidanced --monte-carlo [options]`: runs and prints text and a JSON line. */
 int gd_mc_main (int argc, char **argv);

@@ -9,6 +9,7 @@
 void gd_params_defaults (gd_params_t *p)
 {
     *p = (gd_params_t){
+        .timing = GD_TIMING_ROUTE,
         .turn_radius_factor = 1.5,
         .secondary_scale = 0.25,
         .lead_in_m = 2000,
@@ -21,7 +22,8 @@ void gd_params_defaults (gd_params_t *p)
         .align_deg = 20,
         .lost_after_s = 300,
         .handover_m = 400,
-        .handover_growth_mps = 10,
+        .handover_growth_mps = 20,
+        .confirm_margin_m = 0,
         .pick_radius_m = 2000,
         .max_range_m = 20000,
     };
@@ -45,6 +47,7 @@ static const cgs_config_real_t s_reals[] = {
     S_R ("approach", "lost_after_s", lost_after_s, 1.0, 86400.0),
     S_R ("approach", "handover_m", handover_m, 0.0, 1e5),
     S_R ("approach", "handover_growth_mps", handover_growth_mps, 0.0, 100.0),
+    S_R ("approach", "confirm_margin_m", confirm_margin_m, 0.0, 1e4),
     S_R ("designation", "pick_radius_m", pick_radius_m, 1.0, 1e6),
     S_R ("footprint", "max_range_m", max_range_m, 100.0, 1e6),
 };
@@ -56,6 +59,11 @@ int gd_params_check (const gd_params_t *p, char *err, size_t errlen)
     const char *sec = NULL, *key = NULL;
     char msg[256] = "";
     cgs_config_table_out_of_range (s_reals, S_NREALS, NULL, 0, p, &sec, &key, msg, sizeof msg);
+    if (!key && p->timing != GD_TIMING_ROUTE && p->timing != GD_TIMING_ARC) {
+        sec = "plan";
+        key = "timing";
+        snprintf (msg, sizeof msg, "expected route or arc, got %d", (int)p->timing);
+    }
     return key ? cgs_config_value_error (NULL, sec, key, msg, err, errlen) : 0;
 }
 
@@ -65,6 +73,11 @@ static int s_read (cgs_config_t *cfg, void *arg, char *err, size_t errlen)
     int rc = cgs_config_check_repeated (cfg, err, errlen);
     if (rc == 0)
         rc = cgs_config_get_table (cfg, s_reals, S_NREALS, NULL, 0, &p, err, errlen);
+    static const char *const timings[] = {"route", "arc", NULL};
+    int timing = (int)p.timing;
+    if (rc == 0)
+        rc = cgs_config_get_enum (cfg, "plan", "timing", timings, timing, &timing, err, errlen);
+    p.timing = (gd_timing_t)timing;
     if (rc == 0)
         rc = cgs_config_check_unused (cfg, err, errlen);
     if (rc < 0)

@@ -9,8 +9,15 @@
 
 #include <stddef.h>
 
+/* How t_pred is timed. */
+typedef enum {
+    GD_TIMING_ROUTE = 0, // the flyable route's time, through P_2 when it has one (default)
+    GD_TIMING_ARC = 1,   // the paper's equation 1: the arc straight to the target
+} gd_timing_t;
+
 typedef struct {
     // [plan]
+    gd_timing_t timing;
     double turn_radius_factor;   // planning radius = this × the UAV's smallest turn radius
     double secondary_scale;      // k of Δ in equation 3 (1: the paper's mirror)
     double lead_in_m;            // least distance of P_2 ahead of the waypoint
@@ -26,6 +33,8 @@ typedef struct {
     double lost_after_s;        // no update of the designated track for this long: lost
     double handover_m;          // a deleted track's target is taken up by a new track this near
     double handover_growth_mps; // ... plus this much per second since its last update
+    double confirm_margin_m;    // an overflight counts when the target's hit, carried back to
+                                // it, lies within this of the footprint
     // [designation]
     double pick_radius_m; // a designation by point takes a track whose newest hit is this near
     // [footprint]

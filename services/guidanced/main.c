@@ -38,6 +38,8 @@ typedef struct {
     int logged_phase; // phase and re-plans last written to the log
     uint32_t logged_replans;
     uint32_t logged_track;
+    uint64_t logged_designation;
+    char logged_reason[160];
 } s_uav_t;
 
 typedef struct {
@@ -106,13 +108,21 @@ static void s_publish (s_app_t *app, s_uav_t *u)
 {
     gd_status_t st;
     gd_intercept_status (u->core, &st);
+    if (st.track_id != u->logged_track && u->logged_track != 0 && st.track_id != 0 &&
+        st.designation_number == u->logged_designation)
+        cgs_log (LOG_NOTICE,
+                 "%s: hand-over, t=%.1f s: track %u was deleted; its target goes on as "
+                 "track %u",
+                 u->name, app->sim_time_s, u->logged_track, st.track_id);
     if ((int)st.phase != u->logged_phase || st.replans != u->logged_replans ||
-        st.track_id != u->logged_track) {
+        st.track_id != u->logged_track || strcmp (st.reason, u->logged_reason) != 0) {
         cgs_log (LOG_NOTICE, "%s: %s, track %u, t=%.1f s: %s", u->name, gd_phase_name (st.phase),
                  st.track_id, app->sim_time_s, st.reason);
         u->logged_phase = (int)st.phase;
         u->logged_replans = st.replans;
         u->logged_track = st.track_id;
+        u->logged_designation = st.designation_number;
+        snprintf (u->logged_reason, sizeof u->logged_reason, "%s", st.reason);
     }
     Cgs__Intercept m;
     cgs__intercept__init (&m);
@@ -317,6 +327,8 @@ static bool s_track_from_msg (const Cgs__Track *m, double t_s, gd_track_t *ret)
     ret->t_s = t_s;
     ret->pos = gd_v2 (m->position->east_m, m->position->north_m);
     ret->vel = gd_v2 (m->velocity->east_mps, m->velocity->north_mps);
+    ret->hits = m->hit_count;
+    ret->last_hit_s = isfinite (m->last_hit_time_s) ? m->last_hit_time_s : NAN;
     size_t n = m->n_history, skip = n > GD_HISTORY_MAX ? n - GD_HISTORY_MAX : 0;
     ret->history_count = 0;
     for (size_t k = skip; k < n; k++) {

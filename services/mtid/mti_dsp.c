@@ -95,6 +95,11 @@ static void s_window (mti_window_t kind, int n, double *w)
     }
 }
 
+void mti_dsp_reseed (mti_dsp_t *self, uint64_t seed)
+{
+    gsl_rng_set (self->rng, (unsigned long)(seed ^ (seed >> 32)));
+}
+
 mti_dsp_t *mti_dsp_new (const mti_params_t *p, uint64_t seed)
 {
     if (mti_params_check (p, NULL, 0) < 0)
@@ -135,7 +140,7 @@ mti_dsp_t *mti_dsp_new (const mti_params_t *p, uint64_t seed)
     if (!self->plan)
         goto fail;
     s_window (p->window, n, self->window);
-    gsl_rng_set (self->rng, (unsigned long)(seed ^ (seed >> 32)));
+    mti_dsp_reseed (self, seed);
     return self;
 fail:
     mti_dsp_destroy (&self);

@@ -67,6 +67,8 @@ typedef struct {
 mti_dsp_t *mti_dsp_new (const mti_params_t *p, uint64_t seed);
 /* Free; accepts NULL; sets *self_p to NULL. */
 void mti_dsp_destroy (mti_dsp_t **self_p);
+/* Restart the noise generator from seed, as mti_dsp_new does. */
+void mti_dsp_reseed (mti_dsp_t *self, uint64_t seed);
 
 /* The CA-CFAR multiplier T in use. */
 double mti_dsp_threshold (const mti_dsp_t *self);

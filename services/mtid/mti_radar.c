@@ -94,6 +94,12 @@ fail:
     return NULL;
 }
 
+void mti_radar_reseed (mti_radar_t *self, uint64_t seed)
+{
+    mti_dsp_reseed (self->dsp, seed);
+    self->next_hit_id = 1;
+}
+
 double mti_radar_dwell_s (const mti_radar_t *self)
 {
     return self->scan.dwell_s;

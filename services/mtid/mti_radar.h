@@ -120,6 +120,9 @@ typedef struct {
 mti_radar_t *mti_radar_new (const mti_params_t *p, const cgs_terrain_t *terrain, uint64_t seed);
 /* Free; accepts NULL; sets *self_p to NULL. */
 void mti_radar_destroy (mti_radar_t **self_p);
+/* Restart the radar's noise from seed and its hit ids from 1, as a new
+ * radar would (the calibration, which is costly, is kept). */
+void mti_radar_reseed (mti_radar_t *self, uint64_t seed);
 
 /* Seconds per dwell, and dwells per scan. */
 double mti_radar_dwell_s (const mti_radar_t *self);

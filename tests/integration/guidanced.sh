@@ -182,4 +182,20 @@ line=$(grep -n '^threshold_deg' "$TMP/bad.ini" | cut -d: -f1)
 is "$?" 1 "guidanced --check refuses a threshold of 200 degrees"
 check "naming the file, line and key" grep -q "bad.ini:$line: \[replan\] threshold_deg" "$TMP/bad.log"
 
+# The Monte Carlo driver from the command line: a small set, one run traced,
+# bad options refused.
+"$GUIDANCED" --monte-carlo --runs 2 --seed 3 --quiet >"$TMP/mc.out" 2>"$TMP/mc.err"
+is "$?" 0 "guidanced --monte-carlo --runs 2 runs"
+check "its last line is JSON with 2 runs" bash -c "tail -1 '$TMP/mc.out' | grep -q '^{\"drawn\":[0-9]*,\"runs\":2,'"
+"$GUIDANCED" --monte-carlo --seed 3 --trace 0 >"$TMP/trace.out" 2>&1
+rc=$?
+check "--trace 0 repeats run 0 (exit $rc: 0 imaged, 3 not)" test "$rc" = 0 -o "$rc" = 3
+check "and prints the run second by second" test "$(grep -c ' | uav ' "$TMP/trace.out")" -gt 60
+check "ending with its outcome" grep -q '^run 0: ' "$TMP/trace.out"
+"$GUIDANCED" --monte-carlo --runs -3 >/dev/null 2>"$TMP/mc-bad.err"
+is "$?" 2 "--runs -3 is refused"
+check "with the reason" grep -q -- "--runs: expected a count" "$TMP/mc-bad.err"
+"$GUIDANCED" --monte-carlo --method sideways >/dev/null 2>"$TMP/mc-bad.err"
+is "$?" 2 "--method sideways is refused"
+
 finish

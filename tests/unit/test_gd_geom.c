@@ -10,6 +10,14 @@
  *     (t = d/(s − v)), one coming head-on (t = d/(s + v)) and one crossing so
  *     that the meeting point is straight ahead (t = d/s); a target standing
  *     still; the fixed point t_pred·s = L(P_T + V_T·t_pred);
+ *   - min_t_pred_s (t_pred at least it); the flyable route's timing
+ *     (gd_waypoint_flyable, gd_route_length): a straight route ahead, shorter
+ *     than the arc, keeps equation 1; a UAV behind the target, heading away,
+ *     whose route (U-turn, straight to P_2, U-turn, straight to the
+ *     waypoint) has the closed form R(t) = W + 2·y2 + 2π·r and lengthens
+ *     t_pred to R(t_pred)/s within 0.5 s; bad input; a geometry with no
+ *     fixed point (-EINVAL or a route that fits) and a NULL result (both
+ *     fail at present: see the cases);
  *   - equations 2–3: the target frame on hand examples, the secondary
  *     waypoint as the mirror of the UAV (k = 1), its lead-in clamp, its scale
  *     k, and the matrix form Δ = Rᵀ·diag(1, −k)·R for a general direction;
@@ -497,6 +505,192 @@ static void test_waypoint_rejects_bad_input (void **state)
     assert_int_equal (gd_waypoint (NULL, &w), -EINVAL);
     assert_int_equal (gd_waypoint (&good, NULL), -EINVAL);
     assert_memory_equal (&w, &before, sizeof w);
+}
+
+/* ---- the flyable route's timing (gd_waypoint_flyable, gd_route_length) ------------------ */
+
+/* min_t_pred_s: t_pred is at least it. The head-on target of 8000 m ahead
+ * (ε = 45°: look-ahead 1200 m) has equation 1's t_pred = 8000/50 = 160 s;
+ * with min_t_pred_s = 300 s, t_pred = 300 s: meet = (8000 − 3000, 0) =
+ * (5000, 0), waypoint (3800, 0), y'_u = 3800 > 0. A minimum below 160 s, or
+ * 0, leaves equation 1 alone. gd_waypoint's route_m is 0. */
+static void test_waypoint_min_t_pred (void **state)
+{
+    (void)state;
+    gd_engage_t in = s_engage ();
+    in.target = gd_v2 (8000, 0);
+    in.target_vel = gd_v2 (-10, 0);
+    gd_waypoint_t w;
+    in.min_t_pred_s = 300;
+    assert_int_equal (gd_waypoint (&in, &w), 0);
+    assert_near (w.t_pred_s, 300, 0);
+    assert_v2_near (w.meet, gd_v2 (5000, 0), 1e-9);
+    assert_v2_near (w.waypoint, gd_v2 (3800, 0), 1e-9);
+    assert_near (w.y_u_m, 3800, 1e-9);
+    assert_false (w.secondary);
+    assert_near (w.route_m, 0, 0);
+    const double below[2] = {100, 0};
+    for (int i = 0; i < 2; i++) {
+        in.min_t_pred_s = below[i];
+        assert_int_equal (gd_waypoint (&in, &w), 0);
+        assert_near (w.t_pred_s, 160, 1e-6 * 161);
+        assert_v2_near (w.waypoint, gd_v2 (5200, 0), 2e-3);
+        s_assert_fixed_point (&in, &w);
+    }
+}
+
+/* Ahead, a straight route: UAV at the origin heading east, the target
+ * 8000 m ahead coming head-on at 10 m/s (ε = 45°). Equation 1: t_pred =
+ * 160 s, waypoint (6400 − 1200, 0) = (5200, 0), entered heading −D_T =
+ * east, the UAV's own heading: the Dubins path is the straight 5200 m,
+ * 130 s at 40 m/s, within equation 1's 160 s, so gd_waypoint_flyable keeps
+ * equation 1's plan, with route_m = 5200. */
+static void test_flyable_straight (void **state)
+{
+    (void)state;
+    gd_engage_t in = s_engage ();
+    in.target = gd_v2 (8000, 0);
+    in.target_vel = gd_v2 (-10, 0);
+    gd_waypoint_t w0, w;
+    assert_int_equal (gd_waypoint (&in, &w0), 0);
+    assert_near (gd_route_length (&in, &w0), 5200, 2e-3);
+    assert_int_equal (gd_waypoint_flyable (&in, &w), 0);
+    assert_near (w.route_m, 5200, 2e-3);
+    assert_near (w.route_m, gd_route_length (&in, &w0), 1e-9);
+    assert_true (w.t_pred_s == w0.t_pred_s);
+    assert_near (w.t_pred_s, 160, 1e-6 * 161);
+    assert_v2_near (w.waypoint, w0.waypoint, 0);
+    assert_int_equal (w.iterations, w0.iterations);
+    assert_false (w.secondary);
+}
+
+/* Behind, through P_2: the UAV at the origin heading west (away from the
+ * target), the target 8000 m east receding east at 10 m/s; k = 0, lead-in
+ * 2000 m, r = 500 m, ε = 45°. For a t_pred t: waypoint (W, 0), W = 8000 +
+ * 10·t + 1200; y'_u = −W: P_2 = (W + 2000, 0) (k·|y'_u| = 0 < lead-in).
+ * The route: from (0, 0) heading west to P_2 heading west (towards the
+ * waypoint), a goal straight behind with the same heading: a U-turn (π·r),
+ * the straight W + 2000 east, a U-turn (π·r); then the straight 2000 m into
+ * the waypoint, heading west = −D_T: R(t) = W + 4000 + 2π·r = 13 200 +
+ * 10·t + 1000π. Equation 1's arc (turning round to the target) gives about
+ * 320 s; the route then takes far longer, so t is lengthened: t ← R(t)/40,
+ * ratio 1/4, rising to t* = (13 200 + 1000π)/30 ≈ 544.72 s and stopping once
+ * R(t)/40 ≤ t + 0.5, within 0.5/(1 − 1/4) = 2/3 s below t*. The result is
+ * equations 1–3 at that t_pred, and route_m = R(t_pred). */
+static void test_flyable_behind (void **state)
+{
+    (void)state;
+    gd_engage_t in = s_engage ();
+    in.uav_heading_deg = 270;
+    in.target = gd_v2 (8000, 0);
+    in.target_vel = gd_v2 (10, 0);
+    in.secondary_scale = 0;
+    in.lead_in_m = 2000;
+    double r = in.turn_radius_m;
+    gd_waypoint_t arc, w;
+    assert_int_equal (gd_waypoint (&in, &arc), 0);
+    s_assert_fixed_point (&in, &arc);
+    assert_true (arc.secondary);
+    assert_near (gd_route_length (&in, &arc), 13200 + 10 * arc.t_pred_s + 1000 * PI, 1e-6);
+
+    assert_int_equal (gd_waypoint_flyable (&in, &w), 0);
+    double ts = (13200 + 1000 * PI) / 30;
+    if (!(w.t_pred_s <= ts + 1e-9 && w.t_pred_s >= ts - 2.0 / 3 - 1e-9))
+        fail_msg ("t_pred %.9g s, expected within 2/3 s below %.9g s", w.t_pred_s, ts);
+    assert_true (w.t_pred_s > arc.t_pred_s + 100);
+    assert_near (w.route_m, 13200 + 10 * w.t_pred_s + 2 * PI * r, 1e-6);
+    assert_near (w.route_m, gd_route_length (&in, &w), 0);
+    assert_true (w.route_m / 40 >= w.t_pred_s && w.route_m / 40 <= w.t_pred_s + 0.5);
+    // Equations 1–3 at the lengthened t_pred.
+    assert_v2_near (w.dir, gd_v2 (1, 0), 0);
+    assert_v2_near (w.meet, gd_v2 (8000 + 10 * w.t_pred_s, 0), 1e-9);
+    assert_v2_near (w.waypoint, gd_v2 (9200 + 10 * w.t_pred_s, 0), 1e-9);
+    assert_near (w.y_u_m, -w.waypoint.e, 1e-9);
+    assert_true (w.secondary);
+    assert_v2_near (w.second, gd_v2 (w.waypoint.e + 2000, 0), 1e-9);
+    // gd_waypoint with that t_pred as its minimum makes the same plan.
+    gd_waypoint_t again;
+    in.min_t_pred_s = w.t_pred_s;
+    assert_int_equal (gd_waypoint (&in, &again), 0);
+    assert_v2_near (again.waypoint, w.waypoint, 0);
+    assert_v2_near (again.second, w.second, 0);
+}
+
+/* Bad input: gd_waypoint_flyable refuses what gd_waypoint refuses and
+ * leaves the result alone; gd_route_length is NaN when a leg cannot be
+ * built (no turn radius, a non-finite position). */
+static void test_flyable_rejects_bad_input (void **state)
+{
+    (void)state;
+    gd_engage_t good = s_engage ();
+    good.target = gd_v2 (8000, 0);
+    good.target_vel = gd_v2 (-10, 0);
+    gd_waypoint_t w, before;
+    memset (&w, 0x5a, sizeof w);
+    before = w;
+    gd_engage_t in = good;
+    in.target_vel = gd_v2 (-40, 0); // as fast as the UAV
+    assert_int_equal (gd_waypoint_flyable (&in, &w), -EINVAL);
+    in = good;
+    in.depression_deg = 90;
+    assert_int_equal (gd_waypoint_flyable (&in, &w), -EINVAL);
+    in = good;
+    in.turn_radius_m = 0;
+    assert_int_equal (gd_waypoint_flyable (&in, &w), -EINVAL);
+    in = good;
+    in.target.n = INFINITY;
+    assert_int_equal (gd_waypoint_flyable (&in, &w), -EINVAL);
+    assert_int_equal (gd_waypoint_flyable (NULL, &w), -EINVAL);
+    assert_memory_equal (&w, &before, sizeof w);
+    // (No result pointer: test_flyable_null_result, run last.)
+
+    gd_waypoint_t ok;
+    assert_int_equal (gd_waypoint (&good, &ok), 0);
+    in = good;
+    in.turn_radius_m = 0;
+    assert_true (isnan (gd_route_length (&in, &ok)));
+    in = good;
+    in.uav.e = NAN;
+    assert_true (isnan (gd_route_length (&in, &ok)));
+}
+
+/* No fixed point: behind the target the route grows by about (1 + 2k)·v per
+ * second of t_pred; with k = 1 and v = 15 m/s that is 45 m/s against the
+ * UAV's 40, so t ← route(t)/s runs away. gd_waypoint_flyable then returns
+ * equation 1's plan unchanged (gd_waypoint's), with that plan's route
+ * length — which takes longer than its t_pred. */
+static void test_flyable_no_fixed_point (void **state)
+{
+    (void)state;
+    gd_engage_t in = s_engage ();
+    in.target = gd_v2 (8000, 0);
+    in.target_vel = gd_v2 (15, 0);
+    gd_waypoint_t w, eq1;
+    assert_int_equal (gd_waypoint_flyable (&in, &w), 0);
+    assert_int_equal (gd_waypoint (&in, &eq1), 0);
+    assert_true (eq1.secondary);
+    assert_near (w.t_pred_s, eq1.t_pred_s, 0);
+    assert_v2_near (w.waypoint, eq1.waypoint, 0);
+    assert_v2_near (w.second, eq1.second, 0);
+    assert_near (w.route_m, gd_route_length (&in, &eq1), 1e-9);
+    assert_true (w.route_m / in.uav_speed_mps > w.t_pred_s + 0.5);
+    // Slower than s/(1 + 2k) = 13.3 m/s it settles: the route takes t_pred.
+    in.target_vel = gd_v2 (12, 0);
+    assert_int_equal (gd_waypoint_flyable (&in, &w), 0);
+    assert_true (w.t_pred_s > eq1.t_pred_s);
+    assert_true (w.route_m / in.uav_speed_mps <= w.t_pred_s + 0.5);
+}
+
+/* gd_waypoint_flyable refuses a NULL result as gd_waypoint does. Run last:
+ * if it writes through the pointer the sanitizer ends the program. */
+static void test_flyable_null_result (void **state)
+{
+    (void)state;
+    gd_engage_t good = s_engage ();
+    good.target = gd_v2 (8000, 0);
+    good.target_vel = gd_v2 (-10, 0);
+    assert_int_equal (gd_waypoint (&good, NULL), -EINVAL);
+    assert_int_equal (gd_waypoint_flyable (&good, NULL), -EINVAL);
 }
 
 /* ---- equation 2 ---------------------------------------------------------------------- */
@@ -1240,6 +1434,10 @@ int main (void)
         cmocka_unit_test (test_waypoint_general_direction),
         cmocka_unit_test (test_waypoint_target_standing),
         cmocka_unit_test (test_waypoint_rejects_bad_input),
+        cmocka_unit_test (test_waypoint_min_t_pred),
+        cmocka_unit_test (test_flyable_straight),
+        cmocka_unit_test (test_flyable_behind),
+        cmocka_unit_test (test_flyable_rejects_bad_input),
         cmocka_unit_test (test_target_frame),
         cmocka_unit_test (test_precision_step),
         cmocka_unit_test (test_dubins_semicircle),
@@ -1255,6 +1453,8 @@ int main (void)
         cmocka_unit_test (test_footprint_terrain),
         cmocka_unit_test (test_footprint_clipped),
         cmocka_unit_test (test_footprint_contains_distance_scale),
+        cmocka_unit_test (test_flyable_no_fixed_point),
+        cmocka_unit_test (test_flyable_null_result), // last: a failure aborts the program
     };
     return cmocka_run_group_tests (tests, NULL, NULL);
 }

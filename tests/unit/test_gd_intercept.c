@@ -14,17 +14,45 @@
  * (a target coming head-on, t = d/(s + v); receding, t = d/(s − v);
  * crossing so that it meets the UAV's line ahead, t = d_cross/v = d/s).
  *
+ * Timing. The default, timing = route, lengthens t_pred to the time the
+ * flyable route takes (through P_2 when the plan has one). The paper's
+ * worked examples — equation 1's exact t_pred (300 s on the crossing
+ * geometry, d/(s − v) behind the target, ...) — run with timing = arc
+ * (test_designate_plan_eq1, test_uav_behind_secondary, test_preempt).
+ * Cases whose route is no longer than the arc (the UAV ahead of the target,
+ * the re-plans of test_replan_on_direction_change) get equation 1's t_pred
+ * under either timing, and run with the default.
+ *
+ * Track updates: a confirmed one (status 1) carries a hit of its own time
+ * (last_hit_s = t_s), a coasting one the time of its last hit; hit counts
+ * and histories are given where a case needs them.
+ *
  * Cases:
  *   - designation: equation 1 (and a target standing still), the route (secondary, waypoint,
  * run-out along −D_T, no turn sharper than the sampling step), equations 2–3 for both signs of
  * y'_u, the secondary's along-track distance in each of its three regimes (k·|y'_u|, lead-in, 4 r);
+ *   - route timing: behind the target (a closed-form route: U-turn, straight
+ *     to P_2, U-turn, straight), t_pred is the route's time within 0.5 s,
+ *     longer than the arc's; ahead, equation 1 stands;
  *   - re-planning on a direction change (track update, turn event) and not on
  *     a small one;
+ *   - held updates: a hit after a coast that disagrees with the trusted
+ *     estimate is held (no re-plan; turn events and coasting updates ignored
+ *     meanwhile), adopted when a second hit agrees, replaced when one
+ *     disagrees; not held without a coast; turn events ignored right after a
+ *     coasting update; deleted while holding: flown on the trusted estimate,
+ *     a hand-over near it (or near the held one), lost on the trusted time;
  *   - cancel, pre-emption, refused designations;
- *   - save and restore, and damaged saves;
+ *   - save and restore, and damaged saves; the round trip while holding,
+ *     right after a coast, and while waiting for a confirmation;
  *   - the precision approach (equation 9) and its time to go;
- *   - overflight, done; a deleted track flown on its prediction, the
- *     hand-over to a new track (the radius growing with age), lost;
+ *   - overflight, its confirmation by a hit carried back to the sampled
+ *     footprints (entry, nearest the centre, latest inside): done, another
+ *     pass (the distance outside by hand, the confirm margin), waiting for
+ *     a hit, lost while waiting;
+ *   - a deleted track flown on its prediction, the hand-over to a new track
+ *     (the radius growing with age; only a track born after the loss, by its
+ *     first hit or its present position), lost;
  *   - gd_pick_nearest, the display scale, the constructor and names. */
 #include <setjmp.h>
 #include <stdarg.h>
@@ -109,6 +137,9 @@ static gd_uav_t s_uav (double t_s, double e, double n, double heading_deg)
     return u;
 }
 
+/* A track update. A confirmed one (status 1) carries a hit of its own time
+ * (last_hit_s = t_s); other statuses leave the newest hit unknown (NaN).
+ * hits 0 (unknown), no history. */
 static gd_track_t s_track (uint32_t id, int status, double t_s, double e, double n, double ve,
                            double vn)
 {
@@ -119,7 +150,22 @@ static gd_track_t s_track (uint32_t id, int status, double t_s, double e, double
     t.t_s = t_s;
     t.pos = gd_v2 (e, n);
     t.vel = gd_v2 (ve, vn);
+    t.last_hit_s = status == 1 ? t_s : NAN;
     return t;
+}
+
+/* A coasting update (status 2) whose newest hit was at last_hit_s. */
+static gd_track_t s_coast (uint32_t id, double t_s, double e, double n, double ve, double vn,
+                           double last_hit_s)
+{
+    gd_track_t t = s_track (id, 2, t_s, e, n, ve, vn);
+    t.last_hit_s = last_hit_s;
+    return t;
+}
+
+static uint64_t s_task_number (const gd_intercept_t *ic)
+{
+    return gd_intercept_task (ic)->number;
 }
 
 /* A velocity of speed v along a heading (degrees clockwise from north). */
@@ -235,11 +281,14 @@ static gd_intercept_t *s_crossing (const gd_params_t *p, uint32_t id)
  * P_2 = (1200, 11 400) + 11 400·(0, −1) + 2000·(1, 0) = (3200, 0). The route
  * ends (look-ahead + run-out) = 2700 m past the waypoint along −D_T:
  * (1200 − 2700, 11 400) = (−1500, 11 400). (Numbers for the default
- * parameters; the checks take them from gd_params_defaults.) */
+ * parameters; the checks take them from gd_params_defaults.) The paper's
+ * timing (timing = arc): the default route timing would lengthen t_pred to
+ * the flight through P_2 (test_route_timing). */
 static void test_designate_plan_eq1 (void **state)
 {
     (void)state;
     gd_params_t p = s_params ();
+    p.timing = GD_TIMING_ARC;
     gd_intercept_t *ic = s_new (&p);
     gd_uav_t u = s_uav (100, 0, 0, 0);
     gd_intercept_uav (ic, &u);
@@ -338,7 +387,8 @@ static void test_uav_ahead_no_secondary (void **state)
  * metres ahead. Meeting straight ahead: 38·t = d + 10·t, t = d/28; waypoint
  * = (0, d + 10·t + 1200); y'_u = −waypoint.n; x'_u = 0, so P_2 lies on the
  * line, along-track max(0.25·|y'_u|, max(lead_in, 4 r)) ahead of the
- * waypoint. Three cases, one for each term of the max. */
+ * waypoint. Three cases, one for each term of the max. Equation 1's t_pred:
+ * timing = arc (the route through P_2 would take far longer). */
 static void s_behind_case (gd_params_t p, double d, double want_y2)
 {
     gd_intercept_t *ic = s_new (&p);
@@ -372,6 +422,7 @@ static void test_uav_behind_secondary (void **state)
 {
     (void)state;
     gd_params_t p = s_params ();
+    p.timing = GD_TIMING_ARC;
     double r = s_radius (&p), k = p.secondary_scale;
     // The regimes below rely on the defaults' k = 0.25, lead-in 2000 > 4 r.
     assert_true (p.lead_in_m > 4 * r);
@@ -418,6 +469,140 @@ static void test_standing_target (void **state)
     assert_int_equal (gd_intercept_task (ic)->number, 1);
     assert_int_equal (s_status (ic).replans, 0);
     gd_intercept_destroy (&ic);
+}
+
+/* ---- route timing -------------------------------------------------------------------------- */
+
+/* Length of the route's polyline from the UAV's ground position through
+ * points[0..last]. */
+static double s_polyline (gd_v2_t start, const gd_v2_t *pts, size_t last)
+{
+    double len = 0;
+    gd_v2_t prev = start;
+    for (size_t i = 0; i <= last; i++) {
+        len += gd_norm (gd_sub (pts[i], prev));
+        prev = pts[i];
+    }
+    return len;
+}
+
+/* With timing = route (the default) t_pred is the time of the flyable route.
+ *
+ * Behind: the UAV at the origin heading south (away from the target, which is
+ * 5000 m north of it receding north at 10 m/s). For a t_pred t, equation 1
+ * puts the waypoint at (0, W), W = 5000 + 10·t + 1200 = 6200 + 10·t;
+ * y'_u = −W ≤ 0: P_2 on the line (x'_u = 0) at (0, W + y2), y2 =
+ * max(0.25·W, 2000) (= 0.25·W when W > 8000). The route: from (0, 0)
+ * heading south to P_2 heading south (towards the waypoint), a goal straight
+ * behind with the same heading, is a U-turn (π·r), the straight W + y2
+ * north and a U-turn back (π·r); then P_2 to the waypoint, straight y2:
+ * R(t) = W + 2·y2 + 2π·r = 1.5·W + 2π·r = 9300 + 15·t + 2π·r. Its time at
+ * 38 m/s equals t at t* = (9300 + 2π·r)/23 ≈ 508.86 s (W ≈ 11 289 > 8000:
+ * the 0.25·W regime holds). The iteration t ← R(t)/38 rises to t* with
+ * ratio 15/38 and stops once R(t)/38 ≤ t + 0.5, i.e. within
+ * 0.5/(1 − 15/38) ≈ 0.83 s below t*. The paper's arc (timing = arc) only
+ * turns round to the target: a t_pred far shorter, whose route the UAV
+ * cannot fly in time.
+ *
+ * Ahead (the geometry of test_uav_ahead_no_secondary): the route to the
+ * waypoint is the straight 14 593.75 m along the UAV's heading, 384 s at
+ * 38 m/s, less than equation 1's 415.625 s: t_pred stays equation 1's. */
+static void test_route_timing (void **state)
+{
+    (void)state;
+    gd_params_t p = s_params ();
+    assert_int_equal (p.timing, GD_TIMING_ROUTE); // the default
+    double r = s_radius (&p);
+    gd_uav_t u = s_uav (100, 0, 0, 180);
+    gd_track_t t = s_track (4, 1, 100, 0, 5000, 0, 10);
+    gd_intercept_t *ic = s_new (&p);
+    gd_intercept_uav (ic, &u);
+    s_designate (ic, &t, 100);
+    gd_status_t st = s_status (ic);
+    double ts = (9300 + 2 * PI * r) / 23;
+    assert_int_equal (st.phase, GD_TO_SECONDARY);
+    assert_true (st.has_secondary);
+    if (!(st.t_pred_s <= ts + 1e-6 && st.t_pred_s >= ts - 0.5 / (1 - 15.0 / 38) - 1e-6))
+        fail_msg ("t_pred %.6f s, expected within 0.83 s below %.6f s", st.t_pred_s, ts);
+    double w = 6200 + 10 * st.t_pred_s;
+    assert_true (0.25 * w > p.lead_in_m);
+    // Equations 1–3 with that t_pred.
+    assert_v2_near (st.waypoint, s_eq1 (&t, 100, st.t_pred_s), 1e-6);
+    assert_v2_near (st.waypoint, gd_v2 (0, w), 1e-6);
+    assert_v2_near (st.secondary, gd_v2 (0, 1.25 * w), 1e-6);
+    // The route's time agrees with t_pred within 0.5 s (by hand and by gd_route_length).
+    double route = 1.5 * w + 2 * PI * r;
+    assert_true (route / UAV_SPEED >= st.t_pred_s - 1e-9);
+    assert_true (route / UAV_SPEED <= st.t_pred_s + 0.5);
+    gd_engage_t in = {
+        .uav = gd_v2 (0, 0),
+        .uav_heading_deg = 180,
+        .uav_speed_mps = UAV_SPEED,
+        .turn_radius_m = r,
+        .agl_m = 1200,
+        .depression_deg = 45,
+        .target = t.pos,
+        .target_vel = t.vel,
+        .secondary_scale = p.secondary_scale,
+        .lead_in_m = p.lead_in_m,
+    };
+    gd_waypoint_t wp = {0};
+    wp.dir = gd_v2 (0, 1);
+    wp.waypoint = st.waypoint;
+    wp.secondary = true;
+    wp.second = st.secondary;
+    assert_near (gd_route_length (&in, &wp), route, 1e-6);
+    // The task is that route: its polyline up to the waypoint is the Dubins
+    // length less the arcs' chord shortfall (15° steps: chord/arc =
+    // sin 7.5°/(7.5° in radians) over the 2π·r of turns).
+    const gd_task_t *tk = gd_intercept_task (ic);
+    assert_v2_near (tk->points[tk->count - 2], st.waypoint, 1e-6);
+    double chord = sin (7.5 * DEG) / (7.5 * DEG);
+    double poly = s_polyline (gd_v2 (0, 0), tk->points, tk->count - 2);
+    if (!(poly <= route + 1e-6 && poly >= route - 2 * PI * r * (1 - chord) - 1e-6))
+        fail_msg ("route polyline %.3f m, expected %.3f m less at most %.3f m", poly, route,
+                  2 * PI * r * (1 - chord));
+    double t_route = st.t_pred_s;
+    gd_intercept_destroy (&ic);
+
+    // The same with timing = arc: equation 1's fixed point, far shorter, and
+    // the route through its P_2 takes longer than it.
+    p.timing = GD_TIMING_ARC;
+    ic = s_new (&p);
+    gd_intercept_uav (ic, &u);
+    s_designate (ic, &t, 100);
+    st = s_status (ic);
+    assert_true (st.has_secondary);
+    s_assert_fixed_point (&t, &u, r, st.t_pred_s);
+    assert_true (st.t_pred_s < t_route - 100);
+    wp.waypoint = st.waypoint;
+    wp.second = st.secondary;
+    assert_true (gd_route_length (&in, &wp) / UAV_SPEED > st.t_pred_s + 100);
+    gd_intercept_destroy (&ic);
+
+    // Ahead: the route is shorter than the arc; both timings give equation 1.
+    gd_track_t ta = s_track (3, 1, 95, 0, 20000, 0, -10);
+    gd_uav_t ua = s_uav (100, 0, 0, 0);
+    double tp = 19950.0 / (UAV_SPEED + 10);
+    gd_status_t sa[2];
+    const gd_timing_t timings[2] = {GD_TIMING_ROUTE, GD_TIMING_ARC};
+    for (int i = 0; i < 2; i++) {
+        p.timing = timings[i];
+        ic = s_new (&p);
+        gd_intercept_uav (ic, &ua);
+        s_designate (ic, &ta, 100);
+        sa[i] = s_status (ic);
+        assert_false (sa[i].has_secondary);
+        assert_near (sa[i].t_pred_s, tp, 1e-3);
+        tk = gd_intercept_task (ic);
+        // The route to the waypoint: straight north, 14 593.75 m.
+        assert_near (s_polyline (gd_v2 (0, 0), tk->points, tk->count - 2),
+                     19950 - 10 * tp - LOOKAHEAD, 0.02);
+        gd_intercept_destroy (&ic);
+    }
+    assert_true ((19950 - 10 * tp - LOOKAHEAD) / UAV_SPEED < tp);
+    assert_true (sa[0].t_pred_s == sa[1].t_pred_s);
+    assert_v2_near (sa[0].waypoint, sa[1].waypoint, 0);
 }
 
 /* ---- re-planning --------------------------------------------------------------------------- */
@@ -492,6 +677,229 @@ static void test_replan_on_direction_change (void **state)
     gd_intercept_destroy (&ic);
 }
 
+/* ---- held updates after a coast ----------------------------------------------------------- */
+
+/* The crossing geometry (s_crossing: track 7 east at 10 m/s, its hit at 98 s
+ * at (−3020, 11 400)), then a coasting update at 110 s: the filter's
+ * prediction (−2900, 11 400), still east, its newest hit the one at 98 s.
+ * Nothing changes (task 1). */
+static gd_intercept_t *s_coasting (const gd_params_t *p)
+{
+    gd_intercept_t *ic = s_crossing (p, 7);
+    assert_int_equal (s_task_number (ic), 1);
+    gd_track_t c = s_coast (7, 110, -2900, 11400, 10, 0, 98);
+    gd_intercept_track (ic, &c);
+    assert_int_equal (s_task_number (ic), 1);
+    assert_int_equal (s_status (ic).replans, 0);
+    return ic;
+}
+
+/* The hit that ends the coast, at 112 s at (−2880, 11 400) — where the
+ * trusted estimate predicts it — but with the velocity reversed (west at
+ * 10 m/s: 180° from the plan, beyond the 20° threshold) is held: no new
+ * task, the plan unchanged, the reason says so. While held: a turn event
+ * and a coasting update (turning north: adopted, it would re-plan) change
+ * nothing. A second hit at 114 s that agrees with the held one (its
+ * prediction: (−2880, 11 400) − 2 s·(10, 0) = (−2900, 11 400), west) is
+ * adopted: a new plan along the new direction, equation 1 for that track
+ * (P_T predicted to the UAV's time, 100 s: (−2760, 11 400)). */
+static void test_hold_after_coast (void **state)
+{
+    (void)state;
+    gd_params_t p = s_params ();
+    gd_intercept_t *ic = s_coasting (&p);
+    gd_status_t st0 = s_status (ic);
+
+    gd_track_t h = s_track (7, 1, 112, -2880, 11400, -10, 0);
+    gd_intercept_track (ic, &h);
+    gd_status_t st = s_status (ic);
+    assert_int_equal (s_task_number (ic), 1);
+    assert_int_equal (st.replans, 0);
+    assert_int_equal (st.phase, st0.phase);
+    assert_v2_near (st.waypoint, st0.waypoint, 0);
+    assert_true (st.t_pred_s == st0.t_pred_s);
+    assert_has (st.reason, "held");
+
+    gd_intercept_turn (ic, 7, 112.5, s_vel (10, 180), 90); // ignored while holding
+    gd_track_t c = s_coast (7, 113, -2880, 11410, 0, 10, 112);
+    gd_intercept_track (ic, &c); // coasting while holding: nothing
+    st = s_status (ic);
+    assert_int_equal (s_task_number (ic), 1);
+    assert_int_equal (st.replans, 0);
+    assert_v2_near (st.waypoint, st0.waypoint, 0);
+    assert_has (st.reason, "held");
+
+    gd_track_t a = s_track (7, 1, 114, -2900, 11400, -10, 0);
+    gd_intercept_track (ic, &a);
+    st = s_status (ic);
+    assert_int_equal (s_task_number (ic), 2);
+    assert_int_equal (st.replans, 1);
+    assert_has (st.reason, "re-planned");
+    assert_has (st.reason, "direction changed by 180");
+    assert_v2_near (st.waypoint, s_eq1 (&a, 100, st.t_pred_s), 1e-6);
+    // D_T west: the waypoint 1200 m west of the meeting point.
+    gd_v2_t meet = gd_add (gd_v2 (-2760, 11400), gd_scale (a.vel, st.t_pred_s));
+    assert_v2_near (st.waypoint, gd_add (meet, gd_v2 (-LOOKAHEAD, 0)), 1e-6);
+    gd_intercept_destroy (&ic);
+}
+
+/* A second hit that disagrees with the held one replaces it: held (west) at
+ * 112 s, then at 114 s one going north at (−2880, 11 420) — 90° from both
+ * the trusted estimate and the held one — is held in its place (still task
+ * 1). The proof it replaced the first: a hit at 116 s agreeing with it
+ * (north, (−2880, 11 440)) is adopted and re-plans by 90°; had the west one
+ * still been held, this one would have disagreed with it and been held
+ * too. */
+static void test_hold_replaced (void **state)
+{
+    (void)state;
+    gd_params_t p = s_params ();
+    gd_intercept_t *ic = s_coasting (&p);
+    gd_v2_t wp0 = s_status (ic).waypoint;
+    gd_track_t h = s_track (7, 1, 112, -2880, 11400, -10, 0);
+    gd_intercept_track (ic, &h);
+    assert_has (s_status (ic).reason, "held");
+    gd_track_t h2 = s_track (7, 1, 114, -2880, 11420, 0, 10);
+    gd_intercept_track (ic, &h2);
+    gd_status_t st = s_status (ic);
+    assert_int_equal (s_task_number (ic), 1);
+    assert_int_equal (st.replans, 0);
+    assert_v2_near (st.waypoint, wp0, 0);
+    assert_has (st.reason, "held");
+    gd_track_t a = s_track (7, 1, 116, -2880, 11440, 0, 10);
+    gd_intercept_track (ic, &a);
+    st = s_status (ic);
+    assert_int_equal (s_task_number (ic), 2);
+    assert_int_equal (st.replans, 1);
+    assert_has (st.reason, "direction changed by 90");
+    assert_v2_near (st.waypoint, s_eq1 (&a, 100, st.t_pred_s), 1e-6);
+    gd_intercept_destroy (&ic);
+}
+
+/* What is not held. A hit after a coast that agrees with the trusted
+ * estimate (east, 2° off, on the predicted line) is adopted at once (no
+ * re-plan needed, the reason unchanged). A reversal without a coast before
+ * it re-plans at once (the track is trusted). A turn event right after a
+ * coasting update is ignored (it is judged with the hit that ends the
+ * coast); after the adopted hit the same turn event re-plans. */
+static void test_hold_not_without_coast (void **state)
+{
+    (void)state;
+    gd_params_t p = s_params ();
+    gd_intercept_t *ic = s_coasting (&p);
+    const char *before = s_status (ic).reason;
+    char keep[160];
+    snprintf (keep, sizeof keep, "%s", before);
+    gd_intercept_turn (ic, 7, 111, s_vel (10, 180), 90); // after a coast: ignored
+    assert_int_equal (s_task_number (ic), 1);
+    assert_int_equal (s_status (ic).replans, 0);
+    gd_v2_t v2 = s_vel (10, 92);
+    gd_track_t a = s_track (7, 1, 112, -2880, 11400, v2.e, v2.n);
+    gd_intercept_track (ic, &a);
+    gd_status_t st = s_status (ic);
+    assert_int_equal (s_task_number (ic), 1);
+    assert_int_equal (st.replans, 0);
+    assert_string_equal (st.reason, keep);
+    // The track trusted again: the same turn event re-plans.
+    gd_intercept_turn (ic, 7, 113, s_vel (10, 180), 90);
+    st = s_status (ic);
+    assert_int_equal (s_task_number (ic), 2);
+    assert_int_equal (st.replans, 1);
+    assert_has (st.reason, "turn event");
+    gd_intercept_destroy (&ic);
+
+    // No coast: a reversal re-plans at once.
+    ic = s_crossing (&p, 7);
+    gd_track_t r = s_track (7, 1, 110, -2900, 11400, -10, 0);
+    gd_intercept_track (ic, &r);
+    st = s_status (ic);
+    assert_int_equal (s_task_number (ic), 2);
+    assert_int_equal (st.replans, 1);
+    assert_has (st.reason, "direction changed by 180");
+    gd_intercept_destroy (&ic);
+}
+
+/* Deleted while holding: the UAV flies on the trusted estimate. Track 7 at
+ * (−3000, 11 400) at 100 s (its hit), east at 10 m/s; coasting at 110 s; a
+ * hit at 112 s 2000 m north of the trusted prediction (−2880, 11 400),
+ * same direction (more than offset_m off: held); deleted at 115 s. The plan
+ * stays (task and waypoint); turn events are ignored (orphaned). Hand-over
+ * at 120 s: the trusted prediction (−2800, 11 400), radius 400 + 20·20 =
+ * 800 m (20 s since its hit at 100 s); the held prediction (−2800, 13 400),
+ * radius 400 + 20·8 = 560 m (8 s since its hit at 112 s). A track 1000 m
+ * from both, at (−2800, 12 400), does not take over; one 700 m east of the
+ * trusted prediction does; so does (the held estimate counts too) one 500 m
+ * south of the held prediction, 1500 m from the trusted one. And without a
+ * new track the intercept is lost lost_after_s after the latest update
+ * heard, held or not (112 s): the held hit shows the track was alive. */
+static gd_intercept_t *s_deleted_holding (const gd_params_t *p)
+{
+    gd_intercept_t *ic = s_new (p);
+    gd_uav_t u = s_uav (100, 0, 0, 0);
+    gd_intercept_uav (ic, &u);
+    gd_track_t t = s_track (7, 1, 100, -3000, 11400, 10, 0);
+    s_designate (ic, &t, 100);
+    gd_track_t c = s_coast (7, 110, -2900, 11400, 10, 0, 100);
+    gd_intercept_track (ic, &c);
+    gd_track_t h = s_track (7, 1, 112, -2880, 13400, 10, 0);
+    gd_intercept_track (ic, &h);
+    assert_has (s_status (ic).reason, "held");
+    gd_track_t d = s_track (7, 3, 115, -2850, 13400, 10, 0);
+    gd_intercept_track (ic, &d);
+    assert_has (s_status (ic).reason, "deleted");
+    return ic;
+}
+
+static void test_hold_then_deleted (void **state)
+{
+    (void)state;
+    gd_params_t p = s_params ();
+    // The plan without any of it, for comparison.
+    gd_intercept_t *ref = s_new (&p);
+    gd_uav_t u = s_uav (100, 0, 0, 0);
+    gd_intercept_uav (ref, &u);
+    gd_track_t t = s_track (7, 1, 100, -3000, 11400, 10, 0);
+    s_designate (ref, &t, 100);
+    gd_status_t st0 = s_status (ref);
+    gd_intercept_destroy (&ref);
+
+    gd_intercept_t *ic = s_deleted_holding (&p);
+    gd_status_t st = s_status (ic);
+    assert_int_equal (st.phase, st0.phase);
+    assert_int_equal (st.track_id, 7);
+    assert_int_equal (s_task_number (ic), 1);
+    assert_v2_near (st.waypoint, st0.waypoint, 0);
+    gd_intercept_turn (ic, 7, 116, s_vel (10, 180), 90); // orphaned: ignored
+    assert_int_equal (s_task_number (ic), 1);
+    assert_int_equal (s_status (ic).replans, 0);
+
+    gd_track_t none = s_track (20, 1, 120, -2800, 12400, 10, 0);
+    gd_intercept_track (ic, &none);
+    assert_int_equal (s_status (ic).track_id, 7);
+    gd_track_t near = s_track (21, 1, 120, -2800 + 700, 11400, 10, 0);
+    gd_intercept_track (ic, &near);
+    st = s_status (ic);
+    assert_int_equal (st.track_id, 21);
+    assert_has (st.reason, "goes on as track 21");
+    assert_int_equal (s_task_number (ic), 1);
+    gd_intercept_destroy (&ic);
+
+    ic = s_deleted_holding (&p);
+    gd_intercept_track (ic, &none);
+    assert_int_equal (s_status (ic).track_id, 7);
+    gd_track_t by_held = s_track (22, 1, 120, -2800, 13400 - 500, 10, 0);
+    gd_intercept_track (ic, &by_held);
+    assert_int_equal (s_status (ic).track_id, 22);
+    gd_intercept_destroy (&ic);
+
+    ic = s_deleted_holding (&p);
+    gd_intercept_tick (ic, 112 + p.lost_after_s - 0.5);
+    assert_true (s_status (ic).phase != GD_LOST);
+    gd_intercept_tick (ic, 112 + p.lost_after_s + 0.5);
+    assert_int_equal (s_status (ic).phase, GD_LOST);
+    gd_intercept_destroy (&ic);
+}
+
 /* ---- commands -------------------------------------------------------------------------------- */
 
 static void test_cancel (void **state)
@@ -532,11 +940,14 @@ static void test_cancel (void **state)
 }
 
 /* A second designation pre-empts the first: a fresh plan for the new track
- * (equation 1 for it), the replans count reset, the old track ignored. */
+ * (equation 1 for it, so timing = arc: track 9, north-east of the UAV and
+ * moving north, is met through a secondary waypoint, whose route would
+ * lengthen t_pred), the replans count reset, the old track ignored. */
 static void test_preempt (void **state)
 {
     (void)state;
     gd_params_t p = s_params ();
+    p.timing = GD_TIMING_ARC;
     gd_intercept_t *ic = s_crossing (&p, 7);
     gd_uav_t u = s_uav (100, 0, 0, 0);
     gd_v2_t v30 = s_vel (10, 120);
@@ -755,7 +1166,8 @@ static void test_save_restore (void **state)
     s_damaged (c, buf, 0, "line 0");
     s_damaged (c, "", 0, "the header");
     size_t n;
-    char *bad = s_replace (buf, len, "gd_intercept 1\n", "gd_intercept 2\n", &n);
+    // The format is version 2; version 1 (no held, confirm, sample records) is refused.
+    char *bad = s_replace (buf, len, "gd_intercept 2\n", "gd_intercept 1\n", &n);
     s_damaged (c, bad, n, "line 1: bad or missing the header");
     free (bad);
     bad = s_replace (buf, len, "settings 0 5\n", "settings 0 3\n", &n); // no such scale
@@ -880,7 +1292,11 @@ static void test_precision_eq9 (void **state)
  * boresight, b = tan 3.75°) meets the ground 1200·(1 − b)/(1 + b) ≈ 1052 m
  * ahead, the far edge 1200·(1 + b)/(1 − b) ≈ 1368 m. Then the UAV flies on:
  * at 210 s the target is 720 m ahead of it (behind the near edge): out; at
- * 211.5 s still within the 2 s grace; at 212.5 s done. */
+ * 211.5 s still within the 2 s grace; at 212.5 s out for 2.5 s: waiting for
+ * a hit to confirm the overflight (the latest track update, at 100 s, has
+ * none after the entry at 200 s). The update at 213 s, a hit without
+ * history at (0, 18 870) moving south at 10 m/s, carried back to the entry
+ * (13 s, 130 m north) is at (0, 19 000), the footprint's centre then: done. */
 static void test_overflight_done (void **state)
 {
     (void)state;
@@ -918,10 +1334,18 @@ static void test_overflight_done (void **state)
     u = s_uav (211.5, 0, 18237, 0);
     gd_intercept_uav (ic, &u);
     assert_int_equal (s_status (ic).phase, GD_OVERFLIGHT);
+    assert_has (s_status (ic).reason, "in the footprint"); // not yet waiting
     u = s_uav (212.5, 0, 18275, 0);
     gd_intercept_uav (ic, &u);
     st = s_status (ic);
+    assert_int_equal (st.phase, GD_OVERFLIGHT);
+    assert_has (st.reason, "waiting for its next hit");
+    assert_int_equal (gd_intercept_task (ic)->number, n);
+    t = s_track (5, 1, 213, 0, 18870, 0, -10);
+    gd_intercept_track (ic, &t);
+    st = s_status (ic);
     assert_int_equal (st.phase, GD_DONE);
+    assert_has (st.reason, "confirm");
     assert_false (st.has_footprint);
     assert_false (st.target_in_footprint);
     assert_near (st.overflight_s, 200, 0);
@@ -942,9 +1366,11 @@ static void test_overflight_done (void **state)
  * 10 m/s). Deleted at 110 s: the phase stays, the plan is flown on the
  * prediction. At 115 s the target should be at (−2850, 11 400); a new track
  * takes over within R = handover_m + handover_growth_mps·age of it, age the
- * 15 s since the last good update (400 + 10·15 = 550 m with the defaults):
- * one R + 15 m away does not, one R − 15 m away (beyond the bare
- * handover_m) does. */
+ * 15 s since the last good update's hit, at 100 s (400 + 20·15 = 700 m with
+ * the defaults): one R + 15 m away does not, one R − 15 m away (beyond the
+ * bare handover_m) does. While orphaned, turn events are ignored. The
+ * candidates' hit counts are unknown (hits 0), so they are judged by their
+ * present positions alone. */
 static void test_deleted_handover (void **state)
 {
     (void)state;
@@ -964,6 +1390,10 @@ static void test_deleted_handover (void **state)
     assert_int_equal (st.track_id, 7);
     assert_has (st.reason, "deleted");
     assert_int_equal (gd_intercept_task (ic)->number, n);
+    // Orphaned: a turn event of the deleted track (90°) is ignored.
+    gd_intercept_turn (ic, 7, 111, gd_v2 (0, -10), 90);
+    assert_int_equal (gd_intercept_task (ic)->number, n);
+    assert_int_equal (s_status (ic).replans, 0);
 
     double r = p.handover_m + p.handover_growth_mps * 15;
     assert_true (r - 15 > p.handover_m); // the growth matters below
@@ -997,6 +1427,305 @@ static void test_deleted_handover (void **state)
     assert_true (s_status (ic).phase != GD_LOST);
     gd_intercept_tick (ic, 116 + p.lost_after_s + 0.5);
     assert_int_equal (s_status (ic).phase, GD_LOST);
+    gd_intercept_destroy (&ic);
+}
+
+/* Hand-over to a track born after the loss. handover_growth_mps = 0, so the
+ * radius is handover_m (400 m) at any age. Track 7 at (−3000, 11 400) at
+ * 100 s (its newest hit), east at 10 m/s, deleted at 110 s: its prediction
+ * at τ is (−3000 + 10·(τ − 100), 11 400).
+ *
+ * Track 20, heard at 160 s with 3 hits, all in its history (120, 140,
+ * 160 s): its first hit (−2700, 11 400) is 100 m from the prediction at
+ * 120 s, (−2800, 11 400); then it turned north at 20 m/s, and it is now at
+ * (−2700, 12 200), √(300² + 800²) = 854 m from the prediction at 160 s,
+ * (−2400, 11 400). Born after the loss (120 > 100) and first seen where the
+ * target could be: it takes over. The same track with its first hit moved
+ * 600 m north (500 m from the prediction) does not: the first hit is what
+ * made it acceptable. Taken over, its update is the target's: north, 90°
+ * from the plan, it re-plans.
+ *
+ * Older tracks right on the prediction do not take over: one whose history
+ * starts at 95 s (before the deleted track's last hit), one starting at
+ * 100 s (not after it), and one with 5 hits of which the history holds only
+ * 3 (its first hit is older than the history shows). The same track with
+ * hits equal to its history's count does. */
+static gd_track_t s_born (uint32_t id, double t0, double first_n)
+{
+    gd_track_t t = s_track (id, 1, 160, -2700, 12200, 0, 20);
+    t.hits = 3;
+    t.history_count = 3;
+    t.history[0] = gd_v2 (-2700, first_n);
+    t.history_t_s[0] = t0;
+    t.history[1] = gd_v2 (-2700, 11800);
+    t.history_t_s[1] = t0 + 20;
+    t.history[2] = gd_v2 (-2700, 12200);
+    t.history_t_s[2] = t0 + 40;
+    return t;
+}
+
+/* A track on the prediction at 130 s, (−2700, 11 400), east at 10 m/s,
+ * whose history of count hits starts at t0 (also on the line). */
+static gd_track_t s_on_line (uint32_t id, double t0, uint32_t hits)
+{
+    gd_track_t t = s_track (id, 1, 130, -2700, 11400, 10, 0);
+    t.hits = hits;
+    t.history_count = 3;
+    for (size_t k = 0; k < 3; k++) {
+        t.history_t_s[k] = t0 + 5.0 * (double)k;
+        t.history[k] = gd_v2 (-3000 + 10 * (t.history_t_s[k] - 100), 11400);
+    }
+    return t;
+}
+
+static gd_intercept_t *s_orphaned (const gd_params_t *p)
+{
+    gd_intercept_t *ic = s_new (p);
+    gd_uav_t u = s_uav (100, 0, 0, 0);
+    gd_intercept_uav (ic, &u);
+    gd_track_t t = s_track (7, 1, 100, -3000, 11400, 10, 0);
+    s_designate (ic, &t, 100);
+    t = s_track (7, 3, 110, -2900, 11400, 10, 0);
+    gd_intercept_track (ic, &t);
+    assert_has (s_status (ic).reason, "deleted");
+    return ic;
+}
+
+static void test_handover_born_after (void **state)
+{
+    (void)state;
+    gd_params_t p = s_params ();
+    p.handover_growth_mps = 0;
+    gd_intercept_t *ic = s_orphaned (&p);
+    gd_track_t late = s_born (20, 120, 11400 + 600);
+    gd_intercept_track (ic, &late);
+    assert_int_equal (s_status (ic).track_id, 7);
+    assert_int_equal (s_status (ic).replans, 0);
+    late = s_born (20, 120, 11400);
+    gd_intercept_track (ic, &late);
+    gd_status_t st = s_status (ic);
+    assert_int_equal (st.track_id, 20);
+    // Its update is then the target's: north, 90° from the plan, a new plan.
+    assert_int_equal (st.replans, 1);
+    assert_has (st.reason, "direction changed by 90");
+    gd_intercept_destroy (&ic);
+
+    ic = s_orphaned (&p);
+    gd_track_t old = s_on_line (30, 95, 3);
+    gd_intercept_track (ic, &old);
+    assert_int_equal (s_status (ic).track_id, 7);
+    old = s_on_line (31, 100, 3);
+    gd_intercept_track (ic, &old);
+    assert_int_equal (s_status (ic).track_id, 7);
+    old = s_on_line (32, 115, 5);
+    gd_intercept_track (ic, &old);
+    assert_int_equal (s_status (ic).track_id, 7);
+    gd_track_t young = s_on_line (33, 115, 3);
+    gd_intercept_track (ic, &young);
+    assert_int_equal (s_status (ic).track_id, 33);
+    gd_intercept_destroy (&ic);
+}
+
+/* ---- overflight confirmation ---------------------------------------------------------------- */
+
+/* The overflight of test_overflight_done, sampled at three distinct
+ * moments: designation at 100 s (track 5 at (0, 20 000) south at 10 m/s,
+ * UAV at the origin heading north at 38 m/s, the target predicted at
+ * (0, 20 000 − 10·(τ − 100)) at τ). The footprint spans 1052..1368 m ahead
+ * of the UAV (test_overflight_done), ±139..159 m across.
+ *   198 s: UAV (0, 17 724), target (0, 19 020), 1296 m ahead: inside — the
+ *          entry (96 m from the centre, 1200 m ahead);
+ *   200 s: UAV (0, 17 800), target (0, 19 000), on the centre: the moment
+ *          nearest it;
+ *   202 s: UAV (0, 17 876), target (0, 18 980), 1104 m ahead: the latest
+ *          inside (96 m from the centre again, not nearer);
+ *   210 s: out (720 m ahead); 212.5 s: out for 2.5 s, waiting for a hit.
+ * The task number at the entry in *ret_n. */
+static gd_intercept_t *s_overflown (const gd_params_t *p, uint64_t *ret_n)
+{
+    gd_intercept_t *ic = s_new (p);
+    gd_uav_t u = s_uav (100, 0, 0, 0);
+    gd_intercept_uav (ic, &u);
+    gd_track_t t = s_track (5, 1, 100, 0, 20000, 0, -10);
+    s_designate (ic, &t, 100);
+    const double at[5][2] = {
+        {198, 17724}, {200, 17800}, {202, 17876}, {210, 18180}, {212.5, 18275}};
+    for (int i = 0; i < 5; i++) {
+        u = s_uav (at[i][0], 0, at[i][1], 0);
+        gd_intercept_uav (ic, &u);
+        if (i == 0)
+            *ret_n = s_task_number (ic);
+        assert_int_equal (s_status (ic).phase, GD_OVERFLIGHT);
+        assert_true (s_status (ic).target_in_footprint == (i < 3));
+    }
+    gd_status_t st = s_status (ic);
+    assert_near (st.overflight_s, 198, 0);
+    assert_has (st.reason, "waiting for its next hit");
+    assert_int_equal (s_task_number (ic), *ret_n);
+    return ic;
+}
+
+/* Distance from p to the segment a–b. */
+static double s_seg_dist (gd_v2_t p, gd_v2_t a, gd_v2_t b)
+{
+    gd_v2_t ab = gd_sub (b, a);
+    double u = gd_dot (gd_sub (p, a), ab) / gd_dot (ab, ab);
+    u = u < 0 ? 0 : (u > 1 ? 1 : u);
+    return gd_norm (gd_sub (p, gd_add (a, gd_scale (ab, u))));
+}
+
+/* The update that confirms or refutes the overflight of s_overflown: at
+ * 214 s, (0, 18 860) south at 10 m/s, with hits at 197.9, 198.5, 200.5, 207
+ * and 213 s. The one that counts is the hit nearest in time to the moment
+ * nearest the centre (200 s) among those after the entry (198 s): 200.5 s
+ * (197.9 s is before the entry; 198.5 s would be the nearest to the entry,
+ * 213 s is the newest). It lies at the target's line position
+ * (0, 18 995) moved by off; the 197.9 and 198.5 s hits are put 2000 m off
+ * the line, the others on it, so that only the 200.5 s hit decides. */
+static gd_track_t s_confirming_update (gd_v2_t off)
+{
+    gd_track_t t = s_track (5, 1, 214, 0, 18860, 0, -10);
+    t.hits = 50;
+    t.history_count = 5;
+    const double ts[5] = {197.9, 198.5, 200.5, 207, 213};
+    for (size_t k = 0; k < 5; k++) {
+        t.history_t_s[k] = ts[k];
+        t.history[k] = gd_v2 (0, 20000 - 10 * (ts[k] - 100));
+    }
+    t.history[0].e = 2000;
+    t.history[1].e = -2000;
+    t.history[2] = gd_add (t.history[2], off);
+    return t;
+}
+
+/* Confirmation: the 200.5 s hit, carried along (0, −10) m/s to 198, 200 and
+ * 202 s, against the footprints of those moments (relative to the UAV:
+ * each time the point is 1296, 1200 and 1104 m ahead, plus off.n, and
+ * off.e across).
+ *   - on the line: inside at every moment: done, the route kept;
+ *   - 200 m north (off.n = 200): 1496 and 1400 m ahead at 198 and 200 s,
+ *     beyond the far edge (1368 m), but 1304 m at 202 s: inside then:
+ *     done (the latest moment inside counts);
+ *   - 200 m south: 1096 m ahead at 198 s, inside (the entry counts; 1000 and
+ *     904 m at 200 and 202 s are short of the near edge, 1052 m): done;
+ *   - 600 m east: outside at every moment; the footprint's right edge
+ *     (level flight, heading north; b = tan 3.75°, a = tan 5°, as in
+ *     test_overflight_done) runs from (a·1200√2/(1 + b),
+ *     1200·(1 − b)/(1 + b)) to (a·1200√2/(1 − b), 1200·(1 + b)/(1 − b))
+ *     relative to the UAV; the smallest of the point's distances to it
+ *     (≈ 444.74 m, at 198 s where the footprint is widest) is how far outside
+ *     it passed: another pass (a new plan, overflight_s cleared); a confirm
+ *     margin just above that distance makes it done, one just below another
+ *     pass. */
+static void test_overflight_confirm (void **state)
+{
+    (void)state;
+    gd_params_t p = s_params ();
+    const gd_v2_t inside[3] = {{0, 0}, {0, 200}, {0, -200}};
+    for (int i = 0; i < 3; i++) {
+        uint64_t n;
+        gd_intercept_t *ic = s_overflown (&p, &n);
+        gd_track_t in = s_confirming_update (inside[i]);
+        gd_intercept_track (ic, &in);
+        gd_status_t st = s_status (ic);
+        if (st.phase != GD_DONE)
+            fail_msg ("hit moved by (%g, %g): phase %s (%s), expected DONE", inside[i].e,
+                      inside[i].n, gd_phase_name (st.phase), st.reason);
+        assert_has (st.reason, "confirm");
+        assert_near (st.overflight_s, 198, 0);
+        assert_int_equal (s_task_number (ic), n);
+        assert_int_equal (st.replans, 0);
+        gd_intercept_destroy (&ic);
+    }
+
+    double b = tan (3.75 * DEG), a = tan (5.0 * DEG);
+    gd_v2_t nr = gd_v2 (a * 1200 * sqrt (2) / (1 + b), 1200 * (1 - b) / (1 + b));
+    gd_v2_t fr = gd_v2 (a * 1200 * sqrt (2) / (1 - b), 1200 * (1 + b) / (1 - b));
+    double d = INFINITY;
+    const double ahead[3] = {1296, 1200, 1104};
+    for (int k = 0; k < 3; k++)
+        d = fmin (d, s_seg_dist (gd_v2 (600, ahead[k]), nr, fr));
+    assert_near (d, 444.74, 0.01);
+    char want[64];
+    snprintf (want, sizeof want, "passed %.0f m outside", d);
+
+    uint64_t n;
+    gd_intercept_t *ic = s_overflown (&p, &n);
+    gd_track_t out = s_confirming_update (gd_v2 (600, 0));
+    gd_intercept_track (ic, &out);
+    gd_status_t st = s_status (ic);
+    assert_true (st.phase == GD_TO_WAYPOINT || st.phase == GD_TO_SECONDARY ||
+                 st.phase == GD_PRECISION);
+    assert_has (st.reason, "another pass");
+    assert_has (st.reason, want);
+    assert_true (isnan (st.overflight_s));
+    assert_int_equal (st.replans, 1);
+    assert_int_equal (s_task_number (ic), n + 1);
+    assert_int_equal (gd_intercept_task (ic)->kind, GD_TASK_ROUTE);
+    gd_intercept_destroy (&ic);
+
+    p.confirm_margin_m = d + 0.5;
+    ic = s_overflown (&p, &n);
+    gd_intercept_track (ic, &out);
+    assert_int_equal (s_status (ic).phase, GD_DONE);
+    gd_intercept_destroy (&ic);
+    p.confirm_margin_m = d - 0.5;
+    ic = s_overflown (&p, &n);
+    gd_intercept_track (ic, &out);
+    assert_has (s_status (ic).reason, "another pass");
+    gd_intercept_destroy (&ic);
+}
+
+/* No hit after the entry yet: it keeps waiting in OVERFLIGHT, the task
+ * unchanged — a coasting update; a confirmed update whose hits all precede
+ * the entry at 198 s (190, 195, 197.5 s); a confirmed update without
+ * history timed before the entry (197.9 s). Then the hit without history
+ * at 213 s, (0, 18 870), carried back to 200 s is (0, 19 000), the centre
+ * then: done. Another
+ * intercept waiting without any update is lost lost_after_s after the
+ * track's update at 100 s. */
+static void test_overflight_waiting (void **state)
+{
+    (void)state;
+    gd_params_t p = s_params ();
+    uint64_t n;
+    gd_intercept_t *ic = s_overflown (&p, &n);
+    gd_track_t c = s_coast (5, 205, 0, 18950, 0, -10, 100);
+    gd_intercept_track (ic, &c);
+    gd_status_t st = s_status (ic);
+    assert_int_equal (st.phase, GD_OVERFLIGHT);
+    assert_has (st.reason, "waiting for its next hit");
+    gd_track_t old = s_track (5, 1, 206, 0, 18940, 0, -10);
+    old.last_hit_s = 197.5;
+    old.hits = 30;
+    old.history_count = 3;
+    const double ts[3] = {190, 195, 197.5};
+    for (size_t k = 0; k < 3; k++) {
+        old.history_t_s[k] = ts[k];
+        old.history[k] = gd_v2 (0, 20000 - 10 * (ts[k] - 100));
+    }
+    gd_intercept_track (ic, &old);
+    st = s_status (ic);
+    assert_int_equal (st.phase, GD_OVERFLIGHT);
+    assert_has (st.reason, "waiting for its next hit");
+    gd_track_t early = s_track (5, 1, 197.9, 0, 19021, 0, -10); // timed before the entry
+    gd_intercept_track (ic, &early);
+    st = s_status (ic);
+    assert_int_equal (st.phase, GD_OVERFLIGHT);
+    assert_has (st.reason, "waiting for its next hit");
+    assert_int_equal (s_task_number (ic), n);
+    gd_track_t hit = s_track (5, 1, 213, 0, 18870, 0, -10);
+    gd_intercept_track (ic, &hit);
+    assert_int_equal (s_status (ic).phase, GD_DONE);
+    gd_intercept_destroy (&ic);
+
+    ic = s_overflown (&p, &n);
+    gd_intercept_tick (ic, 100 + p.lost_after_s - 0.5);
+    assert_int_equal (s_status (ic).phase, GD_OVERFLIGHT);
+    gd_intercept_tick (ic, 100 + p.lost_after_s + 0.5);
+    st = s_status (ic);
+    assert_int_equal (st.phase, GD_LOST);
+    assert_int_equal (gd_intercept_task (ic)->kind, GD_TASK_LOITER_HERE);
     gd_intercept_destroy (&ic);
 }
 
@@ -1036,6 +1765,158 @@ static void test_deleted_lost (void **state)
     gd_intercept_tick (ic, 100 + 3 * p.lost_after_s);
     assert_int_equal (gd_intercept_task (ic)->number, n + 1);
     gd_intercept_destroy (&ic);
+}
+
+/* ---- save and restore of holding and confirming ------------------------------------------- */
+
+/* Restore a's save into a new intercept; the restored one saves the same
+ * text and shows the same status. The text in *ret_buf (caller frees). */
+static gd_intercept_t *s_round_trip (const gd_params_t *p, const gd_intercept_t *a,
+                                     uint8_t **ret_buf, size_t *ret_len)
+{
+    s_save (a, ret_buf, ret_len);
+    gd_intercept_t *b = s_new (p);
+    char err[256] = "";
+    if (gd_intercept_restore (b, *ret_buf, *ret_len, err, sizeof err) != 0)
+        fail_msg ("restore failed: %s", err);
+    s_assert_same_status (a, b);
+    uint8_t *again;
+    size_t n;
+    s_save (b, &again, &n);
+    assert_int_equal (n, *ret_len);
+    assert_memory_equal (again, *ret_buf, n);
+    free (again);
+    return b;
+}
+
+/* Saved while holding (test_hold_after_coast's held reversal), restored: the
+ * same next inputs give the same results in both — the held hit heard again
+ * (nothing new: ignored; had the restore lost the newest hit heard, it
+ * would pass for a second, agreeing hit and re-plan), a turn event (ignored
+ * while holding), a coasting update turning north (ignored while holding), a
+ * hit going north (disagrees with the held one: held in its place, no
+ * re-plan), one agreeing with it (adopted: a re-plan). Had the restore lost
+ * the holding, the turn event would have re-planned. Saved right after a
+ * coast, restored: a turn event is
+ * ignored and the reversal held in both (the latest status is kept). Then
+ * damaged held and confirm records are refused. */
+static void test_save_restore_holding (void **state)
+{
+    (void)state;
+    gd_params_t p = s_params ();
+    gd_intercept_t *a = s_coasting (&p);
+    gd_track_t h = s_track (7, 1, 112, -2880, 11400, -10, 0);
+    gd_intercept_track (a, &h);
+    assert_has (s_status (a).reason, "held");
+    uint8_t *buf, *buf2;
+    size_t len, len2;
+    gd_intercept_t *b = s_round_trip (&p, a, &buf, &len);
+    assert_non_null (memmem (buf, len, "\nheld 1 1 ", 10)); // holding, the latest update confirmed
+
+    gd_intercept_t *both[2] = {a, b};
+    for (int i = 0; i < 2; i++)
+        gd_intercept_track (both[i], &h); // the held hit again: nothing new
+    s_assert_same_status (a, b);
+    assert_int_equal (s_task_number (b), 1);
+    for (int i = 0; i < 2; i++)
+        gd_intercept_turn (both[i], 7, 112.5, s_vel (10, 180), 90);
+    s_assert_same_status (a, b);
+    assert_int_equal (s_task_number (b), 1);
+    gd_track_t c = s_coast (7, 113, -2880, 11410, 0, 10, 112);
+    for (int i = 0; i < 2; i++)
+        gd_intercept_track (both[i], &c);
+    s_assert_same_status (a, b);
+    assert_int_equal (s_task_number (b), 1);
+    gd_track_t h2 = s_track (7, 1, 114, -2880, 11420, 0, 10);
+    for (int i = 0; i < 2; i++)
+        gd_intercept_track (both[i], &h2);
+    s_assert_same_status (a, b);
+    assert_int_equal (s_task_number (b), 1);
+    assert_has (s_status (b).reason, "held");
+    gd_track_t a2 = s_track (7, 1, 116, -2880, 11440, 0, 10);
+    for (int i = 0; i < 2; i++)
+        gd_intercept_track (both[i], &a2);
+    s_assert_same_status (a, b);
+    assert_int_equal (s_task_number (b), 2);
+    assert_has (s_status (b).reason, "direction changed by 90");
+
+    // Saved right after a coast (not holding), restored: a turn event is
+    // ignored in both (the latest update was coasting), and the reversal
+    // that ends the coast is held in both.
+    gd_intercept_t *a3 = s_coasting (&p);
+    gd_intercept_t *b3 = s_round_trip (&p, a3, &buf2, &len2);
+    assert_non_null (memmem (buf2, len2, "\nheld 0 2 ", 10));
+    free (buf2);
+    gd_intercept_t *pair[2] = {a3, b3};
+    for (int i = 0; i < 2; i++)
+        gd_intercept_turn (pair[i], 7, 111, s_vel (10, 180), 90);
+    s_assert_same_status (a3, b3);
+    assert_int_equal (s_task_number (b3), 1);
+    for (int i = 0; i < 2; i++)
+        gd_intercept_track (pair[i], &h);
+    s_assert_same_status (a3, b3);
+    assert_int_equal (s_task_number (b3), 1);
+    assert_has (s_status (b3).reason, "held");
+    gd_intercept_destroy (&a3);
+    gd_intercept_destroy (&b3);
+
+    // Damaged: the held record's latest status out of range; a confirm
+    // record with 2 samples (0 or 3 only).
+    gd_intercept_t *v = s_crossing (&p, 9);
+    size_t n;
+    char *bad = s_replace (buf, len, "\nheld 1 1 ", "\nheld 1 7 ", &n);
+    s_damaged (v, bad, n, "held");
+    free (bad);
+    bad = s_replace (buf, len, "\nconfirm 0 0 ", "\nconfirm 0 2 ", &n);
+    s_damaged (v, bad, n, "confirm");
+    free (bad);
+    free (buf);
+    gd_intercept_destroy (&a);
+    gd_intercept_destroy (&b);
+    gd_intercept_destroy (&v);
+}
+
+/* Saved while waiting for the confirmation (s_overflown), restored: the
+ * same hit gives the same result in the original and the restored one —
+ * the hit 600 m east: another pass, the same new plan; the hit on the line:
+ * done. Had the restore lost the samples or the waiting, both would have
+ * stayed in OVERFLIGHT. A damaged sample record is refused. */
+static void test_save_restore_confirming (void **state)
+{
+    (void)state;
+    gd_params_t p = s_params ();
+    uint64_t n;
+    gd_intercept_t *a = s_overflown (&p, &n);
+    uint8_t *buf;
+    size_t len;
+    gd_intercept_t *b = s_round_trip (&p, a, &buf, &len);
+    assert_non_null (memmem (buf, len, "\nconfirm 1 3 ", 13));
+    gd_track_t out = s_confirming_update (gd_v2 (600, 0));
+    gd_intercept_track (a, &out);
+    gd_intercept_track (b, &out);
+    s_assert_same_status (a, b);
+    assert_has (s_status (b).reason, "another pass");
+    assert_int_equal (s_task_number (b), n + 1);
+    gd_intercept_destroy (&a);
+    gd_intercept_destroy (&b);
+
+    a = s_overflown (&p, &n);
+    b = s_new (&p);
+    char err[256] = "";
+    assert_int_equal (gd_intercept_restore (b, buf, len, err, sizeof err), 0);
+    gd_track_t in = s_confirming_update (gd_v2 (0, 0));
+    gd_intercept_track (a, &in);
+    gd_intercept_track (b, &in);
+    s_assert_same_status (a, b);
+    assert_int_equal (s_status (b).phase, GD_DONE);
+
+    size_t bn;
+    char *bad = s_replace (buf, len, "\nsample ", "\nsample nan ", &bn);
+    s_damaged (b, bad, bn, "a sample");
+    free (bad);
+    free (buf);
+    gd_intercept_destroy (&a);
+    gd_intercept_destroy (&b);
 }
 
 /* ---- gd_pick_nearest ------------------------------------------------------------------------- */
@@ -1150,7 +2031,12 @@ int main (void)
         cmocka_unit_test (test_uav_ahead_no_secondary),
         cmocka_unit_test (test_uav_behind_secondary),
         cmocka_unit_test (test_standing_target),
+        cmocka_unit_test (test_route_timing),
         cmocka_unit_test (test_replan_on_direction_change),
+        cmocka_unit_test (test_hold_after_coast),
+        cmocka_unit_test (test_hold_replaced),
+        cmocka_unit_test (test_hold_not_without_coast),
+        cmocka_unit_test (test_hold_then_deleted),
         cmocka_unit_test (test_cancel),
         cmocka_unit_test (test_preempt),
         cmocka_unit_test (test_refusals),
@@ -1158,7 +2044,12 @@ int main (void)
         cmocka_unit_test (test_precision_eq9),
         cmocka_unit_test (test_overflight_done),
         cmocka_unit_test (test_deleted_handover),
+        cmocka_unit_test (test_handover_born_after),
+        cmocka_unit_test (test_overflight_confirm),
+        cmocka_unit_test (test_overflight_waiting),
         cmocka_unit_test (test_deleted_lost),
+        cmocka_unit_test (test_save_restore_holding),
+        cmocka_unit_test (test_save_restore_confirming),
         cmocka_unit_test (test_pick_nearest),
         cmocka_unit_test (test_set_scale),
         cmocka_unit_test (test_new_destroy_names),

@@ -22,8 +22,8 @@ static void test_parse_u64 (void **state)
     assert_true (v == UINT64_MAX);
     v = 42;
     // Refused, and *ret left as it was.
-    const char *bad[] = {"",  " 7",  "+5",  "-1",   "1e3", "0x10", "7 ",
-                         "2.5", "18", "18446744073709551616", NULL};
+    const char *bad[] = {
+        "", " 7", "+5", "-1", "1e3", "0x10", "7 ", "2.5", "18", "18446744073709551616", NULL};
     for (int i = 0; bad[i]; i++) {
         assert_int_equal (cgs_parse_u64 (bad[i], 17, &v), -EINVAL);
         assert_true (v == 42);
