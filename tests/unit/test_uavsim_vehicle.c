@@ -246,8 +246,8 @@ static s_drive_t s_drive_route (double dev_m, uint64_t seed)
             int near = hypot (s.e_m - s_route[1].e_m, s.n_m - s_route[1].n_m) < 100 ? 1 : 2;
             r.turning_steps[near]++;
         }
-        // Speeds never above the leg's.
-        assert_true (s.speed_mps <= s_route[s.leg].speed_mps + 1e-9 || s.leg == 3);
+        // Speeds never above the leg's (leg −1: not yet on the route).
+        assert_true (s.leg < 0 || s.leg == 3 || s.speed_mps <= s_route[s.leg].speed_mps + 1e-9);
         prev = s;
         if (s.finished) {
             r.arrive_s[3] = t + DT_S;
