@@ -516,11 +516,13 @@ static bool s_near_prediction (const gd_intercept_t *self, const gd_track_t *ref
 }
 
 /* A new track of the designated target after its own was deleted: a
- * confirmed or coasting one with a credible velocity, born after the
- * deleted track's last hit (when its hit count says so), whose first hit
- * or present position is where the target could be (s_near_prediction of
- * the trusted estimate, or of a held one). Tracks older than the loss
- * belong to other vehicles. */
+ * confirmed or coasting one with a credible velocity, not older than the
+ * loss, whose first hit or present position is where the target could be
+ * (s_near_prediction of the trusted estimate, or of a held one). Its age
+ * comes from its hit history when that is known (hits > 0): a track whose
+ * oldest kept hit is from before the deleted track's last hit follows
+ * another vehicle; its first hit is judged only when the history is whole
+ * (hits ≤ history kept), else only its present position. */
 static bool s_takes_over (const gd_intercept_t *self, const gd_track_t *t)
 {
     if (!self->orphan || !s_active (self->phase) || t->id == self->orphan_id ||
@@ -529,7 +531,7 @@ static bool s_takes_over (const gd_intercept_t *self, const gd_track_t *t)
     const gd_track_t *refs[2] = {&self->track, self->holding ? &self->held : NULL};
     bool whole = t->hits > 0 && t->hits <= t->history_count;
     if (t->hits > 0 && isfinite (self->track.last_hit_s) &&
-        !(whole && t->history_t_s[0] > self->track.last_hit_s))
+        !(t->history_count > 0 && t->history_t_s[0] > self->track.last_hit_s))
         return false;
     for (size_t k = 0; k < 2; k++) {
         if (!refs[k])
@@ -596,6 +598,11 @@ static void s_try_confirm (gd_intercept_t *self)
     self->was_inside = false;
     self->overflight_s = NAN;
     self->n_samples = 0;
+    self->out_since_s = NAN;
+    // Out of OVERFLIGHT even if no new plan can be made now (it is tried
+    // again on each UAV update while need_plan is set).
+    self->phase = GD_TO_WAYPOINT;
+    self->need_plan = true;
     s_replan (self, why);
 }
 

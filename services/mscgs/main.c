@@ -958,6 +958,7 @@ typedef struct {
     bool designated;
     uint64_t designation_number;
     uint32_t desig_track_id;
+    uint32_t first_track_id;         // the track designated (desig_track_id changes on a hand-over)
     Cgs__InterceptState desig_state; // its latest state; kept once final
     uint32_t replans;
     bool final;         // reached DONE, LOST or CANCELLED
@@ -1066,6 +1067,7 @@ static void s_icpt_designate (s_icpt_t *ic, const Cgs__Intercept *m, double t_s)
     ic->designated = true;
     ic->designation_number = m->designation_number;
     ic->desig_track_id = m->track_id;
+    ic->first_track_id = m->track_id;
     ic->desig_state = m->state;
     ic->replans = 0;
     ic->final = false;
@@ -1175,7 +1177,9 @@ static void s_on_track (void *arg, const char *topic, const ProtobufCMessage *ms
         if (e != 0 && ic->entity_id == 0) {
             ic->entity_id = e;
             ic->marking[0] = '\0';
-        } else if (e != 0 && e != ic->entity_id && e != ic->other_entity_id) {
+        } else if (e != 0 && e == ic->entity_id) {
+            ic->other_entity_id = 0; // the track follows the designated vehicle (again)
+        } else if (e != 0 && tr->track_id != ic->first_track_id && e != ic->other_entity_id) {
             ic->other_entity_id = e;
             ic->other_marking[0] = '\0';
         }

@@ -1447,9 +1447,11 @@ static void test_deleted_handover (void **state)
  *
  * Older tracks right on the prediction do not take over: one whose history
  * starts at 95 s (before the deleted track's last hit), one starting at
- * 100 s (not after it), and one with 5 hits of which the history holds only
- * 3 (its first hit is older than the history shows). The same track with
- * hits equal to its history's count does. */
+ * 100 s (not after it). A track with 5 hits of which trackerd keeps only 3
+ * (its first hit is older than the history shows) is judged by its present
+ * position alone: on the prediction, with its oldest kept hit (115 s) after
+ * the loss, it takes over; track 20's geometry with such a cut history
+ * (first hit near, present position 854 m off) does not. */
 static gd_track_t s_born (uint32_t id, double t0, double first_n)
 {
     gd_track_t t = s_track (id, 1, 160, -2700, 12200, 0, 20);
@@ -1517,9 +1519,15 @@ static void test_handover_born_after (void **state)
     old = s_on_line (31, 100, 3);
     gd_intercept_track (ic, &old);
     assert_int_equal (s_status (ic).track_id, 7);
-    old = s_on_line (32, 115, 5);
-    gd_intercept_track (ic, &old);
+    gd_track_t cut = s_born (21, 120, 11400);
+    cut.hits = 5; // its first hit is not among those kept: not judged
+    gd_intercept_track (ic, &cut);
     assert_int_equal (s_status (ic).track_id, 7);
+    cut = s_on_line (32, 115, 5);
+    gd_intercept_track (ic, &cut);
+    assert_int_equal (s_status (ic).track_id, 32);
+    gd_intercept_destroy (&ic);
+    ic = s_orphaned (&p);
     gd_track_t young = s_on_line (33, 115, 3);
     gd_intercept_track (ic, &young);
     assert_int_equal (s_status (ic).track_id, 33);
@@ -1617,6 +1625,33 @@ static gd_track_t s_confirming_update (gd_v2_t off)
  *     it passed: another pass (a new plan, overflight_s cleared); a confirm
  *     margin just above that distance makes it done, one just below another
  *     pass. */
+/* A refuted overflight leaves OVERFLIGHT even when no new plan can be made
+ * at once: the UAV reports 5 m/s (slower than the 10 m/s target: no
+ * waypoint), so the intercept shows the reason and plans again on the next
+ * UAV update at its real speed. */
+static void test_overflight_refuted_no_plan (void **state)
+{
+    (void)state;
+    gd_params_t p = s_params ();
+    uint64_t n;
+    gd_intercept_t *ic = s_overflown (&p, &n);
+    gd_uav_t slow = s_uav (213, 0, 18300, 0);
+    slow.ground_speed_mps = slow.airspeed_mps = 5;
+    gd_intercept_uav (ic, &slow);
+    gd_track_t off = s_confirming_update (gd_v2 (600, 0));
+    gd_intercept_track (ic, &off);
+    gd_status_t st = s_status (ic);
+    assert_true (st.phase != GD_OVERFLIGHT && st.phase != GD_DONE);
+    assert_has (st.reason, "no plan");
+    gd_uav_t u = s_uav (214, 0, 18338, 0);
+    gd_intercept_uav (ic, &u);
+    st = s_status (ic);
+    assert_true (st.phase == GD_TO_WAYPOINT || st.phase == GD_TO_SECONDARY);
+    assert_true (st.has_plan);
+    assert_true (s_task_number (ic) > n);
+    gd_intercept_destroy (&ic);
+}
+
 static void test_overflight_confirm (void **state)
 {
     (void)state;
@@ -2046,6 +2081,7 @@ int main (void)
         cmocka_unit_test (test_deleted_handover),
         cmocka_unit_test (test_handover_born_after),
         cmocka_unit_test (test_overflight_confirm),
+        cmocka_unit_test (test_overflight_refuted_no_plan),
         cmocka_unit_test (test_overflight_waiting),
         cmocka_unit_test (test_deleted_lost),
         cmocka_unit_test (test_save_restore_holding),

@@ -240,8 +240,8 @@ static void test_check (void **state)
 int main (void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test (test_defaults),   cmocka_unit_test (test_shipped_file),
-        cmocka_unit_test (test_values),     cmocka_unit_test (test_errors),
+        cmocka_unit_test (test_defaults), cmocka_unit_test (test_shipped_file),
+        cmocka_unit_test (test_values),   cmocka_unit_test (test_errors),
         cmocka_unit_test (test_check),
     };
     return cmocka_run_group_tests (tests, NULL, NULL);
