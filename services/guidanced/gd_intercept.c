@@ -522,11 +522,14 @@ static bool s_near_prediction (const gd_intercept_t *self, const gd_track_t *ref
  * comes from its hit history when that is known (hits > 0): a track whose
  * oldest kept hit is from before the deleted track's last hit follows
  * another vehicle; its first hit is judged only when the history is whole
- * (hits ≤ history kept), else only its present position. */
+ * (hits ≤ history kept), else only its present position. A track BCIS
+ * identifies otherwise (friendly for an unknown target, or the reverse) is
+ * another vehicle. */
 static bool s_takes_over (const gd_intercept_t *self, const gd_track_t *t)
 {
     if (!self->orphan || !s_active (self->phase) || t->id == self->orphan_id ||
-        (t->status != 1 && t->status != 2) || gd_norm (t->vel) > self->p.max_target_speed_mps)
+        (t->status != 1 && t->status != 2) || gd_norm (t->vel) > self->p.max_target_speed_mps ||
+        t->friendly != self->track.friendly) // BCIS says it is another vehicle
         return false;
     const gd_track_t *refs[2] = {&self->track, self->holding ? &self->held : NULL};
     bool whole = t->hits > 0 && t->hits <= t->history_count;

@@ -1529,6 +1529,10 @@ static void test_handover_born_after (void **state)
     gd_intercept_destroy (&ic);
     ic = s_orphaned (&p);
     gd_track_t young = s_on_line (33, 115, 3);
+    young.friendly = true; // BCIS: a friend, so not the unknown target
+    gd_intercept_track (ic, &young);
+    assert_int_equal (s_status (ic).track_id, 7);
+    young.friendly = false;
     gd_intercept_track (ic, &young);
     assert_int_equal (s_status (ic).track_id, 33);
     gd_intercept_destroy (&ic);
