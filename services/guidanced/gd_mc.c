@@ -414,9 +414,7 @@ static mti_radar_t *s_radar (void)
     return mti_radar_new (&mp, NULL, 1);
 }
 
-/* Geometries drawn at most: a set where most draw no confirmed track is
- * broken, not unlucky. */
-static size_t s_draw_cap (const gd_mc_config_t *c)
+size_t gd_mc_draw_cap (const gd_mc_config_t *c)
 {
     return 2 * c->runs + 50;
 }
@@ -435,7 +433,7 @@ int gd_mc_run (const gd_mc_config_t *c, gd_mc_run_t *runs_out, gd_mc_progress_fn
     gd_mc_result_t res = {0};
     size_t nc = 0, nt = 0;
     double replans = 0;
-    size_t cap = s_draw_cap (c);
+    size_t cap = gd_mc_draw_cap (c);
     for (size_t i = 0; rc == 0 && res.designated < c->runs && i < cap; i++) {
         gd_mc_run_t one;
         rc = s_run_number (c, radar, i, &r, NULL, NULL, &one);
@@ -496,7 +494,7 @@ int gd_mc_run (const gd_mc_config_t *c, gd_mc_run_t *runs_out, gd_mc_progress_fn
 int gd_mc_trace (const gd_mc_config_t *c, size_t run, gd_mc_trace_fn *fn, void *arg,
                  gd_mc_run_t *ret)
 {
-    if (!c || !fn || !ret || s_check (c) < 0 || run >= s_draw_cap (c))
+    if (!c || !fn || !ret || s_check (c) < 0 || run >= gd_mc_draw_cap (c))
         return -EINVAL;
     mti_radar_t *radar = s_radar ();
     if (!radar)
@@ -609,7 +607,7 @@ int gd_mc_main (int argc, char **argv)
             break;
         case 't':
             c.turn_fraction = strtod (optarg, &end);
-            if (*end || !(c.turn_fraction >= 0 && c.turn_fraction <= 1)) {
+            if (end == optarg || *end || !(c.turn_fraction >= 0 && c.turn_fraction <= 1)) {
                 fprintf (stderr, "guidanced: --turn-fraction: expected 0..1, got '%s'\n", optarg);
                 return 2;
             }
@@ -637,6 +635,17 @@ int gd_mc_main (int argc, char **argv)
         default:
             return 2;
         }
+    }
+    if (optind < argc) {
+        fprintf (stderr, "guidanced: --monte-carlo takes no argument '%s' (see --help)\n",
+                 argv[optind]);
+        return 2;
+    }
+    if (trace >= 0 && (size_t)trace >= gd_mc_draw_cap (&c)) {
+        fprintf (stderr,
+                 "guidanced: --trace: run %ld is beyond the %zu geometries --runs %zu may draw\n",
+                 trace, gd_mc_draw_cap (&c), c.runs);
+        return 2;
     }
     if (trace >= 0) {
         gd_mc_run_t one;

@@ -99,6 +99,10 @@ typedef void (gd_mc_progress_fn) (void *arg, size_t done, const gd_mc_run_t *run
 int gd_mc_run (const gd_mc_config_t *c, gd_mc_run_t *runs_out, gd_mc_progress_fn *progress,
                void *arg, gd_mc_result_t *ret);
 
+/* Geometries gd_mc_run draws at most for c: 2·runs + 50 (a set where most
+ * draw no confirmed track is broken, not unlucky). */
+size_t gd_mc_draw_cap (const gd_mc_config_t *c);
+
 /* Run only geometry number `run` (from 0; gd_mc_run_t.index) of the set c describes, exactly as
  * gd_mc_run would, calling fn with its samples. 0, -EINVAL, -ENOMEM. */
 int gd_mc_trace (const gd_mc_config_t *c, size_t run, gd_mc_trace_fn *fn, void *arg,

@@ -197,5 +197,12 @@ is "$?" 2 "--runs -3 is refused"
 check "with the reason" grep -q -- "--runs: expected a count" "$TMP/mc-bad.err"
 "$GUIDANCED" --monte-carlo --method sideways >/dev/null 2>"$TMP/mc-bad.err"
 is "$?" 2 "--method sideways is refused"
+"$GUIDANCED" --monte-carlo --turn-fraction '' >/dev/null 2>"$TMP/mc-bad.err"
+is "$?" 2 "an empty --turn-fraction is refused"
+"$GUIDANCED" --monte-carlo --runs 2 --trace 60 >/dev/null 2>"$TMP/mc-bad.err"
+is "$?" 2 "--trace beyond the geometries --runs 2 may draw is refused"
+check "with the reason" grep -q -- "--trace: run 60 is beyond the 54 geometries" "$TMP/mc-bad.err"
+"$GUIDANCED" --monte-carlo 50 >/dev/null 2>"$TMP/mc-bad.err"
+is "$?" 2 "a stray argument is refused"
 
 finish

@@ -128,6 +128,7 @@ static void test_shipped_file (void **state)
     p.timing = GD_TIMING_ARC; // loading over a non-default set writes every field back
     if (gd_params_load (path, &p, err, sizeof err) != 0)
         fail_msg ("%s", err);
+    s_assert_equal (&p, &def);
     gd_params_t over = def;
     over.timing = GD_TIMING_ARC;
     over.lead_in_m = 1;
