@@ -1245,3 +1245,60 @@ int cgs_terrain_load (const char *path, const cgs_geo_t *frame, double resolutio
         *ret_t = t;
     return rc;
 }
+
+static double s_ray_h (const cgs_terrain_t *t, double e, double n)
+{
+    return t ? cgs_terrain_height_clamped (t, e, n) : 0.0;
+}
+
+bool cgs_terrain_ray (const cgs_terrain_t *self, cgs_enu_t p, cgs_enu_t d, double max_range_m,
+                      cgs_enu_t *ret)
+{
+    enum { BISECT = 60 };
+    double len = sqrt (d.e_m * d.e_m + d.n_m * d.n_m + d.u_m * d.u_m);
+    if (len > 0)
+        d = (cgs_enu_t){d.e_m / len, d.n_m / len, d.u_m / len};
+    double ground = s_ray_h (self, p.e_m, p.n_m);
+    if (p.u_m - ground <= 0) {
+        *ret = (cgs_enu_t){p.e_m, p.n_m, ground};
+        return true;
+    }
+    if (!self) {
+        if (d.u_m < 0 && (p.u_m - ground) / -d.u_m <= max_range_m) {
+            double s = (p.u_m - ground) / -d.u_m;
+            *ret = (cgs_enu_t){p.e_m + s * d.e_m, p.n_m + s * d.n_m, 0.0};
+            return true;
+        }
+    } else if (len > 0) {
+        double step = fmax (1.0, cgs_terrain_resolution (self) / 2.0);
+        double s_lo = 0, s_hi = -1;
+        for (double s = step;; s += step) {
+            if (s > max_range_m)
+                s = max_range_m;
+            if (p.u_m + s * d.u_m <= s_ray_h (self, p.e_m + s * d.e_m, p.n_m + s * d.n_m)) {
+                s_hi = s;
+                break;
+            }
+            s_lo = s;
+            if (s >= max_range_m)
+                break;
+        }
+        if (s_hi > 0) {
+            for (int k = 0; k < BISECT; k++) {
+                double m = 0.5 * (s_lo + s_hi);
+                if (p.u_m + m * d.u_m <= s_ray_h (self, p.e_m + m * d.e_m, p.n_m + m * d.n_m))
+                    s_hi = m;
+                else
+                    s_lo = m;
+            }
+            *ret = (cgs_enu_t){p.e_m + s_hi * d.e_m, p.n_m + s_hi * d.n_m, p.u_m + s_hi * d.u_m};
+            return true;
+        }
+    }
+    // No ground within range: cut at max range along the ray's ground track.
+    double hl = hypot (d.e_m, d.n_m);
+    double e = p.e_m + (hl > 0 ? max_range_m * d.e_m / hl : 0);
+    double n = p.n_m + (hl > 0 ? max_range_m * d.n_m / hl : 0);
+    *ret = (cgs_enu_t){e, n, s_ray_h (self, e, n)};
+    return false;
+}

@@ -67,6 +67,13 @@ bool cgs_terrain_los (const cgs_terrain_t *self, cgs_enu_t a, cgs_enu_t b);
  * when no part is over the grid; NaN, and blocked, for non-finite input). */
 bool cgs_terrain_los_clearance (const cgs_terrain_t *self, cgs_enu_t a, cgs_enu_t b,
                                 double *ret_clearance_m);
+/* Where the ray from p along d (any length) first meets the ground (self
+ * NULL: flat ground at height 0): true with the point in *ret; false when it
+ * meets none within max_range_m, with *ret the point max_range_m along the
+ * ray's ground track, on the ground. A p at or below the ground meets it at
+ * once. Marches in steps of half a cell, then bisects. */
+bool cgs_terrain_ray (const cgs_terrain_t *self, cgs_enu_t p, cgs_enu_t d, double max_range_m,
+                      cgs_enu_t *ret);
 
 /* Vegetation (woods) grown procedurally over the terrain's grid. */
 typedef struct {

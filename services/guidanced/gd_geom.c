@@ -13,7 +13,6 @@
 #define S_ROUTE_TOL_S    0.5 // the route's time and t_pred agree this closely
 #define S_ROUTE_ITER_MAX 100 // steps of the route timing before it is given up
 #define S_ROUTE_T_MAX_S  1e5 // a t_pred beyond this is divergence
-#define S_BISECT         60  // bisection steps of a ray meeting the terrain
 
 /* ---- vectors ------------------------------------------------------------------------ */
 
@@ -468,66 +467,15 @@ static s_v3_t s_comb (double a, s_v3_t x, double b, s_v3_t y)
     return s_v3 (a * x.e + b * y.e, a * x.n + b * y.n, a * x.u + b * y.u);
 }
 
-static double s_h (const cgs_terrain_t *t, double e, double n)
-{
-    return t ? cgs_terrain_height_clamped (t, e, n) : 0.0;
-}
-
-/* Where the ray from p along d meets the ground; false (and the point at
- * max range, on the ground below) when it meets none within max_range. */
+/* Where the ray from p along d meets the ground (cgs_terrain_ray). */
 static bool s_ray (const cgs_terrain_t *t, cgs_enu_t p, s_v3_t d, double max_range, gd_v2_t *ret,
                    double *ret_up)
 {
-    double len = sqrt (d.e * d.e + d.n * d.n + d.u * d.u);
-    d = s_v3 (d.e / len, d.n / len, d.u / len);
-    double above = p.u_m - s_h (t, p.e_m, p.n_m);
-    if (above <= 0) {
-        *ret = gd_v2 (p.e_m, p.n_m);
-        *ret_up = s_h (t, p.e_m, p.n_m);
-        return true;
-    }
-    if (!t) {
-        if (d.u < 0 && above / -d.u <= max_range) {
-            double s = above / -d.u;
-            *ret = gd_v2 (p.e_m + s * d.e, p.n_m + s * d.n);
-            *ret_up = 0.0;
-            return true;
-        }
-    } else {
-        double step = fmax (1.0, cgs_terrain_resolution (t) / 2.0);
-        double s_lo = 0, s_hi = -1;
-        for (double s = step;; s += step) {
-            if (s > max_range)
-                s = max_range;
-            double h = s_h (t, p.e_m + s * d.e, p.n_m + s * d.n);
-            if (p.u_m + s * d.u <= h) {
-                s_hi = s;
-                break;
-            }
-            s_lo = s;
-            if (s >= max_range)
-                break;
-        }
-        if (s_hi > 0) {
-            for (int k = 0; k < S_BISECT; k++) {
-                double m = 0.5 * (s_lo + s_hi);
-                double h = s_h (t, p.e_m + m * d.e, p.n_m + m * d.n);
-                if (p.u_m + m * d.u <= h)
-                    s_hi = m;
-                else
-                    s_lo = m;
-            }
-            *ret = gd_v2 (p.e_m + s_hi * d.e, p.n_m + s_hi * d.n);
-            *ret_up = p.u_m + s_hi * d.u;
-            return true;
-        }
-    }
-    // No ground within range: cut at max_range along the ground track of the ray.
-    double hl = hypot (d.e, d.n);
-    double s = hl > 0 ? max_range : 0;
-    *ret = gd_v2 (p.e_m + (hl > 0 ? s * d.e / hl : 0), p.n_m + (hl > 0 ? s * d.n / hl : 0));
-    *ret_up = s_h (t, ret->e, ret->n);
-    return false;
+    cgs_enu_t hit;
+    bool met = cgs_terrain_ray (t, p, (cgs_enu_t){d.e, d.n, d.u}, max_range, &hit);
+    *ret = gd_v2 (hit.e_m, hit.n_m);
+    *ret_up = hit.u_m;
+    return met;
 }
 
 int gd_footprint (const gd_sensor_t *s, const cgs_terrain_t *terrain, gd_footprint_t *ret)
