@@ -9,6 +9,9 @@
 #   make clean      remove build/
 #   make format     clang-format every C, C++ and header file
 #
+#   RENDER=osmesa|egl  imagerd's OpenGL context: OSMesa (default) or EGL
+#                      surfaceless (Mesa 25.1 and later have no OSMesa)
+#
 # Out-of-tree: objects, generated protobuf-c code and binaries go under $(O).
 
 PREFIX  ?= /usr/local
@@ -18,7 +21,7 @@ SAN     ?= 0
 
 CC      ?= cc
 CXX     ?= c++
-PKGS     = libzmq libprotobuf-c geographiclib gdal inih libsystemd zlib fftw3 gsl
+PKGS     = libzmq libprotobuf-c geographiclib gdal inih libsystemd zlib fftw3 gsl libpng
 PKG_CFLAGS := $(shell pkg-config --cflags $(PKGS) 2>/dev/null)
 PKG_LIBS   := $(shell pkg-config --libs $(PKGS) 2>/dev/null)
 CMOCKA_LIBS := $(shell pkg-config --libs cmocka 2>/dev/null)
@@ -81,6 +84,19 @@ SVC_CORE_C    := $(filter-out services/%/main.c,$(wildcard services/*/*.c))
 SVC_CORE_OBJS := $(patsubst %.c,$(O)/obj/%.o,$(SVC_CORE_C))
 SVC_LIB       := $(if $(SVC_CORE_OBJS),$(O)/lib/libcgs_services.a)
 
+# imagerd's render context: one backend per binary (services/imagerd/ctx/).
+RENDER  ?= osmesa
+ifeq ($(filter $(RENDER),osmesa egl),)
+  $(error RENDER must be osmesa or egl, not '$(RENDER)')
+endif
+GL_LIBS_osmesa := $(shell pkg-config --libs osmesa 2>/dev/null || echo -lOSMesa)
+GL_LIBS_egl    := $(shell pkg-config --libs egl opengl 2>/dev/null || echo -lEGL -lOpenGL)
+CTX_OBJ_osmesa := $(O)/obj/services/imagerd/ctx/im_ctx_osmesa.o
+CTX_OBJ_egl    := $(O)/obj/services/imagerd/ctx/im_ctx_egl.o
+# The other backend, built and tested too: its render test and an imagerd.
+ALT_RENDER     := $(if $(filter osmesa,$(RENDER)),egl,osmesa)
+ALT_BINS       := $(O)/bin-$(ALT_RENDER)/imagerd $(O)/tests/unit/test_im_render@$(ALT_RENDER)
+
 JOBS    ?= $(shell nproc 2>/dev/null || echo 2)
 
 # Keep objects that pattern chains would otherwise delete as intermediates.
@@ -106,7 +122,7 @@ test: deps
 	@$(MAKE) --no-print-directory -j$(JOBS) O=build/asan SAN=1 test-build
 	@tests/run build/asan
 
-test-build: $(BINS) $(UNIT_BINS) $(INTEG_BINS)
+test-build: $(BINS) $(UNIT_BINS) $(INTEG_BINS) $(ALT_BINS)
 
 bench: deps
 	@$(MAKE) --no-print-directory -j$(JOBS) O=build/release SAN=0 $(addprefix build/release/bench/,$(notdir $(BENCH_BINS))) $(addprefix build/release/bin/,$(SERVICES))
@@ -183,6 +199,22 @@ endif
 $(O)/bin/%: $$(foreach f,$$(wildcard services/$$*/*.c),$(O)/obj/$$(basename $$(f)).o) $(SVC_LIB) $(LIB)
 	@mkdir -p $(dir $@)
 	$(CC) $(LDFLAGS) $^ -o $@ $(LDLIBS)
+
+# imagerd and its render test: the chosen backend; the other one beside them.
+$(O)/bin/imagerd: $(CTX_OBJ_$(RENDER))
+$(O)/bin/imagerd: LDLIBS += $(GL_LIBS_$(RENDER))
+$(O)/tests/unit/test_im_render: $(CTX_OBJ_$(RENDER)) $(O)/obj/services/imagerd/im_ctx.o
+$(O)/tests/unit/test_im_render: LDLIBS += $(GL_LIBS_$(RENDER))
+$(O)/bench/bench_imagerd: $(CTX_OBJ_$(RENDER)) $(O)/obj/services/imagerd/im_ctx.o
+$(O)/bench/bench_imagerd: LDLIBS += $(GL_LIBS_$(RENDER))
+
+$(O)/bin-$(ALT_RENDER)/imagerd: $(foreach f,$(wildcard services/imagerd/*.c),$(O)/obj/$(basename $(f)).o) $(CTX_OBJ_$(ALT_RENDER)) $(SVC_LIB) $(LIB)
+	@mkdir -p $(dir $@)
+	$(CC) $(LDFLAGS) $^ -o $@ $(LDLIBS) $(GL_LIBS_$(ALT_RENDER))
+
+$(O)/tests/unit/test_im_render@$(ALT_RENDER): $(O)/obj/tests/unit/test_im_render.o $(CTX_OBJ_$(ALT_RENDER)) $(O)/obj/services/imagerd/im_ctx.o $(SVC_LIB) $(LIB)
+	@mkdir -p $(dir $@)
+	$(CC) $(LDFLAGS) $^ -o $@ $(CMOCKA_LIBS) $(LDLIBS) $(GL_LIBS_$(ALT_RENDER))
 
 $(O)/tests/unit/%: $(O)/obj/tests/unit/%.o $(SVC_LIB) $(LIB)
 	@mkdir -p $(dir $@)

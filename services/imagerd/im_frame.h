@@ -1,0 +1,58 @@
+/* im_frame — what a frame is made of besides its pixels: the camera at the
+ * UAV as it is at the frame's time, which ground entity the designated
+ * track is, where that target falls in the image (pixel position of its
+ * model's centre, size in pixels, in view or not), and the overlay's lines.
+ * Pure: no GL, no logging. */
+#ifndef IM_FRAME_H
+#define IM_FRAME_H
+
+#include "im_camera.h"
+#include "im_params.h"
+#include "im_render.h"
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+/* The UAV as last heard on `uav`. */
+typedef struct {
+    bool valid;
+    uint32_t id;
+    cgs_enu_t position, velocity;
+    double heading_deg, pitch_deg, roll_deg;
+    double altitude_agl_m;
+    double depression_deg, hfov_deg, vfov_deg; // its imaging sensor
+    double time_s;
+} im_uav_t;
+
+/* The camera for a frame at time t: the UAV moved on along its velocity;
+ * stabilized per p; staring at stare_at when it is not NULL. -EINVAL when
+ * the UAV's state cannot make a camera. */
+int im_frame_camera (const im_params_t *p, const im_uav_t *u, double t, const cgs_enu_t *stare_at,
+                     im_camera_t *ret);
+
+typedef struct {
+    bool known;          // a ground entity answers to the designated track
+    uint32_t entity_id;  // which
+    bool in_view;        // its model's centre is in the image and not behind terrain
+    bool occluded;       // in the image but behind terrain
+    double px_x, px_y;   // pixel position of its model's centre (valid when projected)
+    bool projected;      // in front of the camera
+    double size_px;      // its model's length across the image, pixels
+    double slant_m;      // eye to its centre
+} im_target_t;
+
+/* The designated target: the entity of ents (not of kind air) nearest to
+ * track_at, within gate_m of it (none when have_track is false), and where
+ * it falls in the camera's image. terrain may be NULL (nothing blocks). */
+void im_frame_target (const im_camera_t *cam, const cgs_terrain_t *terrain, const im_entity_t *ents,
+                      size_t n, bool have_track, cgs_enu_t track_at, double gate_m,
+                      im_target_t *ret);
+
+/* The overlay's lines into lines[0..3] (each size bytes): simulation time,
+ * UAV altitude, slant range to the image centre, the image centre in MGRS
+ * (frame NULL or a failed conversion: local metres). */
+void im_frame_overlay (double t_s, const im_uav_t *u, const im_camera_t *cam,
+                       const im_footprint_t *fp, const cgs_geo_t *frame, char lines[4][96]);
+
+#endif

@@ -1,0 +1,171 @@
+/* im_params — imagerd's parameter file (see im_params.h). */
+#include "im_params.h"
+#include "cgs_config.h"
+
+#include <errno.h>
+#include <stddef.h>
+#include <stdio.h>
+
+void im_params_defaults (im_params_t *p)
+{
+    *p = (im_params_t){
+        .width_px = 640,
+        .height_px = 480,
+        .frame_rate_hz = 5,
+        .near_m = 5,
+        .max_range_m = 20000,
+        .sun_azimuth_deg = 135,
+        .sun_elevation_deg = 45,
+        .visibility_m = 20000,
+        .chunk_cells = 32,
+        .lods = 5,
+        .lod_distance_m = 2000,
+        .overlay = true,
+        .mode = IM_MODE_VISIBLE,
+        .polarity = IM_WHITE_HOT,
+        .ambient_k = 288,
+        .sun_gain_k = 12,
+        .hull_rise_k = 8,
+        .engine_k = 360,
+        .running_gear_rise_k = 25,
+        .glass_k = 275,
+        .person_k = 305,
+        .sky_k = 265,
+        .attenuation_per_km = 0.2,
+        .display_min_k = 275,
+        .display_max_k = 325,
+        .blur_px = 0.8,
+        .noise_k = 0.3,
+        .png_rate_hz = 0,
+        .latest_rate_hz = 1,
+    };
+}
+
+#define S_R(sec, k, field, lo, hi)                                                                 \
+    {                                                                                              \
+        sec, k, offsetof (im_params_t, field), lo, hi                                              \
+    }
+static const cgs_config_real_t s_reals[] = {
+    S_R ("camera", "frame_rate_hz", frame_rate_hz, 0.01, 100.0),
+    S_R ("camera", "near_m", near_m, 0.1, 1000.0),
+    S_R ("camera", "max_range_m", max_range_m, 100.0, 1e6),
+    S_R ("scene", "sun_azimuth_deg", sun_azimuth_deg, 0.0, 360.0),
+    S_R ("scene", "sun_elevation_deg", sun_elevation_deg, -90.0, 90.0),
+    S_R ("scene", "visibility_m", visibility_m, 10.0, 1e7),
+    S_R ("scene", "lod_distance_m", lod_distance_m, 10.0, 1e6),
+    S_R ("infrared", "ambient_k", ambient_k, 150.0, 400.0),
+    S_R ("infrared", "sun_gain_k", sun_gain_k, 0.0, 100.0),
+    S_R ("infrared", "hull_rise_k", hull_rise_k, 0.0, 200.0),
+    S_R ("infrared", "engine_k", engine_k, 150.0, 1000.0),
+    S_R ("infrared", "running_gear_rise_k", running_gear_rise_k, 0.0, 200.0),
+    S_R ("infrared", "glass_k", glass_k, 150.0, 400.0),
+    S_R ("infrared", "person_k", person_k, 150.0, 400.0),
+    S_R ("infrared", "sky_k", sky_k, 100.0, 400.0),
+    S_R ("infrared", "attenuation_per_km", attenuation_per_km, 0.0, 10.0),
+    S_R ("infrared", "display_min_k", display_min_k, 100.0, 1000.0),
+    S_R ("infrared", "display_max_k", display_max_k, 100.0, 1000.0),
+    S_R ("infrared", "blur_px", blur_px, 0.0, 10.0),
+    S_R ("infrared", "noise_k", noise_k, 0.0, 50.0),
+    S_R ("output", "png_rate_hz", png_rate_hz, 0.0, 100.0),
+    S_R ("output", "latest_rate_hz", latest_rate_hz, 0.0, 100.0),
+};
+#undef S_R
+#define S_NREALS (sizeof s_reals / sizeof s_reals[0])
+
+#define S_I(sec, k, field, lo, hi)                                                                 \
+    {                                                                                              \
+        sec, k, offsetof (im_params_t, field), lo, hi                                              \
+    }
+static const cgs_config_int_t s_ints[] = {
+    S_I ("camera", "width_px", width_px, 16, 4096),
+    S_I ("camera", "height_px", height_px, 16, 4096),
+    S_I ("scene", "chunk_cells", chunk_cells, 2, 1024),
+    S_I ("scene", "lods", lods, 1, 6),
+};
+#undef S_I
+#define S_NINTS (sizeof s_ints / sizeof s_ints[0])
+
+/* What the tables cannot say: relations between keys. */
+static bool s_relations (const im_params_t *p, const char **sec, const char **key, char *msg,
+                         size_t msglen)
+{
+    if (p->chunk_cells & (p->chunk_cells - 1)) {
+        *sec = "scene", *key = "chunk_cells";
+        snprintf (msg, msglen, "expected a power of two, got %d", p->chunk_cells);
+    } else if (!(p->max_range_m > p->near_m)) {
+        *sec = "camera", *key = "max_range_m";
+        snprintf (msg, msglen, "expected more than near_m (%g), got %g", p->near_m,
+                  p->max_range_m);
+    } else if (!(p->display_max_k > p->display_min_k)) {
+        *sec = "infrared", *key = "display_max_k";
+        snprintf (msg, msglen, "expected more than display_min_k (%g), got %g",
+                  p->display_min_k, p->display_max_k);
+    } else if ((unsigned)p->mode > IM_MODE_INFRARED) {
+        *sec = "infrared", *key = "mode";
+        snprintf (msg, msglen, "expected visible or infrared, got %d", (int)p->mode);
+    } else if ((unsigned)p->polarity > IM_BLACK_HOT) {
+        *sec = "infrared", *key = "polarity";
+        snprintf (msg, msglen, "expected white-hot or black-hot, got %d", (int)p->polarity);
+    } else {
+        return false;
+    }
+    return true;
+}
+
+int im_params_check (const im_params_t *p, char *err, size_t errlen)
+{
+    const char *sec = NULL, *key = NULL;
+    char msg[256] = "";
+    if (!cgs_config_table_out_of_range (s_reals, S_NREALS, s_ints, S_NINTS, p, &sec, &key, msg,
+                                        sizeof msg))
+        s_relations (p, &sec, &key, msg, sizeof msg);
+    return key ? cgs_config_value_error (NULL, sec, key, msg, err, errlen) : 0;
+}
+
+static int s_read (cgs_config_t *cfg, void *arg, char *err, size_t errlen)
+{
+    im_params_t *out = arg, p = *out;
+    int rc = cgs_config_check_repeated (cfg, err, errlen);
+    if (rc == 0)
+        rc = cgs_config_get_table (cfg, s_reals, S_NREALS, s_ints, S_NINTS, &p, err, errlen);
+    if (rc == 0)
+        rc = cgs_config_get_bool (cfg, "camera", "stabilized", p.stabilized, &p.stabilized, err,
+                                  errlen);
+    if (rc == 0)
+        rc = cgs_config_get_bool (cfg, "camera", "staring", p.staring, &p.staring, err, errlen);
+    if (rc == 0)
+        rc = cgs_config_get_bool (cfg, "overlay", "enabled", p.overlay, &p.overlay, err, errlen);
+    static const char *const modes[] = {"visible", "infrared", NULL};
+    static const char *const polarities[] = {"white-hot", "black-hot", NULL};
+    int mode = (int)p.mode, polarity = (int)p.polarity;
+    if (rc == 0)
+        rc = cgs_config_get_enum (cfg, "infrared", "mode", modes, mode, &mode, err, errlen);
+    if (rc == 0)
+        rc = cgs_config_get_enum (cfg, "infrared", "polarity", polarities, polarity, &polarity,
+                                  err, errlen);
+    p.mode = (im_mode_t)mode;
+    p.polarity = (im_polarity_t)polarity;
+    if (rc == 0)
+        rc = cgs_config_check_unused (cfg, err, errlen);
+    if (rc == 0) {
+        const char *sec = NULL, *key = NULL;
+        char msg[256];
+        if (s_relations (&p, &sec, &key, msg, sizeof msg))
+            rc = cgs_config_value_error (cfg, sec, key, msg, err, errlen);
+    }
+    if (rc < 0)
+        return rc;
+    *out = p;
+    return 0;
+}
+
+int im_params_load (const char *path, im_params_t *p, char *err, size_t errlen)
+{
+    return cgs_config_read (path, NULL, s_read, p, err, errlen);
+}
+
+int im_params_load_string (const char *name, const char *text, im_params_t *p, char *err,
+                           size_t errlen)
+{
+    return cgs_config_read (name, text, s_read, p, err, errlen);
+}

@@ -1,0 +1,36 @@
+/* im_post — what is done to a frame after it is read back: the infrared
+ * sensor's blur, noise and polarity, and the text overlay (a built-in 5 × 7
+ * dot-matrix font). Pure: no GL, no logging; the noise from a seeded
+ * generator. Frames are RGBA, 4 bytes a pixel, top row first. */
+#ifndef IM_POST_H
+#define IM_POST_H
+
+#include "im_params.h"
+
+#include <stddef.h>
+#include <stdint.h>
+
+typedef struct {
+    int w, h;
+    float *a, *b; // scratch, w × h each
+    uint64_t rng;
+} im_post_t;
+
+/* Scratch for w × h frames and the noise's seed. 0 or -ENOMEM. */
+int im_post_init (im_post_t *self, int w, int h, uint64_t seed);
+void im_post_fini (im_post_t *self);
+
+/* Infrared: Gaussian blur of blur_px (standard deviation; 0: none), noise of
+ * noise_k kelvin (as grey levels on the display's scale), then black-hot
+ * inverts. The frame stays grey (R = G = B). */
+void im_post_infrared (im_post_t *self, uint8_t *rgba, const im_params_t *p);
+
+/* Text at (x, y) (top-left of the first glyph), each dot scale × scale
+ * pixels, in colour rgb; lower case is drawn as upper case, characters the
+ * font lacks as a box. Returns the width drawn in pixels. */
+int im_post_text (uint8_t *rgba, int w, int h, int x, int y, int scale, const char *text,
+                  const uint8_t rgb[3]);
+/* The overlay: lines of text at the top-left on a darkened band. */
+void im_post_overlay (uint8_t *rgba, int w, int h, const char *const *lines, size_t n);
+
+#endif

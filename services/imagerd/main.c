@@ -1,0 +1,495 @@
+/* imagerd — the imaging sensor of one UAV: follows the UAV (`uav`), the
+ * entities (`entity`), the intercept (`intercept`) and the designated track
+ * (`track`), renders what the sensor sees at a configured rate of
+ * simulation time, and publishes each frame's camera, footprint and where
+ * the designated target is on `image`. PNG files go to the output folder at
+ * a configured rate, on request (the `snapshot` command), and as latest.png
+ * for the map display, written by a thread off the rendering path. The
+ * camera, scene, renderer and post-processing are in im_*.c; the OpenGL
+ * context in ctx/ (one backend per build); this file wires them to the bus. */
+#include "cgs_entities.h"
+#include "cgs_log.h"
+#include "cgs_scenario.h"
+#include "cgs_sensor.h"
+#include "cgs_service.h"
+#include "im_camera.h"
+#include "im_ctx.h"
+#include "im_frame.h"
+#include "im_params.h"
+#include "im_png.h"
+#include "im_post.h"
+#include "im_render.h"
+#include "im_scene.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define S_STALE_S     10.0  // an entity not heard of for this long (simulation time) is forgotten
+#define S_MAX_FPS     30.0  // frames due faster than this (wall clock) are skipped and counted
+#define S_GATE_M      150.0 // the designated track's vehicle is the ground entity this near it
+#define S_PNG_QUEUE   8     // frames waiting for the PNG writer before one is dropped
+#define S_MOVING_MPS  0.5   // a vehicle this fast has its engine running
+
+typedef struct {
+    cgs_service_t svc;
+    cgs_sensor_t sensor; // its UAV, scenario and terrain
+    im_params_t params;
+    char out_dir[4096];
+    im_ctx_t *ctx;
+    im_renderer_t *ren;
+    im_post_t post;
+    im_png_writer_t *png;
+    cgs_entities_t *ents;
+    im_entity_t *draw;
+    size_t draw_cap;
+    im_uav_t uav;
+    /* The intercept and its designated track. */
+    uint32_t track_id;
+    bool have_track;
+    cgs_enu_t track_pos, track_vel;
+    double track_t;
+    uint8_t *rgba;
+    bool started;
+    double next_frame_s, next_png_s, next_latest_s, last_frame_wall;
+    uint32_t snapshots; // frames still to write on request
+    uint64_t frames, skipped, pngs, bad_messages, render_errors;
+    double latency_sum_s, latency_max_s, entity_wall; // entity batch in → its frame out
+    char detail[256];
+} s_app_t;
+
+static void s_bad (s_app_t *app, const char *what)
+{
+    if (app->bad_messages++ == 0)
+        cgs_log (LOG_WARNING, "ignored %s (further ones are only counted in health)", what);
+    cgs_health_add_malformed (app->svc.health, 1);
+}
+
+static void s_on_entity (void *arg, const char *topic, const ProtobufCMessage *msg,
+                         const Cgs__Header *hdr)
+{
+    (void)topic;
+    s_app_t *app = arg;
+    size_t bad = 0;
+    if (cgs_entities_update (app->ents, (const Cgs__EntityBatch *)msg, hdr->sim_time_s, &bad) < 0)
+        cgs_health_set_error (app->svc.health, "out of memory for entities");
+    for (size_t i = 0; i < bad; i++)
+        s_bad (app, "an entity without a valid id, position, velocity, heading or time");
+    if (app->entity_wall == 0)
+        app->entity_wall = cgs_loop_now ();
+}
+
+static void s_on_intercept (void *arg, const char *topic, const ProtobufCMessage *msg,
+                            const Cgs__Header *hdr)
+{
+    (void)topic, (void)hdr;
+    s_app_t *app = arg;
+    const Cgs__Intercept *m = (const Cgs__Intercept *)msg;
+    if (!app->sensor.uav_id || m->uav_id != app->sensor.uav_id)
+        return;
+    bool active = m->track_id != 0 && m->state != CGS__INTERCEPT_STATE__INTERCEPT_STATE_IDLE &&
+                  m->state != CGS__INTERCEPT_STATE__INTERCEPT_STATE_CANCELLED;
+    uint32_t id = active ? m->track_id : 0;
+    if (id != app->track_id) {
+        if (id)
+            cgs_log (LOG_INFO, "designated track %u: looking for its vehicle", id);
+        app->track_id = id;
+        app->have_track = false;
+    }
+}
+
+static void s_on_track (void *arg, const char *topic, const ProtobufCMessage *msg,
+                        const Cgs__Header *hdr)
+{
+    (void)topic;
+    s_app_t *app = arg;
+    const Cgs__TrackBatch *b = (const Cgs__TrackBatch *)msg;
+    for (size_t i = 0; app->track_id && i < b->n_tracks; i++) {
+        const Cgs__Track *t = b->tracks[i];
+        if (!t || t->track_id != app->track_id)
+            continue;
+        if (!t->position || !t->velocity || !isfinite (t->position->east_m) ||
+            !isfinite (t->position->north_m) || !isfinite (t->velocity->east_mps) ||
+            !isfinite (t->velocity->north_mps)) {
+            s_bad (app, "a track without a valid position or velocity");
+            return;
+        }
+        app->have_track = t->status != CGS__TRACK_STATUS__TRACK_STATUS_DELETED;
+        app->track_pos = (cgs_enu_t){t->position->east_m, t->position->north_m, 0};
+        app->track_vel = (cgs_enu_t){t->velocity->east_mps, t->velocity->north_mps, 0};
+        app->track_t = hdr->sim_time_s;
+    }
+}
+
+/* The entities to draw at time t: moved on along their velocity, ground
+ * ones on the ground; not the sensor's own UAV. */
+static size_t s_entities_at (s_app_t *app, double t)
+{
+    size_t count = cgs_entities_count (app->ents);
+    if (app->draw_cap < count) {
+        im_entity_t *d = realloc (app->draw, count * sizeof *d);
+        if (!d) {
+            cgs_health_set_error (app->svc.health, "out of memory for entities: a frame drew none");
+            return 0;
+        }
+        app->draw = d;
+        app->draw_cap = count;
+    }
+    size_t n = 0, cursor = 0;
+    const cgs_entity_state_t *s;
+    while ((s = cgs_entities_next (app->ents, &cursor))) {
+        double dt = t - s->time_s;
+        if (!s->active || s->id == app->sensor.uav_id || dt > S_STALE_S || dt < -S_STALE_S)
+            continue;
+        cgs_enu_t p = {s->position.e_m + s->velocity.e_m * dt,
+                       s->position.n_m + s->velocity.n_m * dt,
+                       s->position.u_m + s->velocity.u_m * dt};
+        if (s->kind != CGS_KIND_AIR)
+            p.u_m = cgs_terrain_height_clamped (app->sensor.terrain, p.e_m, p.n_m);
+        app->draw[n++] = (im_entity_t){
+            .id = s->id,
+            .kind = s->kind,
+            .position = p,
+            .heading_deg = s->heading_deg,
+            .running = hypot (s->velocity.e_m, s->velocity.n_m) > S_MOVING_MPS,
+        };
+    }
+    return n;
+}
+
+static void s_enu (Cgs__Enu *m, cgs_enu_t p)
+{
+    cgs__enu__init (m);
+    m->east_m = p.e_m;
+    m->north_m = p.n_m;
+    m->up_m = p.u_m;
+}
+
+static void s_queue_png (s_app_t *app, const char *name)
+{
+    int rc = im_png_writer_submit (app->png, app->rgba, app->params.width_px,
+                                   app->params.height_px, name);
+    if (rc == -EAGAIN)
+        cgs_health_set_error (app->svc.health, "PNG writer behind: a frame's file was dropped");
+    else if (rc < 0)
+        cgs_health_set_error (app->svc.health, "out of memory for a PNG file");
+}
+
+static void s_render (s_app_t *app, double t)
+{
+    const im_params_t *p = &app->params;
+    cgs_enu_t track_at = {0};
+    if (app->have_track) {
+        double dt = t - app->track_t;
+        track_at.e_m = app->track_pos.e_m + app->track_vel.e_m * dt;
+        track_at.n_m = app->track_pos.n_m + app->track_vel.n_m * dt;
+        track_at.u_m = cgs_terrain_height_clamped (app->sensor.terrain, track_at.e_m, track_at.n_m);
+    }
+    im_camera_t cam;
+    if (im_frame_camera (p, &app->uav, t, p->staring && app->have_track ? &track_at : NULL, &cam) <
+        0) {
+        s_bad (app, "a uav message whose attitude or sensor cannot make a camera");
+        return;
+    }
+    size_t n = s_entities_at (app, t);
+    char err[256] = "";
+    if (im_renderer_draw (app->ren, &cam, p, app->draw, n, app->rgba, err, sizeof err) < 0) {
+        if (app->render_errors++ == 0)
+            cgs_log (LOG_ERR, "%s", err);
+        cgs_health_set_error (app->svc.health, err);
+        return;
+    }
+    if (p->mode == IM_MODE_INFRARED)
+        im_post_infrared (&app->post, app->rgba, p);
+    im_footprint_t fp;
+    im_camera_footprint (&cam, app->sensor.terrain, p->max_range_m, &fp);
+    if (p->overlay) {
+        char lines[4][96];
+        im_frame_overlay (t, &app->uav, &cam, &fp, app->sensor.frame, lines);
+        const char *ptrs[4] = {lines[0], lines[1], lines[2], lines[3]};
+        im_post_overlay (app->rgba, p->width_px, p->height_px, ptrs, 4);
+    }
+    im_target_t tg;
+    im_frame_target (&cam, app->sensor.terrain, app->draw, n, app->have_track, track_at, S_GATE_M,
+                     &tg);
+    app->frames++;
+    // Files: numbered at the PNG rate, on request, and latest.png for the map.
+    char name[64] = "";
+    if (app->snapshots > 0) {
+        snprintf (name, sizeof name, "snapshot-%08llu.png", (unsigned long long)app->frames);
+        app->snapshots--;
+    } else if (p->png_rate_hz > 0 && t >= app->next_png_s) {
+        snprintf (name, sizeof name, "frame-%08llu.png", (unsigned long long)app->frames);
+        app->next_png_s = fmax (app->next_png_s + 1.0 / p->png_rate_hz, t);
+    }
+    if (*name) {
+        s_queue_png (app, name);
+        app->pngs++;
+    }
+    if (p->latest_rate_hz > 0 && t >= app->next_latest_s) {
+        s_queue_png (app, "latest.png");
+        app->next_latest_s = fmax (app->next_latest_s + 1.0 / p->latest_rate_hz, t);
+    }
+    // The message.
+    Cgs__Image m = CGS__IMAGE__INIT;
+    Cgs__CameraPose pose = CGS__CAMERA_POSE__INIT;
+    Cgs__Footprint f = CGS__FOOTPRINT__INIT;
+    Cgs__Enu eye, corners[4], center, *cptrs[4];
+    s_enu (&eye, cam.eye);
+    pose.position = &eye;
+    pose.heading_deg = cam.heading_deg;
+    pose.pitch_deg = cam.pitch_deg;
+    pose.roll_deg = cam.roll_deg;
+    pose.hfov_deg = app->uav.hfov_deg;
+    pose.vfov_deg = app->uav.vfov_deg;
+    for (int i = 0; i < 4; i++) {
+        s_enu (&corners[i], fp.corner[i]);
+        cptrs[i] = &corners[i];
+    }
+    s_enu (&center, fp.center);
+    f.n_corners = 4;
+    f.corners = cptrs;
+    f.center = &center;
+    f.display_scale = 1;
+    m.uav_id = app->sensor.uav_id;
+    m.frame_number = app->frames;
+    m.camera = &pose;
+    m.footprint = &f;
+    m.target_in_view = tg.in_view;
+    m.target_px_x = tg.projected ? tg.px_x : 0;
+    m.target_px_y = tg.projected ? tg.px_y : 0;
+    m.target_size_px = tg.projected ? tg.size_px : 0;
+    m.target_entity_id = tg.known ? tg.entity_id : 0;
+    m.width_px = (uint32_t)p->width_px;
+    m.height_px = (uint32_t)p->height_px;
+    m.mode = p->mode == IM_MODE_INFRARED ? CGS__IMAGE_MODE__IMAGE_MODE_INFRARED
+                                         : CGS__IMAGE_MODE__IMAGE_MODE_VISIBLE;
+    m.path = name;
+    app->svc.sim_time_s = t;
+    cgs_service_publish (&app->svc, "image", &m.base);
+    if (app->entity_wall > 0) { // from the first entity update since the last frame to this one
+        double lat = cgs_loop_now () - app->entity_wall;
+        app->latency_sum_s += lat;
+        app->latency_max_s = fmax (app->latency_max_s, lat);
+        app->entity_wall = 0;
+    }
+}
+
+static void s_on_uav (void *arg, const char *topic, const ProtobufCMessage *msg,
+                      const Cgs__Header *hdr)
+{
+    (void)topic;
+    s_app_t *app = arg;
+    const Cgs__Uav *u = (const Cgs__Uav *)msg;
+    double t = hdr->sim_time_s;
+    bool new_id = false;
+    int rc = cgs_sensor_take_uav (&app->sensor, u, t, &new_id);
+    if (rc > 0)
+        return; // another UAV's
+    if (rc < 0 || !isfinite (u->pitch_deg) || !isfinite (u->roll_deg)) {
+        s_bad (app, "a uav message without a valid time, position, velocity or attitude");
+        return;
+    }
+    if (new_id)
+        cgs_log (LOG_INFO, "imaging sensor on %s (entity %u) at t=%.2f s", app->sensor.uav_name,
+                 app->sensor.uav_id, t);
+    const cgs_scenario_uav_t *su = app->sensor.uav;
+    const Cgs__ImagingSensor *s = u->sensor;
+    app->uav = (im_uav_t){
+        .valid = true,
+        .id = u->entity_id,
+        .position = app->sensor.position,
+        .velocity = app->sensor.velocity,
+        .heading_deg = u->heading_deg,
+        .pitch_deg = u->pitch_deg,
+        .roll_deg = u->roll_deg,
+        .altitude_agl_m = u->altitude_agl_m,
+        .depression_deg = s ? s->depression_deg : su->sensor_depression_deg,
+        .hfov_deg = s && s->hfov_deg > 0 ? s->hfov_deg : su->sensor_hfov_deg,
+        .vfov_deg = s && s->vfov_deg > 0 ? s->vfov_deg : su->sensor_vfov_deg,
+        .time_s = t,
+    };
+    double period = 1.0 / app->params.frame_rate_hz;
+    if (!app->started || t < app->next_frame_s - 2 * period) { // first, or time went back
+        app->started = true;
+        app->next_frame_s = app->next_png_s = app->next_latest_s = t;
+    }
+    if (t < app->next_frame_s)
+        return;
+    app->next_frame_s = fmax (app->next_frame_s + period, t);
+    double now = cgs_loop_now ();
+    if (app->last_frame_wall > 0 && now - app->last_frame_wall < 1.0 / S_MAX_FPS) {
+        app->skipped++;
+        return;
+    }
+    app->last_frame_wall = now;
+    s_render (app, t);
+    cgs_entities_evict (app->ents, t, S_STALE_S);
+}
+
+static void s_on_command (void *arg, const Cgs__Command *cmd, Cgs__Reply *reply)
+{
+    s_app_t *app = arg;
+    if (cmd->body_case == CGS__COMMAND__BODY_PING)
+        return;
+    if (cmd->body_case != CGS__COMMAND__BODY_SNAPSHOT) {
+        reply->status = CGS__REPLY_STATUS__REPLY_STATUS_UNSUPPORTED;
+        snprintf (app->detail, sizeof app->detail, "imagerd does not handle %s",
+                  cgs_cmd_name (cmd));
+        reply->error = app->detail;
+        return;
+    }
+    const Cgs__Snapshot *s = cmd->snapshot;
+    if (s->uav_id && s->uav_id != app->sensor.uav_id) {
+        reply->status = CGS__REPLY_STATUS__REPLY_STATUS_ERROR;
+        snprintf (app->detail, sizeof app->detail, "this imagerd serves %s (entity %u), not %u",
+                  app->sensor.uav_name, app->sensor.uav_id, s->uav_id);
+        reply->error = app->detail;
+        return;
+    }
+    uint32_t n = s->frames ? s->frames : 1;
+    if (n > 1000) {
+        reply->status = CGS__REPLY_STATUS__REPLY_STATUS_ERROR;
+        snprintf (app->detail, sizeof app->detail, "at most 1000 frames a request, asked %u", n);
+        reply->error = app->detail;
+        return;
+    }
+    app->snapshots += n;
+    snprintf (app->detail, sizeof app->detail, "%s: the next %u frame%s to %s",
+              app->sensor.uav_name, n, n == 1 ? "" : "s", app->out_dir);
+    reply->detail = app->detail;
+}
+
+static int s_setup (s_app_t *app, char *err, size_t errlen)
+{
+    int rc =
+        cgs_sensor_setup (&app->sensor, &app->svc, "imagerd", 0x9E3779B97F4A7C15ull, err, errlen);
+    if (rc < 0)
+        return rc;
+    im_params_defaults (&app->params);
+    if (*app->svc.params) {
+        if ((rc = im_params_load (app->svc.params, &app->params, err, errlen)) < 0)
+            return rc;
+        cgs_log (LOG_INFO, "imager parameters from %s", app->svc.params);
+    } else {
+        cgs_log (LOG_INFO, "imager parameters: the built-in defaults (no parameter file named)");
+    }
+    if (!*app->out_dir)
+        snprintf (app->out_dir, sizeof app->out_dir, "%s/images", app->svc.state_dir);
+    const im_params_t *p = &app->params;
+    if (app->svc.check_only)
+        return im_ctx_check_driver (getenv ("GALLIUM_DRIVER"), err, errlen);
+    app->ents = cgs_entities_new ();
+    app->rgba = malloc ((size_t)p->width_px * (size_t)p->height_px * 4);
+    if (!app->ents || !app->rgba ||
+        im_post_init (&app->post, p->width_px, p->height_px, app->sensor.seed) < 0) {
+        snprintf (err, errlen, "out of memory");
+        return -ENOMEM;
+    }
+    if (!(app->ctx = im_ctx_new (p->width_px, p->height_px, err, errlen)))
+        return -EINVAL;
+    im_terrain_mesh_t mesh;
+    if ((rc = im_terrain_mesh_build (app->sensor.terrain, p->chunk_cells, p->lods, &mesh)) < 0) {
+        snprintf (err, errlen, "cannot build the terrain mesh: %s", strerror (-rc));
+        return rc;
+    }
+    app->ren = im_renderer_new (p->width_px, p->height_px, &mesh, err, errlen);
+    cgs_log (LOG_INFO,
+             "%s: %d x %d px, %s at %g Hz of simulation time; terrain %d x %d nodes in %zu "
+             "chunks, %d levels; rendering with %s (%s)",
+             app->sensor.uav_name, p->width_px, p->height_px,
+             p->mode == IM_MODE_INFRARED ? "infrared" : "visible", p->frame_rate_hz, mesh.cols,
+             mesh.rows, mesh.nchunks, p->lods, im_ctx_backend (),
+             app->ren ? im_renderer_gl (app->ren) : "no renderer");
+    im_terrain_mesh_free (&mesh);
+    if (!app->ren)
+        return -EINVAL;
+    if (!(app->png = im_png_writer_new (app->out_dir, S_PNG_QUEUE, err, errlen)))
+        return -EIO;
+    cgs_log (LOG_INFO, "images to %s (latest.png every %g s of simulation time%s)", app->out_dir,
+             p->latest_rate_hz > 0 ? 1.0 / p->latest_rate_hz : 0.0,
+             p->png_rate_hz > 0 ? ", numbered frames too" : "");
+    return 0;
+}
+
+static int s_on_option (void *arg, const char *name, const char *value, char *why, size_t whylen)
+{
+    s_app_t *app = arg;
+    if (strcmp (name, "out") == 0) {
+        if (!*value || strlen (value) >= sizeof app->out_dir - 64) {
+            snprintf (why, whylen, "--out needs a folder name under %zu bytes",
+                      sizeof app->out_dir - 64);
+            return -EINVAL;
+        }
+        snprintf (app->out_dir, sizeof app->out_dir, "%s", value);
+    }
+    return 0;
+}
+
+int main (int argc, char **argv)
+{
+    static s_app_t app;
+    static const cgs_service_option_t options[] = {
+        {"out", true, "DIR", "folder for PNG files (default: STATE_DIR/images)"},
+        {NULL, false, NULL, NULL},
+    };
+    cgs_service_info_t info = {
+        .program = "imagerd",
+        .summary = "Imaging sensor of one UAV: renders its view headless (visible or infrared).",
+        .options = options,
+        .on_option = s_on_option,
+        .option_arg = &app,
+    };
+    int rc = cgs_service_init (&app.svc, &info, argc, argv);
+    if (rc != 0) {
+        cgs_service_fini (&app.svc);
+        return rc > 0 ? 0 : 1;
+    }
+    int exit_code = 1;
+    char err[1024] = "";
+    if (s_setup (&app, err, sizeof err) < 0) {
+        cgs_log (LOG_ERR, "%s", err);
+        goto done;
+    }
+    if (app.svc.check_only) {
+        printf ("%s: parameters and scenario are good\n", app.svc.instance_name);
+        exit_code = 0;
+        goto done;
+    }
+    if (app.svc.instance->command[0] &&
+        cgs_service_serve_commands (&app.svc, s_on_command, NULL, &app) < 0)
+        goto done;
+    if (cgs_service_subscribe (&app.svc, "entity", s_on_entity, &app) < 0 ||
+        cgs_service_subscribe (&app.svc, "intercept", s_on_intercept, &app) < 0 ||
+        cgs_service_subscribe (&app.svc, "track", s_on_track, &app) < 0 ||
+        cgs_service_subscribe (&app.svc, "uav", s_on_uav, &app) < 0)
+        goto done;
+    exit_code = cgs_service_run (&app.svc);
+    cgs_log (LOG_INFO,
+             "%llu frames (%llu skipped to keep under %g per second), %llu PNG files asked for; "
+             "entity update to frame %.1f ms on average, %.1f ms at most",
+             (unsigned long long)app.frames, (unsigned long long)app.skipped, S_MAX_FPS,
+             (unsigned long long)app.pngs,
+             app.frames ? 1e3 * app.latency_sum_s / (double)app.frames : 0.0,
+             1e3 * app.latency_max_s);
+done:
+    if (app.png) {
+        im_png_stats_t st;
+        im_png_writer_destroy (&app.png, &st); // writes what is queued first
+        cgs_log (st.failed ? LOG_WARNING : LOG_INFO,
+                 "PNG files: %llu written, %llu dropped (writer behind), %llu failed%s%s",
+                 (unsigned long long)st.written, (unsigned long long)st.dropped,
+                 (unsigned long long)st.failed, st.failed ? "; last: " : "", st.last_error);
+    }
+    im_renderer_destroy (&app.ren);
+    im_ctx_destroy (&app.ctx);
+    im_post_fini (&app.post);
+    cgs_entities_destroy (&app.ents);
+    cgs_sensor_fini (&app.sensor);
+    free (app.draw);
+    free (app.rgba);
+    cgs_service_fini (&app.svc);
+    return exit_code;
+}
