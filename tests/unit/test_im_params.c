@@ -1,0 +1,438 @@
+/* Unit tests of im_params: the defaults, the shipped parameter file (which
+ * must give exactly the defaults and document every key), every key read
+ * from text, and every kind of error with its file, line, section and key
+ * (ranges, the relations between keys: a power-of-two chunk, max_range_m
+ * beyond near_m, display_max_k above display_min_k; the mode and polarity
+ * names); a refused file leaves the parameters as they were; a set built
+ * in code is checked too. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include <cmocka.h>
+
+#include "cgs_config.h"
+#include "im_params.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+// Every key the file takes, by section (the shipped file must give them all).
+static const char *const s_keys[][2] = {
+    {"camera", "width_px"},
+    {"camera", "height_px"},
+    {"camera", "frame_rate_hz"},
+    {"camera", "stabilized"},
+    {"camera", "staring"},
+    {"camera", "near_m"},
+    {"camera", "max_range_m"},
+    {"scene", "sun_azimuth_deg"},
+    {"scene", "sun_elevation_deg"},
+    {"scene", "visibility_m"},
+    {"scene", "chunk_cells"},
+    {"scene", "lods"},
+    {"scene", "lod_distance_m"},
+    {"overlay", "enabled"},
+    {"infrared", "mode"},
+    {"infrared", "polarity"},
+    {"infrared", "ambient_k"},
+    {"infrared", "sun_gain_k"},
+    {"infrared", "hull_rise_k"},
+    {"infrared", "engine_k"},
+    {"infrared", "running_gear_rise_k"},
+    {"infrared", "glass_k"},
+    {"infrared", "person_k"},
+    {"infrared", "sky_k"},
+    {"infrared", "attenuation_per_km"},
+    {"infrared", "display_min_k"},
+    {"infrared", "display_max_k"},
+    {"infrared", "blur_px"},
+    {"infrared", "noise_k"},
+    {"output", "png_rate_hz"},
+    {"output", "latest_rate_hz"},
+};
+
+static void s_assert_equal (const im_params_t *a, const im_params_t *b)
+{
+#define S_SAME(f)                                                                                  \
+    do {                                                                                           \
+        if (a->f != b->f)                                                                          \
+            fail_msg ("%s: %.17g != %.17g", #f, (double)a->f, (double)b->f);                       \
+    } while (0)
+    S_SAME (width_px);
+    S_SAME (height_px);
+    S_SAME (frame_rate_hz);
+    S_SAME (stabilized);
+    S_SAME (staring);
+    S_SAME (near_m);
+    S_SAME (max_range_m);
+    S_SAME (sun_azimuth_deg);
+    S_SAME (sun_elevation_deg);
+    S_SAME (visibility_m);
+    S_SAME (chunk_cells);
+    S_SAME (lods);
+    S_SAME (lod_distance_m);
+    S_SAME (overlay);
+    S_SAME (mode);
+    S_SAME (polarity);
+    S_SAME (ambient_k);
+    S_SAME (sun_gain_k);
+    S_SAME (hull_rise_k);
+    S_SAME (engine_k);
+    S_SAME (running_gear_rise_k);
+    S_SAME (glass_k);
+    S_SAME (person_k);
+    S_SAME (sky_k);
+    S_SAME (attenuation_per_km);
+    S_SAME (display_min_k);
+    S_SAME (display_max_k);
+    S_SAME (blur_px);
+    S_SAME (noise_k);
+    S_SAME (png_rate_hz);
+    S_SAME (latest_rate_hz);
+#undef S_SAME
+}
+
+/* A set in which every field differs from its default (and is valid). */
+static im_params_t s_not_defaults (void)
+{
+    return (im_params_t){
+        .width_px = 1280,
+        .height_px = 720,
+        .frame_rate_hz = 10,
+        .stabilized = true,
+        .staring = true,
+        .near_m = 2,
+        .max_range_m = 30000,
+        .sun_azimuth_deg = 200,
+        .sun_elevation_deg = 20,
+        .visibility_m = 8000,
+        .chunk_cells = 64,
+        .lods = 3,
+        .lod_distance_m = 1500,
+        .overlay = false,
+        .mode = IM_MODE_INFRARED,
+        .polarity = IM_BLACK_HOT,
+        .ambient_k = 290,
+        .sun_gain_k = 10,
+        .hull_rise_k = 9,
+        .engine_k = 350,
+        .running_gear_rise_k = 20,
+        .glass_k = 270,
+        .person_k = 306,
+        .sky_k = 260,
+        .attenuation_per_km = 0.3,
+        .display_min_k = 270,
+        .display_max_k = 330,
+        .blur_px = 1.5,
+        .noise_k = 0.2,
+        .png_rate_hz = 2,
+        .latest_rate_hz = 0.5,
+    };
+}
+
+static void s_load (const char *text, im_params_t *p)
+{
+    char err[512] = "";
+    if (im_params_load_string ("i.ini", text, p, err, sizeof err) != 0)
+        fail_msg ("load failed: %s", err);
+}
+
+// Loading text as "i.ini" fails with -EINVAL, exactly the message expected,
+// and leaves *p alone.
+static void s_fails (const char *text, const char *expected)
+{
+    im_params_t p, before;
+    im_params_defaults (&p);
+    p.lod_distance_m = 1234; // not a default: a partial write would show
+    before = p;
+    char err[512] = "";
+    int rc = im_params_load_string ("i.ini", text, &p, err, sizeof err);
+    if (rc != -EINVAL)
+        fail_msg ("expected -EINVAL, got %d (%s) for:\n%s", rc, err, text);
+    s_assert_equal (&p, &before);
+    assert_string_equal (err, expected);
+}
+
+static void test_defaults (void **state)
+{
+    (void)state;
+    im_params_t p;
+    memset (&p, 0x5a, sizeof p);
+    im_params_defaults (&p);
+    assert_int_equal (p.width_px, 640);
+    assert_int_equal (p.height_px, 480);
+    assert_true (p.frame_rate_hz == 5);
+    assert_false (p.stabilized);
+    assert_false (p.staring);
+    assert_true (p.near_m == 5);
+    assert_true (p.max_range_m == 20000);
+    assert_true (p.sun_azimuth_deg == 135);
+    assert_true (p.sun_elevation_deg == 45);
+    assert_true (p.visibility_m == 20000);
+    assert_int_equal (p.chunk_cells, 32);
+    assert_int_equal (p.lods, 5);
+    assert_true (p.lod_distance_m == 2000);
+    assert_true (p.overlay);
+    assert_int_equal (p.mode, IM_MODE_VISIBLE);
+    assert_int_equal (p.polarity, IM_WHITE_HOT);
+    assert_true (p.ambient_k == 288);
+    assert_true (p.sun_gain_k == 12);
+    assert_true (p.hull_rise_k == 8);
+    assert_true (p.engine_k == 360);
+    assert_true (p.running_gear_rise_k == 25);
+    assert_true (p.glass_k == 275);
+    assert_true (p.person_k == 305);
+    assert_true (p.sky_k == 265);
+    assert_true (p.attenuation_per_km == 0.2);
+    assert_true (p.display_min_k == 275);
+    assert_true (p.display_max_k == 325);
+    assert_true (p.blur_px == 0.8);
+    assert_true (p.noise_k == 0.3);
+    assert_true (p.png_rate_hz == 0);
+    assert_true (p.latest_rate_hz == 1);
+    char err[256] = "";
+    assert_int_equal (im_params_check (&p, err, sizeof err), 0);
+    im_params_t q = s_not_defaults ();
+    assert_int_equal (im_params_check (&q, err, sizeof err), 0);
+}
+
+// The shipped file gives every key, and exactly the defaults.
+static void test_shipped_file (void **state)
+{
+    (void)state;
+    const char *root = getenv ("CGS_ROOT");
+    char path[1024], err[512] = "";
+    snprintf (path, sizeof path, "%s/deploy/params/imager.ini", root ? root : ".");
+    im_params_t p, def;
+    im_params_defaults (&def);
+    memset (&p, 0, sizeof p);
+    p.mode = IM_MODE_INFRARED; // loading over a non-default set writes every field back
+    p.width_px = 100;
+    if (im_params_load (path, &p, err, sizeof err) != 0)
+        fail_msg ("%s", err);
+    s_assert_equal (&p, &def);
+    im_params_t over = s_not_defaults ();
+    if (im_params_load (path, &over, err, sizeof err) != 0)
+        fail_msg ("%s", err);
+    s_assert_equal (&over, &def);
+    cgs_config_t *cfg = NULL;
+    if (cgs_config_load (path, &cfg, err, sizeof err) != 0)
+        fail_msg ("%s", err);
+    for (size_t i = 0; i < sizeof s_keys / sizeof s_keys[0]; i++)
+        if (!cgs_config_has (cfg, s_keys[i][0], s_keys[i][1]))
+            fail_msg ("%s has no [%s] %s", path, s_keys[i][0], s_keys[i][1]);
+    assert_int_equal (cgs_config_section_count (cfg), 5);
+    cgs_config_destroy (&cfg);
+}
+
+// Every key read from text lands in its field; a key left out keeps its value.
+static void test_values (void **state)
+{
+    (void)state;
+    im_params_t p;
+    im_params_defaults (&p);
+    s_load ("[camera]\n"
+            "width_px = 1280\n"
+            "height_px = 720\n"
+            "frame_rate_hz = 10\n"
+            "stabilized = yes\n"
+            "staring = on\n"
+            "near_m = 2\n"
+            "max_range_m = 30000\n"
+            "[scene]\n"
+            "sun_azimuth_deg = 200\n"
+            "sun_elevation_deg = 20\n"
+            "visibility_m = 8000\n"
+            "chunk_cells = 64\n"
+            "lods = 3\n"
+            "lod_distance_m = 1500\n"
+            "[overlay]\n"
+            "enabled = false\n"
+            "[infrared]\n"
+            "mode = infrared\n"
+            "polarity = black-hot\n"
+            "ambient_k = 290\n"
+            "sun_gain_k = 10\n"
+            "hull_rise_k = 9\n"
+            "engine_k = 350\n"
+            "running_gear_rise_k = 20\n"
+            "glass_k = 270\n"
+            "person_k = 306\n"
+            "sky_k = 260\n"
+            "attenuation_per_km = 0.3\n"
+            "display_min_k = 270\n"
+            "display_max_k = 330\n"
+            "blur_px = 1.5\n"
+            "noise_k = 0.2\n"
+            "[output]\n"
+            "png_rate_hz = 2\n"
+            "latest_rate_hz = 0.5\n",
+            &p);
+    im_params_t want = s_not_defaults ();
+    s_assert_equal (&p, &want);
+    // Names are case-insensitive; a key left out keeps its value.
+    s_load ("[infrared]\nmode = VISIBLE\npolarity = White-Hot\n", &p);
+    want.mode = IM_MODE_VISIBLE;
+    want.polarity = IM_WHITE_HOT;
+    s_assert_equal (&p, &want);
+    s_load ("[camera]\nstabilized = 0\n[overlay]\nenabled = 1\n", &p);
+    want.stabilized = false;
+    want.overlay = true;
+    s_assert_equal (&p, &want);
+    // An empty file changes nothing.
+    s_load ("", &p);
+    s_assert_equal (&p, &want);
+    // The edges of the ranges are taken.
+    im_params_defaults (&p);
+    s_load ("[camera]\nwidth_px = 16\nheight_px = 4096\nnear_m = 0.1\nmax_range_m = 100\n"
+            "[scene]\nchunk_cells = 2\nlods = 6\n[infrared]\nnoise_k = 0\nblur_px = 10\n",
+            &p);
+    assert_int_equal (p.width_px, 16);
+    assert_int_equal (p.height_px, 4096);
+    assert_int_equal (p.chunk_cells, 2);
+    assert_int_equal (p.lods, 6);
+    s_load ("[scene]\nchunk_cells = 1024\n", &p);
+    assert_int_equal (p.chunk_cells, 1024);
+}
+
+static void test_range_errors (void **state)
+{
+    (void)state;
+    s_fails ("[camera]\nwidth_px = 8\n",
+             "i.ini:2: [camera] width_px: expected an integer in [16, 4096], got '8'");
+    s_fails ("[camera]\n\nheight_px = 5000\n",
+             "i.ini:3: [camera] height_px: expected an integer in [16, 4096], got '5000'");
+    s_fails ("[camera]\nwidth_px = 640.5\n",
+             "i.ini:2: [camera] width_px: expected an integer in [16, 4096], got '640.5'");
+    s_fails ("[camera]\nframe_rate_hz = 0\n",
+             "i.ini:2: [camera] frame_rate_hz: expected a number in [0.01, 100], got '0'");
+    s_fails ("[camera]\nnear_m = abc\n",
+             "i.ini:2: [camera] near_m: expected a number in [0.1, 1000], got 'abc'");
+    s_fails ("[camera]\nmax_range_m = 50\n",
+             "i.ini:2: [camera] max_range_m: expected a number in [100, 1000000], got '50'");
+    s_fails ("[scene]\nsun_elevation_deg = 91\n",
+             "i.ini:2: [scene] sun_elevation_deg: expected a number in [-90, 90], got '91'");
+    s_fails ("[scene]\nchunk_cells = 2048\n",
+             "i.ini:2: [scene] chunk_cells: expected an integer in [2, 1024], got '2048'");
+    s_fails ("[scene]\nlods = 0\n",
+             "i.ini:2: [scene] lods: expected an integer in [1, 6], got '0'");
+    s_fails ("[scene]\nlods = 7\n",
+             "i.ini:2: [scene] lods: expected an integer in [1, 6], got '7'");
+    s_fails ("[infrared]\nblur_px = -1\n",
+             "i.ini:2: [infrared] blur_px: expected a number in [0, 10], got '-1'");
+    s_fails ("[infrared]\nnoise_k = nan\n",
+             "i.ini:2: [infrared] noise_k: expected a number in [0, 50], got 'nan'");
+    s_fails ("[output]\npng_rate_hz = 101\n",
+             "i.ini:2: [output] png_rate_hz: expected a number in [0, 100], got '101'");
+    s_fails ("[camera]\nstabilized = maybe\n",
+             "i.ini:2: [camera] stabilized: expected true/false, yes/no, on/off or 1/0, got "
+             "'maybe'");
+    s_fails ("[overlay]\nenabled = 2\n",
+             "i.ini:2: [overlay] enabled: expected true/false, yes/no, on/off or 1/0, got '2'");
+}
+
+// Relations between keys, each reported on the line of the key named.
+static void test_relation_errors (void **state)
+{
+    (void)state;
+    s_fails ("[scene]\nchunk_cells = 48\n",
+             "i.ini:2: [scene] chunk_cells: expected a power of two, got 48");
+    s_fails ("[scene]\nlods = 2\nchunk_cells = 3\n",
+             "i.ini:3: [scene] chunk_cells: expected a power of two, got 3");
+    s_fails ("[scene]\nchunk_cells = 1000\n",
+             "i.ini:2: [scene] chunk_cells: expected a power of two, got 1000");
+    s_fails ("[camera]\nnear_m = 500\nmax_range_m = 400\n",
+             "i.ini:3: [camera] max_range_m: expected more than near_m (500), got 400");
+    s_fails ("[camera]\nmax_range_m = 500\nnear_m = 500\n",
+             "i.ini:2: [camera] max_range_m: expected more than near_m (500), got 500");
+    s_fails ("[infrared]\ndisplay_min_k = 300\ndisplay_max_k = 290\n",
+             "i.ini:3: [infrared] display_max_k: expected more than display_min_k (300), got 290");
+    s_fails ("[infrared]\ndisplay_max_k = 300\ndisplay_min_k = 300\n",
+             "i.ini:2: [infrared] display_max_k: expected more than display_min_k (300), got 300");
+    // The key named is not in the file: no line, the file's name.
+    s_fails ("[infrared]\ndisplay_min_k = 325\n",
+             "i.ini: [infrared] display_max_k: expected more than display_min_k (325), got 325");
+}
+
+static void test_enum_and_file_errors (void **state)
+{
+    (void)state;
+    s_fails ("[infrared]\nmode = thermal\n",
+             "i.ini:2: [infrared] mode: expected one of 'visible', 'infrared', got 'thermal'");
+    s_fails ("[infrared]\npolarity = green-hot\n",
+             "i.ini:2: [infrared] polarity: expected one of 'white-hot', 'black-hot', got "
+             "'green-hot'");
+    s_fails ("[infrared]\npolarity = 1\n",
+             "i.ini:2: [infrared] polarity: expected one of 'white-hot', 'black-hot', got '1'");
+    s_fails ("[camera]\nzoom = 2\n", "i.ini:2: [camera] unknown key 'zoom'");
+    s_fails ("[infrared]\nmode = infrared\nfov_deg = 3\n",
+             "i.ini:3: [infrared] unknown key 'fov_deg'");
+    s_fails ("[lens]\nx = 1\n", "i.ini:1: unknown section [lens]");
+    s_fails ("[camera]\nwidth_px = 800\nwidth_px = 1024\n",
+             "i.ini:3: [camera] width_px: given twice (first at line 2)");
+    // The file is missing.
+    im_params_t p;
+    im_params_defaults (&p);
+    char err[512] = "";
+    assert_true (im_params_load ("/nonexistent/imager.ini", &p, err, sizeof err) < 0);
+    assert_non_null (strstr (err, "/nonexistent/imager.ini"));
+}
+
+// A set built in code is checked too: ranges, then relations, then enums.
+static void test_check (void **state)
+{
+    (void)state;
+    im_params_t p;
+    char err[256] = "";
+    im_params_defaults (&p);
+    p.chunk_cells = 48;
+    assert_int_equal (im_params_check (&p, err, sizeof err), -EINVAL);
+    assert_string_equal (err, "[scene] chunk_cells: expected a power of two, got 48");
+    im_params_defaults (&p);
+    p.near_m = 100;
+    p.max_range_m = 100;
+    assert_int_equal (im_params_check (&p, err, sizeof err), -EINVAL);
+    assert_string_equal (err, "[camera] max_range_m: expected more than near_m (100), got 100");
+    im_params_defaults (&p);
+    p.display_max_k = p.display_min_k - 1;
+    assert_int_equal (im_params_check (&p, err, sizeof err), -EINVAL);
+    assert_string_equal (
+        err, "[infrared] display_max_k: expected more than display_min_k (275), got 274");
+    im_params_defaults (&p);
+    p.mode = (im_mode_t)7;
+    assert_int_equal (im_params_check (&p, err, sizeof err), -EINVAL);
+    assert_string_equal (err, "[infrared] mode: expected visible or infrared, got 7");
+    im_params_defaults (&p);
+    p.polarity = (im_polarity_t)-1;
+    assert_int_equal (im_params_check (&p, err, sizeof err), -EINVAL);
+    assert_string_equal (err, "[infrared] polarity: expected white-hot or black-hot, got -1");
+    im_params_defaults (&p);
+    p.width_px = 8;
+    assert_int_equal (im_params_check (&p, err, sizeof err), -EINVAL);
+    assert_string_equal (err, "[camera] width_px: expected an integer in [16, 4096], got 8");
+    im_params_defaults (&p);
+    p.noise_k = NAN;
+    assert_int_equal (im_params_check (&p, err, sizeof err), -EINVAL);
+    assert_non_null (strstr (err, "[infrared] noise_k: expected a number in [0, 50]"));
+    im_params_defaults (&p);
+    p.attenuation_per_km = 11;
+    assert_int_equal (im_params_check (&p, err, sizeof err), -EINVAL);
+    assert_string_equal (err,
+                         "[infrared] attenuation_per_km: expected a number in [0, 10], got 11");
+}
+
+int main (void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test (test_defaults),        cmocka_unit_test (test_shipped_file),
+        cmocka_unit_test (test_values),          cmocka_unit_test (test_range_errors),
+        cmocka_unit_test (test_relation_errors), cmocka_unit_test (test_enum_and_file_errors),
+        cmocka_unit_test (test_check),
+    };
+    return cmocka_run_group_tests (tests, NULL, NULL);
+}
