@@ -66,7 +66,9 @@ static void s_usage (FILE *f)
                 "  loiter, goto, route, altitude, speed task a UAV (uavsim); --help for each\n"
                 "  pause, resume, time-scale X          the simulation clock (uavsim)\n"
                 "  designate TRACK_ID | designate --at POS, cancel, footprint-scale 1|5|10,\n"
-                "  intercept-mode head-on|mti-hits      the intercept (guidanced); --help\n\n"
+                "  intercept-mode head-on|mti-hits      the intercept (guidanced); --help\n"
+                "  snapshot [N]  write the imaging sensor's next N frames (default 1) as PNG\n"
+                "           files in imagerd's output folder [--to INSTANCE] [--uav ID]\n\n"
                 "The exercise file is --exercise F, else $MSCGS_EXERCISE, else\n"
                 "/etc/mscgs/exercise.ini, else the installed or source tree's default exercise.\n");
 }
@@ -917,6 +919,48 @@ done:
     return rc;
 }
 
+/* mscgs snapshot [N]: imagerd writes its next N frames as PNG files. */
+static int s_cmd_snapshot (int argc, char **argv)
+{
+    const char *exercise = NULL, *to = NULL;
+    Cgs__Snapshot snap = CGS__SNAPSHOT__INIT;
+    static const struct option opts[] = {{"exercise", required_argument, NULL, 'e'},
+                                         {"to", required_argument, NULL, 't'},
+                                         {"uav", required_argument, NULL, 'u'},
+                                         {"help", no_argument, NULL, 'h'},
+                                         {NULL, 0, NULL, 0}};
+    int c;
+    while ((c = getopt_long (argc, argv, "h", opts, NULL)) != -1) {
+        if (c == 'e')
+            exercise = optarg;
+        else if (c == 't')
+            to = optarg;
+        else if (c == 'u')
+            snap.uav_id = s_id ("--uav", "an entity id", optarg);
+        else {
+            fprintf (c == 'h' ? stdout : stderr,
+                     "usage: mscgs snapshot [N] [--to INSTANCE] [--uav ID] [--exercise F]\n"
+                     "imagerd writes its next N frames (1..1000, default 1) as PNG files\n"
+                     "(snapshot-NNNNNNNN.png) in its output folder.\n");
+            return c == 'h' ? 0 : 2;
+        }
+    }
+    if (argc - optind > 1) {
+        fprintf (stderr, "mscgs snapshot: takes one number of frames at most\n");
+        return 2;
+    }
+    snap.frames = argc - optind == 1 ? s_id ("snapshot", "a number of frames", argv[optind]) : 1;
+    cgs_exercise_t *ex = s_load_exercise (exercise);
+    if (!ex)
+        return 1;
+    Cgs__Command cmd = CGS__COMMAND__INIT;
+    cmd.body_case = CGS__COMMAND__BODY_SNAPSHOT;
+    cmd.snapshot = &snap;
+    int rc = s_send ("snapshot", ex, to, "imagerd", &cmd);
+    cgs_exercise_destroy (&ex);
+    return rc;
+}
+
 /* ---- topics -------------------------------------------------------------------------- */
 
 static int s_cmd_topics (void)
@@ -1405,6 +1449,12 @@ static void s_child_start (s_run_t *run, s_child_t *ch)
             argv[n++] = "--time-scale";
             argv[n++] = speed;
         }
+        char images[sizeof run->out + 16];
+        if (strcmp (ch->instance->program, "imagerd") == 0) { // its frames beside the summary
+            snprintf (images, sizeof images, "%s/images", run->out);
+            argv[n++] = "--out";
+            argv[n++] = images;
+        }
         argv[n] = NULL;
         execv (ch->binary, (char *const *)argv);
         fprintf (stderr, "mscgs run: cannot execute %s: %s\n", ch->binary, strerror (errno));
@@ -1789,6 +1839,8 @@ int main (int argc, char **argv)
         return s_cmd_ping (argc, argv);
     if (strcmp (cmd, "topics") == 0)
         return s_cmd_topics ();
+    if (strcmp (cmd, "snapshot") == 0)
+        return s_cmd_snapshot (argc, argv);
     const char *tasks[] = {"loiter", "goto",  "route",  "altitude",
                            "speed",  "pause", "resume", "time-scale"};
     for (size_t i = 0; i < sizeof tasks / sizeof tasks[0]; i++)
