@@ -203,16 +203,17 @@ $(O)/bin/%: $$(foreach f,$$(wildcard services/$$*/*.c),$(O)/obj/$$(basename $$(f
 # imagerd and its render test: the chosen backend; the other one beside them.
 $(O)/bin/imagerd: $(CTX_OBJ_$(RENDER))
 $(O)/bin/imagerd: LDLIBS += $(GL_LIBS_$(RENDER))
-$(O)/tests/unit/test_im_render: $(CTX_OBJ_$(RENDER)) $(O)/obj/services/imagerd/im_ctx.o
-$(O)/tests/unit/test_im_render: LDLIBS += $(GL_LIBS_$(RENDER))
-$(O)/bench/bench_imagerd: $(CTX_OBJ_$(RENDER)) $(O)/obj/services/imagerd/im_ctx.o
-$(O)/bench/bench_imagerd: LDLIBS += $(GL_LIBS_$(RENDER))
+# (the archive again after the context object, which calls into it)
+$(O)/tests/unit/test_im_render: $(CTX_OBJ_$(RENDER))
+$(O)/tests/unit/test_im_render: LDLIBS := $(SVC_LIB) $(LDLIBS) $(GL_LIBS_$(RENDER))
+$(O)/bench/bench_imagerd: $(CTX_OBJ_$(RENDER))
+$(O)/bench/bench_imagerd: LDLIBS := $(SVC_LIB) $(LDLIBS) $(GL_LIBS_$(RENDER))
 
 $(O)/bin-$(ALT_RENDER)/imagerd: $(foreach f,$(wildcard services/imagerd/*.c),$(O)/obj/$(basename $(f)).o) $(CTX_OBJ_$(ALT_RENDER)) $(SVC_LIB) $(LIB)
 	@mkdir -p $(dir $@)
 	$(CC) $(LDFLAGS) $^ -o $@ $(LDLIBS) $(GL_LIBS_$(ALT_RENDER))
 
-$(O)/tests/unit/test_im_render@$(ALT_RENDER): $(O)/obj/tests/unit/test_im_render.o $(CTX_OBJ_$(ALT_RENDER)) $(O)/obj/services/imagerd/im_ctx.o $(SVC_LIB) $(LIB)
+$(O)/tests/unit/test_im_render@$(ALT_RENDER): $(O)/obj/tests/unit/test_im_render.o $(CTX_OBJ_$(ALT_RENDER)) $(SVC_LIB) $(LIB)
 	@mkdir -p $(dir $@)
 	$(CC) $(LDFLAGS) $^ -o $@ $(CMOCKA_LIBS) $(LDLIBS) $(GL_LIBS_$(ALT_RENDER))
 

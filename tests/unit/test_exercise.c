@@ -118,14 +118,16 @@ static void test_default_exercise (void **state)
         assert_ptr_equal (cgs_exercise_find (ex, names[i]), inst);
         snprintf (want, sizeof want, "ipc:///tmp/mscgs/%s.pub", names[i]);
         assert_string_equal (inst->publish, want);
-        bool commands = strcmp (names[i], "uavsim") == 0 || strcmp (names[i], "guidanced") == 0;
+        bool commands = strcmp (names[i], "uavsim") == 0 || strcmp (names[i], "guidanced") == 0 ||
+                        strcmp (names[i], "imagerd.uav1") == 0;
         snprintf (want, sizeof want, "ipc:///tmp/mscgs/%s.cmd", names[i]);
         assert_string_equal (inst->command, commands ? want : "");
         assert_string_equal (inst->uav, strstr (names[i], ".uav1") ? "uav1" : "");
         assert_string_equal (inst->host, "localhost");
-        const char *file = strcmp (names[i], "trackerd") == 0    ? "tracker.ini"
-                           : strcmp (names[i], "guidanced") == 0 ? "guidance.ini"
-                                                                 : NULL;
+        const char *file = strcmp (names[i], "trackerd") == 0       ? "tracker.ini"
+                           : strcmp (names[i], "guidanced") == 0    ? "guidance.ini"
+                           : strcmp (names[i], "imagerd.uav1") == 0 ? "imager.ini"
+                                                                    : NULL;
         if (file) { // relative to the exercise file
             char p[64];
             snprintf (p, sizeof p, "deploy/exercises/../params/%s", file);
