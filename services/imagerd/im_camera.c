@@ -65,9 +65,8 @@ static void s_matrices (im_camera_t *c)
 int im_camera_make (const im_camera_in_t *in, im_camera_t *ret)
 {
     if (!in || !ret || !isfinite (in->position.e_m) || !isfinite (in->position.n_m) ||
-        !isfinite (in->position.u_m) || !isfinite (in->heading_deg) ||
-        !isfinite (in->pitch_deg) || !isfinite (in->roll_deg) ||
-        !(in->depression_deg > -90 && in->depression_deg < 90) ||
+        !isfinite (in->position.u_m) || !isfinite (in->heading_deg) || !isfinite (in->pitch_deg) ||
+        !isfinite (in->roll_deg) || !(in->depression_deg > -90 && in->depression_deg < 90) ||
         !(in->hfov_deg > 0 && in->hfov_deg < 180) || !(in->vfov_deg > 0 && in->vfov_deg < 180) ||
         in->width_px < 1 || in->height_px < 1 || !(in->near_m > 0) || !(in->far_m > in->near_m))
         return -EINVAL;
@@ -97,8 +96,8 @@ int im_camera_make (const im_camera_in_t *in, im_camera_t *ret)
 
 int im_camera_stare (im_camera_t *cam, cgs_enu_t target)
 {
-    cgs_enu_t d = s_v (target.e_m - cam->eye.e_m, target.n_m - cam->eye.n_m,
-                       target.u_m - cam->eye.u_m);
+    cgs_enu_t d =
+        s_v (target.e_m - cam->eye.e_m, target.n_m - cam->eye.n_m, target.u_m - cam->eye.u_m);
     double len = sqrt (s_dot (d, d)), hl = hypot (d.e_m, d.n_m);
     if (!(len > 0) || !(hl > 1e-9 * len) || !isfinite (len))
         return -EINVAL;
@@ -143,7 +142,8 @@ void im_camera_footprint (const im_camera_t *cam, const cgs_terrain_t *terrain, 
                           im_footprint_t *ret)
 {
     const double w = cam->width_px, h = cam->height_px;
-    const double px[4][2] = {{0, h}, {0, 0}, {w, 0}, {w, h}}; // near-left, far-left, far-right, near-right
+    const double px[4][2] = {
+        {0, h}, {0, 0}, {w, 0}, {w, h}}; // near-left, far-left, far-right, near-right
     im_footprint_t out = {0};
     bool all = true;
     for (int i = 0; i < 4; i++)

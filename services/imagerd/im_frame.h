@@ -32,14 +32,14 @@ int im_frame_camera (const im_params_t *p, const im_uav_t *u, double t, const cg
                      im_camera_t *ret);
 
 typedef struct {
-    bool known;          // a ground entity answers to the designated track
-    uint32_t entity_id;  // which
-    bool in_view;        // its model's centre is in the image and not behind terrain
-    bool occluded;       // in the image but behind terrain
-    double px_x, px_y;   // pixel position of its model's centre (valid when projected)
-    bool projected;      // in front of the camera
-    double size_px;      // its model's length across the image, pixels
-    double slant_m;      // eye to its centre
+    bool known;         // a ground entity answers to the designated track
+    uint32_t entity_id; // which
+    bool in_view;       // its model's centre is in the image and not behind terrain
+    bool occluded;      // in the image but behind terrain
+    double px_x, px_y;  // pixel position of its model's centre (valid when projected)
+    bool projected;     // in front of the camera
+    double size_px;     // its model's length across the image, pixels
+    double slant_m;     // eye to its centre
 } im_target_t;
 
 /* The designated target: the entity of ents (not of kind air) nearest to

@@ -94,12 +94,11 @@ static bool s_relations (const im_params_t *p, const char **sec, const char **ke
         snprintf (msg, msglen, "expected a power of two, got %d", p->chunk_cells);
     } else if (!(p->max_range_m > p->near_m)) {
         *sec = "camera", *key = "max_range_m";
-        snprintf (msg, msglen, "expected more than near_m (%g), got %g", p->near_m,
-                  p->max_range_m);
+        snprintf (msg, msglen, "expected more than near_m (%g), got %g", p->near_m, p->max_range_m);
     } else if (!(p->display_max_k > p->display_min_k)) {
         *sec = "infrared", *key = "display_max_k";
-        snprintf (msg, msglen, "expected more than display_min_k (%g), got %g",
-                  p->display_min_k, p->display_max_k);
+        snprintf (msg, msglen, "expected more than display_min_k (%g), got %g", p->display_min_k,
+                  p->display_max_k);
     } else if ((unsigned)p->mode > IM_MODE_INFRARED) {
         *sec = "infrared", *key = "mode";
         snprintf (msg, msglen, "expected visible or infrared, got %d", (int)p->mode);
@@ -141,8 +140,8 @@ static int s_read (cgs_config_t *cfg, void *arg, char *err, size_t errlen)
     if (rc == 0)
         rc = cgs_config_get_enum (cfg, "infrared", "mode", modes, mode, &mode, err, errlen);
     if (rc == 0)
-        rc = cgs_config_get_enum (cfg, "infrared", "polarity", polarities, polarity, &polarity,
-                                  err, errlen);
+        rc = cgs_config_get_enum (cfg, "infrared", "polarity", polarities, polarity, &polarity, err,
+                                  errlen);
     p.mode = (im_mode_t)mode;
     p.polarity = (im_polarity_t)polarity;
     if (rc == 0)

@@ -23,27 +23,27 @@ typedef struct {
     double max_range_m;   // farthest depth drawn, and where a footprint ray is cut
     // [scene]
     double sun_azimuth_deg, sun_elevation_deg;
-    double visibility_m;  // meteorological range: contrast falls to 2% (haze)
-    int chunk_cells;      // terrain chunk side, cells (power of two)
-    int lods;             // levels of detail
+    double visibility_m;   // meteorological range: contrast falls to 2% (haze)
+    int chunk_cells;       // terrain chunk side, cells (power of two)
+    int lods;              // levels of detail
     double lod_distance_m; // full detail within this; one level coarser per doubling
     // [overlay]
     bool overlay; // time, altitude, slant range, image centre in MGRS
     // [infrared]
     im_mode_t mode;
     im_polarity_t polarity;
-    double ambient_k;            // air and shaded ground
-    double sun_gain_k;           // ground facing the sun square-on is this much warmer
-    double hull_rise_k;          // a running vehicle's body above ambient
-    double engine_k;             // a running engine deck or exhaust
-    double running_gear_rise_k;  // tracks and wheels of a moving vehicle above ambient
-    double glass_k;              // windows and optics (cold: they reflect the sky)
-    double person_k;             // a person's clothing and skin
-    double sky_k;                // what the atmosphere adds along a long path
-    double attenuation_per_km;   // extinction: transmission exp(−a·R)
+    double ambient_k;                    // air and shaded ground
+    double sun_gain_k;                   // ground facing the sun square-on is this much warmer
+    double hull_rise_k;                  // a running vehicle's body above ambient
+    double engine_k;                     // a running engine deck or exhaust
+    double running_gear_rise_k;          // tracks and wheels of a moving vehicle above ambient
+    double glass_k;                      // windows and optics (cold: they reflect the sky)
+    double person_k;                     // a person's clothing and skin
+    double sky_k;                        // what the atmosphere adds along a long path
+    double attenuation_per_km;           // extinction: transmission exp(−a·R)
     double display_min_k, display_max_k; // black and white of white-hot
-    double blur_px;              // Gaussian blur, standard deviation in pixels (0: none)
-    double noise_k;              // temporal noise, standard deviation in kelvin
+    double blur_px;                      // Gaussian blur, standard deviation in pixels (0: none)
+    double noise_k;                      // temporal noise, standard deviation in kelvin
     // [output]
     double png_rate_hz;    // numbered PNG files per second of simulation time (0: none)
     double latest_rate_hz; // latest.png refreshed per second of simulation time (0: never)

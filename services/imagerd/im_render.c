@@ -11,7 +11,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define S_DEG    (M_PI / 180.0)
+#define S_DEG         (M_PI / 180.0)
 #define S_KOSCHMIEDER 3.912 // −ln 0.02: extinction × visibility
 
 static const char s_vs[] = "#version 330 core\n"
@@ -393,8 +393,8 @@ int im_renderer_draw (im_renderer_t *self, const im_camera_t *cam, const im_para
             continue;
         double h = e->heading_deg * S_DEG;
         // Columns: model x (right), y (forward), z (up) in the local frame.
-        const float rot[9] = {(float)cos (h), (float)-sin (h), 0, (float)sin (h), (float)cos (h),
-                              0, 0, 0, 1};
+        const float rot[9] = {
+            (float)cos (h), (float)-sin (h), 0, (float)sin (h), (float)cos (h), 0, 0, 0, 1};
         float color[3];
         s_kind_color ((cgs_kind_t)k, color);
         glUniformMatrix3fv (self->u.rot, 1, GL_FALSE, rot);

@@ -46,7 +46,8 @@ static double s_crack (const cgs_terrain_t *t, int i, int fixed, int st, int chu
     return fabs (hi - ((1 - f) * ha + f * hb));
 }
 
-int im_terrain_mesh_build (const cgs_terrain_t *t, int chunk_cells, int lods, im_terrain_mesh_t *ret)
+int im_terrain_mesh_build (const cgs_terrain_t *t, int chunk_cells, int lods,
+                           im_terrain_mesh_t *ret)
 {
     if (!t || !ret || chunk_cells < 2 || chunk_cells > 1024 || (chunk_cells & (chunk_cells - 1)) ||
         lods < 1 || lods > IM_MAX_LODS)
@@ -223,14 +224,14 @@ static int s_box (s_build_t *b, double x, double y, double z, double sx, double 
     }
     // Each face: normal axis, sign; its corners counter-clockwise seen from outside.
     static const int faces[6][4][3] = {
-        {{1, -1, -1}, {1, 1, -1}, {1, 1, 1}, {1, -1, 1}},       // +x
-        {{-1, 1, -1}, {-1, -1, -1}, {-1, -1, 1}, {-1, 1, 1}},   // -x
-        {{1, 1, -1}, {-1, 1, -1}, {-1, 1, 1}, {1, 1, 1}},       // +y
-        {{-1, -1, -1}, {1, -1, -1}, {1, -1, 1}, {-1, -1, 1}},   // -y
-        {{-1, -1, 1}, {1, -1, 1}, {1, 1, 1}, {-1, 1, 1}},       // +z
-        {{-1, 1, -1}, {1, 1, -1}, {1, -1, -1}, {-1, -1, -1}},   // -z
+        {{1, -1, -1}, {1, 1, -1}, {1, 1, 1}, {1, -1, 1}},     // +x
+        {{-1, 1, -1}, {-1, -1, -1}, {-1, -1, 1}, {-1, 1, 1}}, // -x
+        {{1, 1, -1}, {-1, 1, -1}, {-1, 1, 1}, {1, 1, 1}},     // +y
+        {{-1, -1, -1}, {1, -1, -1}, {1, -1, 1}, {-1, -1, 1}}, // -y
+        {{-1, -1, 1}, {1, -1, 1}, {1, 1, 1}, {-1, 1, 1}},     // +z
+        {{-1, 1, -1}, {1, 1, -1}, {1, -1, -1}, {-1, -1, -1}}, // -z
     };
-    static const float normals[6][3] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0},
+    static const float normals[6][3] = {{1, 0, 0},  {-1, 0, 0}, {0, 1, 0},
                                         {0, -1, 0}, {0, 0, 1},  {0, 0, -1}};
     static const int tri[6] = {0, 1, 2, 0, 2, 3};
     for (int f = 0; f < 6; f++)

@@ -17,9 +17,9 @@
 
 /* Materials (a vertex's last attribute). */
 typedef enum {
-    IM_MAT_GROUND = 0, // terrain
-    IM_MAT_HULL = 1,   // a vehicle's body
-    IM_MAT_ENGINE = 2, // engine deck or exhaust: hot while running
+    IM_MAT_GROUND = 0,  // terrain
+    IM_MAT_HULL = 1,    // a vehicle's body
+    IM_MAT_ENGINE = 2,  // engine deck or exhaust: hot while running
     IM_MAT_RUNNING = 3, // tracks, wheels: warm from running
     IM_MAT_GLASS = 4,   // windows, optics: cold in the infrared
     IM_MAT_PERSON = 5,  // a person: body temperature
@@ -36,8 +36,8 @@ typedef struct {
 #define IM_MAX_LODS 6
 
 typedef struct {
-    int col0, row0, col1, row1; // its nodes, inclusive
-    cgs_enu_t lo, hi;           // bounding box (skirt included)
+    int col0, row0, col1, row1;                      // its nodes, inclusive
+    cgs_enu_t lo, hi;                                // bounding box (skirt included)
     uint32_t first[IM_MAX_LODS], count[IM_MAX_LODS]; // index range of each level
 } im_chunk_t;
 
@@ -58,7 +58,8 @@ typedef struct {
  * (a power of two, 2..1024) with lods levels (1..IM_MAX_LODS; level l takes
  * every 2^l-th node, and the chunk's last row and column always). 0,
  * -EINVAL or -ENOMEM; *ret is filled only on success. */
-int im_terrain_mesh_build (const cgs_terrain_t *t, int chunk_cells, int lods, im_terrain_mesh_t *ret);
+int im_terrain_mesh_build (const cgs_terrain_t *t, int chunk_cells, int lods,
+                           im_terrain_mesh_t *ret);
 void im_terrain_mesh_free (im_terrain_mesh_t *m);
 /* The level of detail for a chunk seen from eye: 0 within lod_distance_m of
  * its box, one level coarser for every doubling of the distance beyond. */

@@ -27,11 +27,11 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define S_STALE_S     10.0  // an entity not heard of for this long (simulation time) is forgotten
-#define S_MAX_FPS     30.0  // frames due faster than this (wall clock) are skipped and counted
-#define S_GATE_M      150.0 // the designated track's vehicle is the ground entity this near it
-#define S_PNG_QUEUE   8     // frames waiting for the PNG writer before one is dropped
-#define S_MOVING_MPS  0.5   // a vehicle this fast has its engine running
+#define S_STALE_S    10.0  // an entity not heard of for this long (simulation time) is forgotten
+#define S_MAX_FPS    30.0  // frames due faster than this (wall clock) are skipped and counted
+#define S_GATE_M     150.0 // the designated track's vehicle is the ground entity this near it
+#define S_PNG_QUEUE  8     // frames waiting for the PNG writer before one is dropped
+#define S_MOVING_MPS 0.5   // a vehicle this fast has its engine running
 
 typedef struct {
     cgs_service_t svc;
@@ -169,8 +169,8 @@ static void s_enu (Cgs__Enu *m, cgs_enu_t p)
 
 static void s_queue_png (s_app_t *app, const char *name)
 {
-    int rc = im_png_writer_submit (app->png, app->rgba, app->params.width_px,
-                                   app->params.height_px, name);
+    int rc = im_png_writer_submit (app->png, app->rgba, app->params.width_px, app->params.height_px,
+                                   name);
     if (rc == -EAGAIN)
         cgs_health_set_error (app->svc.health, "PNG writer behind: a frame's file was dropped");
     else if (rc < 0)

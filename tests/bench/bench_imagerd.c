@@ -23,8 +23,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define S_N 257
-#define S_RES 30.0
+#define S_N        257
+#define S_RES      30.0
 #define S_VEHICLES 100
 
 static cgs_terrain_t *s_terrain (void)
@@ -126,8 +126,8 @@ static int s_bench (const cgs_terrain_t *t, const im_terrain_mesh_t *mesh, int w
     double f = bench_median (fps, runs), l = bench_median (lat, runs);
     printf ("%dx%d %s: fps=%.1f (median of %d runs of %d frames), entity_to_frame_ms=%.1f, "
             "triangles=%zu, chunks_drawn=%zu\n",
-            w, h, mode == IM_MODE_INFRARED ? "infrared" : "visible", f, runs, frames, 1e3 * l,
-            tris, drawn);
+            w, h, mode == IM_MODE_INFRARED ? "infrared" : "visible", f, runs, frames, 1e3 * l, tris,
+            drawn);
     if (w == 640 && mode == IM_MODE_VISIBLE)
         printf ("verdict: %s (goal: at least 30 fps at 640x480)\n", f >= 30 ? "met" : "NOT met");
     free (fps);

@@ -205,8 +205,8 @@ static void s_render_scene (im_mode_t mode, im_polarity_t pol, uint8_t *rgba)
 static void s_golden (const char *name, const uint8_t *rgba)
 {
     char path[4200];
-    snprintf (path, sizeof path, "%s/tests/data/golden/%s", getenv ("CGS_ROOT") ? getenv ("CGS_ROOT") : ".",
-              name);
+    snprintf (path, sizeof path, "%s/tests/data/golden/%s",
+              getenv ("CGS_ROOT") ? getenv ("CGS_ROOT") : ".", name);
     const char *upd = getenv ("CGS_UPDATE_GOLDEN");
     if (upd && strcmp (upd, "1") == 0) {
         assert_int_equal (im_png_write (path, rgba, S_W, S_H, s_err, sizeof s_err), 0);

@@ -58,8 +58,7 @@ im_ctx_t *im_ctx_new (int width, int height, char *err, size_t errlen)
                               EGL_NONE};
     self->ctx = eglCreateContext (self->display, EGL_NO_CONFIG_KHR, EGL_NO_CONTEXT, attribs);
     if (self->ctx == EGL_NO_CONTEXT) {
-        cgs_errf (err, errlen, "egl: no OpenGL 3.3 core context (EGL error 0x%x)",
-                  eglGetError ());
+        cgs_errf (err, errlen, "egl: no OpenGL 3.3 core context (EGL error 0x%x)", eglGetError ());
         im_ctx_destroy (&self);
         return NULL;
     }
