@@ -1,5 +1,6 @@
 /* cgs_service — the shell shared by every service's main.c. */
 #include "cgs_service.h"
+#include "cgs_entities.h"
 #include "cgs_lifecycle.h"
 #include "cgs_log.h"
 #include "cgs_state.h"
@@ -413,4 +414,22 @@ void cgs_service_fini (cgs_service_t *svc)
         close (svc->lock_fd); // releases the lock
         svc->lock_fd = -1;
     }
+}
+
+void cgs_service_bad_input (cgs_service_t *svc, const char *what)
+{
+    if (svc->bad_inputs++ == 0)
+        cgs_log (LOG_WARNING, "ignored %s (further ones are only counted in health)", what);
+    cgs_health_add_malformed (svc->health, 1);
+}
+
+void cgs_service_take_entities (cgs_service_t *svc, struct cgs_entities *ents,
+                                const ProtobufCMessage *msg, const Cgs__Header *hdr)
+{
+    size_t bad = 0;
+    if (cgs_entities_update (ents, (const Cgs__EntityBatch *)msg, hdr->sim_time_s, &bad) < 0)
+        cgs_health_set_error (svc->health, "out of memory for entities");
+    for (size_t i = 0; i < bad; i++)
+        cgs_service_bad_input (svc,
+                               "an entity without a valid id, position, velocity, heading or time");
 }

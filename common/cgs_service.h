@@ -62,7 +62,8 @@ typedef struct {
     cgs_health_t *health;
     double sim_time_s;                    // latest simulation time, stamped on health
     char connected[64][CGS_ENDPOINT_MAX]; // endpoints the subscriber connected to
-    int lock_fd; // STATE_DIR/INSTANCE.lock, held for the process's life (-1 before)
+    int lock_fd;         // STATE_DIR/INSTANCE.lock, held for the process's life (-1 before)
+    uint64_t bad_inputs; // messages the service could not use (cgs_service_bad_input)
     size_t nconnected;
 } cgs_service_t;
 
@@ -80,6 +81,15 @@ int cgs_service_subscribe (cgs_service_t *svc, const char *topic, cgs_sub_fn *fn
  * goes out; 0 or -errno (logged). */
 int cgs_service_serve_commands (cgs_service_t *svc, cgs_cmd_handler_fn *handler,
                                 cgs_cmd_save_fn *save, void *arg);
+/* Input the service cannot use (what: "a uav message without ..."): counted
+ * in health as malformed, logged the first time, only counted after. */
+void cgs_service_bad_input (cgs_service_t *svc, const char *what);
+/* Take an `entity` batch (msg, with its header) into ents: the entities
+ * without a valid id, position, velocity, heading or time are bad input;
+ * running out of memory is health's last error. */
+struct cgs_entities;
+void cgs_service_take_entities (cgs_service_t *svc, struct cgs_entities *ents,
+                                const ProtobufCMessage *msg, const Cgs__Header *hdr);
 /* Write the state file now (a periodic checkpoint); 0 or -errno (counted in
  * health as the last error). */
 int cgs_service_save_state (cgs_service_t *svc);

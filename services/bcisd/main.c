@@ -30,7 +30,7 @@ typedef struct {
     cgs_entities_t *ents;
     bcis_entity_t *targets;
     size_t target_cap;
-    uint64_t dwells_run, interrogated, replies, blocked, bad_messages;
+    uint64_t dwells_run, interrogated, replies, blocked;
     /* Output messages, reused. */
     Cgs__BcisReply *reply_msgs;
     Cgs__BcisReply **reply_ptrs;
@@ -41,9 +41,7 @@ typedef struct {
 /* A message the model cannot use: counted in health, logged the first time. */
 static void s_bad (s_app_t *app, const char *what)
 {
-    if (app->bad_messages++ == 0)
-        cgs_log (LOG_WARNING, "ignored %s (further ones are only counted in health)", what);
-    cgs_health_add_malformed (app->svc.health, 1);
+    cgs_service_bad_input (&app->svc, what);
 }
 
 static void s_on_entity (void *arg, const char *topic, const ProtobufCMessage *msg,
@@ -51,11 +49,7 @@ static void s_on_entity (void *arg, const char *topic, const ProtobufCMessage *m
 {
     (void)topic;
     s_app_t *app = arg;
-    size_t bad = 0;
-    if (cgs_entities_update (app->ents, (const Cgs__EntityBatch *)msg, hdr->sim_time_s, &bad) < 0)
-        cgs_health_set_error (app->svc.health, "out of memory for entities");
-    for (size_t i = 0; i < bad; i++)
-        s_bad (app, "an entity without a valid id, position, velocity, heading or time");
+    cgs_service_take_entities (&app->svc, app->ents, msg, hdr);
 }
 
 /* An entity moved on along its velocity by dt, on the ground there. */

@@ -65,7 +65,6 @@ typedef struct {
     bool operator_acted;
     bool script_waiting_logged;
     double sim_time_s;
-    uint64_t bad_messages;
     char detail[512];
     // The message being built.
     Cgs__Enu route_pts[GD_ROUTE_MAX];
@@ -74,9 +73,7 @@ typedef struct {
 
 static void s_bad (s_app_t *app, const char *what)
 {
-    if (app->bad_messages++ == 0)
-        cgs_log (LOG_WARNING, "ignored %s (further ones are only counted in health)", what);
-    cgs_health_add_malformed (app->svc.health, 1);
+    cgs_service_bad_input (&app->svc, what);
 }
 
 static s_uav_t *s_uav_by_id (s_app_t *app, uint32_t id)

@@ -55,16 +55,14 @@ typedef struct {
     bool started;
     double next_frame_s, next_png_s, next_latest_s, last_frame_wall;
     uint32_t snapshots; // frames still to write on request
-    uint64_t frames, skipped, pngs, bad_messages, render_errors;
+    uint64_t frames, skipped, pngs, render_errors;
     double latency_sum_s, latency_max_s, entity_wall; // entity batch in → its frame out
     char detail[256];
 } s_app_t;
 
 static void s_bad (s_app_t *app, const char *what)
 {
-    if (app->bad_messages++ == 0)
-        cgs_log (LOG_WARNING, "ignored %s (further ones are only counted in health)", what);
-    cgs_health_add_malformed (app->svc.health, 1);
+    cgs_service_bad_input (&app->svc, what);
 }
 
 static void s_on_entity (void *arg, const char *topic, const ProtobufCMessage *msg,
@@ -72,11 +70,7 @@ static void s_on_entity (void *arg, const char *topic, const ProtobufCMessage *m
 {
     (void)topic;
     s_app_t *app = arg;
-    size_t bad = 0;
-    if (cgs_entities_update (app->ents, (const Cgs__EntityBatch *)msg, hdr->sim_time_s, &bad) < 0)
-        cgs_health_set_error (app->svc.health, "out of memory for entities");
-    for (size_t i = 0; i < bad; i++)
-        s_bad (app, "an entity without a valid id, position, velocity, heading or time");
+    cgs_service_take_entities (&app->svc, app->ents, msg, hdr);
     if (app->entity_wall == 0)
         app->entity_wall = cgs_loop_now ();
 }
@@ -190,7 +184,7 @@ static void s_render (s_app_t *app, double t)
     im_camera_t cam;
     if (im_frame_camera (p, &app->uav, t, p->staring && app->have_track ? &track_at : NULL, &cam) <
         0) {
-        s_bad (app, "a uav message whose attitude or sensor cannot make a camera");
+        cgs_health_set_error (app->svc.health, "a frame's camera could not be made");
         return;
     }
     size_t n = s_entities_at (app, t);
@@ -297,7 +291,7 @@ static void s_on_uav (void *arg, const char *topic, const ProtobufCMessage *msg,
                  app->sensor.uav_id, t);
     const cgs_scenario_uav_t *su = app->sensor.uav;
     const Cgs__ImagingSensor *s = u->sensor;
-    app->uav = (im_uav_t){
+    im_uav_t nu = {
         .valid = true,
         .id = u->entity_id,
         .position = app->sensor.position,
@@ -311,6 +305,13 @@ static void s_on_uav (void *arg, const char *topic, const ProtobufCMessage *msg,
         .vfov_deg = s && s->vfov_deg > 0 ? s->vfov_deg : su->sensor_vfov_deg,
         .time_s = t,
     };
+    im_camera_t cam; // refused here, at intake, when no camera can be made of it
+    if (im_frame_camera (&app->params, &nu, t, NULL, &cam) < 0) {
+        s_bad (app, "a uav message whose attitude or sensor (depression in (-90, 90), fields "
+                    "of view in (0, 180)) cannot make a camera");
+        return;
+    }
+    app->uav = nu;
     double period = 1.0 / app->params.frame_rate_hz;
     if (!app->started || t < app->next_frame_s - 2 * period) { // first, or time went back
         app->started = true;

@@ -950,6 +950,12 @@ static int s_cmd_snapshot (int argc, char **argv)
         return 2;
     }
     snap.frames = argc - optind == 1 ? s_id ("snapshot", "a number of frames", argv[optind]) : 1;
+    if (snap.frames < 1 || snap.frames > 1000) {
+        fprintf (stderr,
+                 "mscgs snapshot: 1 frame at least, at most 1000 frames a request, got %u\n",
+                 snap.frames);
+        return 2;
+    }
     cgs_exercise_t *ex = s_load_exercise (exercise);
     if (!ex)
         return 1;

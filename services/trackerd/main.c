@@ -53,7 +53,7 @@ typedef struct {
     bool dirty; // tracks changed since the last checkpoint
     s_radar_t radars[S_RADARS_MAX];
     size_t radar_count;
-    uint64_t scans, implicit_scans, stale_scans, hits, turns, bcis_marks, bad_messages;
+    uint64_t scans, implicit_scans, stale_scans, hits, turns, bcis_marks;
     uint64_t born, deleted, time_resets;
     /* Output messages, reused. */
     Cgs__Track *tmsg;
@@ -70,9 +70,7 @@ typedef struct {
 /* A message the tracker cannot use: counted in health, logged the first time. */
 static void s_bad (s_app_t *app, const char *what)
 {
-    if (app->bad_messages++ == 0)
-        cgs_log (LOG_WARNING, "ignored %s (further ones are only counted in health)", what);
-    cgs_health_add_malformed (app->svc.health, 1);
+    cgs_service_bad_input (&app->svc, what);
 }
 
 static s_radar_t *s_radar (s_app_t *app, uint32_t uav_id)

@@ -88,6 +88,9 @@ check "three snapshot files are written" wait_for 20 bash -c \
 check "no half-written file is left" bash -c "! ls '$TMP/images' | grep -q '\.tmp$'"
 out=$(M snapshot 5000 2>&1)
 check "a snapshot of 5000 frames is refused with the limit" grep -q 'at most 1000 frames' <<<"$out"
+M snapshot 0 >"$TMP/snap0.log" 2>&1
+is "$?" 2 "a snapshot of 0 frames is refused (exit 2)"
+check "saying what it takes" grep -q '1 frame at least' "$TMP/snap0.log"
 stop "$I1"
 is "$EXIT_CODE" 0 "imagerd stops on SIGTERM with exit code 0"
 check "no sanitizer report from imagerd" clean_log imagerd-1

@@ -378,10 +378,18 @@ static void test_nothing_in_view_draws_terrain_only (void **state)
     assert_true (st.chunks_culled > 0); // chunks behind the camera are not drawn
     assert_int_equal (im_renderer_draw (r, &cam, &p, NULL, 0, b, s_err, sizeof s_err), 0);
     assert_memory_equal (a, b, bytes);
-    // And terrain fills the view: no pixel has the sky's colour in a look 45° down.
+    // And terrain fills the view: no pixel has the sky's colour in a look 45°
+    // down. The sky's colour is read from a look 20° up, whose top row is sky.
+    im_camera_t up = s_camera ((cgs_enu_t){0, 0, ground + 800}, 0, 0, -20, 6, S_W, S_H);
+    assert_int_equal (im_renderer_draw (r, &up, &p, NULL, 0, b, s_err, sizeof s_err), 0);
+    const uint8_t *sky_rgb = b + 4 * (S_W / 2);
+    size_t sky_up = 0;
+    for (size_t i = 0; i < bytes; i += 4)
+        sky_up += memcmp (b + i, sky_rgb, 3) == 0;
+    assert_true (sky_up > bytes / 4 / 2); // most of a look up is sky
     size_t sky = 0;
     for (size_t i = 0; i < bytes; i += 4)
-        sky += a[i] == 179 && a[i + 1] == 189 && a[i + 2] == 199;
+        sky += memcmp (a + i, sky_rgb, 3) == 0;
     assert_int_equal (sky, 0);
     free (a);
     free (b);
