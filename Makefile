@@ -143,7 +143,8 @@ fuzz:
 	@set -e; for f in $(patsubst tests/fuzz/%.c,build/fuzz/fuzz/%,$(FUZZ_SRCS)); do \
 	    mkdir -p build/fuzz/corpus/$$(basename $$f); \
 	    echo "fuzzing $$(basename $$f) for $(FUZZ_SECONDS) s"; \
-	    $$f -max_total_time=$(FUZZ_SECONDS) -print_final_stats=1 build/fuzz/corpus/$$(basename $$f) 2>&1 | tail -5; \
+	    $$f -max_total_time=$(FUZZ_SECONDS) -print_final_stats=1 build/fuzz/corpus/$$(basename $$f) \
+	        $$(ls -d tests/fuzz/corpus/$$(basename $$f) 2>/dev/null) 2>&1 | tail -5; \
 	done
 
 fuzz-build: $(FUZZ_BINS)
@@ -229,7 +230,7 @@ $(O)/bench/%: $(O)/obj/tests/bench/%.o $(SVC_LIB) $(LIB)
 	@mkdir -p $(dir $@)
 	$(CC) $(LDFLAGS) $^ -o $@ $(LDLIBS)
 
-$(O)/fuzz/%: $(O)/obj/tests/fuzz/%.o $(LIB)
+$(O)/fuzz/%: $(O)/obj/tests/fuzz/%.o $(SVC_LIB) $(LIB)
 	@mkdir -p $(dir $@)
 	$(CXX) $(LDFLAGS) -fsanitize=address,undefined,fuzzer $^ -o $@ $(LDLIBS)
 

@@ -3,12 +3,14 @@
 #include "cgs_loop.h"
 
 #include <errno.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
 
-#define S_MAX_SUBS   8
-#define S_MAX_TOPICS 64
+#define S_MAX_SUBS     8
+#define S_MAX_TOPICS   64
+#define S_MAX_COUNTERS 16
 
 struct cgs_health {
     char program[64], instance[64], version[32], host[64];
@@ -20,6 +22,9 @@ struct cgs_health {
     size_t nsubs;
     const cgs_cmd_server_t *cmd;
     uint64_t extra_malformed;
+    char counter_names[S_MAX_COUNTERS][32];
+    uint64_t counter_values[S_MAX_COUNTERS];
+    size_t ncounters;
     double start, last; // monotonic seconds
     uint64_t prev_in, prev_out;
     // Message counts at the last publish, per source and topic index (a
@@ -86,6 +91,20 @@ void cgs_health_set_error (cgs_health_t *self, const char *error)
 static double s_rate (uint64_t now, uint64_t before, double dt)
 {
     return now > before ? (double)(now - before) / dt : 0.0;
+}
+
+void cgs_health_set_counter (cgs_health_t *self, const char *name, uint64_t value)
+{
+    size_t i = 0;
+    while (i < self->ncounters && strcmp (self->counter_names[i], name) != 0)
+        i++;
+    if (i == self->ncounters) {
+        if (i == S_MAX_COUNTERS)
+            return;
+        snprintf (self->counter_names[i], sizeof self->counter_names[i], "%s", name);
+        self->ncounters++;
+    }
+    self->counter_values[i] = value;
 }
 
 int cgs_health_publish (cgs_health_t *self, cgs_pub_t *pub, double sim_time_s)
@@ -165,6 +184,16 @@ int cgs_health_publish (cgs_health_t *self, cgs_pub_t *pub, double sim_time_s)
     h.last_error_wall_time_s = self->last_error_wall_s;
     h.n_topics = nt;
     h.topics = tp;
+    Cgs__Counter cs[S_MAX_COUNTERS];
+    Cgs__Counter *cp[S_MAX_COUNTERS];
+    for (size_t i = 0; i < self->ncounters; i++) {
+        cgs__counter__init (&cs[i]);
+        cs[i].name = self->counter_names[i];
+        cs[i].value = self->counter_values[i];
+        cp[i] = &cs[i];
+    }
+    h.n_counters = self->ncounters;
+    h.counters = cp;
     self->prev_in = in;
     self->prev_out = out;
     self->last = now;

@@ -26,6 +26,9 @@ void cgs_health_set_state (cgs_health_t *self, Cgs__ServiceState state);
 void cgs_health_set_error (cgs_health_t *self, const char *error);
 /* Count malformed inputs the service found itself (beyond the bus's own). */
 void cgs_health_add_malformed (cgs_health_t *self, uint64_t n);
+/* Set a named count of the service's own (up to 16 names; the name is
+ * copied, at most 31 characters); reported in every health message after. */
+void cgs_health_set_counter (cgs_health_t *self, const char *name, uint64_t value);
 /* Build the message and publish it on `health`; rates are over the time
  * since the previous call. 0 or the publisher's error. */
 int cgs_health_publish (cgs_health_t *self, cgs_pub_t *pub, double sim_time_s);

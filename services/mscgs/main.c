@@ -183,6 +183,7 @@ typedef struct {
     double uptime_s, in_per_s, out_per_s;
     uint64_t gaps, drops, malformed, commands;
     char last_error[256];
+    char counters[512]; // the service's own counts, "name=value ..."
 } s_row_t;
 
 typedef struct {
@@ -237,6 +238,15 @@ static void s_on_health (void *arg, const char *topic, const ProtobufCMessage *m
     r->malformed = h->malformed;
     r->commands = h->commands;
     snprintf (r->last_error, sizeof r->last_error, "%s", h->last_error);
+    size_t used = 0;
+    r->counters[0] = '\0';
+    for (size_t i = 0; i < h->n_counters && used < sizeof r->counters; i++) {
+        int n = snprintf (r->counters + used, sizeof r->counters - used, "%s%s=%llu", i ? " " : "",
+                          h->counters[i]->name, (unsigned long long)h->counters[i]->value);
+        if (n < 0)
+            break;
+        used += (size_t)n;
+    }
 }
 
 static void s_on_clock (void *arg, const char *topic, const ProtobufCMessage *msg,
@@ -287,6 +297,8 @@ static void s_table_print (const s_table_t *t, FILE *f)
                  r->instance, s_state_name (r, now), r->host, r->pid, r->uptime_s, r->in_per_s,
                  r->out_per_s, (unsigned long long)r->gaps, (unsigned long long)r->drops,
                  (unsigned long long)r->malformed, r->last_error);
+        if (*r->counters)
+            fprintf (f, "%-16s %s\n", "", r->counters);
     }
 }
 

@@ -127,6 +127,7 @@ static void test_default_exercise (void **state)
         const char *file = strcmp (names[i], "trackerd") == 0       ? "tracker.ini"
                            : strcmp (names[i], "guidanced") == 0    ? "guidance.ini"
                            : strcmp (names[i], "imagerd.uav1") == 0 ? "imager.ini"
+                           : strcmp (names[i], "gateway") == 0      ? "gateway.ini"
                                                                     : NULL;
         if (file) { // relative to the exercise file
             char p[64];

@@ -1,0 +1,905 @@
+/* gateway — the DIS bridge: our entities go out as Entity State PDUs (dead
+ * reckoned, with heartbeats), guidanced's UAV tasking as Action Requests;
+ * other simulations' Entity State PDUs of the same exercise come in as
+ * external entities on `entity`, and Action Requests addressed to our UAVs
+ * become route tasks for uavsim, answered with Action Responses. The PDU
+ * codec and the dead reckoning are in gw_*.c; this file wires them to UDP
+ * and the bus. */
+#include "cgs_cmd.h"
+#include "cgs_log.h"
+#include "cgs_service.h"
+#include "gw_in.h"
+#include "gw_out.h"
+#include "gw_params.h"
+#include "gw_pdu.h"
+#include "intercept.pb-c.h"
+
+#include <arpa/inet.h>
+#include <errno.h>
+#include <fcntl.h>
+#include <inttypes.h>
+#include <math.h>
+#include <netinet/in.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/socket.h>
+#include <time.h>
+#include <unistd.h>
+
+#define S_QUEUE       256   // Entity State PDUs sent in one sendmmsg round
+#define S_RECV_BATCH  32    // datagrams read in one recvmmsg call
+#define S_RECV_ROUNDS 64    // recvmmsg calls at most per readable event
+#define S_DGRAM_MAX   65536 // largest datagram read
+#define S_BATCH_MAX   200   // entities in one `entity` message
+#define S_UAV_MAX     64
+#define S_ANSWERED    64 // Action Requests remembered, so a retransmission is answered, not redone
+
+/* Datum ids (SISO-REF-010 variable record types). */
+#define S_DATUM_GEOCENTRIC 31200u  // Geocentric Coordinates: a route point, 3 float64 ECEF
+#define S_DATUM_SPEED      36400u  // Speed: float32 m/s (fixed datum)
+#define S_DATUM_MISSION_ID 42100u  // Mission ID: the designation number (fixed datum)
+#define S_DATUM_TEXT       240092u // Text: ASCII, for a person
+
+typedef struct {
+    uint32_t entity_id;
+    char name[64];
+    uint64_t designation; // last intercept route sent out as an Action Request
+    uint32_t replans;
+    size_t route_points;
+} s_uav_t;
+
+typedef struct {
+    gw_id_t originator;
+    uint32_t request_id;
+    uint32_t status;
+    char text[128];
+} s_answer_t;
+
+typedef struct {
+    cgs_service_t svc;
+    gw_params_t p;
+    cgs_geo_t *geo;
+    int fd;
+    struct sockaddr_in dest[GW_PEERS_MAX];
+    size_t ndest;
+    gw_out_t *out;
+    gw_in_t *in;
+    double sim_time_s;  // newest simulation time heard
+    double mono_offset; // relative timestamps: monotonic clock at the exercise's start
+    // Outbound queue.
+    uint8_t queue[S_QUEUE][GW_ESPDU_LEN];
+    size_t queued;
+    // Inbound.
+    uint8_t (*rbuf)[S_DGRAM_MAX];
+    gw_action_t action; // decoded in place (large)
+    s_uav_t uavs[S_UAV_MAX];
+    size_t nuav;
+    s_answer_t answered[S_ANSWERED];
+    size_t nanswered;
+    uint32_t next_request_id;
+    const cgs_instance_t *uavsim;
+    cgs_cmd_client_t *client;
+    // External entities' messages, reused.
+    Cgs__Entity *msgs;
+    Cgs__Entity **ptrs;
+    gw_in_storage_t *storage;
+    size_t msg_cap, nmsg;
+    // Counts, in health.
+    uint64_t espdu_out, action_out, response_out, send_errors, datagrams_in, pdus_in, espdu_in,
+        foreign, own, other_types, rejected, not_for_us, table_full, unsendable, tasks_accepted,
+        tasks_refused, responses_in;
+} s_app_t;
+
+/* ---- time ---------------------------------------------------------------------------------- */
+
+static double s_wall (void)
+{
+    struct timespec ts;
+    clock_gettime (CLOCK_REALTIME, &ts);
+    return (double)ts.tv_sec + ts.tv_nsec * 1e-9;
+}
+
+static uint32_t s_timestamp (const s_app_t *app)
+{
+    if (app->p.absolute_time)
+        return gw_pdu_timestamp (fmod (s_wall (), 3600.0), true);
+    return gw_pdu_timestamp (cgs_loop_now () - app->mono_offset, false);
+}
+
+static gw_header_t s_header (const s_app_t *app)
+{
+    gw_header_t h = {0};
+    h.version = (uint8_t)app->p.version;
+    h.exercise = (uint8_t)cgs_exercise_id (app->svc.exercise);
+    h.timestamp = s_timestamp (app);
+    h.status = GW_STATUS_LVC_CONSTRUCTIVE;
+    return h;
+}
+
+/* ---- sending ------------------------------------------------------------------------------- */
+
+/* Send n PDUs (bufs/lens) to every destination. */
+static void s_send (s_app_t *app, uint8_t *const *bufs, const size_t *lens, size_t n)
+{
+    struct mmsghdr mm[S_QUEUE];
+    struct iovec iov[S_QUEUE];
+    size_t k = 0;
+    for (size_t d = 0; d < app->ndest; d++) {
+        for (size_t i = 0; i < n; i++) {
+            iov[k] = (struct iovec){bufs[i], lens[i]};
+            memset (&mm[k], 0, sizeof mm[k]);
+            mm[k].msg_hdr.msg_name = &app->dest[d];
+            mm[k].msg_hdr.msg_namelen = sizeof app->dest[d];
+            mm[k].msg_hdr.msg_iov = &iov[k];
+            mm[k].msg_hdr.msg_iovlen = 1;
+            if (++k == S_QUEUE || (d + 1 == app->ndest && i + 1 == n)) {
+                size_t at = 0;
+                while (at < k) {
+                    int sent = sendmmsg (app->fd, mm + at, (unsigned)(k - at), 0);
+                    if (sent <= 0) {
+                        if (sent < 0 && errno == EINTR)
+                            continue;
+                        app->send_errors += k - at; // full buffer or no route: DIS is lossy
+                        if (app->send_errors == k - at) {
+                            char why[160];
+                            snprintf (why, sizeof why, "DIS send failed: %s",
+                                      sent < 0 ? strerror (errno) : "nothing sent");
+                            cgs_log (LOG_WARNING, "%s (counted in health, logged once)", why);
+                            cgs_health_set_error (app->svc.health, why);
+                        }
+                        break;
+                    }
+                    at += (size_t)sent;
+                }
+                k = 0;
+            }
+        }
+    }
+}
+
+static void s_flush (s_app_t *app)
+{
+    if (!app->queued)
+        return;
+    uint8_t *bufs[S_QUEUE];
+    size_t lens[S_QUEUE];
+    for (size_t i = 0; i < app->queued; i++) {
+        bufs[i] = app->queue[i];
+        lens[i] = GW_ESPDU_LEN;
+    }
+    // Each destination gets every PDU: send in rounds that fit the message array.
+    size_t per = S_QUEUE / (app->ndest ? app->ndest : 1);
+    for (size_t at = 0; at < app->queued; at += per) {
+        size_t n = app->queued - at < per ? app->queued - at : per;
+        s_send (app, bufs + at, lens + at, n);
+    }
+    app->espdu_out += app->queued;
+    app->queued = 0;
+}
+
+static void s_send_one (s_app_t *app, uint8_t *buf, size_t len)
+{
+    uint8_t *bufs[1] = {buf};
+    s_send (app, bufs, &len, 1);
+}
+
+/* ---- outbound entities --------------------------------------------------------------------- */
+
+static gw_id_t s_dis_id (const s_app_t *app, uint32_t entity_id)
+{
+    return (gw_id_t){(uint16_t)app->p.site, (uint16_t)app->p.application,
+                     (uint16_t)(app->p.entity_id_base + entity_id)};
+}
+
+static void s_on_entity (void *arg, const char *topic, const ProtobufCMessage *msg,
+                         const Cgs__Header *hdr)
+{
+    (void)topic;
+    s_app_t *app = arg;
+    const Cgs__EntityBatch *b = (const Cgs__EntityBatch *)msg;
+    if (hdr->source && strcmp (hdr->source, app->svc.instance_name) == 0)
+        return; // our own external entities, back from the bus
+    if (!isfinite (hdr->sim_time_s)) {
+        cgs_service_bad_input (&app->svc, "an entity batch with a non-finite time");
+        return;
+    }
+    if (hdr->sim_time_s > app->sim_time_s)
+        app->sim_time_s = hdr->sim_time_s;
+    double now = cgs_loop_now ();
+    for (size_t i = 0; i < b->n_entities; i++) {
+        const Cgs__Entity *e = b->entities[i];
+        if (e->external)
+            continue; // came from DIS: its own simulation sends it
+        gw_truth_t t;
+        if (gw_out_truth (app->geo, e, &t) < 0) {
+            cgs_service_bad_input (&app->svc, "an entity without a usable position, velocity "
+                                              "or attitude");
+            continue;
+        }
+        if ((long)app->p.entity_id_base + (long)e->entity_id > 65534) {
+            if (app->unsendable++ == 0)
+                cgs_log (LOG_WARNING,
+                         "entity %u: DIS entity number %ld is beyond 65534: not sent (counted, "
+                         "logged once)",
+                         e->entity_id, (long)app->p.entity_id_base + (long)e->entity_id);
+            continue;
+        }
+        gw_send_t send;
+        gw_dr_t dr;
+        if (gw_out_update (app->out, &t, hdr->sim_time_s, now, &send, &dr) < 0) {
+            cgs_health_set_error (app->svc.health, "out of memory for outbound entities");
+            continue;
+        }
+        if (send == GW_SEND_NONE)
+            continue;
+        gw_espdu_t pdu;
+        pdu.hdr = s_header (app);
+        gw_out_fill (&t, &dr, s_dis_id (app, e->entity_id), &pdu);
+        if (gw_pdu_encode_espdu (&pdu, app->queue[app->queued], GW_ESPDU_LEN) == 0)
+            continue; // cannot happen: a fixed-size PDU of a checked version
+        if (++app->queued == S_QUEUE)
+            s_flush (app);
+    }
+    s_flush (app);
+}
+
+/* ---- outbound tasking ---------------------------------------------------------------------- */
+
+static s_uav_t *s_uav (s_app_t *app, uint32_t entity_id)
+{
+    for (size_t i = 0; i < app->nuav; i++)
+        if (app->uavs[i].entity_id == entity_id)
+            return &app->uavs[i];
+    return NULL;
+}
+
+static void s_on_uav (void *arg, const char *topic, const ProtobufCMessage *msg,
+                      const Cgs__Header *hdr)
+{
+    (void)topic;
+    (void)hdr;
+    s_app_t *app = arg;
+    const Cgs__Uav *u = (const Cgs__Uav *)msg;
+    if (u->entity_id == 0) {
+        cgs_service_bad_input (&app->svc, "a uav message without an entity id");
+        return;
+    }
+    s_uav_t *s = s_uav (app, u->entity_id);
+    if (!s) {
+        if (app->nuav == S_UAV_MAX)
+            return;
+        s = &app->uavs[app->nuav++];
+        memset (s, 0, sizeof *s);
+        s->entity_id = u->entity_id;
+        cgs_log (LOG_INFO, "UAV %s is entity %u, DIS %u:%u:%u", u->name ? u->name : "?",
+                 u->entity_id, app->p.site, app->p.application,
+                 app->p.entity_id_base + u->entity_id);
+    }
+    snprintf (s->name, sizeof s->name, "%s", u->name ? u->name : "");
+}
+
+/* A text datum: the string, its length in bits (padded to 64 on the wire). */
+static gw_var_datum_t s_text_datum (const char *text)
+{
+    return (gw_var_datum_t){S_DATUM_TEXT, (uint32_t)strlen (text) * 8, (const uint8_t *)text};
+}
+
+static void s_on_intercept (void *arg, const char *topic, const ProtobufCMessage *msg,
+                            const Cgs__Header *hdr)
+{
+    (void)topic;
+    (void)hdr;
+    s_app_t *app = arg;
+    const Cgs__Intercept *m = (const Cgs__Intercept *)msg;
+    s_uav_t *u = s_uav (app, m->uav_id);
+    if (!u || m->n_route == 0)
+        return; // no UAV heard of yet, or no route to show
+    if (u->designation == m->designation_number && u->replans == m->replans &&
+        u->route_points == m->n_route)
+        return; // sent already
+    size_t n = m->n_route < GW_DATUM_MAX - 1 ? m->n_route : GW_DATUM_MAX - 1;
+    static uint8_t points[GW_DATUM_MAX][24];
+    gw_action_t *a = &app->action;
+    memset (&a->hdr, 0, sizeof a->hdr);
+    a->hdr = s_header (app);
+    a->hdr.type = GW_PDU_ACTION_REQUEST;
+    a->originator = (gw_id_t){(uint16_t)app->p.site, (uint16_t)app->p.application, 0};
+    a->receiver = s_dis_id (app, m->uav_id);
+    a->request_id = ++app->next_request_id;
+    a->action_or_status = (uint32_t)app->p.route_action_id;
+    a->n_fixed = 1;
+    a->fixed[0] = (gw_fixed_datum_t){S_DATUM_MISSION_ID, (uint32_t)m->designation_number};
+    a->n_var = 0;
+    for (size_t k = 0; k < n; k++) {
+        const Cgs__Enu *p = m->route[k];
+        cgs_ecef_t x;
+        if (!p ||
+            cgs_geo_enu_to_ecef (app->geo, (cgs_enu_t){p->east_m, p->north_m, p->up_m}, &x) < 0) {
+            cgs_service_bad_input (&app->svc, "an intercept route point that is not finite");
+            return;
+        }
+        double v[3] = {x.x_m, x.y_m, x.z_m};
+        for (int c = 0; c < 3; c++) {
+            uint64_t bits;
+            memcpy (&bits, &v[c], sizeof bits);
+            for (int b = 0; b < 8; b++)
+                points[k][c * 8 + b] = (uint8_t)(bits >> (56 - 8 * b));
+        }
+        a->var[a->n_var++] = (gw_var_datum_t){S_DATUM_GEOCENTRIC, 192, points[k]};
+    }
+    char text[160];
+    snprintf (text, sizeof text, "mscgs intercept: track %u, designation %" PRIu64 ", replan %u",
+              m->track_id, m->designation_number, m->replans);
+    a->var[a->n_var++] = s_text_datum (text);
+    static uint8_t buf[GW_PDU_MAX];
+    size_t len = gw_pdu_encode_action (a, buf, sizeof buf);
+    if (len == 0) {
+        cgs_health_set_error (app->svc.health, "an intercept route too long for one PDU");
+        return;
+    }
+    s_send_one (app, buf, len);
+    app->action_out++;
+    u->designation = m->designation_number;
+    u->replans = m->replans;
+    u->route_points = m->n_route;
+    cgs_log (LOG_INFO, "%s: intercept route of %zu points out as Action Request %u", u->name, n,
+             a->request_id);
+}
+
+/* ---- inbound ------------------------------------------------------------------------------- */
+
+static bool s_ours (const s_app_t *app, gw_id_t id)
+{
+    return id.site == app->p.site && id.application == app->p.application;
+}
+
+static void s_reject (s_app_t *app, const struct sockaddr_in *from, const char *why)
+{
+    app->rejected++;
+    char what[256];
+    char addr[INET_ADDRSTRLEN] = "?";
+    if (from)
+        inet_ntop (AF_INET, &from->sin_addr, addr, sizeof addr);
+    snprintf (what, sizeof what, "a DIS datagram from %s:%u: %s", addr,
+              from ? ntohs (from->sin_port) : 0, why);
+    cgs_service_bad_input (&app->svc, what);
+}
+
+/* Answer an Action Request. */
+static void s_respond (s_app_t *app, const gw_action_t *req, uint32_t status, const char *text)
+{
+    gw_action_t *r = calloc (1, sizeof *r);
+    if (!r)
+        return;
+    r->hdr = s_header (app);
+    r->hdr.type = GW_PDU_ACTION_RESPONSE;
+    r->originator = req->receiver;
+    r->receiver = req->originator;
+    r->request_id = req->request_id;
+    r->action_or_status = status;
+    r->n_var = 1;
+    r->var[0] = s_text_datum (text);
+    uint8_t buf[1024];
+    size_t len = gw_pdu_encode_action (r, buf, sizeof buf);
+    free (r);
+    if (len) {
+        s_send_one (app, buf, len);
+        app->response_out++;
+    }
+}
+
+static uint32_t s_be32 (const uint8_t *b)
+{
+    return (uint32_t)b[0] << 24 | (uint32_t)b[1] << 16 | (uint32_t)b[2] << 8 | b[3];
+}
+
+static double s_bef64 (const uint8_t *b)
+{
+    uint64_t u = (uint64_t)s_be32 (b) << 32 | s_be32 (b + 4);
+    double v;
+    memcpy (&v, &u, sizeof v);
+    return v;
+}
+
+/* A route task from an Action Request: uavsim's verdict as a request status and text. */
+static uint32_t s_route_task (s_app_t *app, const gw_action_t *a, const s_uav_t *u, char *text,
+                              size_t textlen)
+{
+    static Cgs__Enu pts[GW_DATUM_MAX];
+    static Cgs__Enu *ptr[GW_DATUM_MAX];
+    size_t n = 0;
+    double speed = 0;
+    for (uint32_t i = 0; i < a->n_var; i++) {
+        const gw_var_datum_t *d = &a->var[i];
+        if (d->id != S_DATUM_GEOCENTRIC)
+            continue;
+        if (d->length_bits != 192) {
+            snprintf (text, textlen, "route point %u: %u bits, expected 192 (3 float64 ECEF)",
+                      i + 1, d->length_bits);
+            return GW_STATUS_REJECTED;
+        }
+        cgs_ecef_t x = {s_bef64 (d->value), s_bef64 (d->value + 8), s_bef64 (d->value + 16)};
+        cgs_enu_t p;
+        if (!isfinite (x.x_m) || !isfinite (x.y_m) || !isfinite (x.z_m) ||
+            cgs_geo_ecef_to_enu (app->geo, x, &p) < 0 || hypot (p.e_m, p.n_m) > 1e6) {
+            snprintf (text, textlen, "route point %zu is not within 1000 km of the exercise",
+                      n + 1);
+            return GW_STATUS_REJECTED;
+        }
+        cgs__enu__init (&pts[n]);
+        pts[n].east_m = p.e_m, pts[n].north_m = p.n_m, pts[n].up_m = p.u_m;
+        ptr[n] = &pts[n];
+        n++;
+    }
+    for (uint32_t i = 0; i < a->n_fixed; i++)
+        if (a->fixed[i].id == S_DATUM_SPEED) {
+            float f;
+            uint32_t bits = a->fixed[i].value;
+            memcpy (&f, &bits, sizeof f);
+            speed = f;
+        }
+    if (n == 0) {
+        snprintf (text, textlen, "no route points (variable datums %u, 3 float64 ECEF each)",
+                  S_DATUM_GEOCENTRIC);
+        return GW_STATUS_REJECTED;
+    }
+    if (!isfinite (speed) || speed < 0) {
+        snprintf (text, textlen, "speed datum is not a usable number");
+        return GW_STATUS_REJECTED;
+    }
+    if (!app->client) {
+        snprintf (text, textlen, "no uavsim command endpoint in the exercise");
+        return GW_STATUS_REJECTED;
+    }
+    Cgs__TaskRoute route = CGS__TASK_ROUTE__INIT;
+    route.uav_id = u->entity_id;
+    route.waypoints = ptr;
+    route.n_waypoints = n;
+    route.airspeed_mps = speed;
+    route.loiter_at_end = true;
+    Cgs__Command cmd = CGS__COMMAND__INIT;
+    cmd.body_case = CGS__COMMAND__BODY_TASK_ROUTE;
+    cmd.task_route = &route;
+    Cgs__Reply *reply = NULL;
+    char err[256];
+    int rc = cgs_cmd_client_call (app->client, &cmd, (int)(app->p.task_timeout_s * 1000), 1, &reply,
+                                  err, sizeof err);
+    if (rc < 0) {
+        snprintf (text, textlen, "uavsim did not answer: retry later");
+        cgs_health_set_error (app->svc.health, err);
+        // The client's next call resends under a new number; a late task is still one task.
+        return GW_STATUS_RETRANSMIT_LATER;
+    }
+    uint32_t status;
+    if (reply->status == CGS__REPLY_STATUS__REPLY_STATUS_OK ||
+        reply->status == CGS__REPLY_STATUS__REPLY_STATUS_NOT_SAVED) {
+        snprintf (text, textlen, "%s: route of %zu points: %s", u->name, n,
+                  reply->detail && *reply->detail ? reply->detail : "accepted");
+        status = GW_STATUS_EXECUTING;
+        app->tasks_accepted++;
+    } else {
+        snprintf (text, textlen, "uavsim refused: %s", reply->error ? reply->error : "no reason");
+        status = GW_STATUS_REJECTED;
+        app->tasks_refused++;
+    }
+    cgs_cmd_reply_free (&reply);
+    return status;
+}
+
+static void s_on_action_request (s_app_t *app, const gw_action_t *a)
+{
+    if (!s_ours (app, a->receiver)) {
+        app->not_for_us++;
+        return;
+    }
+    // A retransmission is answered as the first was, never done twice.
+    for (size_t i = 0; i < app->nanswered; i++) {
+        const s_answer_t *s = &app->answered[i];
+        if (gw_pdu_id_eq (s->originator, a->originator) && s->request_id == a->request_id) {
+            s_respond (app, a, s->status, s->text);
+            return;
+        }
+    }
+    char text[128];
+    uint32_t status;
+    long number = (long)a->receiver.entity - app->p.entity_id_base;
+    s_uav_t *u = number > 0 ? s_uav (app, (uint32_t)number) : NULL;
+    if (!u) {
+        snprintf (text, sizeof text, "entity %u:%u:%u is not a UAV of this exercise",
+                  a->receiver.site, a->receiver.application, a->receiver.entity);
+        status = GW_STATUS_REJECTED;
+    } else if (a->action_or_status != (uint32_t)app->p.route_action_id) {
+        snprintf (text, sizeof text, "action %u is not taken (route tasks are action %ld)",
+                  a->action_or_status, app->p.route_action_id);
+        status = GW_STATUS_REJECTED;
+    } else {
+        status = s_route_task (app, a, u, text, sizeof text);
+    }
+    cgs_log (status == GW_STATUS_EXECUTING ? LOG_INFO : LOG_NOTICE,
+             "Action Request %u from %u:%u:%u: status %u, %s", a->request_id, a->originator.site,
+             a->originator.application, a->originator.entity, status, text);
+    if (status != GW_STATUS_RETRANSMIT_LATER) {
+        if (app->nanswered == S_ANSWERED) { // forget the oldest
+            memmove (app->answered, app->answered + 1, (S_ANSWERED - 1) * sizeof app->answered[0]);
+            app->nanswered--;
+        }
+        s_answer_t *s = &app->answered[app->nanswered++];
+        s->originator = a->originator;
+        s->request_id = a->request_id;
+        s->status = status;
+        snprintf (s->text, sizeof s->text, "%s", text);
+    }
+    s_respond (app, a, status, text);
+}
+
+typedef struct {
+    s_app_t *app;
+    const struct sockaddr_in *from;
+    double now;
+} s_walk_t;
+
+static void s_on_pdu (void *arg, const uint8_t *pdu, size_t len)
+{
+    s_walk_t *w = arg;
+    s_app_t *app = w->app;
+    gw_header_t h;
+    const char *why = NULL;
+    app->pdus_in++;
+    if (gw_pdu_decode_header (pdu, len, &h, &why) < 0) {
+        s_reject (app, w->from, why);
+        return;
+    }
+    if (h.exercise != cgs_exercise_id (app->svc.exercise)) {
+        app->foreign++;
+        return;
+    }
+    if (h.type == GW_PDU_ENTITY_STATE) {
+        gw_espdu_t e;
+        if (gw_pdu_decode_espdu (pdu, len, &e, &why) < 0) {
+            s_reject (app, w->from, why);
+            return;
+        }
+        if (s_ours (app, e.id)) {
+            app->own++;
+            return;
+        }
+        app->espdu_in++;
+        bool fresh = false;
+        int rc = gw_in_take (app->in, &e, w->now, &fresh);
+        if (rc == -ENOSPC) {
+            if (app->table_full++ == 0)
+                cgs_log (LOG_WARNING,
+                         "more than %ld external entities: the rest are ignored (counted)",
+                         app->p.max_entities);
+        } else if (rc < 0) {
+            cgs_health_set_error (app->svc.health, "out of memory for external entities");
+        } else if (fresh) {
+            cgs_log (LOG_INFO, "external entity %u:%u:%u '%s' joined as entity %u", e.id.site,
+                     e.id.application, e.id.entity, e.marking,
+                     gw_in_find (app->in, e.id)->entity_id);
+        }
+        return;
+    }
+    if (h.type == GW_PDU_ACTION_REQUEST || h.type == GW_PDU_ACTION_RESPONSE) {
+        if (gw_pdu_decode_action (pdu, len, &app->action, &why) < 0) {
+            s_reject (app, w->from, why);
+            return;
+        }
+        if (s_ours (app, app->action.originator)) {
+            app->own++;
+            return;
+        }
+        if (h.type == GW_PDU_ACTION_REQUEST) {
+            s_on_action_request (app, &app->action);
+        } else if (s_ours (app, app->action.receiver)) {
+            app->responses_in++;
+            cgs_log (LOG_INFO, "Action Response to request %u from %u:%u:%u: status %u",
+                     app->action.request_id, app->action.originator.site,
+                     app->action.originator.application, app->action.originator.entity,
+                     app->action.action_or_status);
+        }
+        return;
+    }
+    app->other_types++;
+}
+
+static void s_on_udp (void *arg)
+{
+    s_app_t *app = arg;
+    struct mmsghdr mm[S_RECV_BATCH];
+    struct iovec iov[S_RECV_BATCH];
+    struct sockaddr_in from[S_RECV_BATCH];
+    for (int round = 0; round < S_RECV_ROUNDS; round++) {
+        for (int i = 0; i < S_RECV_BATCH; i++) {
+            iov[i] = (struct iovec){app->rbuf[i], S_DGRAM_MAX};
+            memset (&mm[i], 0, sizeof mm[i]);
+            mm[i].msg_hdr.msg_name = &from[i];
+            mm[i].msg_hdr.msg_namelen = sizeof from[i];
+            mm[i].msg_hdr.msg_iov = &iov[i];
+            mm[i].msg_hdr.msg_iovlen = 1;
+        }
+        int n = recvmmsg (app->fd, mm, S_RECV_BATCH, MSG_DONTWAIT, NULL);
+        if (n <= 0)
+            return;
+        double now = cgs_loop_now ();
+        for (int i = 0; i < n; i++) {
+            app->datagrams_in++;
+            s_walk_t w = {app, &from[i], now};
+            const char *why = NULL;
+            if (mm[i].msg_hdr.msg_flags & MSG_TRUNC)
+                s_reject (app, &from[i], "datagram larger than 65536 bytes");
+            else if (mm[i].msg_len == 0)
+                s_reject (app, &from[i], "empty datagram");
+            else if (gw_pdu_walk (app->rbuf[i], mm[i].msg_len, s_on_pdu, &w, &why) < 0)
+                s_reject (app, &from[i], why);
+        }
+        if (n < S_RECV_BATCH)
+            return;
+    }
+}
+
+/* ---- external entities on the bus ---------------------------------------------------------- */
+
+static Cgs__Entity *s_next_msg (s_app_t *app)
+{
+    if (app->nmsg == app->msg_cap) {
+        size_t cap = app->msg_cap ? app->msg_cap * 2 : 256;
+        Cgs__Entity *m = realloc (app->msgs, cap * sizeof *m);
+        if (!m)
+            return NULL;
+        app->msgs = m;
+        gw_in_storage_t *s = realloc (app->storage, cap * sizeof *s);
+        if (!s)
+            return NULL;
+        app->storage = s;
+        Cgs__Entity **p = realloc (app->ptrs, cap * sizeof *p);
+        if (!p)
+            return NULL;
+        app->ptrs = p;
+        app->msg_cap = cap;
+    }
+    return &app->msgs[app->nmsg];
+}
+
+static void s_add_msg (s_app_t *app, const gw_in_entity_t *e, double now, bool leaving)
+{
+    Cgs__Entity *m = s_next_msg (app);
+    if (!m) {
+        cgs_health_set_error (app->svc.health, "out of memory for external entity messages");
+        return;
+    }
+    if (gw_in_entity_msg (app->geo, e, now, &app->storage[app->nmsg], m) < 0) {
+        cgs_service_bad_input (&app->svc, "an external entity whose state cannot be placed in "
+                                          "the exercise's frame");
+        return;
+    }
+    if (leaving)
+        m->active = false;
+    app->nmsg++;
+}
+
+static void s_on_expired (void *arg, const gw_in_entity_t *e)
+{
+    s_app_t *app = arg;
+    cgs_log (LOG_INFO, "external entity %u:%u:%u (entity %u) %s", e->dis_id.site,
+             e->dis_id.application, e->dis_id.entity, e->entity_id,
+             e->deactivated ? "deactivated" : "timed out");
+    s_add_msg (app, e, cgs_loop_now (), true);
+}
+
+static void s_counters (s_app_t *app)
+{
+    cgs_health_t *h = app->svc.health;
+    cgs_health_set_counter (h, "espdu_out", app->espdu_out);
+    cgs_health_set_counter (h, "action_out", app->action_out + app->response_out);
+    cgs_health_set_counter (h, "pdus_in", app->pdus_in);
+    cgs_health_set_counter (h, "external", gw_in_count (app->in));
+    cgs_health_set_counter (h, "other_exercise", app->foreign);
+    cgs_health_set_counter (h, "own_echo", app->own);
+    cgs_health_set_counter (h, "rejected", app->rejected);
+    cgs_health_set_counter (h, "other_pdu_types", app->other_types);
+    cgs_health_set_counter (h, "tasks_accepted", app->tasks_accepted);
+    cgs_health_set_counter (h, "tasks_refused", app->tasks_refused);
+    cgs_health_set_counter (h, "send_errors", app->send_errors);
+    cgs_health_set_counter (h, "table_full", app->table_full);
+}
+
+static void s_on_publish (void *arg)
+{
+    s_app_t *app = arg;
+    double now = cgs_loop_now ();
+    app->nmsg = 0;
+    gw_in_expire (app->in, now, app->p.timeout_s, s_on_expired, app);
+    size_t cursor = 0;
+    const gw_in_entity_t *e;
+    while ((e = gw_in_next (app->in, &cursor)))
+        s_add_msg (app, e, now, false);
+    s_counters (app);
+    if (app->nmsg == 0)
+        return;
+    for (size_t i = 0; i < app->nmsg; i++)
+        app->ptrs[i] = &app->msgs[i];
+    size_t count = (app->nmsg + S_BATCH_MAX - 1) / S_BATCH_MAX;
+    app->svc.sim_time_s = app->sim_time_s;
+    for (size_t b = 0; b < count; b++) {
+        Cgs__EntityBatch batch = CGS__ENTITY_BATCH__INIT;
+        batch.entities = app->ptrs + b * S_BATCH_MAX;
+        batch.n_entities = b + 1 < count ? S_BATCH_MAX : app->nmsg - b * S_BATCH_MAX;
+        batch.batch_index = (uint32_t)b;
+        batch.batch_count = (uint32_t)count;
+        cgs_service_publish (&app->svc, "entity", &batch.base);
+    }
+}
+
+/* ---- setup --------------------------------------------------------------------------------- */
+
+static int s_socket (s_app_t *app, char *err, size_t errlen)
+{
+    const gw_params_t *p = &app->p;
+    int fd = socket (AF_INET, SOCK_DGRAM | SOCK_NONBLOCK | SOCK_CLOEXEC, 0);
+    if (fd < 0) {
+        snprintf (err, errlen, "cannot make a UDP socket: %s", strerror (errno));
+        return -errno;
+    }
+    int one = 1, size = 4 << 20;
+    // Several DIS applications on one host share the port (broadcast and multicast).
+    setsockopt (fd, SOL_SOCKET, SO_REUSEADDR, &one, sizeof one);
+    setsockopt (fd, SOL_SOCKET, SO_RCVBUF, &size, sizeof size);
+    setsockopt (fd, SOL_SOCKET, SO_SNDBUF, &size, sizeof size);
+    struct sockaddr_in sa = {.sin_family = AF_INET, .sin_port = htons (p->port)};
+    sa.sin_addr.s_addr = htonl (p->bind_address);
+    if (p->mode == GW_MODE_BROADCAST &&
+        setsockopt (fd, SOL_SOCKET, SO_BROADCAST, &one, sizeof one) < 0)
+        goto fail;
+    if (bind (fd, (struct sockaddr *)&sa, sizeof sa) < 0)
+        goto fail;
+    if (p->mode == GW_MODE_MULTICAST) {
+        struct ip_mreq mreq;
+        mreq.imr_multiaddr.s_addr = htonl (p->address);
+        mreq.imr_interface.s_addr = htonl (p->interface);
+        unsigned char ttl = (unsigned char)p->ttl, loop = p->loopback;
+        struct in_addr ifa = {htonl (p->interface)};
+        if (setsockopt (fd, IPPROTO_IP, IP_ADD_MEMBERSHIP, &mreq, sizeof mreq) < 0 ||
+            setsockopt (fd, IPPROTO_IP, IP_MULTICAST_TTL, &ttl, sizeof ttl) < 0 ||
+            setsockopt (fd, IPPROTO_IP, IP_MULTICAST_LOOP, &loop, sizeof loop) < 0 ||
+            setsockopt (fd, IPPROTO_IP, IP_MULTICAST_IF, &ifa, sizeof ifa) < 0)
+            goto fail;
+    }
+    app->ndest = 0;
+    if (p->mode == GW_MODE_UNICAST) {
+        for (size_t i = 0; i < p->peer_count; i++) {
+            struct sockaddr_in *d = &app->dest[app->ndest++];
+            *d = (struct sockaddr_in){.sin_family = AF_INET, .sin_port = htons (p->peers[i].port)};
+            d->sin_addr.s_addr = htonl (p->peers[i].addr);
+        }
+    } else {
+        struct sockaddr_in *d = &app->dest[app->ndest++];
+        *d = (struct sockaddr_in){.sin_family = AF_INET, .sin_port = htons (p->port)};
+        d->sin_addr.s_addr = htonl (p->address);
+    }
+    app->fd = fd;
+    return 0;
+fail:;
+    int e = errno;
+    char addr[INET_ADDRSTRLEN];
+    inet_ntop (AF_INET, &sa.sin_addr, addr, sizeof addr);
+    snprintf (err, errlen, "DIS socket (%s %s:%u): %s", gw_params_mode_name (p->mode), addr,
+              p->port, strerror (e));
+    close (fd);
+    return -e;
+}
+
+static int s_setup (s_app_t *app, char *err, size_t errlen)
+{
+    gw_params_defaults (&app->p);
+    if (*app->svc.params) {
+        int rc = gw_params_load (app->svc.params, &app->p, err, errlen);
+        if (rc < 0)
+            return rc;
+        cgs_log (LOG_INFO, "gateway parameters from %s", app->svc.params);
+    }
+    uint32_t ex = cgs_exercise_id (app->svc.exercise);
+    if (ex < 1 || ex > 255) {
+        snprintf (err, errlen, "%s: exercise id %u is not a DIS exercise id (1..255)",
+                  app->svc.exercise_path, ex);
+        return -EINVAL;
+    }
+    cgs_geodetic_t o = cgs_exercise_origin (app->svc.exercise);
+    if (!(app->geo = cgs_geo_new (o.lat_deg, o.lon_deg, o.height_m))) {
+        snprintf (err, errlen, "the exercise origin is not usable");
+        return -EINVAL;
+    }
+    gw_out_params_t op = {app->p.position_threshold_m, app->p.orientation_threshold_deg,
+                          app->p.heartbeat_s};
+    app->out = gw_out_new (&op);
+    app->in = gw_in_new ((uint32_t)app->p.first_entity_id, (size_t)app->p.max_entities);
+    app->rbuf = malloc (S_RECV_BATCH * sizeof *app->rbuf);
+    if (!app->out || !app->in || !app->rbuf) {
+        snprintf (err, errlen, "out of memory");
+        return -ENOMEM;
+    }
+    app->mono_offset = cgs_loop_now ();
+    app->fd = -1;
+    for (size_t i = 0; i < cgs_exercise_instance_count (app->svc.exercise); i++) {
+        const cgs_instance_t *in = cgs_exercise_instance (app->svc.exercise, i);
+        if (strcmp (in->program, "uavsim") == 0 && *in->command)
+            app->uavsim = in;
+    }
+    if (app->svc.check_only)
+        return 0;
+    int rc = s_socket (app, err, errlen);
+    if (rc < 0)
+        return rc;
+    if (app->uavsim &&
+        !(app->client = cgs_cmd_client_new (app->svc.ctx, app->uavsim->command, "gateway"))) {
+        snprintf (err, errlen, "cannot make a command client for %s", app->uavsim->command);
+        return -errno;
+    }
+    char addr[INET_ADDRSTRLEN];
+    struct in_addr a = app->dest[0].sin_addr;
+    inet_ntop (AF_INET, &a, addr, sizeof addr);
+    cgs_log (LOG_INFO,
+             "DIS version %d, exercise %u, site %d application %d, port %u, %s to %s:%u%s; "
+             "uavsim at %s",
+             app->p.version, ex, app->p.site, app->p.application, app->p.port,
+             gw_params_mode_name (app->p.mode), addr, ntohs (app->dest[0].sin_port),
+             app->ndest > 1 ? " and more" : "", app->uavsim ? app->uavsim->command : "(none)");
+    return 0;
+}
+
+int main (int argc, char **argv)
+{
+    static s_app_t app;
+    app.fd = -1;
+    cgs_service_info_t info = {
+        .program = "gateway",
+        .summary = "DIS bridge: Entity State and Action Request/Response PDUs in and out.",
+    };
+    int rc = cgs_service_init (&app.svc, &info, argc, argv);
+    if (rc != 0) {
+        cgs_service_fini (&app.svc);
+        return rc > 0 ? 0 : 1;
+    }
+    int exit_code = 1;
+    char err[1024] = "";
+    if (s_setup (&app, err, sizeof err) < 0) {
+        cgs_log (LOG_ERR, "%s", err);
+        goto done;
+    }
+    if (app.svc.check_only) {
+        printf ("%s: parameters are good (DIS version %d, port %u, %s)\n", app.svc.instance_name,
+                app.p.version, app.p.port, gw_params_mode_name (app.p.mode));
+        exit_code = 0;
+        goto done;
+    }
+    if (cgs_loop_add_fd (app.svc.loop, app.fd, s_on_udp, &app) < 0 ||
+        cgs_loop_add_timer (app.svc.loop, 1.0 / app.p.publish_rate_hz, s_on_publish, &app) < 0) {
+        cgs_log (LOG_ERR, "out of memory");
+        goto done;
+    }
+    if (cgs_service_subscribe (&app.svc, "entity", s_on_entity, &app) < 0 ||
+        cgs_service_subscribe (&app.svc, "uav", s_on_uav, &app) < 0 ||
+        cgs_service_subscribe (&app.svc, "intercept", s_on_intercept, &app) < 0)
+        goto done;
+    exit_code = cgs_service_run (&app.svc);
+    cgs_log (LOG_INFO,
+             "%" PRIu64 " Entity State PDUs and %" PRIu64 " Action Requests out; %" PRIu64
+             " PDUs in (%" PRIu64 " Entity State, %" PRIu64 " of other exercises, %" PRIu64
+             " rejected); %" PRIu64 " route tasks taken, %" PRIu64 " refused",
+             app.espdu_out, app.action_out, app.pdus_in, app.espdu_in, app.foreign, app.rejected,
+             app.tasks_accepted, app.tasks_refused);
+done:
+    if (app.fd >= 0)
+        close (app.fd);
+    cgs_cmd_client_destroy (&app.client);
+    gw_out_destroy (&app.out);
+    gw_in_destroy (&app.in);
+    cgs_geo_destroy (&app.geo);
+    free (app.rbuf);
+    free (app.msgs);
+    free (app.ptrs);
+    free (app.storage);
+    cgs_service_fini (&app.svc);
+    return exit_code;
+}
