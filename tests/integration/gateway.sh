@@ -1,0 +1,333 @@
+#!/bin/bash
+# gateway.sh — the real gateway beside the real uavsim, mtid, trackerd and
+# guidanced, checked with DIS tools nobody here wrote: Wireshark's dissector
+# (tshark) decodes every PDU the gateway sends, in each protocol version 4 to
+# 7, with no malformed packet, and shows the scenario's entity ids and
+# markings; the npm open-dis library decodes our Entity State PDUs (location
+# within 1 mm of GeographicLib's CartConvert for the entity) and the Action
+# Request that carries guidanced's intercept route; an Entity State PDU that
+# open-dis encodes becomes an external entity on the bus at the right local
+# position, the radar model sees it, and it is removed after 12 s of silence;
+# an open-dis Action Request to our UAV becomes a uavsim route task, answered
+# with an Action Response (a retransmission is answered, not done twice; one
+# to an entity that is not a UAV is rejected with the reason); garbage, bad
+# lengths and other exercises are rejected or ignored, counted, and the
+# gateway keeps running. TAP on stdout.
+# shellcheck source=tests/integration/lib.sh
+. "$(dirname "$0")/lib.sh"
+
+UAVSIM=$CGS_BUILD/bin/uavsim
+MTID=$CGS_BUILD/bin/mtid
+TRACKERD=$CGS_BUILD/bin/trackerd
+GUIDANCED=$CGS_BUILD/bin/guidanced
+GATEWAY=$CGS_BUILD/bin/gateway
+for b in "$UAVSIM" "$MTID" "$TRACKERD" "$GUIDANCED" "$GATEWAY"; do [ -x "$b" ] || bail "no $b"; done
+command -v tshark >/dev/null || bail "no tshark (scripts/install-deps installs it)"
+command -v CartConvert >/dev/null || bail "no CartConvert (geographiclib-tools)"
+command -v node >/dev/null || bail "no node"
+DISJS=$CGS_ROOT/tests/interop/dis.js
+[ -d "$CGS_ROOT/tests/interop/node_modules/open-dis" ] || bail "no open-dis (npm ci in tests/interop)"
+
+ORIGIN="35.96 -121.23 0"
+EXID=11
+# Two free UDP ports on loopback: the gateway's, and the open-dis peer's.
+GWPORT=$((20000 + RANDOM % 20000))
+PEERPORT=$((GWPORT + 1))
+
+EX=$TMP/exercise.ini
+{
+    exercise_header $EXID gateway-test
+    cat <<EOF
+scenario = scenario.ini
+
+[service uavsim]
+publish = ipc://$TMP/uavsim.pub
+command = ipc://$TMP/uavsim.cmd
+
+[service mtid.uav1]
+publish = ipc://$TMP/mtid.pub
+uav = uav1
+
+[service trackerd]
+publish = ipc://$TMP/trackerd.pub
+
+[service guidanced]
+publish = ipc://$TMP/guidanced.pub
+command = ipc://$TMP/guidanced.cmd
+
+[service gateway]
+publish = ipc://$TMP/gateway.pub
+params = gateway.ini
+EOF
+} >"$EX"
+gwparams () {
+    cat >"$TMP/gateway.ini" <<EOF
+[network]
+port = $GWPORT
+mode = unicast
+peer = 127.0.0.1:$PEERPORT
+[dis]
+version = $1
+EOF
+}
+# Flat ground; the UAV circles the origin; two movers drive north 5 km
+# either side of it; a friendly truck drives east.
+cat >"$TMP/scenario.ini" <<'EOF'
+[terrain]
+size_m = 40000
+resolution_m = 100
+relief_m = 0
+
+[uav uav1]
+position = 0 0
+altitude_agl_m = 1200
+airspeed_mps = 38
+loiter_radius_m = 1500
+
+[vehicle target]
+force = hostile
+marking = TARGET
+point = 5000 -4000
+point = 5000 16000
+speed_mps = 10
+
+[vehicle other]
+force = unknown
+marking = OTHER
+point = -5000 -4000
+point = -5000 16000
+speed_mps = 8
+
+[vehicle truck]
+force = friendly
+kind = wheeled
+marking = FRIEND TRK
+point = -2000 3000
+point = 8000 3000
+speed_mps = 12
+EOF
+
+M () { "$MSCGS" "$@" --exercise "$EX"; }
+JSONL=$TMP/dis.jsonl
+PCAP=$TMP/dis.pcap
+
+# ENU (east north up) to ECEF with GeographicLib's own tools.
+enu2ecef () { CartConvert -r -l $ORIGIN -p 9 <<<"$1" | CartConvert -p 6; }
+ecef2enu () { CartConvert -l $ORIGIN -p 9 <<<"$(CartConvert -r -p 9 <<<"$1")"; }
+# Confirmed tracks of the latest batch: id east north.
+tracks () {
+    M echo track --json --count 1 --timeout 15 2>/dev/null | tail -1 |
+        sed 's/{"track_id":/\n&/g' | grep '^{"track_id":' | grep -E 'CONFIRMED|COASTING' |
+        sed -n 's/^{"track_id":\([0-9]*\),.*"position":{"east_m":\([-0-9.e]*\),"north_m":\([-0-9.e]*\).*/\1 \2 \3/p'
+}
+# Entities of the first `entity` batch JSON line on stdin: id east north up
+# (proto3 JSON leaves out zero fields: node reads them as 0).
+entity_rows () {
+    node -e 'let s = ""; process.stdin.on("data", (d) => (s += d)).on("end", () => {
+        const line = s.split("\n").find((l) => l.startsWith("{"));
+        for (const e of line ? JSON.parse(line).entities || [] : []) {
+            const p = e.position || {};
+            console.log(e.entity_id, p.east_m || 0, p.north_m || 0, p.up_m || 0);
+        }
+    });'
+}
+# A health counter of the gateway: counter NAME.
+counter () { M status 2>/dev/null | grep -o "$1=[0-9]*" | head -1 | cut -d= -f2; }
+
+gwparams 7
+start L dis-peer node "$DISJS" listen "$PEERPORT" "$TMP/dis"
+start U uavsim "$UAVSIM" --exercise "$EX" --time-scale 20
+start R mtid "$MTID" --exercise "$EX" --instance mtid.uav1
+start T trackerd "$TRACKERD" --exercise "$EX"
+start G guidanced "$GUIDANCED" --exercise "$EX"
+start W gateway-7 "$GATEWAY" --exercise "$EX"
+
+check "Entity State PDUs of the UAV and the three vehicles reach the open-dis peer" wait_for 15 \
+    bash -c "for id in 1:1:1 1:1:2 1:1:3 1:1:4; do grep -qs \"\\\"type\\\":1,.*\\\"id\\\":\\\"\$id\\\"\" '$JSONL' || exit 1; done"
+first=$(grep -m1 '"id":"1:1:1"' "$JSONL")
+check "open-dis reads the UAV as RVW, version 7, PDU status LVC constructive" \
+    bash -c "grep -q '\"version\":7' <<<'$first' && grep -q '\"dr\":4' <<<'$first' && grep -q '\"status\":6' <<<'$first'"
+check "and the ground vehicles as FPW" grep -q '"id":"1:1:2".*"dr":2' "$JSONL"
+check "markings as the scenario gives them" bash -c \
+    "grep -q '\"id\":\"1:1:1\".*\"marking\":\"uav1\"' '$JSONL' && grep -q '\"id\":\"1:1:2\".*\"marking\":\"TARGET\"' '$JSONL' && grep -q '\"id\":\"1:1:4\".*\"marking\":\"FRIEND TRK\"' '$JSONL'"
+
+# ---- guidanced's intercept route goes out as an Action Request ----------------------------
+tgt=""
+for _ in $(seq 1 40); do
+    tracks >"$TMP/tracks.txt"
+    tgt=$(awk '$2 > 4500 && $2 < 5500 { print $1; exit }' "$TMP/tracks.txt")
+    [ -n "$tgt" ] && break
+    sleep 0.5
+done
+check "the target has a confirmed track (${tgt:-none})" test -n "$tgt"
+M designate "$tgt" >"$TMP/designate.out" 2>&1
+is "$?" 0 "designating it is accepted"
+check "the intercept route reaches the open-dis peer as an Action Request" wait_for 10 \
+    grep -q '"type":16,.*"from":"1:1:0","to":"1:1:1"' "$JSONL"
+req=$(grep '"type":16' "$JSONL" | tail -1)
+icpt=$(M echo intercept --json --count 1 --timeout 5 2>/dev/null | tail -1)
+npts=$(grep -o '"route":\[[^]]*\]' <<<"$icpt" | grep -o 'east_m' | wc -l)
+rpts=$(node -e 'const r=JSON.parse(process.argv[1]); console.log(r.points.length)' "$req")
+diag "Action Request: $(cut -c1-300 <<<"$req")"
+check "it has action 40 and one route point per intercept route point ($rpts of $npts)" \
+    bash -c "grep -q '\"action\":40' <<<'$req' && [ '$rpts' -ge 2 ] && [ '$rpts' = '$npts' ]"
+# The request's last point, back in the local frame with CartConvert, is the
+# intercept's last route point (the route ends where it ends in either order).
+last=$(node -e 'const r=JSON.parse(process.argv[1]); const p=r.points[r.points.length-1]; console.log(p.join(" "))' "$req")
+got=$(ecef2enu "$last")
+want=$(node -e 'const r = JSON.parse(process.argv[1]).route; const p = r[r.length - 1];
+    console.log(p.east_m || 0, p.north_m || 0, p.up_m || 0)' "$icpt")
+diag "last route point: intercept $want, Action Request $got"
+check "the route point decodes to the intercept's within 1 mm" awk -v a="$got" -v b="$want" \
+    'BEGIN { split(a, x); split(b, y); d = 0; for (i = 1; i <= 3; i++) d += (x[i] - y[i]) ^ 2; exit !(sqrt(d) < 0.001) }'
+
+# ---- every protocol version ---------------------------------------------------------------
+for v in 4 5 6; do
+    stop "$W"
+    gwparams $v
+    start W gateway-$v "$GATEWAY" --exercise "$EX"
+    check "version $v: Entity State PDUs and the Action Request go out in version $v" wait_for 15 \
+        bash -c "grep -q '\"version\":$v,.*\"type\":1,' '$JSONL' && grep -q '\"version\":$v,.*\"type\":16,' '$JSONL'"
+done
+stop "$W"
+gwparams 7
+start W gateway-7b "$GATEWAY" --exercise "$EX"
+sleep 1
+
+# ---- external entities from open-dis ------------------------------------------------------
+# A tank 3 km east and 2 km north of the origin on the ground, driving east at
+# 8 m/s: its ECEF location and velocity from CartConvert.
+p0=$(enu2ecef "3000 2000 0")
+p1=$(enu2ecef "3008 2000 0")
+vel=$(awk -v a="$p0" -v b="$p1" 'BEGIN { split(a, x); split(b, y); printf "%.6f,%.6f,%.6f", y[1]-x[1], y[2]-x[2], y[3]-x[3] }')
+ecef=$(tr ' ' ',' <<<"$p0")
+sent_at=$(date +%s.%N)
+node "$DISJS" send-espdu "$GWPORT" --exercise $EXID --id 42:7:5 --ecef "$ecef" --vel "$vel" --marking OPENDIS1
+check "the open-dis Entity State PDU shows up on the bus as an external entity" wait_for 5 bash -c \
+    "'$MSCGS' echo entity --json --count 4 --timeout 3 --exercise '$EX' 2>/dev/null | grep -q 'OPENDIS1'"
+ext=$(M echo entity --json --count 6 --timeout 3 2>/dev/null | grep -o '{"entity_id":100000[^}]*}[^}]*}[^}]*}[^}]*}' | tail -1)
+seen_at=$(date +%s.%N)
+diag "external: $ext"
+check "external, with its DIS id, force and marking" bash -c \
+    "grep -q '\"external\":true' <<<'$ext' && grep -q '\"dis_id\":{\"site\":42,\"application\":7,\"entity\":5}' <<<'$ext' && grep -q 'FORCE_HOSTILE' <<<'$ext'"
+east=$(sed -n 's/.*"east_m":\([-0-9.e]*\).*/\1/p' <<<"$ext")
+north=$(sed -n 's/.*"north_m":\([-0-9.e]*\).*/\1/p' <<<"$ext")
+up=$(sed -n 's/.*"up_m":\([-0-9.e]*\).*/\1/p' <<<"$ext")
+# Dead-reckoned (FPW) at 8 m/s east since it was sent: between the send and
+# the echo it moved 8 m/s times that; allow the 0.1 s publication period.
+check "at the right local position, dead-reckoned east (east $east, north $north, up $up)" awk \
+    -v e="$east" -v n="$north" -v u="$up" -v t0="$sent_at" -v t1="$seen_at" \
+    'BEGIN { lo = 3000 - 1; hi = 3000 + 8 * (t1 - t0) + 1; exit !(e >= lo && e <= hi && n > 1999.9 && n < 2000.1 && u > -0.1 && u < 0.1) }'
+check "the radar model sees it (mti.truth lists entity 100000)" wait_for 10 bash -c \
+    "'$MSCGS' echo mti.truth --json --count 20 --timeout 5 --exercise '$EX' 2>/dev/null | grep -q '\"entity_id\":100000'"
+
+# ---- Action Requests from open-dis --------------------------------------------------------
+# guidanced lets the UAV go first, so it does not re-task it meanwhile.
+M cancel >/dev/null 2>&1
+a=$(enu2ecef "1000 -2000 0" | tr ' ' ',')
+b=$(enu2ecef "2000 -2500 0" | tr ' ' ',')
+node "$DISJS" send-action "$GWPORT" --exercise $EXID --from 42:7:0 --to 1:1:1 --request 501 --point "$a" --point "$b"
+check "an Action Request to our UAV is answered with an Action Response: executing" wait_for 5 \
+    grep -q '"type":17,.*"from":"1:1:1","to":"42:7:0","request":501,"requestStatus":2' "$JSONL"
+# The first point of the UAV's route, as uavsim publishes it: east north.
+route1 () {
+    M echo uav --json --count 1 --timeout 3 2>/dev/null | grep '"UAV_MODE_ROUTE"' |
+        sed -n 's/.*"route":\[{"east_m":\([-0-9.e]*\),"north_m":\([-0-9.e]*\).*/\1 \2/p'
+}
+route_ok () {
+    awk -v r="$(route1)" 'BEGIN { split(r, p); exit !(r != "" && (p[1] - 1000) ^ 2 + (p[2] + 2000) ^ 2 < 1) }'
+}
+check "uavsim flies the route from the Action Request" wait_for 5 route_ok
+node "$DISJS" send-action "$GWPORT" --exercise $EXID --from 42:7:0 --to 1:1:1 --request 501 --point "$a" --point "$b"
+check "a retransmission is answered again" wait_for 5 \
+    bash -c "[ \$(grep -c '\"request\":501,\"requestStatus\":2' '$JSONL') -ge 2 ]"
+is "$(grep -c 'Action Request 501 from' "$TMP/gateway-7b.log")" 1 "and not done twice (one task for request 501)"
+node "$DISJS" send-action "$GWPORT" --exercise $EXID --from 42:7:0 --to 1:1:2 --request 502 --point "$a"
+check "one to an entity that is not a UAV is rejected, with the reason" wait_for 5 \
+    grep -q '"request":502,"requestStatus":5.*"text":"entity 1:1:2 is not a UAV' "$JSONL"
+
+# ---- bad input ----------------------------------------------------------------------------
+rej0=$(counter rejected)
+node "$DISJS" send-raw "$GWPORT" 0700010203
+# A version 7 Entity State PDU header whose length field says 200 bytes, 12 sent.
+node "$DISJS" send-raw "$GWPORT" 070b0101000000000000c8000600
+node "$DISJS" send-espdu "$GWPORT" --exercise 99 --id 42:7:6 --ecef "$ecef" --marking OTHEREX
+node "$DISJS" send-espdu "$GWPORT" --exercise $EXID --version 3 --id 42:7:7 --ecef "$ecef" --marking OLD
+check "garbage, a bad length and an unknown version are rejected and counted" wait_for 5 \
+    bash -c "[ \"\$('$MSCGS' status --exercise '$EX' 2>/dev/null | grep -o 'rejected=[0-9]*' | cut -d= -f2)\" -ge $((${rej0:-0} + 3)) ]"
+check "another exercise's PDU is ignored and counted" wait_for 3 \
+    bash -c "[ \"\$('$MSCGS' status --exercise '$EX' 2>/dev/null | grep -o 'other_exercise=[0-9]*' | cut -d= -f2)\" -ge 1 ]"
+check "and never becomes an entity" bash -c \
+    "! '$MSCGS' echo entity --json --count 4 --timeout 2 --exercise '$EX' 2>/dev/null | grep -q 'OTHEREX\|\"OLD\"'"
+check "the gateway logs why, once" bash -c \
+    "[ \$(grep -c 'a DIS datagram from 127.0.0.1' '$TMP/gateway-7b.log') -eq 1 ]"
+check "and keeps running" kill -0 "$W"
+
+# ---- silence and deactivation -------------------------------------------------------------
+node "$DISJS" send-espdu "$GWPORT" --exercise $EXID --id 42:7:8 --ecef "$ecef" --marking GOER
+check "a second external entity joins" wait_for 5 bash -c \
+    "'$MSCGS' echo entity --json --count 4 --timeout 3 --exercise '$EX' 2>/dev/null | grep -q 'GOER'"
+node "$DISJS" send-espdu "$GWPORT" --exercise $EXID --id 42:7:8 --ecef "$ecef" --marking GOER --deactivate
+check "and leaves at once when its PDU says it is deactivated" wait_for 5 bash -c \
+    "grep -q 'external entity 42:7:8 (entity [0-9]*) deactivated' '$TMP/gateway-7b.log'"
+check "OPENDIS1, silent since it was sent, is removed after 12 s" wait_for 20 \
+    grep -q 'external entity 42:7:5 (entity 100000) timed out' "$TMP/gateway-7b.log"
+gone_at=$(date +%s.%N)
+silence=$(awk -v a="$sent_at" -v b="$gone_at" 'BEGIN { printf "%.1f", b - a }')
+check "no sooner than 12 s after its last PDU (${silence} s)" awk -v s="$silence" 'BEGIN { exit !(s >= 12) }'
+
+# ---- locations against GeographicLib, paused ----------------------------------------------
+M pause >/dev/null 2>&1
+sleep 1.5
+paused_at=$(date +%s.%N)
+"$MSCGS" echo entity --json --count 1 --timeout 3 --exercise "$EX" 2>/dev/null | entity_rows >"$TMP/paused.txt"
+diag "paused entities: $(tr '\n' ';' <"$TMP/paused.txt")"
+sleep 6 # one heartbeat
+worst=0 n=0
+while read -r id e nn u; do
+    [ "$id" -ge 100000 ] && continue
+    want=$(enu2ecef "$e $nn $u")
+    got=$(awk -v t="$paused_at" -v id="\"1:1:$id\"" -F'"location":\\[' \
+        'index($0, "\"id\":" id) && $0 ~ /"type":1,/ { split($1, a, "\"t\":"); split(a[2], b, ","); if (b[1] > t) { split($2, c, "]"); loc = c[1] } } END { gsub(",", " ", loc); print loc }' "$JSONL")
+    d=$(awk -v a="$want" -v b="$got" 'BEGIN { split(a, x); split(b, y); if (b == "") { print 1e9; exit } d = 0; for (i = 1; i <= 3; i++) d += (x[i] - y[i]) ^ 2; printf "%.6f", sqrt(d) }')
+    diag "entity $id: CartConvert $want, open-dis $got, difference $d m"
+    worst=$(awk -v a="$worst" -v b="$d" 'BEGIN { print (b > a ? b : a) }')
+    n=$((n + 1))
+done <"$TMP/paused.txt"
+is "$n" 4 "four internal entities while paused"
+check "every Entity State PDU's location is within 1 mm of GeographicLib's (worst $worst m)" \
+    awk -v w="$worst" 'BEGIN { exit !(w < 0.001) }'
+M resume >/dev/null 2>&1
+
+# ---- Wireshark's dissector ----------------------------------------------------------------
+stop "$W"
+stop "$L"
+tshark -r "$PCAP" -d "udp.port==$PEERPORT,dis" -T fields -e frame.number -e dis.proto_ver \
+    -e dis.pdu_type -e dis.entity_id_site -e dis.entity_id_application -e dis.entity_id_entity \
+    -e dis.entity_marking -e _ws.malformed >"$TMP/tshark.txt" 2>"$TMP/tshark.err"
+frames=$(wc -l <"$TMP/tshark.txt")
+dis=$(awk -F'\t' '$3 != ""' "$TMP/tshark.txt" | wc -l)
+datagrams=$(grep -c . "$JSONL")
+diag "tshark: $frames frames, $dis decoded as DIS, $datagrams datagrams received"
+check "tshark decodes every datagram received as DIS ($dis of $datagrams)" \
+    bash -c "[ $frames -eq $datagrams ] && [ $dis -eq $datagrams ] && [ $datagrams -gt 50 ]"
+is "$(awk -F'\t' '$8 != ""' "$TMP/tshark.txt" | wc -l)" 0 "no malformed packet"
+tshark -r "$PCAP" -d "udp.port==$PEERPORT,dis" -q -z expert >"$TMP/expert.txt" 2>&1
+check "no expert warnings or errors" bash -c "! grep -qiE '^(Errors|Warnings) \(' '$TMP/expert.txt'"
+for v in 4 5 6 7; do
+    check "tshark sees version $v Entity State and Action Request PDUs" bash -c \
+        "awk -F'\t' '\$2 == $v && \$3 == 1' '$TMP/tshark.txt' | grep -q . && awk -F'\t' '\$2 == $v && \$3 == 16' '$TMP/tshark.txt' | grep -q ."
+done
+check "with the scenario's entity ids and markings" bash -c \
+    "grep -qP '\t1\t1\t1\t1\tuav1' '$TMP/tshark.txt' && grep -qP '\t1\t1\t1\t2\tTARGET' '$TMP/tshark.txt' && grep -qP '\t1\t1\t1\t3\tOTHER' '$TMP/tshark.txt' && grep -qP '\t1\t1\t1\t4\tFRIEND TRK' '$TMP/tshark.txt'"
+check "and only those" bash -c \
+    "! awk -F'\t' '\$3 == 1 && !(\$4 == 1 && \$5 == 1 && \$6 >= 1 && \$6 <= 4)' '$TMP/tshark.txt' | grep -q ."
+
+stop "$G"
+stop "$T"
+stop "$R"
+stop "$U"
+for log in gateway-7 gateway-4 gateway-5 gateway-6 gateway-7b uavsim; do
+    check "no sanitizer report in $log" clean_log $log
+done
+finish
