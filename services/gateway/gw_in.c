@@ -183,16 +183,14 @@ int gw_in_entity_msg (const cgs_geo_t *geo, const gw_in_entity_t *e, double now_
         }
     }
     cgs_enu_t p, vel;
-    cgs_geodetic_t at;
-    if (cgs_geo_ecef_to_enu (geo, (cgs_ecef_t){pos[0], pos[1], pos[2]}, &p) < 0 ||
-        cgs_geo_ecef_to_geodetic ((cgs_ecef_t){pos[0], pos[1], pos[2]}, &at) < 0)
+    if (cgs_geo_ecef_to_enu (geo, (cgs_ecef_t){pos[0], pos[1], pos[2]}, &p) < 0)
         return -EINVAL;
     cgs_geo_ecef_vector_to_enu (geo, (cgs_ecef_t){v[0], v[1], v[2]}, &vel);
     double angles[3], heading, pitch, roll;
     gw_dr_euler_from_rot (R, angles);
-    if (cgs_geo_hpr_from_dis_euler (at, (cgs_dis_euler_t){angles[0], angles[1], angles[2]},
-                                    &heading, &pitch, &roll) < 0)
-        return -EINVAL;
+    // In the exercise frame's terms, as the models take them (see gw_out_truth).
+    cgs_geo_local_from_dis_euler (geo, (cgs_dis_euler_t){angles[0], angles[1], angles[2]}, &heading,
+                                  &pitch, &roll);
     if (!isfinite (p.e_m) || !isfinite (p.n_m) || !isfinite (p.u_m) || !isfinite (vel.e_m) ||
         !isfinite (vel.n_m) || !isfinite (vel.u_m) || !isfinite (heading))
         return -EINVAL;

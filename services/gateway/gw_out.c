@@ -77,12 +77,15 @@ int gw_out_truth (const cgs_geo_t *geo, const Cgs__Entity *e, gw_truth_t *ret)
     gw_truth_t t;
     memset (&t, 0, sizeof t);
     cgs_ecef_t x, xv;
-    cgs_geodetic_t at;
     cgs_dis_euler_t eu;
-    if (cgs_geo_enu_to_ecef (geo, p, &x) < 0 || cgs_geo_enu_to_geodetic (geo, p, &at) < 0 ||
-        !isfinite (v.e_m) || !isfinite (v.n_m) || !isfinite (v.u_m) ||
-        cgs_geo_dis_euler_from_hpr (at, e->heading_deg, e->pitch_deg, e->roll_deg, &eu) < 0)
+    if (cgs_geo_enu_to_ecef (geo, p, &x) < 0 || !isfinite (v.e_m) || !isfinite (v.n_m) ||
+        !isfinite (v.u_m) || !isfinite (e->heading_deg) || !isfinite (e->pitch_deg) ||
+        !isfinite (e->roll_deg))
         return -EINVAL;
+    // Headings are from the exercise frame's north, as every model gives them, so the
+    // attitude goes to ECEF by the same fixed rotation as the velocity and stays
+    // aligned with it at any distance from the origin.
+    cgs_geo_dis_euler_from_local (geo, e->heading_deg, e->pitch_deg, e->roll_deg, &eu);
     cgs_geo_enu_vector_to_ecef (geo, v, &xv);
     t.entity_id = e->entity_id;
     t.active = e->active;

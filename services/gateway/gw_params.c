@@ -173,9 +173,15 @@ static int s_read (cgs_config_t *cfg, void *arg, char *err, size_t errlen)
         rc = cgs_config_error (cfg, "network", "peer", 0, err, errlen,
                                "peers are for mode = unicast (mode is %s)",
                                gw_params_mode_name (p.mode));
-    if (rc == 0 && p.timeout_s <= p.heartbeat_s)
-        rc = cgs_config_error (cfg, "dead_reckoning", "timeout_s", 0, err, errlen,
-                               "must be longer than heartbeat_s (%g)", p.heartbeat_s);
+    if (rc == 0 && p.timeout_s <= p.heartbeat_s) {
+        // On the line of the key the file gave (timeout_s when it gave both).
+        bool timeout_given = cgs_config_has (cfg, "dead_reckoning", "timeout_s");
+        rc = timeout_given
+                 ? cgs_config_error (cfg, "dead_reckoning", "timeout_s", 0, err, errlen,
+                                     "must be longer than heartbeat_s (%g)", p.heartbeat_s)
+                 : cgs_config_error (cfg, "dead_reckoning", "heartbeat_s", 0, err, errlen,
+                                     "must be shorter than timeout_s (%g)", p.timeout_s);
+    }
     if (rc == 0)
         rc = cgs_config_check_unused (cfg, err, errlen);
     if (rc < 0)

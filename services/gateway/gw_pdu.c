@@ -389,32 +389,38 @@ int gw_pdu_decode_action (const uint8_t *buf, size_t len, gw_action_t *ret, cons
     if (len < GW_ACTION_BASE_LEN)
         return s_fail (ret_why, "Action PDU shorter than 40 bytes");
     s_r_t r = {buf, len, GW_HEADER_LEN};
-    ret->hdr = h;
     gw_id_t orig = s_get_id (&r), recv = s_get_id (&r);
     uint32_t request_id = s_g32 (&r), what = s_g32 (&r);
     uint32_t n_fixed = s_g32 (&r), n_var = s_g32 (&r);
-    // Counts against the length before any record is read.
+    // Counts and lengths against the PDU's length first; *ret is written after.
     if (n_fixed > (len - GW_ACTION_BASE_LEN) / 8)
         return s_fail (ret_why, "fixed datum count does not fit the length");
     if (n_fixed > GW_DATUM_MAX || n_var > GW_DATUM_MAX)
         return s_fail (ret_why, "more than 256 datum records");
+    size_t records = r.at;
+    r.at += 8 * (size_t)n_fixed;
+    for (uint32_t i = 0; i < n_var; i++) {
+        if (r.len - r.at < 8)
+            return s_fail (ret_why, "variable datum count does not fit the length");
+        (void)s_g32 (&r);
+        size_t bytes = s_var_bytes (s_g32 (&r));
+        if (r.len - r.at < bytes)
+            return s_fail (ret_why, "a variable datum's length runs past the PDU");
+        r.at += bytes;
+    }
+    if (r.at != len)
+        return s_fail (ret_why, "bytes left over after the datum records");
+    r.at = records;
     for (uint32_t i = 0; i < n_fixed; i++) {
         ret->fixed[i].id = s_g32 (&r);
         ret->fixed[i].value = s_g32 (&r);
     }
     for (uint32_t i = 0; i < n_var; i++) {
-        if (r.len - r.at < 8)
-            return s_fail (ret_why, "variable datum count does not fit the length");
-        uint32_t id = s_g32 (&r), bits = s_g32 (&r);
-        size_t bytes = s_var_bytes (bits);
-        if (r.len - r.at < bytes)
-            return s_fail (ret_why, "a variable datum's length runs past the PDU");
-        ret->var[i].id = id;
-        ret->var[i].length_bits = bits;
-        ret->var[i].value = s_take (&r, bytes);
+        ret->var[i].id = s_g32 (&r);
+        ret->var[i].length_bits = s_g32 (&r);
+        ret->var[i].value = s_take (&r, s_var_bytes (ret->var[i].length_bits));
     }
-    if (r.at != len)
-        return s_fail (ret_why, "bytes left over after the datum records");
+    ret->hdr = h;
     ret->originator = orig;
     ret->receiver = recv;
     ret->request_id = request_id;

@@ -18,7 +18,7 @@
 #define GW_ACTION_BASE_LEN 40  // Action Request/Response without datum records
 #define GW_MARKING_LEN     11
 #define GW_DATUM_MAX       256  // fixed and variable datum records each, in one PDU
-#define GW_PDU_MAX         8192 // the largest PDU this gateway writes or reads
+#define GW_PDU_MAX         8192 // the largest PDU this gateway writes (it reads up to 65535)
 
 #define GW_VERSION_MIN 4 // DIS 2.0.4
 #define GW_VERSION_MAX 7 // IEEE 1278.1-2012

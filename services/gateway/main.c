@@ -575,9 +575,13 @@ static void s_on_pdu (void *arg, const uint8_t *pdu, size_t len)
         } else if (rc < 0) {
             cgs_health_set_error (app->svc.health, "out of memory for external entities");
         } else if (fresh) {
+            char marking[GW_MARKING_LEN + 1]; // printable: it came off the network
+            for (size_t i = 0; i < sizeof marking; i++)
+                marking[i] = e.marking[i] && (e.marking[i] < 0x20 || e.marking[i] > 0x7e)
+                                 ? '?'
+                                 : e.marking[i];
             cgs_log (LOG_INFO, "external entity %u:%u:%u '%s' joined as entity %u", e.id.site,
-                     e.id.application, e.id.entity, e.marking,
-                     gw_in_find (app->in, e.id)->entity_id);
+                     e.id.application, e.id.entity, marking, gw_in_find (app->in, e.id)->entity_id);
         }
         return;
     }

@@ -1,0 +1,280 @@
+/* test_gw_params — the gateway's parameter file: the defaults are the values
+ * deploy/params/gateway.ini documents (read by hand from it, and the shipped
+ * file itself loaded), every key read from text, addresses in host order,
+ * unicast peers with and without a port, and each kind of error naming its
+ * file, line, section and key; a refused file leaves the parameters alone. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include <cmocka.h>
+
+#include "cgs_config.h"
+#include "gw_params.h"
+
+#include <errno.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+static void s_assert_equal (const gw_params_t *a, const gw_params_t *b)
+{
+#define S_SAME(f)                                                                                  \
+    do {                                                                                           \
+        if (a->f != b->f)                                                                          \
+            fail_msg ("%s: %.17g != %.17g", #f, (double)a->f, (double)b->f);                       \
+    } while (0)
+    S_SAME (port);
+    S_SAME (mode);
+    S_SAME (address);
+    S_SAME (bind_address);
+    S_SAME (interface);
+    S_SAME (ttl);
+    S_SAME (loopback);
+    S_SAME (peer_count);
+    for (size_t i = 0; i < a->peer_count && i < GW_PEERS_MAX; i++) {
+        S_SAME (peers[i].addr);
+        S_SAME (peers[i].port);
+    }
+    S_SAME (version);
+    S_SAME (site);
+    S_SAME (application);
+    S_SAME (entity_id_base);
+    S_SAME (absolute_time);
+    S_SAME (route_action_id);
+    S_SAME (position_threshold_m);
+    S_SAME (orientation_threshold_deg);
+    S_SAME (heartbeat_s);
+    S_SAME (timeout_s);
+    S_SAME (first_entity_id);
+    S_SAME (max_entities);
+    S_SAME (publish_rate_hz);
+    S_SAME (task_timeout_s);
+#undef S_SAME
+}
+
+static void s_load (const char *text, gw_params_t *p)
+{
+    char err[512] = "";
+    if (gw_params_load_string ("g.ini", text, p, err, sizeof err) != 0)
+        fail_msg ("load failed: %s", err);
+}
+
+// Loading text as "g.ini" fails with -EINVAL, an error that starts with `where`
+// ("g.ini:LINE: [section] key") and mentions `word`, and leaves *p alone.
+static void s_fails (const char *text, const char *where, const char *word)
+{
+    gw_params_t p, before;
+    gw_params_defaults (&p);
+    p.heartbeat_s = 4.5; // not a default: a partial write would show
+    before = p;
+    char err[512] = "";
+    int rc = gw_params_load_string ("g.ini", text, &p, err, sizeof err);
+    if (rc != -EINVAL)
+        fail_msg ("expected -EINVAL, got %d (%s) for:\n%s", rc, err, text);
+    s_assert_equal (&p, &before);
+    if (strncmp (err, where, strlen (where)) != 0 || !strstr (err, word))
+        fail_msg ("error '%s', want '%s...%s...'", err, where, word);
+}
+
+static void test_defaults (void **state)
+{
+    (void)state;
+    gw_params_t p;
+    memset (&p, 0x5a, sizeof p);
+    gw_params_defaults (&p);
+    // As deploy/params/gateway.ini gives them.
+    assert_int_equal (p.port, 3000);
+    assert_int_equal (p.mode, GW_MODE_BROADCAST);
+    assert_int_equal (p.address, 0xffffffffu); // 255.255.255.255
+    assert_int_equal (p.bind_address, 0);
+    assert_int_equal (p.interface, 0);
+    assert_int_equal (p.ttl, 1);
+    assert_true (p.loopback);
+    assert_int_equal (p.peer_count, 0);
+    assert_int_equal (p.version, 7);
+    assert_int_equal (p.site, 1);
+    assert_int_equal (p.application, 1);
+    assert_int_equal (p.entity_id_base, 0);
+    assert_true (p.absolute_time);
+    assert_int_equal (p.route_action_id, 40);
+    assert_true (p.position_threshold_m == 1);
+    assert_true (p.orientation_threshold_deg == 3);
+    assert_true (p.heartbeat_s == 5);
+    assert_true (p.timeout_s == 12);
+    assert_int_equal (p.first_entity_id, 100000);
+    assert_int_equal (p.max_entities, 10000);
+    assert_true (p.publish_rate_hz == 10);
+    assert_true (p.task_timeout_s == 1);
+    assert_string_equal (gw_params_mode_name (GW_MODE_BROADCAST), "broadcast");
+    assert_string_equal (gw_params_mode_name (GW_MODE_MULTICAST), "multicast");
+    assert_string_equal (gw_params_mode_name (GW_MODE_UNICAST), "unicast");
+}
+
+// The shipped file names every key but `peer`, and gives exactly the defaults.
+static void test_shipped_file (void **state)
+{
+    (void)state;
+    static const char *const keys[][2] = {
+        {"network", "port"},
+        {"network", "mode"},
+        {"network", "address"},
+        {"network", "bind"},
+        {"network", "interface"},
+        {"network", "ttl"},
+        {"network", "loopback"},
+        {"dis", "version"},
+        {"dis", "site"},
+        {"dis", "application"},
+        {"dis", "entity_id_base"},
+        {"dis", "timestamp"},
+        {"dis", "route_action_id"},
+        {"dead_reckoning", "position_threshold_m"},
+        {"dead_reckoning", "orientation_threshold_deg"},
+        {"dead_reckoning", "heartbeat_s"},
+        {"dead_reckoning", "timeout_s"},
+        {"external", "first_entity_id"},
+        {"external", "max_entities"},
+        {"external", "publish_rate_hz"},
+        {"external", "task_timeout_s"},
+    };
+    const char *root = getenv ("CGS_ROOT");
+    char path[1024], err[512] = "";
+    snprintf (path, sizeof path, "%s/deploy/params/gateway.ini", root ? root : ".");
+    gw_params_t p, def;
+    gw_params_defaults (&def);
+    // Loaded over a set that differs in every field, it writes each one back.
+    p = def;
+    p.port = 4000, p.mode = GW_MODE_MULTICAST, p.address = 0xe0000001u, p.bind_address = 1;
+    p.interface = 2, p.ttl = 9, p.loopback = false, p.version = 5, p.site = 2;
+    p.application = 3, p.entity_id_base = 10, p.absolute_time = false, p.route_action_id = 1;
+    p.position_threshold_m = 2, p.orientation_threshold_deg = 4, p.heartbeat_s = 6;
+    p.timeout_s = 20, p.first_entity_id = 70000, p.max_entities = 5, p.publish_rate_hz = 2;
+    p.task_timeout_s = 3;
+    if (gw_params_load (path, &p, err, sizeof err) != 0)
+        fail_msg ("%s", err);
+    s_assert_equal (&p, &def);
+    cgs_config_t *cfg = NULL;
+    if (cgs_config_load (path, &cfg, err, sizeof err) != 0)
+        fail_msg ("%s", err);
+    for (size_t i = 0; i < sizeof keys / sizeof keys[0]; i++)
+        if (!cgs_config_has (cfg, keys[i][0], keys[i][1]))
+            fail_msg ("%s has no [%s] %s", path, keys[i][0], keys[i][1]);
+    assert_int_equal (cgs_config_section_count (cfg), 4);
+    cgs_config_destroy (&cfg);
+}
+
+static void test_values (void **state)
+{
+    (void)state;
+    gw_params_t p;
+    gw_params_defaults (&p);
+    s_load ("[network]\n"
+            "port = 3001\n"
+            "mode = unicast\n"
+            "bind = 10.0.0.5\n"
+            "ttl = 4\n"
+            "loopback = no\n"
+            "peer = 192.168.1.10\n"
+            "peer = 10.0.0.2:3100\n"
+            "[dis]\n"
+            "version = 6\n"
+            "site = 17\n"
+            "application = 23\n"
+            "entity_id_base = 1000\n"
+            "timestamp = relative\n"
+            "route_action_id = 4294967295\n"
+            "[dead_reckoning]\n"
+            "position_threshold_m = 0.5\n"
+            "orientation_threshold_deg = 2.5\n"
+            "heartbeat_s = 10\n"
+            "timeout_s = 24\n"
+            "[external]\n"
+            "first_entity_id = 200000\n"
+            "max_entities = 50\n"
+            "publish_rate_hz = 5\n"
+            "task_timeout_s = 2\n",
+            &p);
+    gw_params_t want;
+    gw_params_defaults (&want);
+    want.port = 3001, want.mode = GW_MODE_UNICAST, want.bind_address = 0x0a000005u;
+    want.ttl = 4, want.loopback = false;
+    want.peer_count = 2;
+    want.peers[0] = (gw_peer_t){0xc0a8010au, 3001}; // no port: the file's port
+    want.peers[1] = (gw_peer_t){0x0a000002u, 3100};
+    want.version = 6, want.site = 17, want.application = 23, want.entity_id_base = 1000;
+    want.absolute_time = false, want.route_action_id = 4294967295L;
+    want.position_threshold_m = 0.5, want.orientation_threshold_deg = 2.5;
+    want.heartbeat_s = 10, want.timeout_s = 24;
+    want.first_entity_id = 200000, want.max_entities = 50, want.publish_rate_hz = 5;
+    want.task_timeout_s = 2;
+    s_assert_equal (&p, &want);
+    // Multicast without an address: the documented group 239.1.2.3.
+    gw_params_defaults (&p);
+    s_load ("[network]\nmode = multicast\ninterface = 192.168.7.1\n", &p);
+    assert_int_equal (p.mode, GW_MODE_MULTICAST);
+    assert_int_equal (p.address, 0xef010203u);
+    assert_int_equal (p.interface, 0xc0a80701u);
+    gw_params_defaults (&p);
+    s_load ("[network]\nmode = multicast\naddress = 224.0.0.1\n", &p);
+    assert_int_equal (p.address, 0xe0000001u);
+    gw_params_defaults (&p);
+    s_load ("[network]\naddress = 192.168.1.255\n", &p);
+    assert_int_equal (p.mode, GW_MODE_BROADCAST);
+    assert_int_equal (p.address, 0xc0a801ffu);
+}
+
+static void test_errors (void **state)
+{
+    (void)state;
+    s_fails ("[network]\nport = 3000\nspeed = 9\n", "g.ini:3: [network]", "speed");
+    s_fails ("[dis]\nversion = 3\n", "g.ini:2: [dis] version", "3");
+    s_fails ("[dis]\n\nversion = 8\n", "g.ini:3: [dis] version", "8");
+    s_fails ("[network]\nport = 0\n", "g.ini:2: [network] port", "0");
+    s_fails ("[network]\nport = 65536\n", "g.ini:2: [network] port", "65536");
+    s_fails ("[network]\nmode = unicast\n", "g.ini:2: [network] mode", "peer");
+    s_fails ("[network]\nmode = unicast\npeer = 10.0.0.1\npeer = 1.2.3:99999\n",
+             "g.ini:4: [network] peer", "1.2.3:99999");
+    s_fails ("[network]\nmode = unicast\npeer = 1.2.3:3000\n", "g.ini:3: [network] peer",
+             "1.2.3:3000");
+    s_fails ("[network]\nmode = unicast\npeer = 10.0.0.1:\n", "g.ini:3: [network] peer",
+             "10.0.0.1:");
+    s_fails ("[network]\nmode = multicast\naddress = 10.1.2.3\n", "g.ini:3: [network] address",
+             "224.0.0.0/4");
+    s_fails ("[network]\naddress = 300.1.2.3\n", "g.ini:2: [network] address", "300.1.2.3");
+    s_fails ("[network]\npeer = 10.0.0.1\n", "g.ini:2: [network] peer", "unicast");
+    s_fails ("[network]\nmode = anycast\n", "g.ini:2: [network] mode", "anycast");
+    s_fails ("[dead_reckoning]\nheartbeat_s = 6\ntimeout_s = 6\n",
+             "g.ini:3: [dead_reckoning] timeout_s", "heartbeat_s");
+    s_fails ("[dead_reckoning]\ntimeout_s = 4\n", "g.ini:2: [dead_reckoning] timeout_s",
+             "heartbeat_s");
+    s_fails ("[dis]\ntimestamp = sometimes\n", "g.ini:2: [dis] timestamp", "sometimes");
+    s_fails ("[external]\nfirst_entity_id = 65534\n", "g.ini:2: [external] first_entity_id",
+             "65534");
+    s_fails ("[dis]\nsite = 1\nsite = 2\n", "g.ini:3: [dis] site", "twice");
+    // Seventeen peers: one too many, named at the seventeenth.
+    char text[1024] = "[network]\nmode = unicast\n";
+    for (int i = 1; i <= GW_PEERS_MAX + 1; i++) {
+        size_t n = strlen (text);
+        snprintf (text + n, sizeof text - n, "peer = 10.0.0.%d\n", i);
+    }
+    s_fails (text, "g.ini:19: [network] peer", "16");
+    // A missing file is named.
+    gw_params_t p;
+    gw_params_defaults (&p);
+    char err[512] = "";
+    assert_true (gw_params_load ("/nonexistent/gateway.ini", &p, err, sizeof err) < 0);
+    assert_non_null (strstr (err, "/nonexistent/gateway.ini"));
+}
+
+int main (void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test (test_defaults),
+        cmocka_unit_test (test_shipped_file),
+        cmocka_unit_test (test_values),
+        cmocka_unit_test (test_errors),
+    };
+    return cmocka_run_group_tests (tests, NULL, NULL);
+}
