@@ -449,6 +449,20 @@ int gw_pdu_walk (const uint8_t *dgram, size_t len, gw_pdu_fn *fn, void *arg, con
     return count;
 }
 
+void gw_pdu_put_f64x3 (uint8_t out[24], const double v[3])
+{
+    s_w_t w = {out, 0, 24, false};
+    for (int i = 0; i < 3; i++)
+        s_f64 (&w, v[i]);
+}
+
+void gw_pdu_get_f64x3 (const uint8_t in[24], double ret_v[3])
+{
+    s_r_t r = {in, 24, 0};
+    for (int i = 0; i < 3; i++)
+        ret_v[i] = s_gf64 (&r);
+}
+
 bool gw_pdu_id_eq (gw_id_t a, gw_id_t b)
 {
     return a.site == b.site && a.application == b.application && a.entity == b.entity;

@@ -155,6 +155,11 @@ int gw_pdu_decode_action (const uint8_t *buf, size_t len, gw_action_t *ret, cons
 typedef void (gw_pdu_fn) (void *arg, const uint8_t *pdu, size_t len);
 int gw_pdu_walk (const uint8_t *dgram, size_t len, gw_pdu_fn *fn, void *arg, const char **ret_why);
 
+/* Three float64 in network byte order: 24 bytes, as a variable datum of
+ * Geocentric Coordinates (192 bits) carries them. */
+void gw_pdu_put_f64x3 (uint8_t out[24], const double v[3]);
+void gw_pdu_get_f64x3 (const uint8_t in[24], double ret_v[3]);
+
 /* Whether two ids are equal. */
 bool gw_pdu_id_eq (gw_id_t a, gw_id_t b);
 

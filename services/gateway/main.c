@@ -34,6 +34,15 @@
 #define S_BATCH_MAX   200   // entities in one `entity` message
 #define S_UAV_MAX     64
 #define S_ANSWERED    64 // Action Requests remembered, so a retransmission is answered, not redone
+// Route points in one Action Request: 32 bytes each, with the header, the
+// mission datum and a text datum of at most 160 characters inside GW_PDU_MAX.
+#define S_ROUTE_POINTS_MAX 240
+_Static_assert(GW_ACTION_BASE_LEN + 8 + S_ROUTE_POINTS_MAX * 32 + 8 + 160 <= GW_PDU_MAX,
+               "a route Action Request fits in one PDU");
+// External entities further than these from the ellipsoid are not on the
+// Earth (an all-zero location is the Earth's centre): rejected.
+#define S_HEIGHT_MIN_M -12000.0
+#define S_HEIGHT_MAX_M 1000000.0
 
 /* Datum ids (SISO-REF-010 variable record types). */
 #define S_DATUM_GEOCENTRIC 31200u  // Geocentric Coordinates: a route point, 3 float64 ECEF
@@ -298,8 +307,9 @@ static void s_on_intercept (void *arg, const char *topic, const ProtobufCMessage
     if (u->designation == m->designation_number && u->replans == m->replans &&
         u->route_points == m->n_route)
         return; // sent already
-    size_t n = m->n_route < GW_DATUM_MAX - 1 ? m->n_route : GW_DATUM_MAX - 1;
-    static uint8_t points[GW_DATUM_MAX][24];
+    // A long route is cut to what one PDU holds, and the text datum says so.
+    size_t n = m->n_route < S_ROUTE_POINTS_MAX ? m->n_route : S_ROUTE_POINTS_MAX;
+    static uint8_t points[S_ROUTE_POINTS_MAX][24];
     gw_action_t *a = &app->action;
     memset (&a->hdr, 0, sizeof a->hdr);
     a->hdr = s_header (app);
@@ -319,18 +329,16 @@ static void s_on_intercept (void *arg, const char *topic, const ProtobufCMessage
             cgs_service_bad_input (&app->svc, "an intercept route point that is not finite");
             return;
         }
-        double v[3] = {x.x_m, x.y_m, x.z_m};
-        for (int c = 0; c < 3; c++) {
-            uint64_t bits;
-            memcpy (&bits, &v[c], sizeof bits);
-            for (int b = 0; b < 8; b++)
-                points[k][c * 8 + b] = (uint8_t)(bits >> (56 - 8 * b));
-        }
+        gw_pdu_put_f64x3 (points[k], (double[3]){x.x_m, x.y_m, x.z_m});
         a->var[a->n_var++] = (gw_var_datum_t){S_DATUM_GEOCENTRIC, 192, points[k]};
     }
     char text[160];
-    snprintf (text, sizeof text, "mscgs intercept: track %u, designation %" PRIu64 ", replan %u",
-              m->track_id, m->designation_number, m->replans);
+    int used = snprintf (text, sizeof text,
+                         "mscgs intercept: track %u, designation %" PRIu64 ", replan %u",
+                         m->track_id, m->designation_number, m->replans);
+    if (n < m->n_route && used > 0 && (size_t)used < sizeof text)
+        snprintf (text + used, sizeof text - (size_t)used, ", first %zu of %zu points", n,
+                  m->n_route);
     a->var[a->n_var++] = s_text_datum (text);
     static uint8_t buf[GW_PDU_MAX];
     size_t len = gw_pdu_encode_action (a, buf, sizeof buf);
@@ -369,9 +377,9 @@ static void s_reject (s_app_t *app, const struct sockaddr_in *from, const char *
 /* Answer an Action Request. */
 static void s_respond (s_app_t *app, const gw_action_t *req, uint32_t status, const char *text)
 {
-    gw_action_t *r = calloc (1, sizeof *r);
-    if (!r)
-        return;
+    static gw_action_t response; // large: kept off the stack, and not allocated per answer
+    gw_action_t *r = &response;
+    memset (r, 0, sizeof *r);
     r->hdr = s_header (app);
     r->hdr.type = GW_PDU_ACTION_RESPONSE;
     r->originator = req->receiver;
@@ -382,24 +390,10 @@ static void s_respond (s_app_t *app, const gw_action_t *req, uint32_t status, co
     r->var[0] = s_text_datum (text);
     uint8_t buf[1024];
     size_t len = gw_pdu_encode_action (r, buf, sizeof buf);
-    free (r);
     if (len) {
         s_send_one (app, buf, len);
         app->response_out++;
     }
-}
-
-static uint32_t s_be32 (const uint8_t *b)
-{
-    return (uint32_t)b[0] << 24 | (uint32_t)b[1] << 16 | (uint32_t)b[2] << 8 | b[3];
-}
-
-static double s_bef64 (const uint8_t *b)
-{
-    uint64_t u = (uint64_t)s_be32 (b) << 32 | s_be32 (b + 4);
-    double v;
-    memcpy (&v, &u, sizeof v);
-    return v;
 }
 
 /* A route task from an Action Request: uavsim's verdict as a request status and text. */
@@ -419,7 +413,9 @@ static uint32_t s_route_task (s_app_t *app, const gw_action_t *a, const s_uav_t 
                       i + 1, d->length_bits);
             return GW_STATUS_REJECTED;
         }
-        cgs_ecef_t x = {s_bef64 (d->value), s_bef64 (d->value + 8), s_bef64 (d->value + 16)};
+        double v[3];
+        gw_pdu_get_f64x3 (d->value, v);
+        cgs_ecef_t x = {v[0], v[1], v[2]};
         cgs_enu_t p;
         if (!isfinite (x.x_m) || !isfinite (x.y_m) || !isfinite (x.z_m) ||
             cgs_geo_ecef_to_enu (app->geo, x, &p) < 0 || hypot (p.e_m, p.n_m) > 1e6) {
@@ -562,6 +558,14 @@ static void s_on_pdu (void *arg, const uint8_t *pdu, size_t len)
         }
         if (s_ours (app, e.id)) {
             app->own++;
+            return;
+        }
+        cgs_geodetic_t g;
+        if (cgs_geo_ecef_to_geodetic ((cgs_ecef_t){e.location[0], e.location[1], e.location[2]},
+                                      &g) < 0 ||
+            g.height_m < S_HEIGHT_MIN_M || g.height_m > S_HEIGHT_MAX_M) {
+            s_reject (app, w->from,
+                      "Entity State PDU location is not within 1000 km of the Earth's surface");
             return;
         }
         app->espdu_in++;

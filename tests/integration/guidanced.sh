@@ -77,11 +77,7 @@ icpt () { M echo intercept --json --count 1 --timeout 5 2>/dev/null | tail -1; }
 # A field of a JSON line (first match): fieldof JSON KEY.
 fieldof () { sed -n "s/.*\"$2\":\"\{0,1\}\([-A-Z_a-z0-9.]*\).*/\1/p" <<<"$1" | head -1; }
 # Confirmed tracks of the latest batch: id east north.
-tracks () {
-    M echo track --json --count 1 --timeout 15 2>/dev/null | tail -1 |
-        sed 's/{"track_id":/\n&/g' | grep '^{"track_id":' | grep -E 'CONFIRMED|COASTING' |
-        sed -n 's/^{"track_id":\([0-9]*\),.*"position":{"east_m":\([-0-9.e]*\),"north_m":\([-0-9.e]*\).*/\1 \2 \3/p'
-}
+tracks () { confirmed_tracks "$EX"; }
 
 start U uavsim "$UAVSIM" --exercise "$EX" --time-scale 20
 start R mtid "$MTID" --exercise "$EX" --instance mtid.uav1

@@ -204,6 +204,14 @@ clean_log () {
     ! grep -qE 'Sanitizer|runtime error:|LeakSanitizer' "$TMP/$1.log"
 }
 
+# confirmed_tracks EXERCISE: the confirmed (or coasting) tracks of trackerd's
+# latest batch, one "id east north" line each.
+confirmed_tracks () {
+    "$MSCGS" echo track --json --count 1 --timeout 15 --exercise "$1" 2>/dev/null | tail -1 |
+        sed 's/{"track_id":/\n&/g' | grep '^{"track_id":' | grep -E 'CONFIRMED|COASTING' |
+        sed -n 's/^{"track_id":\([0-9]*\),.*"position":{"east_m":\([-0-9.e]*\),"north_m":\([-0-9.e]*\).*/\1 \2 \3/p'
+}
+
 # exercise_header ID NAME: the [exercise] section of a test's exercise file.
 exercise_header () {
     cat <<EOF

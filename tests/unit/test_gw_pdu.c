@@ -340,6 +340,25 @@ static void s_see (void *arg, const uint8_t *pdu, size_t len)
     s->n++;
 }
 
+/* A Geocentric Coordinates datum's 24 bytes: IEEE 754 doubles, big-endian. */
+static void test_f64x3 (void **state)
+{
+    (void)state;
+    uint8_t b[24];
+    gw_pdu_put_f64x3 (b, (double[3]){1.0, -2.0, 0.5});
+    // 1.0 = 3ff0 0000 0000 0000, -2.0 = c000 ..., 0.5 = 3fe0 ...
+    const uint8_t want[24] = {0x3f, 0xf0, 0, 0, 0,    0,    0, 0, 0xc0, 0x00, 0, 0,
+                              0,    0,    0, 0, 0x3f, 0xe0, 0, 0, 0,    0,    0, 0};
+    assert_memory_equal (b, want, 24);
+    double v[3];
+    gw_pdu_get_f64x3 (want, v);
+    assert_true (v[0] == 1.0 && v[1] == -2.0 && v[2] == 0.5);
+    const double x[3] = {-2680382.64853988, -4422398.8131746985, 3722968.213462259};
+    gw_pdu_put_f64x3 (b, x);
+    gw_pdu_get_f64x3 (b, v);
+    assert_memory_equal (v, x, sizeof x);
+}
+
 static void test_walk (void **state)
 {
     (void)state;
@@ -455,6 +474,7 @@ int main (void)
         cmocka_unit_test (test_espdu_rejects),  cmocka_unit_test (test_action),
         cmocka_unit_test (test_action_rejects), cmocka_unit_test (test_timestamp),
         cmocka_unit_test (test_walk),           cmocka_unit_test (test_malformed),
+        cmocka_unit_test (test_f64x3),
     };
     return cmocka_run_group_tests (tests, NULL, NULL);
 }
