@@ -21,7 +21,7 @@ SAN     ?= 0
 
 CC      ?= cc
 CXX     ?= c++
-PKGS     = libzmq libprotobuf-c geographiclib gdal inih libsystemd zlib fftw3 gsl libpng
+PKGS     = libzmq libprotobuf-c geographiclib gdal inih libsystemd zlib fftw3 gsl libpng json-c
 PKG_CFLAGS := $(shell pkg-config --cflags $(PKGS) 2>/dev/null)
 PKG_LIBS   := $(shell pkg-config --libs $(PKGS) 2>/dev/null)
 CMOCKA_LIBS := $(shell pkg-config --libs cmocka 2>/dev/null)
@@ -30,7 +30,7 @@ WARN     = -Wall -Wextra -Werror -Wno-format-truncation  # snprintf truncation i
 CPPFLAGS = -D_GNU_SOURCE -Icommon $(addprefix -I,$(wildcard services/*)) -I$(O)/gen $(PKG_CFLAGS) -MMD -MP
 CFLAGS   = -std=c11 $(WARN) -g
 CXXFLAGS = -std=c++17 $(WARN) -g
-LDLIBS   = $(PKG_LIBS) -lstdc++ -lm -lpthread
+LDLIBS   = $(PKG_LIBS) -lcivetweb -lstdc++ -lm -lpthread
 
 ifeq ($(SAN),fuzz)
   WARN    += -Wno-unknown-warning-option
@@ -97,6 +97,15 @@ CTX_OBJ_egl    := $(O)/obj/services/imagerd/ctx/im_ctx_egl.o
 ALT_RENDER     := $(if $(filter osmesa,$(RENDER)),egl,osmesa)
 ALT_BINS       := $(O)/bin-$(ALT_RENDER)/imagerd $(O)/tests/unit/test_im_render@$(ALT_RENDER)
 
+# stationd's page: its own files, and OpenLayers and milsymbol from the npm
+# packages its lock file names (scripts/install-deps runs npm ci), copied into
+# $(O)/web, which stationd serves (no CDN: it works on a lab network).
+WEB_DIR    := services/stationd/web
+WEB_NPM    := $(WEB_DIR)/node_modules
+WEB_OWN    := $(addprefix $(O)/web/,index.html app.js style.css)
+WEB_VENDOR := $(addprefix $(O)/web/vendor/,ol.js ol.css milsymbol.js)
+WEB_FILES  := $(WEB_OWN) $(WEB_VENDOR)
+
 JOBS    ?= $(shell nproc 2>/dev/null || echo 2)
 
 # Keep objects that pattern chains would otherwise delete as intermediates.
@@ -105,7 +114,7 @@ JOBS    ?= $(shell nproc 2>/dev/null || echo 2)
 .PHONY: all run test test-build bench montecarlo fuzz fuzz-build install clean format deps help
 .DEFAULT_GOAL := all
 
-all: $(BINS)
+all: $(BINS) $(WEB_FILES)
 
 help:
 	@sed -n '2,13p' Makefile | sed 's/^# \{0,1\}//'
@@ -122,10 +131,10 @@ test: deps
 	@$(MAKE) --no-print-directory -j$(JOBS) O=build/asan SAN=1 test-build
 	@tests/run build/asan
 
-test-build: $(BINS) $(UNIT_BINS) $(INTEG_BINS) $(ALT_BINS)
+test-build: $(BINS) $(WEB_FILES) $(UNIT_BINS) $(INTEG_BINS) $(ALT_BINS)
 
 bench: deps
-	@$(MAKE) --no-print-directory -j$(JOBS) O=build/release SAN=0 $(addprefix build/release/bench/,$(notdir $(BENCH_BINS))) $(addprefix build/release/bin/,$(SERVICES))
+	@$(MAKE) --no-print-directory -j$(JOBS) O=build/release SAN=0 all $(addprefix build/release/bench/,$(notdir $(BENCH_BINS)))
 	@tests/bench/run build/release
 
 # Whole intercepts with the cores of uavsim, mtid, trackerd and guidanced in
@@ -152,6 +161,9 @@ fuzz-build: $(FUZZ_BINS)
 install: all
 	install -d $(DESTDIR)$(PREFIX)/bin $(DESTDIR)$(PREFIX)/share/mscgs
 	install -m 0755 $(BINS) $(DESTDIR)$(PREFIX)/bin/
+	install -d $(DESTDIR)$(PREFIX)/share/mscgs/web/vendor
+	install -m 0644 $(WEB_OWN) $(DESTDIR)$(PREFIX)/share/mscgs/web/
+	install -m 0644 $(WEB_VENDOR) $(DESTDIR)$(PREFIX)/share/mscgs/web/vendor/
 	cp -r deploy/. $(DESTDIR)$(PREFIX)/share/mscgs/
 
 clean:
@@ -159,6 +171,21 @@ clean:
 
 format:
 	clang-format -i $$(git ls-files '*.c' '*.h' '*.cpp')
+
+# --- stationd's page ---------------------------------------------------------------
+$(O)/web/%: $(WEB_DIR)/%
+	@mkdir -p $(@D)
+	cp $< $@
+
+$(WEB_NPM)/%:
+	@echo "$@ is missing: run scripts/install-deps (npm ci in $(WEB_DIR))" >&2; exit 1
+
+$(O)/web/vendor/ol.js: $(WEB_NPM)/ol/dist/ol.js
+$(O)/web/vendor/ol.css: $(WEB_NPM)/ol/ol.css
+$(O)/web/vendor/milsymbol.js: $(WEB_NPM)/milsymbol/dist/milsymbol.js
+$(WEB_VENDOR):
+	@mkdir -p $(@D)
+	cp $< $@
 
 # --- generated protobuf-c code -------------------------------------------------
 # One protoc-c run makes every file; the stamp keeps parallel builds from

@@ -22,6 +22,7 @@
 #include "im_scene.h"
 
 #include <errno.h>
+#include <limits.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -38,6 +39,7 @@ typedef struct {
     cgs_sensor_t sensor; // its UAV, scenario and terrain
     im_params_t params;
     char out_dir[4096];
+    char latest_path[4096 + 16]; // out_dir/latest.png, absolute
     im_ctx_t *ctx;
     im_renderer_t *ren;
     im_post_t post;
@@ -222,7 +224,8 @@ static void s_render (s_app_t *app, double t)
         s_queue_png (app, name);
         app->pngs++;
     }
-    if (p->latest_rate_hz > 0 && t >= app->next_latest_s) {
+    bool latest = p->latest_rate_hz > 0 && t >= app->next_latest_s;
+    if (latest) {
         s_queue_png (app, "latest.png");
         app->next_latest_s = fmax (app->next_latest_s + 1.0 / p->latest_rate_hz, t);
     }
@@ -261,6 +264,7 @@ static void s_render (s_app_t *app, double t)
     m.mode = p->mode == IM_MODE_INFRARED ? CGS__IMAGE_MODE__IMAGE_MODE_INFRARED
                                          : CGS__IMAGE_MODE__IMAGE_MODE_VISIBLE;
     m.path = name;
+    m.latest_path = latest ? app->latest_path : "";
     app->svc.sim_time_s = t;
     cgs_service_publish (&app->svc, "image", &m.base);
     if (app->entity_wall > 0) { // from the first entity update since the last frame to this one
@@ -409,6 +413,9 @@ static int s_setup (s_app_t *app, char *err, size_t errlen)
         return -EINVAL;
     if (!(app->png = im_png_writer_new (app->out_dir, S_PNG_QUEUE, err, errlen)))
         return -EIO;
+    char abs_dir[PATH_MAX];
+    snprintf (app->latest_path, sizeof app->latest_path, "%s/latest.png",
+              realpath (app->out_dir, abs_dir) ? abs_dir : app->out_dir);
     cgs_log (LOG_INFO, "images to %s (latest.png every %g s of simulation time%s)", app->out_dir,
              p->latest_rate_hz > 0 ? 1.0 / p->latest_rate_hz : 0.0,
              p->png_rate_hz > 0 ? ", numbered frames too" : "");

@@ -21,6 +21,7 @@
 #include "cgs_state.h"
 #include "cgs_topics.h"
 #include "gd_score.h"
+#include "st_params.h"
 
 #include <dirent.h>
 #include <errno.h>
@@ -533,6 +534,23 @@ static int s_cmd_ping (int argc, char **argv)
 }
 
 /* ---- uavsim's task and clock commands ------------------------------------------------ */
+
+/* Where a stationd instance serves the tactical map, from its parameters. */
+static void s_print_map_address (const cgs_instance_t *in)
+{
+    st_params_t p;
+    char err[512];
+    st_params_defaults (&p);
+    if (*in->params && st_params_load (in->params, &p, err, sizeof err) < 0)
+        return; // stationd itself reports the error in its log
+    const char *host =
+        strcmp (p.listen_address, "0.0.0.0") == 0 || strcmp (p.listen_address, "::") == 0
+            ? in->host
+            : p.listen_address;
+    bool v6 = strchr (host, ':') != NULL;
+    printf ("mscgs run: tactical map (%s) at http://%s%s%s:%d/%s\n", in->name, v6 ? "[" : "", host,
+            v6 ? "]" : "", p.port, p.token[0] ? "?token=... (the configured token)" : "");
+}
 
 /* The first instance of program in the exercise, or NULL. */
 static const cgs_instance_t *s_instance_of (const cgs_exercise_t *ex, const char *program)
@@ -1750,6 +1768,9 @@ static int s_cmd_run (int argc, char **argv)
     if (run.nchildren == 0)
         printf ("mscgs run: no service program is built yet in %s; only watching the bus\n",
                 s_exe_dir);
+    for (size_t i = 0; i < run.nchildren; i++)
+        if (strcmp (run.children[i].instance->program, "stationd") == 0)
+            s_print_map_address (run.children[i].instance);
 
     cgs_lifecycle_init ();
     void *ctx = NULL;

@@ -1,0 +1,68 @@
+/* st_state — the tactical map's picture: what stationd keeps of every topic
+ * (UAVs, MTI hits by scan, BCIS replies, tracks, intercepts, ground truth,
+ * the latest sensor image) and the JSON it pushes to every browser. Hits of
+ * the scan in progress and of the last complete scan are current (yellow);
+ * the complete scans before them, up to history_scans, are the grey history.
+ * BCIS replies older than bcis_timeout_s of simulation time are dropped, as
+ * are tracks and entities no longer heard of. Pure: no sockets, no clock
+ * reads, no logging; time is the simulation time the messages carry. */
+#ifndef ST_STATE_H
+#define ST_STATE_H
+
+#include "intercept.pb-c.h"
+#include "sensors.pb-c.h"
+#include "tracking.pb-c.h"
+#include "world.pb-c.h"
+
+#include <stddef.h>
+#include <stdint.h>
+
+typedef struct {
+    int history_scans;     // complete scans kept grey behind the current ones
+    double bcis_timeout_s; // a BCIS reply is shown this long (simulation seconds)
+    double track_stale_s;  // a track not updated this long is dropped
+    double truth_stale_s;  // an entity not heard of this long is dropped
+} st_state_params_t;
+
+typedef struct st_state st_state_t;
+
+/* An empty picture, or NULL without memory. */
+st_state_t *st_state_new (const st_state_params_t *p);
+/* Free; accepts NULL; nulls the pointer. */
+void st_state_destroy (st_state_t **self_p);
+
+/* Take one message of each topic. 0; -EINVAL when it lacks what the map
+ * needs (nothing taken); -ENOMEM (what was taken before stays). hdr may be
+ * NULL (no publisher epoch known). */
+int st_state_take_uav (st_state_t *self, const Cgs__Uav *m, const Cgs__Header *hdr);
+int st_state_take_mti (st_state_t *self, const Cgs__Mti *m, const Cgs__Header *hdr);
+int st_state_take_mti_scan (st_state_t *self, const Cgs__MtiScan *m, const Cgs__Header *hdr);
+int st_state_take_bcis (st_state_t *self, const Cgs__Bcis *m, const Cgs__Header *hdr);
+int st_state_take_tracks (st_state_t *self, const Cgs__TrackBatch *m, const Cgs__Header *hdr);
+int st_state_take_intercept (st_state_t *self, const Cgs__Intercept *m, const Cgs__Header *hdr);
+int st_state_take_image (st_state_t *self, const Cgs__Image *m, const Cgs__Header *hdr);
+int st_state_take_entities (st_state_t *self, const Cgs__EntityBatch *m, const Cgs__Header *hdr);
+/* The simulation time now (from `clock`); the picture never goes back in time. */
+void st_state_set_time (st_state_t *self, double sim_time_s);
+/* Latest simulation time heard of. */
+double st_state_time (const st_state_t *self);
+/* Drop what has aged out at the present simulation time. */
+void st_state_prune (st_state_t *self);
+
+/* The picture as one JSON "state" message (see README.md, "Protocol"), seq
+ * its number: a malloc'd NUL-terminated string and its length in
+ * *ret_len, or NULL without memory. */
+char *st_state_json (st_state_t *self, uint64_t seq, size_t *ret_len);
+
+/* Counts, for health and tests. */
+size_t st_state_hit_count (const st_state_t *self); // every hit kept (current and history)
+size_t st_state_track_count (const st_state_t *self);
+/* The latest image's file ("" none) and frame number. */
+const char *st_state_image_path (const st_state_t *self, uint64_t *ret_frame);
+
+/* The footprint as drawn: each corner moved away from the centre by scale
+ * (1, 5 or 10; any other value draws it as it is). */
+void st_footprint_scaled (const double corners_en[8], const double center_en[2], unsigned scale,
+                          double ret_en[8]);
+
+#endif

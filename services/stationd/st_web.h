@@ -1,0 +1,79 @@
+/* st_web — stationd's embedded web server (CivetWeb): serves the page's
+ * folder, the shaded relief and the latest sensor image over HTTP, and keeps
+ * one WebSocket per open page. A push thread sends the newest picture to
+ * every page (a page that reads slower than the pushes come skips to the
+ * newest, never queues); each page's requests are handed, in that page's own
+ * CivetWeb thread, to the caller's request function, which answers that page
+ * alone with st_web_send.
+ *
+ * CivetWeb runs its own threads, so this module is the one place where
+ * threads share memory: the list of pages, the newest picture and the image
+ * path, under one mutex. Operators are the pages that gave the configured
+ * token (?token= on the WebSocket URL), or every page when there is none. A
+ * WebSocket whose Origin is not this server's own host is refused, so
+ * another web site open in the operator's browser cannot command the UAV.
+ * No logging: errors are returned, counted and kept for the caller. */
+#ifndef ST_WEB_H
+#define ST_WEB_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+typedef struct st_web st_web_t;
+typedef struct st_web_conn st_web_conn_t;
+
+typedef struct {
+    const char *listen_address; // IPv4 or IPv6 address
+    int port;                   // 0: the kernel picks one (see st_web_port)
+    const char *web_root;       // the page's folder
+    int threads;                // CivetWeb worker threads
+    double write_timeout_s;     // a page that takes longer to read is dropped
+    const char *token;          // operators' token, "" for none
+    const uint8_t *relief_png;  // the relief picture (copied), NULL for none
+    size_t relief_len;
+} st_web_config_t;
+
+/* A page's request (one WebSocket text message), called in that page's
+ * thread: operator says whether it gave the token. */
+typedef void (st_web_request_fn) (void *arg, st_web_conn_t *conn, const char *text, size_t len,
+                                  bool operator);
+/* A page went away: free what the request function kept in its user data. */
+typedef void (st_web_close_fn) (void *arg, void *user);
+
+typedef struct {
+    uint64_t pages;          // open now
+    uint64_t pages_total;    // opened since start
+    uint64_t refused;        // WebSocket upgrades refused (foreign Origin)
+    uint64_t pushes;         // pictures written to a page
+    uint64_t skipped;        // pictures replaced before the push thread could send them
+    uint64_t write_errors;   // writes that failed (the page is then closed)
+    uint64_t requests;       // messages from pages
+    uint64_t max_push_bytes; // the largest picture
+    double last_push_s;      // wall seconds the latest round of pushes took
+} st_web_stats_t;
+
+/* Start serving. NULL with the reason in err (the port in use, no folder, ...). */
+st_web_t *st_web_new (const st_web_config_t *cfg, st_web_request_fn *request,
+                      st_web_close_fn *close_fn, void *arg, char *err, size_t errlen);
+/* Stop the server and the push thread, close every page; accepts NULL; nulls the pointer. */
+void st_web_destroy (st_web_t **self_p);
+/* The port it listens on. */
+int st_web_port (const st_web_t *self);
+/* The first message each new page gets, by whether it is an operator's (copied). */
+int st_web_set_hello (st_web_t *self, const char *hello_operator, const char *hello_viewer);
+/* Hand a new picture to the push thread (takes ownership of json, malloc'd). */
+void st_web_publish (st_web_t *self, char *json, size_t len);
+/* The file /image/latest.png serves ("" none). */
+void st_web_set_image (st_web_t *self, const char *path);
+/* Send text to one page, from its request function; 0 or -EPIPE. */
+int st_web_send (st_web_conn_t *conn, const char *text, size_t len);
+/* The request function's own data for this page (NULL at first). */
+void *st_web_conn_user (const st_web_conn_t *conn);
+void st_web_conn_set_user (st_web_conn_t *conn, void *user);
+/* The page's address, for messages. */
+const char *st_web_conn_peer (const st_web_conn_t *conn);
+/* Counters and the latest error CivetWeb reported ("" none; copied into err). */
+void st_web_stats (st_web_t *self, st_web_stats_t *ret, char *err, size_t errlen);
+
+#endif

@@ -1,0 +1,600 @@
+#!/usr/bin/env node
+/*
+ * stationd.js — the tactical map in Debian's Chromium (playwright-core),
+ * against a running exercise and two running stationd (stationd.sh starts
+ * them): the page loads with no page or console error, with its shaded
+ * relief and the sensor image; MTI hits, an unknown confirmed track and a
+ * BCIS reply appear; clicking the newest hit of an unknown track designates
+ * that very track and the purple route is drawn on screen (and hidden by
+ * "Show Intercept Route"); the status panel shows the phase, the track and a
+ * range; Cancel Intercept sends the UAV back to loiter; refused commands show
+ * why; a second browser gets the same pictures; on the stationd with a token
+ * a page without it only watches (the server refuses its commands too) and a
+ * page with it commands; the cursor's MGRS agrees with GeographicLib's
+ * CartConvert and GeoConvert. Screenshots of every step go to --artifacts.
+ *
+ * Output: one "ok - NAME" or "not ok - NAME" line per check and "# ..."
+ * comments (stationd.sh numbers them as TAP). Exit code 0 when the script ran
+ * to its end (whatever the checks said), 1 when it could not.
+ *
+ * Usage: node stationd.js --url URL --token-url URL --token T --origin "LAT LON H"
+ *        --chromium PATH --artifacts DIR
+ */
+'use strict';
+
+const path = require('path');
+const crypto = require('crypto');
+const { execFileSync } = require('child_process');
+const { chromium } = require('playwright-core');
+const WebSocket = require('ws');
+
+// ---- arguments and output --------------------------------------------------------------
+
+const opt = {};
+for (let i = 2; i + 1 < process.argv.length; i += 2) opt[process.argv[i].replace(/^--/, '')] = process.argv[i + 1];
+for (const k of ['url', 'token-url', 'token', 'origin', 'chromium', 'artifacts']) {
+  if (!opt[k]) {
+    console.error('stationd.js: missing --' + k);
+    process.exit(2);
+  }
+}
+
+function diag(s) {
+  for (const line of String(s).split('\n')) console.log('# ' + line);
+}
+
+let failures = 0;
+function check(cond, name, why) {
+  console.log((cond ? 'ok - ' : 'not ok - ') + name);
+  if (!cond) {
+    failures += 1;
+    if (why !== undefined) diag('  ' + (typeof why === 'string' ? why : JSON.stringify(why)));
+  }
+  return !!cond;
+}
+
+const sleep = (ms) => new Promise((r) => setTimeout(r, ms));
+
+// Poll fn (async, returns a truthy value when done) every `every` ms until
+// `ms` pass; the last value either way.
+async function poll(fn, ms, every = 100) {
+  const end = Date.now() + ms;
+  let v;
+  for (;;) {
+    v = await fn();
+    if (v || Date.now() >= end) return v;
+    await sleep(every);
+  }
+}
+
+// ---- pages -------------------------------------------------------------------------------
+
+const VIEWPORT = { width: 1400, height: 900 };
+const ACTIVE = ['TO_SECONDARY', 'TO_WAYPOINT', 'APPROACH', 'PRECISION', 'OVERFLIGHT'];
+const OPERATOR_CONTROLS = ['#cancel', '#alt-input', '#alt-set', '#speed-input', '#speed-set', '#fp-scale', '#method'];
+const pages = [];       // every page opened, with its errors and state frames
+let shot = 0;
+
+// A new browser context and page at url, recording page errors, console
+// errors and every `state` frame its WebSocket receives.
+async function openPage(browser, url, label) {
+  const context = await browser.newContext({ viewport: VIEWPORT, deviceScaleFactor: 1 });
+  const page = await context.newPage();
+  const rec = { label, page, context, errors: [], frames: new Map(), bcisSeen: null, responses: [] };
+  page.on('pageerror', (e) => rec.errors.push('page error: ' + e.message));
+  page.on('console', (m) => {
+    if (m.type() === 'error') rec.errors.push('console error: ' + m.text());
+  });
+  page.on('response', (r) => rec.responses.push({ url: r.url(), status: r.status(), type: r.headers()['content-type'] || '' }));
+  page.on('websocket', (ws) => {
+    ws.on('framereceived', (f) => {
+      const text = typeof f.payload === 'string' ? f.payload : f.payload.toString();
+      if (!text.startsWith('{"type":"state"')) return;
+      let st;
+      try {
+        st = JSON.parse(text);
+      } catch (err) {
+        rec.errors.push('a state frame that is not JSON: ' + err.message);
+        return;
+      }
+      rec.frames.set(st.seq, {
+        hash: crypto.createHash('sha1').update(text).digest('hex'),
+        tracks: (st.tracks || []).map((t) => t.id).sort((a, b) => a - b).join(','),
+        at: Date.now(),
+      });
+      if (!rec.bcisSeen && Array.isArray(st.bcis) && st.bcis.length) rec.bcisSeen = st.bcis[0];
+    });
+  });
+  pages.push(rec);
+  await page.goto(url);
+  return rec;
+}
+
+async function screenshot(page, step) {
+  shot += 1;
+  const file = path.join(opt.artifacts, String(shot).padStart(2, '0') + '-' + step + '.png');
+  const png = await page.screenshot({ path: file });
+  return png;
+}
+
+async function waitReady(page, ms) {
+  await page.waitForFunction(() => window.cgs && window.cgs.ready && window.cgs.hello && window.cgs.state,
+    null, { timeout: ms, polling: 100 });
+}
+
+// The RGBA pixels of a screenshot around each [x, y] (a (2r+1)^2 square),
+// decoded by the browser itself.
+async function pixelsAround(page, png, points, r) {
+  return page.evaluate(async ({ b64, pts, r }) => {
+    const img = new Image();
+    img.src = 'data:image/png;base64,' + b64;
+    await img.decode();
+    const c = document.createElement('canvas');
+    c.width = img.naturalWidth;
+    c.height = img.naturalHeight;
+    const g = c.getContext('2d', { willReadFrequently: true });
+    g.drawImage(img, 0, 0);
+    return pts.map((p) => Array.from(g.getImageData(Math.round(p[0]) - r, Math.round(p[1]) - r, 2 * r + 1, 2 * r + 1).data));
+  }, { b64: png.toString('base64'), pts: points, r });
+}
+
+// The route's colour (#a020f0, with antialiasing) at any pixel of the square.
+function hasPurple(rgba) {
+  for (let i = 0; i + 3 < rgba.length; i += 4) {
+    const [r, g, b] = [rgba[i], rgba[i + 1], rgba[i + 2]];
+    if (r >= 110 && r <= 210 && g <= 90 && b >= 170 && b - g >= 120) return true;
+  }
+  return false;
+}
+
+// Points to sample along the longest segment of the current route (viewport
+// pixels, inside the map, away from the UAV and the tracks, whose symbols
+// are drawn over the route or are purple themselves: the designated
+// track's ring).
+async function routeSamples(page) {
+  return page.evaluate(() => {
+    const st = window.cgs.state;
+    const i = st.intercepts[0];
+    if (!i || !Array.isArray(i.route) || i.route.length < 4) return null;
+    const r = window.cgs.map.getTargetElement().getBoundingClientRect();
+    const px = [];
+    for (let k = 0; k + 1 < i.route.length; k += 2) px.push(window.cgs.pixelOf(i.route[k], i.route[k + 1]));
+    const avoid = [];
+    st.uavs.forEach((u) => avoid.push([window.cgs.pixelOf(u.e, u.n), 40]));
+    st.tracks.forEach((t) => avoid.push([window.cgs.pixelOf(t.e, t.n), t.id === i.track_id ? 35 : 20]));
+    let best = null;
+    for (let k = 0; k + 1 < px.length; k++) {
+      const len = Math.hypot(px[k + 1][0] - px[k][0], px[k + 1][1] - px[k][1]);
+      if (!best || len > best.len) best = { a: px[k], b: px[k + 1], len };
+    }
+    const out = [];
+    const count = Math.max(9, Math.min(30, Math.floor(best.len / 12)));
+    for (let j = 0; j < count; j++) {
+      const f = 0.1 + 0.8 * j / (count - 1);
+      const p = [best.a[0] + f * (best.b[0] - best.a[0]), best.a[1] + f * (best.b[1] - best.a[1])];
+      const inside = p[0] > r.left + 60 && p[0] < r.right - 20 && p[1] > r.top + 20 && p[1] < r.bottom - 40;
+      if (inside && avoid.every(([q, d]) => Math.hypot(q[0] - p[0], q[1] - p[1]) > d)) out.push(p);
+    }
+    return { points: out, segment_px: Math.round(best.len), route_points: i.route.length / 2 };
+  });
+}
+
+// How many of the sample points show the route's purple on screen now.
+async function purpleCount(rec, step) {
+  const s = await routeSamples(rec.page);
+  if (!s || !s.points.length) return { s, n: 0, of: 0 };
+  const png = step ? await screenshot(rec.page, step) : await rec.page.screenshot();
+  const px = await pixelsAround(rec.page, png, s.points, 2);
+  return { s, n: px.filter(hasPurple).length, of: s.points.length };
+}
+
+// The newest hit of a confirmed track of that identity (any, for null),
+// while it is a current (yellow) hit and well inside the map on screen: the
+// track farthest from the other confirmed tracks, at least 1.5 km from them
+// and 3 km from the UAV. { id, last_hit, sep, px, seq } or null.
+async function trackHit(page, identity) {
+  return page.evaluate((identity) => {
+    const st = window.cgs.state;
+    const r = window.cgs.map.getTargetElement().getBoundingClientRect();
+    const cur = [];
+    st.hits.forEach((h) => { if (h.current) for (let k = 0; k + 1 < h.xy.length; k += 2) cur.push([h.xy[k], h.xy[k + 1]]); });
+    let best = null;
+    for (const t of st.tracks) {
+      if (t.status !== 'confirmed' || (identity && t.identity !== identity) || !Array.isArray(t.last_hit)) continue;
+      const [e, n] = t.last_hit;
+      if (!cur.some((c) => Math.hypot(c[0] - e, c[1] - n) < 1)) continue;
+      const px = window.cgs.pixelOf(e, n);
+      if (!px || px[0] < r.left + 60 || px[0] > r.right - 30 || px[1] < r.top + 30 || px[1] > r.bottom - 50) continue;
+      let sep = Infinity;
+      for (const o of st.tracks) {
+        if (o.id !== t.id && o.status !== 'tentative') sep = Math.min(sep, Math.hypot(o.e - t.e, o.n - t.n));
+      }
+      const uav = st.uavs[0];
+      const fromUav = uav ? Math.hypot(uav.e - e, uav.n - n) : 0;
+      if (sep > 1500 && fromUav > 3000 && (!best || sep > best.sep)) best = { id: t.id, last_hit: t.last_hit, sep, px, seq: st.seq };
+    }
+    return best;
+  }, identity);
+}
+
+// The replies the page has received since it had n of them, of one op.
+async function replyAfter(page, n, op, ms) {
+  const h = await page.waitForFunction(({ n, op }) => window.cgs.stats.replies.slice(n).find((m) => m.op === op) || null,
+    { n, op }, { timeout: ms, polling: 50 });
+  return h.jsonValue();
+}
+
+const repliesNow = (page) => page.evaluate(() => window.cgs.stats.replies.length);
+const text = (page, sel) => page.locator(sel).textContent();
+
+// One command through a raw WebSocket opened from the page (same origin),
+// as a page could send it whatever its controls show: its hello and reply.
+async function rawCommand(page, query, msg) {
+  return page.evaluate(({ query, msg }) => new Promise((resolve) => {
+    const ws = new WebSocket('ws://' + location.host + '/ws' + query);
+    const got = { hello: null, reply: null };
+    const timer = setTimeout(() => { ws.close(); resolve(got); }, 8000);
+    ws.onmessage = (ev) => {
+      const m = JSON.parse(ev.data);
+      if (m.type === 'hello') {
+        got.hello = m;
+        if (msg) ws.send(JSON.stringify(msg));
+        else { clearTimeout(timer); ws.close(); resolve(got); }
+      } else if (m.type === 'reply' && msg && m.req === msg.req) {
+        got.reply = m;
+        clearTimeout(timer);
+        ws.close();
+        resolve(got);
+      }
+    };
+  }), { query, msg });
+}
+
+// ---- the steps ---------------------------------------------------------------------------
+
+async function main() {
+  const t0 = Date.now();
+  const browser = await chromium.launch({ executablePath: opt.chromium, headless: true, args: ['--no-sandbox'] });
+  try {
+    await steps(browser);
+  } finally {
+    await browser.close();
+    diag('browser part took ' + ((Date.now() - t0) / 1000).toFixed(1) + ' s');
+  }
+}
+
+async function steps(browser) {
+  // 1. The page loads.
+  const main = await openPage(browser, opt.url, 'main');
+  const p = main.page;
+  let ready = true;
+  try {
+    await waitReady(p, 30000);
+  } catch (err) {
+    ready = false;
+  }
+  check(ready, 'the page is ready (window.cgs.ready, a hello and a state)');
+  if (!ready) {
+    await screenshot(p, 'not-ready');
+    throw new Error('the page never got ready: ' + (await text(p, '#connection')));
+  }
+  check((await text(p, '#connection')) === 'connected', '#connection says connected', await text(p, '#connection'));
+  const hello = await p.evaluate(() => window.cgs.hello);
+  check(hello.operator === true && hello.token_required === false, 'the hello makes a page of the open stationd an operator\'s',
+    { operator: hello.operator, token_required: hello.token_required });
+  check(hello.relief && Array.isArray(hello.relief.extent) && hello.relief.extent.length === 4,
+    'the hello names the shaded relief and its extent', hello.relief);
+  // The relief is fetched, and the relief layer draws it (its pixel at the
+  // map's centre is opaque).
+  const reliefDrawn = await poll(() => p.evaluate(() => {
+    const layer = window.cgs.map.getLayers().getArray().find((l) => l.get('name') === 'relief');
+    if (!layer || !layer.getSource()) return null;
+    const size = window.cgs.map.getSize();
+    const d = layer.getData([Math.round(size[0] / 2), Math.round(size[1] / 2)]);
+    return d && d[3] > 200 ? Array.from(d) : null;
+  }), 10000);
+  const reliefResp = main.responses.find((r) => /\/relief\.png$/.test(r.url));
+  check(reliefResp && reliefResp.status === 200 && reliefResp.type.startsWith('image/png'), 'GET /relief.png: 200, a PNG', reliefResp);
+  check(reliefDrawn, 'the relief layer is drawn (opaque at the map\'s centre: ' + reliefDrawn + ')');
+  check(main.errors.length === 0, 'no page or console error while it loads', main.errors.slice(0, 5));
+  await screenshot(p, 'loaded');
+
+  // The sensor image (imagerd's latest frame) loads into #sensor-image.
+  let img = null;
+  try {
+    const h = await p.waitForFunction(() => {
+      const i = document.getElementById('sensor-image');
+      return !i.hidden && /\/image\/latest\.png/.test(i.src) && i.complete && i.naturalWidth > 0
+        ? { src: i.getAttribute('src'), w: i.naturalWidth, h: i.naturalHeight } : null;
+    }, null, { timeout: 40000, polling: 200 });
+    img = await h.jsonValue();
+  } catch (err) { /* img stays null */ }
+  check(img && img.w === 320 && img.h === 240, '#sensor-image shows imagerd\'s latest frame (' + (img ? img.w + 'x' + img.h + ' from ' + img.src : 'none') + ')');
+  await screenshot(p, 'sensor-image');
+
+  // 2. Hits, tracks and a BCIS reply.
+  let picture = null;
+  try {
+    const h = await p.waitForFunction(() => {
+      const st = window.cgs.state;
+      const cur = st.hits.filter((x) => x.current && Array.isArray(x.xy) && x.xy.length >= 2);
+      const unk = st.tracks.filter((t) => t.status === 'confirmed' && t.identity === 'unknown' && Array.isArray(t.last_hit));
+      if (!cur.length || !unk.length) return null;
+      return {
+        current_hits: cur.reduce((s, x) => s + x.xy.length / 2, 0),
+        tracks: st.tracks.filter((t) => t.status !== 'tentative').map((t) => t.id + ':' + t.status + ':' + t.identity).join(' ') +
+          ' and ' + st.tracks.filter((t) => t.status === 'tentative').length + ' tentative',
+        unknown_confirmed: unk.length,
+        sim_time_s: st.sim_time_s,
+      };
+    }, null, { timeout: 60000, polling: 100 });
+    picture = await h.jsonValue();
+  } catch (err) { /* stays null */ }
+  if (picture) diag('picture at T+' + picture.sim_time_s + ' s: ' + picture.current_hits + ' current hits; tracks ' + picture.tracks);
+  check(picture && picture.current_hits > 0, 'current (yellow) MTI hits appear');
+  check(picture && picture.unknown_confirmed > 0, 'a confirmed unknown track with a last hit appears');
+  await poll(() => main.bcisSeen, 30000);
+  check(main.bcisSeen && main.bcisSeen.marking === 'FRIEND TRK',
+    'a BCIS reply of the friendly appears (state.bcis: ' + JSON.stringify(main.bcisSeen) + ')');
+  const friendly = await poll(() => p.evaluate(() => window.cgs.state.tracks.find((t) => t.identity === 'friendly') || null), 20000);
+  diag('friendly track: ' + JSON.stringify(friendly));
+  await screenshot(p, 'hits-and-tracks');
+  if (!picture) throw new Error('no track to designate');
+
+  // 3. Click the newest hit of an unknown confirmed track (one whose last
+  // hit is a current hit, well apart from the other confirmed tracks); a
+  // click that missed because the scan moved on is tried again.
+  let pick = null;
+  for (let attempt = 0; attempt < 3 && !pick; attempt++) {
+    pick = await poll(() => trackHit(p, 'unknown'), 10000);
+    if (!pick) continue;
+    const before = await repliesNow(p);
+    await p.mouse.click(pick.px[0], pick.px[1]);
+    diag('clicked track ' + pick.id + "'s newest hit " + pick.last_hit.join(', ') + ' at pixel ' + pick.px.map(Math.round).join(', ') + ' (state ' + pick.seq + ')');
+    let reply = null;
+    try {
+      reply = await replyAfter(p, before, 'designate', 8000);
+    } catch (err) {
+      diag('no designate reply: #result says ' + JSON.stringify(await text(p, '#result')));
+      pick = null;  // the click missed the hit (the scan moved on): again
+      continue;
+    }
+    pick.reply = reply;
+  }
+  check(pick && pick.reply && pick.reply.ok === true, 'the click is a designation and guidanced accepts it', pick && pick.reply);
+  if (!pick || !pick.reply) throw new Error('no designation');
+  diag('reply: ' + JSON.stringify(pick.reply) + '; #result: ' + JSON.stringify(await text(p, '#result')));
+  let icpt = null;
+  try {
+    const h = await p.waitForFunction((id) => {
+      const i = window.cgs.state.intercepts[0];
+      return i && i.track_id === id && i.route.length >= 4 ? i : null;
+    }, pick.id, { timeout: 10000, polling: 50 });
+    icpt = await h.jsonValue();
+  } catch (err) {
+    icpt = await p.evaluate(() => window.cgs.state.intercepts[0] || null);
+  }
+  check(icpt && icpt.track_id === pick.id, 'the intercept follows the clicked track (' + pick.id + '; intercept track ' + (icpt && icpt.track_id) + ', state ' + (icpt && icpt.state) + ')');
+  check(icpt && Array.isArray(icpt.route) && icpt.route.length >= 4, 'the intercept has a route (' + (icpt && icpt.route ? icpt.route.length / 2 : 0) + ' points)');
+  // The route layer draws it: purple along its longest segment, on screen.
+  let drawn = { n: 0, of: 0 };
+  await poll(async () => {
+    drawn = await purpleCount(main, null);
+    return drawn.of >= 3 && drawn.n >= 0.7 * drawn.of;
+  }, 10000, 300);
+  await screenshot(p, 'designated-route');
+  diag('route samples: ' + JSON.stringify(drawn.s));
+  check(drawn.of >= 3 && drawn.n >= 0.7 * drawn.of, 'the purple route is drawn on the map (' + drawn.n + ' of ' + drawn.of + ' points along its longest segment)');
+  // Unchecking "Show Intercept Route" hides it.
+  await p.click('#show-route');
+  let hidden = { n: 1, of: 0 };
+  await poll(async () => {
+    hidden = await purpleCount(main, null);
+    return hidden.of >= 3 && hidden.n === 0;
+  }, 5000, 200);
+  await screenshot(p, 'route-hidden');
+  check(!(await p.isChecked('#show-route')) && hidden.of >= 3 && hidden.n === 0,
+    'unchecking #show-route hides it (' + hidden.n + ' of ' + hidden.of + ' points purple)');
+  await p.click('#show-route');
+
+  // 4. The status panel.
+  let status = null;
+  try {
+    const h = await p.waitForFunction(({ id, active }) => {
+      const t = (s) => document.getElementById(s).textContent;
+      const s = { phase: t('status-phase'), target: t('status-target'), range: t('status-range'), ttg: t('status-ttg') };
+      return active.includes(s.phase) && s.target === 'track ' + id && /^\d+(\.\d)? (m|km)$/.test(s.range) ? s : null;
+    }, { id: pick.id, active: ACTIVE }, { timeout: 5000, polling: 100 });
+    status = await h.jsonValue();
+  } catch (err) {
+    status = await p.evaluate(() => ['status-phase', 'status-target', 'status-range'].map((s) => document.getElementById(s).textContent));
+  }
+  check(status && status.phase, 'the status panel shows the phase, "track ' + pick.id + '" and a range', status);
+  if (status && status.phase) diag('status: ' + JSON.stringify(status));
+  await screenshot(p, 'status');
+
+  // 5. Cancel Intercept: back to loiter.
+  let n0 = await repliesNow(p);
+  await p.click('#cancel');
+  let cancel = null;
+  try {
+    cancel = await replyAfter(p, n0, 'cancel', 8000);
+  } catch (err) { /* null */ }
+  check(cancel && cancel.ok === true, 'Cancel Intercept is accepted', cancel || (await text(p, '#result')));
+  const cancelled = await poll(() => p.evaluate(() => (window.cgs.state.intercepts[0] || {}).state === 'CANCELLED'), 5000);
+  check(cancelled, 'the intercept is CANCELLED', await p.evaluate(() => window.cgs.state.intercepts[0]));
+  const loiter = await poll(() => p.evaluate(() => (window.cgs.state.uavs[0] || {}).mode === 'loiter'), 30000);
+  check(loiter, 'the UAV goes back to loiter', await p.evaluate(() => window.cgs.state.uavs[0]));
+  check(/^cancel: /.test(await text(p, '#result')), '#result shows the cancel went through (' + (await text(p, '#result')) + ')');
+  const ended = await poll(() => p.evaluate(() => document.getElementById('status-phase').textContent === 'CANCELLED' &&
+    document.getElementById('status-target').textContent === '—'), 5000);
+  check(ended, 'the status panel shows CANCELLED and no target any more');
+  await screenshot(p, 'cancelled');
+
+  // 6. Refused commands show why.
+  n0 = await repliesNow(p);
+  await p.fill('#alt-input', '-50');
+  await p.click('#alt-set');
+  const neg = await text(p, '#result');
+  await sleep(300);
+  const sentNeg = (await repliesNow(p)) !== n0;
+  diag('altitude -50: #result ' + JSON.stringify(neg));
+  check(/^altitude: /.test(neg) && !sentNeg && (await p.getAttribute('#result', 'class')).includes('err'),
+    'altitude -50 is refused by the page, which says so and sends nothing (' + neg + ')');
+  n0 = await repliesNow(p);
+  await p.fill('#alt-input', '25000');
+  await p.click('#alt-set');
+  let alt = null;
+  try {
+    alt = await replyAfter(p, n0, 'altitude', 8000);
+  } catch (err) { /* null */ }
+  const altText = await text(p, '#result');
+  check(alt && alt.ok === false, 'altitude 25000 is refused by uavsim', alt);
+  check(altText.includes('altitude must be in (0, 20000] m above ground'), '#result shows uavsim\'s reason (' + altText + ')');
+  await screenshot(p, 'refused');
+
+  // 7. A second browser sees the same picture: the same state frames,
+  // byte for byte, for every seq both got.
+  const second = await openPage(browser, opt.url, 'second');
+  let secondReady = true;
+  try {
+    await waitReady(second.page, 20000);
+  } catch (err) {
+    secondReady = false;
+  }
+  check(secondReady, 'a second browser opens the map at the same time');
+  const openedAt = Date.now();
+  let common = [];
+  await poll(() => {
+    common = [...second.frames.keys()].filter((s) => main.frames.has(s) && main.frames.get(s).at >= openedAt);
+    return common.length >= 10;
+  }, 15000, 200);
+  const differ = common.filter((s) => main.frames.get(s).hash !== second.frames.get(s).hash);
+  const trackIds = common.length ? main.frames.get(common[common.length - 1]).tracks : '';
+  diag('common seqs ' + (common.length ? common[0] + '..' + common[common.length - 1] : 'none') + ' (' + common.length + '), tracks ' + trackIds);
+  check(common.length >= 10 && differ.length === 0, 'both get the same state frames for ' + common.length + ' common seqs (' + differ.length + ' differ)');
+  const sameTracks = common.length && common.every((s) => main.frames.get(s).tracks === second.frames.get(s).tracks) && trackIds !== '';
+  check(sameTracks, 'with identical track ids (' + trackIds + ')');
+  const seqs = [...second.frames.keys()];
+  check(seqs.length > 5 && seqs.every((s, k) => k === 0 || s > seqs[k - 1]), 'the second page\'s seqs only grow (' + seqs.length + ' frames)');
+  await screenshot(second.page, 'second-browser');
+
+  // 8. The stationd with a token: a page without it only watches...
+  const viewer = await openPage(browser, opt['token-url'], 'viewer');
+  const v = viewer.page;
+  let viewerReady = true;
+  try {
+    await waitReady(v, 20000);
+  } catch (err) {
+    viewerReady = false;
+  }
+  const vh = viewerReady ? await v.evaluate(() => window.cgs.hello) : {};
+  check(viewerReady && vh.operator === false && vh.token_required === true, 'without ?token= the hello says view only (operator false, token required)',
+    { operator: vh.operator, token_required: vh.token_required });
+  const disabled = await Promise.all(OPERATOR_CONTROLS.map((s) => v.isDisabled(s)));
+  check(disabled.every(Boolean), 'and every operator control is disabled', OPERATOR_CONTROLS.filter((s, k) => !disabled[k]));
+  const access = await text(v, '#access');
+  check(/view only/.test(access) && await v.isVisible('#access'), 'the page says it is view only (' + access + ')');
+  // A click on a current hit is not sent: the page says why.
+  let said = null;
+  let clicks = 0;
+  n0 = await repliesNow(v);
+  for (let attempt = 0; attempt < 3 && !said; attempt++) {
+    const hit = await poll(() => trackHit(v, null), 10000);
+    if (!hit) continue;
+    clicks += 1;
+    await v.mouse.click(hit.px[0], hit.px[1]);
+    said = await poll(async () => {
+      const t = await text(v, '#result');
+      return /view only/.test(t) ? t : null;
+    }, 3000);
+    if (!said) diag('clicked track ' + hit.id + "'s newest hit on the view-only page: #result says " + JSON.stringify(await text(v, '#result')));
+  }
+  check(said && (await repliesNow(v)) === n0, 'clicking a hit on it designates nothing and says view only (' + said + ' after ' + clicks + ' clicks)');
+  // The server refuses a command from a page without the token (sent over a
+  // WebSocket of the page's own origin, whatever its controls say), and
+  // with a wrong token.
+  const raw = await rawCommand(v, '', { op: 'altitude', req: 901, uav_id: 1, value: 1300 });
+  check(raw.reply && raw.reply.ok === false && /operators' access token/.test(raw.reply.error || ''),
+    'stationd refuses a command without the token, saying so', raw.reply);
+  const wrong = await rawCommand(v, '?token=wrong-token-9', { op: 'cancel', req: 902, uav_id: 1 });
+  check(wrong.hello && wrong.hello.operator === false && wrong.reply && wrong.reply.ok === false && /access token/.test(wrong.reply.error || ''),
+    'and one with a wrong token', wrong);
+  await screenshot(v, 'view-only');
+  // A WebSocket from another web site's page (a foreign Origin) is refused.
+  const foreign = await new Promise((resolve) => {
+    const u = opt['token-url'].replace(/^http/, 'ws') + 'ws?token=' + opt.token;
+    const ws = new WebSocket(u, { origin: 'http://attacker.example' });
+    ws.on('open', () => { ws.close(); resolve('opened'); });
+    ws.on('unexpected-response', (req, res) => resolve('HTTP ' + res.statusCode));
+    ws.on('error', (e) => resolve('error ' + e.message));
+  });
+  check(foreign !== 'opened', 'a WebSocket with a foreign Origin is refused, even with the token (' + foreign + ')');
+  // ... and a page with the token commands.
+  const op = await openPage(browser, opt['token-url'] + '?token=' + encodeURIComponent(opt.token), 'operator');
+  const o = op.page;
+  let opReady = true;
+  try {
+    await waitReady(o, 20000);
+  } catch (err) {
+    opReady = false;
+  }
+  const oh = opReady ? await o.evaluate(() => window.cgs.hello) : {};
+  check(opReady && oh.operator === true, 'with ?token= the hello makes it an operator\'s page');
+  const enabled = await Promise.all(OPERATOR_CONTROLS.map((s) => o.isEnabled(s)));
+  check(enabled.every(Boolean), 'with every operator control enabled', OPERATOR_CONTROLS.filter((s, k) => !enabled[k]));
+  n0 = await repliesNow(o);
+  await o.fill('#speed-input', '41');
+  await o.click('#speed-set');
+  let spd = null;
+  try {
+    spd = await replyAfter(o, n0, 'speed', 8000);
+  } catch (err) { /* null */ }
+  check(spd && spd.ok === true, 'its airspeed command is accepted (' + (await text(o, '#result')) + ')', spd);
+  const cmdSpeed = await poll(() => o.evaluate(() => {
+    const u = window.cgs.state.uavs[0];
+    return u && u.cmd_airspeed_mps === 41 ? u.cmd_airspeed_mps : null;
+  }), 5000);
+  check(cmdSpeed === 41, 'and the UAV\'s commanded airspeed becomes 41 m/s');
+  await screenshot(o, 'operator-with-token');
+
+  // 9. The cursor's MGRS, against GeographicLib's tools for the same point.
+  const target = await p.evaluate(() => {
+    const r = window.cgs.map.getTargetElement().getBoundingClientRect();
+    return [Math.round(r.left + r.width * 0.37), Math.round(r.top + r.height * 0.61)];
+  });
+  await p.mouse.move(target[0] - 40, target[1] - 30);
+  await p.mouse.move(target[0], target[1], { steps: 4 });
+  const coord = await p.evaluate((t) => {
+    const r = window.cgs.map.getTargetElement().getBoundingClientRect();
+    const c = window.cgs.map.getCoordinateFromPixel([t[0] - r.left, t[1] - r.top]);
+    return [Math.round(c[0] * 10) / 10, Math.round(c[1] * 10) / 10];
+  }, target);
+  const want = 'E ' + Math.round(coord[0]) + ' N ' + Math.round(coord[1]) + ' · ';
+  const cursor = await poll(async () => {
+    const t = await text(p, '#cursor-mgrs');
+    return t.startsWith(want) ? t : null;
+  }, 5000);
+  const shown = cursor || (await text(p, '#cursor-mgrs'));
+  check(cursor, '#cursor-mgrs shows the hovered point\'s E/N and an MGRS (' + shown + '; wanted ' + want + '...)');
+  const ll = execFileSync('CartConvert', ['-r', '-l', ...opt.origin.split(/\s+/), '-p', '9'],
+    { input: coord[0] + ' ' + coord[1] + ' 0\n' }).toString().trim();
+  const grid = execFileSync('GeoConvert', ['-m', '-p', '0'], { input: ll.split(/\s+/).slice(0, 2).join(' ') + '\n' }).toString().trim();
+  const pageGrid = shown.split(' · ')[1] || '';
+  diag('hovered E ' + coord[0] + ' N ' + coord[1] + ': CartConvert ' + ll + ', GeoConvert ' + grid + ', page ' + pageGrid);
+  check(pageGrid.replace(/\s+/g, '') === grid, 'its MGRS is GeographicLib\'s for that point (' + pageGrid + ' vs ' + grid + ')');
+  await screenshot(p, 'mgrs-cursor');
+
+  // No page error and no console error on any page, from start to end.
+  for (const rec of pages) {
+    check(rec.errors.length === 0, 'no page or console error on the ' + rec.label + ' page', rec.errors.slice(0, 5));
+  }
+}
+
+main().then(() => {
+  diag(failures + ' browser checks failed');
+  process.exit(0);
+}, (err) => {
+  check(false, 'the browser steps ran to the end', err && err.stack ? err.stack.split('\n').slice(0, 4).join(' | ') : String(err));
+  process.exit(1);
+});

@@ -1,0 +1,194 @@
+#!/bin/bash
+# stationd.sh — stationd's protocol without a browser, beside the real
+# uavsim, mtid, trackerd and guidanced: the page's files, the relief and the
+# vendored OpenLayers and milsymbol are served from the build; pictures are
+# pushed at push_hz with the exercise's UAV, hits and tracks; a WebSocket
+# from another site's Origin is refused and counted; with a token
+# configured, a page without it watches but its commands are refused with
+# the reason, and one with it commands; malformed JSON, unknown ops and bad
+# values get an error with the reason, are counted, and stationd keeps
+# serving; the cursor's MGRS equals GeographicLib's own tools'; a command
+# while guidanced is down is reported unanswered, and answered again once it
+# is back; a stationd on a non-loopback address without a token, or with bad
+# parameters, refuses to start naming the key; SIGTERM stops it cleanly.
+# The browser itself is tests/browser/stationd.sh. TAP on stdout.
+# shellcheck source=tests/integration/lib.sh
+. "$(dirname "$0")/lib.sh"
+
+UAVSIM=$CGS_BUILD/bin/uavsim
+MTID=$CGS_BUILD/bin/mtid
+TRACKERD=$CGS_BUILD/bin/trackerd
+GUIDANCED=$CGS_BUILD/bin/guidanced
+STATIOND=$CGS_BUILD/bin/stationd
+for b in "$UAVSIM" "$MTID" "$TRACKERD" "$GUIDANCED" "$STATIOND"; do [ -x "$b" ] || bail "no $b"; done
+command -v node >/dev/null || bail "no node"
+command -v curl >/dev/null || bail "no curl"
+command -v GeoConvert >/dev/null || bail "no GeoConvert (geographiclib-tools)"
+PROBE=$CGS_ROOT/tests/browser/ws_probe.js
+[ -d "$CGS_ROOT/tests/browser/node_modules/ws" ] || bail "no ws package (npm ci in tests/browser)"
+
+ORIGIN="35.96 -121.23 0"
+PORT=$((20000 + RANDOM % 20000))
+TOKEN=s3cret-token-1
+EX=$TMP/exercise.ini
+{
+    exercise_header 12 station-test
+    cat <<EOF
+scenario = scenario.ini
+
+[service uavsim]
+publish = ipc://$TMP/uavsim.pub
+command = ipc://$TMP/uavsim.cmd
+
+[service mtid.uav1]
+publish = ipc://$TMP/mtid.pub
+uav = uav1
+
+[service trackerd]
+publish = ipc://$TMP/trackerd.pub
+
+[service guidanced]
+publish = ipc://$TMP/guidanced.pub
+command = ipc://$TMP/guidanced.cmd
+
+[service stationd]
+publish = ipc://$TMP/stationd.pub
+params = station.ini
+EOF
+} >"$EX"
+cat >"$TMP/station.ini" <<EOF
+[http]
+port = $PORT
+token = $TOKEN
+EOF
+cat >"$TMP/scenario.ini" <<'EOF'
+[terrain]
+size_m = 40000
+resolution_m = 100
+relief_m = 300
+
+[uav uav1]
+position = 0 0
+altitude_agl_m = 1200
+airspeed_mps = 38
+loiter_radius_m = 1500
+
+[vehicle target]
+force = hostile
+marking = TARGET
+point = 5000 -4000
+point = 5000 16000
+speed_mps = 10
+EOF
+
+M () { "$MSCGS" "$@" --exercise "$EX"; }
+URL=http://127.0.0.1:$PORT
+WS=ws://127.0.0.1:$PORT/ws
+probe () { node "$PROBE" "$@"; }
+counter () { M status 2>/dev/null | grep -o "$1=[0-9]*" | head -1 | cut -d= -f2; }
+counter_ge () { local v; v=$(counter "$1"); [ "${v:-0}" -ge "$2" ]; }
+
+# ---- refusals at start --------------------------------------------------------------
+printf '[http]\nlisten = 0.0.0.0\nport = %s\n' "$PORT" >"$TMP/open.ini"
+"$STATIOND" --exercise "$EX" --params "$TMP/open.ini" >"$TMP/open.out" 2>&1
+rc=$?
+check "on 0.0.0.0 without a token stationd refuses to start (exit $rc)" test "$rc" -ne 0
+check "naming the file, line and key" grep -q "open.ini:2: \[http\] listen: .*needs an operators' access token" "$TMP/open.out"
+: >"$TMP/empty.ini"
+timeout 20 "$STATIOND" --exercise "$EX" --params "$TMP/empty.ini" --listen 0.0.0.0 --port "$PORT" \
+    >"$TMP/open2.out" 2>&1
+check "--listen 0.0.0.0 without a token too" bash -c "[ $? -ne 0 ] && grep -q 'needs an operators' '$TMP/open2.out'"
+printf '[display]\npush_hz = 0\n' >"$TMP/bad.ini"
+"$STATIOND" --exercise "$EX" --params "$TMP/bad.ini" --check >"$TMP/bad.out" 2>&1
+check "a bad value is refused by --check with file, line and key" bash -c \
+    "[ $? -ne 0 ] && grep -q 'bad.ini:2: \[display\] push_hz' '$TMP/bad.out'"
+"$STATIOND" --exercise "$EX" --check >"$TMP/check.out" 2>&1
+check "the test's own parameters pass --check" bash -c "[ $? -eq 0 ] && grep -q 'parameters are good' '$TMP/check.out'"
+
+# ---- serving ------------------------------------------------------------------------
+start U uavsim "$UAVSIM" --exercise "$EX" --time-scale 20
+start R mtid "$MTID" --exercise "$EX" --instance mtid.uav1
+start T trackerd "$TRACKERD" --exercise "$EX"
+start G guidanced "$GUIDANCED" --exercise "$EX"
+start S stationd "$STATIOND" --exercise "$EX"
+check "stationd serves the page" wait_for 20 curl -sf -o "$TMP/index.html" "$URL/"
+check "which loads OpenLayers and milsymbol from this server only" bash -c \
+    "grep -q 'vendor/ol.js' '$TMP/index.html' && grep -q 'vendor/milsymbol.js' '$TMP/index.html' && ! grep -qiE 'src=\"(https?:)?//' '$TMP/index.html'"
+for f in app.js style.css vendor/ol.js vendor/ol.css vendor/milsymbol.js; do
+    check "/$f is served" curl -sf -o /dev/null "$URL/$f"
+done
+curl -sf -o "$TMP/relief.png" "$URL/relief.png"
+check "/relief.png is a PNG of the terrain" bash -c "file '$TMP/relief.png' | grep -q 'PNG image data, 401 x 401'"
+check "no folder listing" bash -c "[ \"\$(curl -s -o /dev/null -w '%{http_code}' '$URL/vendor/')\" != 200 ]"
+
+probe "$WS" --seconds 3 >"$TMP/view.jsonl"
+hello=$(grep -m1 '"type":"hello"' "$TMP/view.jsonl")
+check "a page without the token gets a hello that says it only watches" bash -c \
+    "grep -q '\"operator\":false' <<<'$hello' && grep -q '\"token_required\":true' <<<'$hello'"
+check "and the relief's extent (the grid's outer pixel edges)" \
+    grep -q '"extent":\[-20050,-20050,20050,20050\]' <<<"$hello"
+states=$(grep -c '"type":"state"' "$TMP/view.jsonl")
+check "pictures come at push_hz (5): $states in 3 s" test "$states" -ge 12 -a "$states" -le 18
+check "with the UAV and the target's hits" wait_for 30 bash -c \
+    "node '$PROBE' '$WS' --seconds 1 | grep '\"type\":\"state\"' | tail -1 | grep -q '\"uavs\":1,.*' &&
+     node '$PROBE' '$WS' --seconds 1 | grep '\"type\":\"state\"' | tail -1 | grep -qv '\"hits\":0,'"
+
+# ---- access -------------------------------------------------------------------------
+probe "$WS" --send '{"op":"cancel","req":1}' --replies 1 >"$TMP/noauth.jsonl"
+check "a command without the token is refused with the reason" \
+    grep -q '"req":1,"op":"cancel","ok":false,"error":"commands need the operators'"'"' access token' "$TMP/noauth.jsonl"
+probe "$WS" --origin "http://evil.example" --seconds 2 >"$TMP/evil.jsonl"
+check "a WebSocket from another site's Origin is refused" grep -q '"type":"connect-error"' "$TMP/evil.jsonl"
+probe "$WS?token=$TOKEN" --origin "http://127.0.0.1:$PORT" \
+    --send '{"op":"footprint_scale","req":2,"value":5}' --replies 1 >"$TMP/auth.jsonl"
+check "with the token (and this server's Origin) the page is an operator's" grep -q '"operator":true' "$TMP/auth.jsonl"
+check "and its footprint scale reaches guidanced, which takes it" \
+    grep -q '"req":2,"op":"footprint_scale","ok":true,"server":"guidanced"' "$TMP/auth.jsonl"
+probe "$WS?token=wrong-token-9" --send '{"op":"cancel","req":3}' --replies 1 >"$TMP/wrong.jsonl"
+check "a wrong token is no token" grep -q '"req":3,.*"ok":false' "$TMP/wrong.jsonl"
+
+# ---- bad requests -------------------------------------------------------------------
+probe "$WS?token=$TOKEN" --send 'not json' --send '[1,2]' --send '{"op":"fly-away","req":4}' \
+    --send '{"op":"designate","req":5,"e":"x","n":1}' --send '{"op":"footprint_scale","req":6,"value":2.5}' \
+    --send '{"op":"intercept_mode","req":7,"value":"sideways"}' --send '{"op":"altitude","req":8,"value":-50}' \
+    --send '{"op":"designate","req":9,"uav_id":-1,"e":0,"n":0}' --replies 8 >"$TMP/bad.jsonl"
+check "malformed JSON gets an error" bash -c "[ \$(grep -c '\"type\":\"error\",\"error\":\"expected a JSON object' '$TMP/bad.jsonl') -eq 2 ]"
+check "an unknown op gets an error naming it" grep -q 'unknown op \\"fly-away\\"' "$TMP/bad.jsonl"
+check "designate without numbers is refused with the reason" grep -q '"req":5,.*"error":"designate needs numbers e and n' "$TMP/bad.jsonl"
+check "a footprint scale that is not whole is refused" grep -q '"req":6,.*"ok":false' "$TMP/bad.jsonl"
+check "an unknown intercept method is refused" grep -q '"req":7,.*"error":"intercept_mode needs the value' "$TMP/bad.jsonl"
+check "uavsim's own reason comes back for a bad altitude" \
+    grep -q '"req":8,"op":"altitude","ok":false,"server":"uavsim","error":"altitude must be' "$TMP/bad.jsonl"
+check "a negative UAV id is refused" grep -q '"req":9,.*"error":"uav_id must be' "$TMP/bad.jsonl"
+check "stationd counts them in health" wait_for 10 counter_ge bad_requests 6
+check "and the unauthorised command" counter_ge unauthorised 2
+check "and the refused Origin" counter_ge origin_refused 1
+check "and keeps serving" bash -c "node '$PROBE' '$WS' --seconds 1 | grep -q '\"type\":\"state\"'"
+
+# ---- MGRS against GeographicLib's tools --------------------------------------------
+for pt in "1234.5 -6789.2" "-15000 12000" "0 0"; do
+    read -r e n <<<"$pt"
+    probe "$WS" --send "{\"op\":\"mgrs\",\"req\":1,\"e\":$e,\"n\":$n}" --replies 1 >"$TMP/mgrs.jsonl"
+    got=$(sed -n 's/.*"mgrs":"\([0-9A-Z]*\)".*/\1/p' "$TMP/mgrs.jsonl")
+    want=$(CartConvert -r -l $ORIGIN -p 9 <<<"$e $n 0" | awk '{print $1, $2}' | GeoConvert -m -p 0)
+    is "$got" "$want" "MGRS of ($e, $n) is GeoConvert's"
+done
+
+# ---- guidanced down and back ---------------------------------------------------------
+kill9 "$G"
+t0=$SECONDS
+probe "$WS?token=$TOKEN" --send '{"op":"cancel","req":10}' --replies 1 --seconds 15 >"$TMP/down.jsonl"
+check "with guidanced down a command is reported unanswered, naming the endpoint" \
+    grep -q '"req":10,.*"ok":false,"error":".*guidanced.cmd' "$TMP/down.jsonl"
+check "after the tries (3 of 1 s), not sooner than 2 s: $((SECONDS - t0)) s" test $((SECONDS - t0)) -ge 2
+check "counted unanswered" wait_for 5 counter_ge commands_unanswered 1
+check "stationd kept pushing meanwhile" bash -c "node '$PROBE' '$WS' --seconds 1 | grep -q '\"type\":\"state\"'"
+start G guidanced "$GUIDANCED" --exercise "$EX"
+check "guidanced back: commands are answered again" wait_for 20 bash -c \
+    "node '$PROBE' '$WS?token=$TOKEN' --send '{\"op\":\"footprint_scale\",\"req\":11,\"value\":1}' --replies 1 --seconds 5 | grep -q '\"req\":11,.*\"ok\":true'"
+
+stop "$S"
+is "$EXIT_CODE" 0 "stationd stops on SIGTERM with exit 0"
+check "its log is clean" clean_log stationd
+check "and gives its totals" grep -q 'pages served, .* pictures pushed' "$TMP/stationd.log"
+finish

@@ -1,0 +1,554 @@
+/* test_st_state — the tactical map's picture, read back from the JSON it
+ * pushes: hits of the scan in progress and the last complete scan are
+ * current, exactly history_scans complete scans before them are grey, older
+ * ones go, late hits of a dropped scan are ignored and a restarted radar
+ * starts afresh; BCIS replies live bcis_timeout_s of simulation time, to the
+ * boundary; tracks are updated in place, removed when deleted, stale or
+ * superseded by a restarted tracker, and carry their newest hit; the
+ * footprint is drawn scaled about its centre (area k² times the true one)
+ * and the range is the ground distance UAV to track; ground truth leaves out
+ * the UAVs; bad messages are refused whole. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include <cmocka.h>
+
+#include "st_state.h"
+
+#include <errno.h>
+#include <json-c/json.h>
+#include <math.h>
+#include <stdbool.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+static const st_state_params_t s_params = {20, 5.0, 60.0, 30.0};
+
+static json_object *s_picture (st_state_t *st)
+{
+    size_t len = 0;
+    char *text = st_state_json (st, 7, &len);
+    assert_non_null (text);
+    assert_int_equal (strlen (text), len);
+    json_object *o = json_tokener_parse (text);
+    free (text);
+    assert_non_null (o);
+    return o;
+}
+
+static json_object *s_get (json_object *o, const char *key)
+{
+    json_object *v = NULL;
+    if (!json_object_object_get_ex (o, key, &v))
+        fail_msg ("no key %s", key);
+    return v;
+}
+
+static double s_num (json_object *o, const char *key)
+{
+    return json_object_get_double (s_get (o, key));
+}
+
+/* One mti message of n hits at (scan*100 + i, -scan) for radar 1. */
+static int s_hits (st_state_t *st, uint32_t scan, int n, uint64_t epoch)
+{
+    Cgs__Header h = CGS__HEADER__INIT;
+    h.epoch = epoch;
+    h.sim_time_s = scan;
+    Cgs__Mti m = CGS__MTI__INIT;
+    m.uav_id = 1;
+    m.scan_number = scan;
+    Cgs__MtiHit hits[16], *ptrs[16];
+    Cgs__Enu pos[16];
+    assert_true (n <= 16);
+    for (int i = 0; i < n; i++) {
+        cgs__mti_hit__init (&hits[i]);
+        cgs__enu__init (&pos[i]);
+        pos[i].east_m = scan * 100.0 + i;
+        pos[i].north_m = -(double)scan;
+        hits[i].position = &pos[i];
+        ptrs[i] = &hits[i];
+    }
+    m.n_hits = (size_t)n;
+    m.hits = ptrs;
+    return st_state_take_mti (st, &m, &h);
+}
+
+static void s_scan_end (st_state_t *st, uint32_t scan, uint64_t epoch)
+{
+    Cgs__Header h = CGS__HEADER__INIT;
+    h.epoch = epoch;
+    Cgs__MtiScan m = CGS__MTI_SCAN__INIT;
+    m.uav_id = 1;
+    m.scan_number = scan;
+    assert_int_equal (st_state_take_mti_scan (st, &m, &h), 0);
+}
+
+/* Counts of current and grey scans (and hits) in the picture; the current
+ * scans' numbers into cur (up to 4). */
+static void s_scans (st_state_t *st, int *ret_cur, int *ret_grey, int *ret_hits, uint32_t cur[4],
+                     uint32_t *ret_oldest)
+{
+    json_object *o = s_picture (st), *hits = s_get (o, "hits");
+    int c = 0, g = 0, n = 0;
+    uint32_t oldest = UINT32_MAX;
+    for (size_t i = 0; i < json_object_array_length (hits); i++) {
+        json_object *s = json_object_array_get_idx (hits, i);
+        uint32_t number = (uint32_t)s_num (s, "scan");
+        int k = (int)json_object_array_length (s_get (s, "xy"));
+        assert_int_equal (k % 2, 0);
+        n += k / 2;
+        if (number < oldest)
+            oldest = number;
+        if (json_object_get_boolean (s_get (s, "current"))) {
+            if (c < 4)
+                cur[c] = number;
+            c++;
+        } else {
+            g++;
+        }
+    }
+    json_object_put (o);
+    *ret_cur = c;
+    *ret_grey = g;
+    *ret_hits = n;
+    *ret_oldest = oldest;
+}
+
+static void test_history_of_scans (void **state)
+{
+    (void)state;
+    st_state_t *st = st_state_new (&s_params);
+    assert_non_null (st);
+    int cur, grey, hits;
+    uint32_t c[4], oldest;
+    // Three hits in each of scans 1..30, every one complete.
+    for (uint32_t s = 1; s <= 30; s++) {
+        assert_int_equal (s_hits (st, s, 3, 9), 0);
+        s_scan_end (st, s, 9);
+    }
+    s_scans (st, &cur, &grey, &hits, c, &oldest);
+    assert_int_equal (cur, 1); // the last complete scan
+    assert_int_equal (c[0], 30);
+    assert_int_equal (grey, 20); // scans 10..29
+    assert_int_equal (oldest, 10);
+    assert_int_equal (hits, 21 * 3);
+    assert_int_equal (st_state_hit_count (st), 21 * 3);
+    // Scan 31 in progress: 31 and 30 are current, 10..29 still grey.
+    assert_int_equal (s_hits (st, 31, 2, 9), 0);
+    s_scans (st, &cur, &grey, &hits, c, &oldest);
+    assert_int_equal (cur, 2);
+    assert_true ((c[0] == 30 && c[1] == 31) || (c[0] == 31 && c[1] == 30));
+    assert_int_equal (grey, 20);
+    assert_int_equal (oldest, 10);
+    // Scan 31 ends: 31 current; 11..30 grey; scan 10 is gone.
+    s_scan_end (st, 31, 9);
+    s_scans (st, &cur, &grey, &hits, c, &oldest);
+    assert_int_equal (cur, 1);
+    assert_int_equal (c[0], 31);
+    assert_int_equal (grey, 20);
+    assert_int_equal (oldest, 11);
+    assert_int_equal (hits, 20 * 3 + 2);
+    // Late hits of the dropped scan 10 are ignored, not made a new scan.
+    assert_int_equal (s_hits (st, 10, 3, 9), 0);
+    assert_int_equal (st_state_hit_count (st), 20 * 3 + 2);
+    // More hits of scan 31 join it.
+    assert_int_equal (s_hits (st, 31, 4, 9), 0);
+    assert_int_equal (st_state_hit_count (st), 20 * 3 + 6);
+    // The radar restarts (new epoch): its old scans are forgotten.
+    assert_int_equal (s_hits (st, 1, 5, 10), 0);
+    s_scans (st, &cur, &grey, &hits, c, &oldest);
+    assert_int_equal (cur, 1);
+    assert_int_equal (grey, 0);
+    assert_int_equal (hits, 5);
+    st_state_destroy (&st);
+    assert_null (st);
+    st_state_destroy (&st); // accepts NULL
+}
+
+static void test_history_length_is_a_parameter (void **state)
+{
+    (void)state;
+    st_state_params_t p = s_params;
+    p.history_scans = 0;
+    st_state_t *st = st_state_new (&p);
+    for (uint32_t s = 1; s <= 5; s++) {
+        assert_int_equal (s_hits (st, s, 1, 1), 0);
+        s_scan_end (st, s, 1);
+    }
+    int cur, grey, hits;
+    uint32_t c[4], oldest;
+    s_scans (st, &cur, &grey, &hits, c, &oldest);
+    assert_int_equal (cur, 1);
+    assert_int_equal (grey, 0);
+    assert_int_equal (c[0], 5);
+    st_state_destroy (&st);
+}
+
+static void test_bad_hits_are_refused_whole (void **state)
+{
+    (void)state;
+    st_state_t *st = st_state_new (&s_params);
+    Cgs__Mti m = CGS__MTI__INIT;
+    m.uav_id = 1;
+    Cgs__MtiHit good = CGS__MTI_HIT__INIT, bad = CGS__MTI_HIT__INIT;
+    Cgs__Enu p = CGS__ENU__INIT, nan_p = CGS__ENU__INIT;
+    good.position = &p;
+    nan_p.east_m = NAN;
+    bad.position = &nan_p;
+    Cgs__MtiHit *ptrs[2] = {&good, &bad};
+    m.n_hits = 2;
+    m.hits = ptrs;
+    assert_int_equal (st_state_take_mti (st, &m, NULL), -EINVAL);
+    bad.position = NULL;
+    assert_int_equal (st_state_take_mti (st, &m, NULL), -EINVAL);
+    assert_int_equal (st_state_hit_count (st), 0);
+    m.uav_id = 0;
+    m.n_hits = 1;
+    assert_int_equal (st_state_take_mti (st, &m, NULL), -EINVAL);
+    st_state_destroy (&st);
+}
+
+static size_t s_bcis_count (st_state_t *st, double *ret_age)
+{
+    st_state_prune (st);
+    json_object *o = s_picture (st), *b = s_get (o, "bcis");
+    size_t n = json_object_array_length (b);
+    if (n && ret_age)
+        *ret_age = s_num (json_object_array_get_idx (b, 0), "age_s");
+    json_object_put (o);
+    return n;
+}
+
+static void test_bcis_replies_time_out (void **state)
+{
+    (void)state;
+    st_state_t *st = st_state_new (&s_params);
+    Cgs__Bcis m = CGS__BCIS__INIT;
+    m.uav_id = 1;
+    Cgs__BcisReply r = CGS__BCIS_REPLY__INIT;
+    Cgs__Enu p = CGS__ENU__INIT;
+    p.east_m = 300;
+    p.north_m = 400;
+    r.position = &p;
+    r.responder_id = 17;
+    r.marking = "BLUE 1";
+    r.sim_time_s = 10;
+    Cgs__BcisReply *ptrs[1] = {&r};
+    m.n_replies = 1;
+    m.replies = ptrs;
+    assert_int_equal (st_state_take_bcis (st, &m, NULL), 0);
+    double age = -1;
+    st_state_set_time (st, 14.9);
+    assert_int_equal (s_bcis_count (st, &age), 1);
+    assert_true (fabs (age - 4.9) < 0.006);
+    st_state_set_time (st, 15.0); // exactly the timeout: still shown
+    assert_int_equal (s_bcis_count (st, NULL), 1);
+    st_state_set_time (st, 15.01);
+    assert_int_equal (s_bcis_count (st, NULL), 0);
+    // Time never goes back: an older clock does not revive anything.
+    st_state_set_time (st, 11);
+    assert_true (st_state_time (st) > 15);
+    // A reply without a time is refused.
+    r.sim_time_s = NAN;
+    assert_int_equal (st_state_take_bcis (st, &m, NULL), -EINVAL);
+    st_state_destroy (&st);
+}
+
+typedef struct {
+    Cgs__Track t;
+    Cgs__Enu pos;
+    Cgs__TrackHistoryPoint h[2], *hp[2];
+    Cgs__Enu hpos[2];
+} s_track_msg_t;
+
+static void s_track (s_track_msg_t *m, uint32_t id, int status, double e, double n)
+{
+    cgs__track__init (&m->t);
+    cgs__enu__init (&m->pos);
+    m->t.track_id = id;
+    m->t.status = status;
+    m->pos.east_m = e;
+    m->pos.north_m = n;
+    m->t.position = &m->pos;
+    m->t.heading_deg = 90;
+    m->t.speed_mps = 8;
+    for (int i = 0; i < 2; i++) {
+        cgs__track_history_point__init (&m->h[i]);
+        cgs__enu__init (&m->hpos[i]);
+        m->hpos[i].east_m = e - 10 * (2 - i); // oldest first; the newest is e - 10
+        m->hpos[i].north_m = n;
+        m->h[i].position = &m->hpos[i];
+        m->hp[i] = &m->h[i];
+    }
+    m->t.n_history = 2;
+    m->t.history = m->hp;
+}
+
+static int s_batch (st_state_t *st, s_track_msg_t *tracks, size_t n, double t, uint64_t epoch)
+{
+    Cgs__Track *ptrs[8];
+    for (size_t i = 0; i < n; i++)
+        ptrs[i] = &tracks[i].t;
+    Cgs__TrackBatch b = CGS__TRACK_BATCH__INIT;
+    b.uav_id = 1;
+    b.n_tracks = n;
+    b.tracks = ptrs;
+    Cgs__Header h = CGS__HEADER__INIT;
+    h.sim_time_s = t;
+    h.epoch = epoch;
+    return st_state_take_tracks (st, &b, &h);
+}
+
+/* The track of that id in the picture (a new reference), or NULL. */
+static json_object *s_find_track (st_state_t *st, uint32_t id)
+{
+    json_object *o = s_picture (st), *tr = s_get (o, "tracks"), *found = NULL;
+    for (size_t i = 0; i < json_object_array_length (tr); i++) {
+        json_object *t = json_object_array_get_idx (tr, i);
+        if ((uint32_t)s_num (t, "id") == id)
+            found = json_object_get (t);
+    }
+    json_object_put (o);
+    return found;
+}
+
+static void test_tracks (void **state)
+{
+    (void)state;
+    st_state_t *st = st_state_new (&s_params);
+    s_track_msg_t m[3];
+    s_track (&m[0], 5, CGS__TRACK_STATUS__TRACK_STATUS_CONFIRMED, 1000, 2000);
+    s_track (&m[1], 6, CGS__TRACK_STATUS__TRACK_STATUS_TENTATIVE, -500, 0);
+    m[1].t.identity = CGS__TRACK_IDENTITY__TRACK_IDENTITY_FRIENDLY;
+    assert_int_equal (s_batch (st, m, 2, 100, 1), 0);
+    assert_int_equal (st_state_track_count (st), 2);
+    json_object *t = s_find_track (st, 5);
+    assert_non_null (t);
+    assert_string_equal (json_object_get_string (s_get (t, "status")), "confirmed");
+    assert_string_equal (json_object_get_string (s_get (t, "identity")), "unknown");
+    json_object *lh = s_get (t, "last_hit");
+    assert_true (fabs (json_object_get_double (json_object_array_get_idx (lh, 0)) - 990) < 1e-9);
+    json_object_put (t);
+    t = s_find_track (st, 6);
+    assert_string_equal (json_object_get_string (s_get (t, "identity")), "friendly");
+    assert_string_equal (json_object_get_string (s_get (t, "status")), "tentative");
+    json_object_put (t);
+    // Updated in place: one track 5, at its new position.
+    s_track (&m[0], 5, CGS__TRACK_STATUS__TRACK_STATUS_COASTING, 1100, 2000);
+    assert_int_equal (s_batch (st, m, 1, 110, 1), 0);
+    assert_int_equal (st_state_track_count (st), 2);
+    t = s_find_track (st, 5);
+    assert_true (fabs (s_num (t, "e") - 1100) < 1e-9);
+    assert_string_equal (json_object_get_string (s_get (t, "status")), "coasting");
+    json_object_put (t);
+    // Deleted: gone at once.
+    s_track (&m[1], 6, CGS__TRACK_STATUS__TRACK_STATUS_DELETED, -500, 0);
+    assert_int_equal (s_batch (st, &m[1], 1, 111, 1), 0);
+    assert_null (s_find_track (st, 6));
+    // Stale: track 5 last updated at 110 goes once 60 s have passed without it.
+    st_state_set_time (st, 170);
+    st_state_prune (st);
+    assert_int_equal (st_state_track_count (st), 1);
+    st_state_set_time (st, 170.5);
+    st_state_prune (st);
+    assert_int_equal (st_state_track_count (st), 0);
+    // A restarted tracker (new epoch) replaces the old one's tracks.
+    s_track (&m[0], 1, CGS__TRACK_STATUS__TRACK_STATUS_CONFIRMED, 0, 0);
+    s_track (&m[1], 2, CGS__TRACK_STATUS__TRACK_STATUS_CONFIRMED, 0, 0);
+    assert_int_equal (s_batch (st, m, 2, 200, 1), 0);
+    s_track (&m[2], 3, CGS__TRACK_STATUS__TRACK_STATUS_CONFIRMED, 0, 0);
+    assert_int_equal (s_batch (st, &m[2], 1, 201, 2), 0);
+    assert_int_equal (st_state_track_count (st), 1);
+    assert_non_null ((t = s_find_track (st, 3)));
+    json_object_put (t);
+    // A track without a position is refused, and nothing of its batch taken.
+    m[1].t.position = NULL;
+    s_track (&m[0], 9, CGS__TRACK_STATUS__TRACK_STATUS_CONFIRMED, 0, 0);
+    assert_int_equal (s_batch (st, m, 2, 202, 2), -EINVAL);
+    assert_null (s_find_track (st, 9));
+    st_state_destroy (&st);
+}
+
+/* Shoelace area of a polygon given as e,n pairs. */
+static double s_area (json_object *xy)
+{
+    size_t n = json_object_array_length (xy) / 2;
+    double a = 0;
+    for (size_t i = 0; i < n; i++) {
+        size_t j = (i + 1) % n;
+        double xi = json_object_get_double (json_object_array_get_idx (xy, 2 * i));
+        double yi = json_object_get_double (json_object_array_get_idx (xy, 2 * i + 1));
+        double xj = json_object_get_double (json_object_array_get_idx (xy, 2 * j));
+        double yj = json_object_get_double (json_object_array_get_idx (xy, 2 * j + 1));
+        a += xi * yj - xj * yi;
+    }
+    return fabs (a) / 2;
+}
+
+static void test_footprint_scale_and_range (void **state)
+{
+    (void)state;
+    // A trapezoid: near edge 200 m, far edge 400 m, 300 m deep, centre at its middle.
+    const double corners[8] = {900, 1000, 800, 1300, 1200, 1300, 1100, 1000};
+    const double centre[2] = {1000, 1150};
+    double shown[8];
+    st_footprint_scaled (corners, centre, 5, shown);
+    for (int i = 0; i < 8; i++)
+        assert_true (fabs (shown[i] - (centre[i % 2] + 5 * (corners[i] - centre[i % 2]))) < 1e-9);
+    st_footprint_scaled (corners, centre, 3, shown); // not a display scale: as it is
+    assert_memory_equal (shown, corners, sizeof corners);
+
+    st_state_t *st = st_state_new (&s_params);
+    Cgs__Uav u = CGS__UAV__INIT;
+    Cgs__Enu up = CGS__ENU__INIT;
+    up.east_m = -2000;
+    up.north_m = 1000;
+    u.entity_id = 1;
+    u.name = "uav1";
+    u.position = &up;
+    assert_int_equal (st_state_take_uav (st, &u, NULL), 0);
+    s_track_msg_t tm;
+    s_track (&tm, 12, CGS__TRACK_STATUS__TRACK_STATUS_CONFIRMED, 1000, 5000);
+    assert_int_equal (s_batch (st, &tm, 1, 1, 0), 0);
+    Cgs__Intercept x = CGS__INTERCEPT__INIT;
+    Cgs__Footprint f = CGS__FOOTPRINT__INIT;
+    Cgs__Enu c[4], *cp[4], ce = CGS__ENU__INIT, r[3], *rp[3];
+    for (int i = 0; i < 4; i++) {
+        cgs__enu__init (&c[i]);
+        c[i].east_m = corners[2 * i];
+        c[i].north_m = corners[2 * i + 1];
+        cp[i] = &c[i];
+    }
+    for (int i = 0; i < 3; i++) {
+        cgs__enu__init (&r[i]);
+        r[i].east_m = 100.0 * i;
+        rp[i] = &r[i];
+    }
+    ce.east_m = centre[0];
+    ce.north_m = centre[1];
+    f.n_corners = 4;
+    f.corners = cp;
+    f.center = &ce;
+    x.uav_id = 1;
+    x.track_id = 12;
+    x.state = CGS__INTERCEPT_STATE__INTERCEPT_STATE_APPROACH;
+    x.footprint = &f;
+    x.n_route = 3;
+    x.route = rp;
+    const unsigned scales[3] = {1, 5, 10};
+    for (int k = 0; k < 3; k++) {
+        f.display_scale = scales[k];
+        assert_int_equal (st_state_take_intercept (st, &x, NULL), 0);
+        json_object *o = s_picture (st);
+        json_object *i0 = json_object_array_get_idx (s_get (o, "intercepts"), 0);
+        assert_non_null (i0);
+        double a_true = s_area (s_get (i0, "footprint"));
+        double a_shown = s_area (s_get (i0, "footprint_display"));
+        assert_true (fabs (a_true - 90000) < 1e-6); // (200 + 400) / 2 * 300
+        assert_true (fabs (a_shown / a_true - scales[k] * scales[k]) < 1e-9);
+        assert_int_equal ((int)s_num (i0, "scale"), (int)scales[k]);
+        assert_string_equal (json_object_get_string (s_get (i0, "state")), "APPROACH");
+        assert_int_equal (json_object_array_length (s_get (i0, "route")), 6);
+        // Ground range UAV (-2000, 1000) to track (1000, 5000): 5000 m.
+        assert_true (fabs (s_num (i0, "range_m") - 5000) < 0.05);
+        json_object_put (o);
+    }
+    // A route point without a position refuses the message.
+    rp[1] = NULL;
+    assert_int_equal (st_state_take_intercept (st, &x, NULL), -EINVAL);
+    st_state_destroy (&st);
+}
+
+static void test_truth_and_image (void **state)
+{
+    (void)state;
+    st_state_t *st = st_state_new (&s_params);
+    Cgs__Entity e[2];
+    Cgs__Enu p[2];
+    Cgs__EnuVelocity v[2];
+    Cgs__Entity *ptrs[2];
+    for (int i = 0; i < 2; i++) {
+        cgs__entity__init (&e[i]);
+        cgs__enu__init (&p[i]);
+        cgs__enu_velocity__init (&v[i]);
+        v[i].east_mps = 3;
+        v[i].north_mps = 4;
+        e[i].position = &p[i];
+        e[i].velocity = &v[i];
+        e[i].active = true;
+        ptrs[i] = &e[i];
+    }
+    e[0].entity_id = 1; // the UAV
+    e[0].kind = CGS__ENTITY_KIND__ENTITY_KIND_AIR;
+    e[1].entity_id = 4;
+    e[1].marking = "RED 1";
+    e[1].force = CGS__FORCE__FORCE_HOSTILE;
+    e[1].kind = CGS__ENTITY_KIND__ENTITY_KIND_TRACKED;
+    Cgs__EntityBatch b = CGS__ENTITY_BATCH__INIT;
+    b.n_entities = 2;
+    b.entities = ptrs;
+    Cgs__Header h = CGS__HEADER__INIT;
+    h.sim_time_s = 3;
+    assert_int_equal (st_state_take_entities (st, &b, &h), 0);
+    Cgs__Uav u = CGS__UAV__INIT;
+    Cgs__Enu up = CGS__ENU__INIT;
+    u.entity_id = 1;
+    u.position = &up;
+    assert_int_equal (st_state_take_uav (st, &u, NULL), 0);
+    Cgs__Image im = CGS__IMAGE__INIT;
+    im.uav_id = 1;
+    im.frame_number = 42;
+    im.latest_path = "images/latest.png"; // relative: refused
+    assert_int_equal (st_state_take_image (st, &im, NULL), -EINVAL);
+    im.latest_path = "";
+    assert_int_equal (st_state_take_image (st, &im, NULL), 0); // a frame without a file
+    assert_string_equal (st_state_image_path (st, NULL), "");
+    im.latest_path = "/srv/images/latest.png";
+    im.mode = CGS__IMAGE_MODE__IMAGE_MODE_INFRARED;
+    assert_int_equal (st_state_take_image (st, &im, NULL), 0);
+    uint64_t frame = 0;
+    assert_string_equal (st_state_image_path (st, &frame), "/srv/images/latest.png");
+    assert_int_equal (frame, 42);
+    json_object *o = s_picture (st);
+    json_object *truth = s_get (o, "truth");
+    assert_int_equal (json_object_array_length (truth), 1); // not the UAV
+    json_object *t = json_object_array_get_idx (truth, 0);
+    assert_string_equal (json_object_get_string (s_get (t, "force")), "opposing");
+    assert_string_equal (json_object_get_string (s_get (t, "kind")), "tracked");
+    assert_string_equal (json_object_get_string (s_get (t, "marking")), "RED 1");
+    assert_true (fabs (s_num (t, "speed_mps") - 5) < 1e-9);
+    json_object *img = s_get (o, "image");
+    assert_string_equal (json_object_get_string (s_get (img, "url")), "/image/latest.png?frame=42");
+    assert_string_equal (json_object_get_string (s_get (img, "mode")), "infrared");
+    assert_string_equal (json_object_get_string (s_get (o, "type")), "state");
+    assert_int_equal ((int)s_num (o, "seq"), 7);
+    json_object_put (o);
+    // An entity without a velocity is bad input.
+    e[1].velocity = NULL;
+    assert_int_equal (st_state_take_entities (st, &b, &h), -EINVAL);
+    // Not heard of for truth_stale_s: gone.
+    st_state_set_time (st, 3 + 30.5);
+    st_state_prune (st);
+    o = s_picture (st);
+    assert_int_equal (json_object_array_length (s_get (o, "truth")), 0);
+    json_object_put (o);
+    st_state_destroy (&st);
+}
+
+int main (void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test (test_history_of_scans),
+        cmocka_unit_test (test_history_length_is_a_parameter),
+        cmocka_unit_test (test_bad_hits_are_refused_whole),
+        cmocka_unit_test (test_bcis_replies_time_out),
+        cmocka_unit_test (test_tracks),
+        cmocka_unit_test (test_footprint_scale_and_range),
+        cmocka_unit_test (test_truth_and_image),
+    };
+    return cmocka_run_group_tests (tests, NULL, NULL);
+}
