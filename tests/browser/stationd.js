@@ -413,8 +413,75 @@ async function steps(browser) {
   if (status && status.phase) diag('status: ' + JSON.stringify(status));
   await screenshot(p, 'status');
 
-  // 5. Cancel Intercept: back to loiter.
+  // 4b. The intercept's settings, the Sensors menu and the instructors' layer.
+  const layerOf = (name) => p.evaluate((name) => {
+    const l = window.cgs.map.getAllLayers().find((x) => x.get('name') === name);
+    return l ? { visible: l.getVisible(), features: l.getSource() && l.getSource().getFeatures ? l.getSource().getFeatures().length : 0 } : null;
+  }, name);
   let n0 = await repliesNow(p);
+  await p.selectOption('#fp-scale', '5');
+  let scaleReply = null;
+  try { scaleReply = await replyAfter(p, n0, 'footprint_scale', 8000); } catch (err) { /* null */ }
+  check(scaleReply && scaleReply.ok === true, 'the footprint scale 5x is accepted', scaleReply);
+  // The drawn trapezoid is the true footprint scaled 5 times about its centre: 25 times its area.
+  const ratio = await poll(() => p.evaluate(() => {
+    const x = window.cgs.state.intercepts[0] || {};
+    const l = window.cgs.map.getAllLayers().find((y) => y.get('name') === 'footprint');
+    const f = l && l.getSource().getFeatures().find((g) => g.getGeometry() && g.getGeometry().getType() === 'Polygon');
+    if (x.scale !== 5 || !x.footprint || !f) return null;
+    const area = (xy) => {
+      let a = 0;
+      for (let i = 0; i < xy.length / 2; i++) {
+        const j = (i + 1) % (xy.length / 2);
+        a += xy[2 * i] * xy[2 * j + 1] - xy[2 * j] * xy[2 * i + 1];
+      }
+      return Math.abs(a) / 2;
+    };
+    return f.getGeometry().getArea() / area(x.footprint);
+  }), 8000);
+  check(ratio && Math.abs(ratio - 25) < 0.25, 'the footprint is drawn 5x: 25 times the true area (' + ratio + ')');
+  await screenshot(p, 'footprint-5x');
+  n0 = await repliesNow(p);
+  await p.selectOption('#fp-scale', '1');
+  await replyAfter(p, n0, 'footprint_scale', 8000).catch(() => null);
+  n0 = await repliesNow(p);
+  await p.selectOption('#method', 'mti-hits');
+  let methodReply = null;
+  try { methodReply = await replyAfter(p, n0, 'intercept_mode', 8000); } catch (err) { /* null */ }
+  const methodShown = await poll(() => p.evaluate(() => (window.cgs.state.intercepts[0] || {}).method === 'mti-hits'), 8000);
+  check(methodReply && methodReply.ok === true && methodShown, 'the intercept method mti-hits is accepted and reported back', methodReply);
+  n0 = await repliesNow(p);
+  await p.selectOption('#method', 'head-on');
+  await replyAfter(p, n0, 'intercept_mode', 8000).catch(() => null);
+
+  check(await p.isDisabled('#sensor-flir') && await p.isDisabled('#sensor-sar'), 'the Sensors menu lists FLIR and SAR greyed');
+  await p.evaluate(() => { document.querySelectorAll('details').forEach((d) => { d.open = true; }); });
+  const grey = await poll(async () => ((await layerOf('hits-old')) || {}).features > 0, 20000);
+  check(grey, 'the grey history of earlier scans is drawn', await layerOf('hits-old'));
+  await p.uncheck('#sensor-mti');
+  const mtiOff = [await layerOf('hits-current'), await layerOf('hits-old')];
+  await p.uncheck('#sensor-bcis');
+  const bcisOff = await layerOf('bcis');
+  await screenshot(p, 'sensors-off');
+  check(mtiOff.every((l) => l && l.visible === false) && bcisOff && bcisOff.visible === false,
+    'unticking MTI and BCIS in the Sensors menu hides their layers', { mtiOff, bcisOff });
+  await p.check('#sensor-mti');
+  await p.check('#sensor-bcis');
+  const back = [await layerOf('hits-current'), await layerOf('bcis')];
+  check(back.every((l) => l && l.visible === true), 'ticking them again shows them');
+  const truthOff = await layerOf('truth');
+  await p.check('#truth');
+  const truthOn = await poll(async () => {
+    const l = await layerOf('truth');
+    return l && l.visible && l.features >= 4 ? l : null;
+  }, 5000);
+  check(truthOff && truthOff.visible === false && truthOn,
+    'the ground-truth layer is off until an instructor ticks it, then shows the vehicles', { truthOff, truthOn });
+  await screenshot(p, 'ground-truth');
+  await p.uncheck('#truth');
+
+  // 5. Cancel Intercept: back to loiter.
+  n0 = await repliesNow(p);
   await p.click('#cancel');
   let cancel = null;
   try {

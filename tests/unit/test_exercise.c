@@ -128,6 +128,7 @@ static void test_default_exercise (void **state)
                            : strcmp (names[i], "guidanced") == 0    ? "guidance.ini"
                            : strcmp (names[i], "imagerd.uav1") == 0 ? "imager.ini"
                            : strcmp (names[i], "gateway") == 0      ? "gateway.ini"
+                           : strcmp (names[i], "stationd") == 0     ? "station.ini"
                                                                     : NULL;
         if (file) { // relative to the exercise file
             char p[64];
