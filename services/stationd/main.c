@@ -65,6 +65,9 @@ static void s_took (s_app_t *app, int rc, const char *what)
 {
     if (rc == -EINVAL)
         cgs_service_bad_input (&app->svc, what);
+    else if (rc == -ENOSPC)
+        cgs_health_set_error (app->svc.health,
+                              "the map's table of UAVs or radars is full: a message was dropped");
     else if (rc == -ENOMEM)
         cgs_health_set_error (app->svc.health, "out of memory: the map dropped part of a message");
 }
@@ -72,10 +75,10 @@ static void s_took (s_app_t *app, int rc, const char *what)
 static void s_on_clock (void *arg, const char *topic, const ProtobufCMessage *msg,
                         const Cgs__Header *hdr)
 {
-    (void)topic, (void)hdr;
+    (void)topic;
     s_app_t *app = arg;
     const Cgs__Clock *c = (const Cgs__Clock *)msg;
-    st_state_set_time (app->state, c->sim_time_s);
+    st_state_set_clock (app->state, c->sim_time_s, hdr ? hdr->epoch : 0);
 }
 
 static void s_on_entity (void *arg, const char *topic, const ProtobufCMessage *msg,
@@ -150,8 +153,10 @@ static void s_on_image (void *arg, const char *topic, const ProtobufCMessage *ms
             "an image message whose latest_path is not an absolute path");
     uint64_t frame;
     const char *path = st_state_image_path (app->state, &frame);
-    if (*path && frame != app->image_frame) {
+    // imagerd writes the file after it announces it: shown once it is there.
+    if (*path && frame != app->image_frame && access (path, R_OK) == 0) {
         st_web_set_image (app->web, path);
+        st_state_image_shown (app->state, frame);
         app->image_frame = frame;
     }
 }
@@ -182,6 +187,8 @@ static void s_on_push (void *arg)
     cgs_health_set_counter (h, "push_bytes_max", ws.max_push_bytes);
     cgs_health_set_counter (h, "write_errors", ws.write_errors);
     cgs_health_set_counter (h, "origin_refused", ws.refused);
+    cgs_health_set_counter (h, "pages_refused_full", ws.full);
+    cgs_health_set_counter (h, "oversized_requests", ws.oversized);
     cgs_health_set_counter (h, "requests", ws.requests);
     cgs_health_set_counter (h, "commands_ok", s_read (&app->commands_ok));
     cgs_health_set_counter (h, "commands_refused", s_read (&app->commands_refused));
@@ -329,8 +336,9 @@ static void s_on_request (void *arg, st_web_conn_t *conn, const char *text, size
     op = json_object_get_string (v);
     int64_t n = json_object_object_get_ex (req, "req", &v) ? json_object_get_int64 (v) : 0;
     double uav = 0, value = 0, e = 0, no = 0;
-    if (s_number (req, "uav_id", &uav) && (uav < 0 || uav > UINT32_MAX || uav != floor (uav)))
-        uav = -1;
+    if (json_object_object_get_ex (req, "uav_id", &v) &&
+        (!s_number (req, "uav_id", &uav) || uav < 0 || uav > UINT32_MAX || uav != floor (uav)))
+        uav = -1; // given, but not a UAV id: refused, never taken as "the only UAV"
     if (strcmp (op, "mgrs") == 0) {
         s_mgrs (app, conn, req, n);
         json_object_put (req);
@@ -600,6 +608,13 @@ static int s_setup (s_app_t *app, char *err, size_t errlen)
     }
     char root[PATH_MAX];
     s_web_root (app, root, sizeof root);
+    char *hello_op = s_hello (app, true), *hello_view = s_hello (app, false);
+    if (!hello_op || !hello_view) {
+        free (hello_op);
+        free (hello_view);
+        snprintf (err, errlen, "out of memory");
+        return -ENOMEM;
+    }
     st_web_config_t wc = {.listen_address = app->p.listen_address,
                           .port = app->p.port,
                           .web_root = root,
@@ -607,17 +622,14 @@ static int s_setup (s_app_t *app, char *err, size_t errlen)
                           .write_timeout_s = app->p.write_timeout_s,
                           .token = app->p.token,
                           .relief_png = app->have_relief ? app->relief.png : NULL,
-                          .relief_len = app->have_relief ? app->relief.png_len : 0};
-    if (!(app->web = st_web_new (&wc, s_on_request, s_on_page_closed, app, err, errlen)))
-        return -EIO;
-    char *hello_op = s_hello (app, true), *hello_view = s_hello (app, false);
-    int rc = hello_op && hello_view ? st_web_set_hello (app->web, hello_op, hello_view) : -ENOMEM;
+                          .relief_len = app->have_relief ? app->relief.png_len : 0,
+                          .hello_operator = hello_op,
+                          .hello_viewer = hello_view};
+    app->web = st_web_new (&wc, s_on_request, s_on_page_closed, app, err, errlen);
     free (hello_op);
     free (hello_view);
-    if (rc < 0) {
-        snprintf (err, errlen, "out of memory");
-        return rc;
-    }
+    if (!app->web)
+        return -EIO;
     bool v6 = strchr (app->p.listen_address, ':') != NULL;
     cgs_log (LOG_INFO, "tactical map at http://%s%s%s:%d/ (page folder %s); operators %s",
              v6 ? "[" : "", app->p.listen_address, v6 ? "]" : "", st_web_port (app->web), root,

@@ -92,7 +92,12 @@ static int s_token_file (cgs_config_t *cfg, const char *path, st_params_t *p, ch
     char line[ST_TOKEN_MAX + 2] = "";
     bool got = fgets (line, sizeof line, f) != NULL;
     fclose (f);
-    line[strcspn (line, "\r\n")] = '\0';
+    size_t len = strcspn (line, "\r\n");
+    if (got && len >= ST_TOKEN_MAX) // never cut: a cut token would match nobody's
+        return cgs_config_error (cfg, "http", "token_file", 0, err, errlen,
+                                 "%s: the token is longer than %d characters", path,
+                                 ST_TOKEN_MAX - 1);
+    line[len] = '\0';
     if (!got || !s_token_ok (line))
         return cgs_config_error (cfg, "http", "token_file", 0, err, errlen,
                                  "%s: the first line must be the token: at least 8 printable "

@@ -34,6 +34,7 @@ typedef struct {
     uint64_t epoch;  // its publisher's, to start afresh when mtid restarts
     s_scan_t *scans; // history_scans + 2 slots
     size_t count;
+    double heard_s; // simulation time it was last heard of
 } s_radar_t;
 
 typedef struct {
@@ -62,6 +63,7 @@ typedef struct {
     double cmd_alt_agl_m, cmd_airspeed_mps;
     int mode;
     double loiter_e, loiter_n, loiter_radius_m;
+    double heard_s;
 } s_uav_t;
 
 typedef struct {
@@ -80,11 +82,14 @@ typedef struct {
     char reason[256];
     bool target_in_footprint;
     uint64_t designation;
+    double heard_s;
 } s_intercept_t;
 
 struct st_state {
     st_state_params_t p;
     double now_s;
+    bool have_clock;      // a clock was heard: only it moves time
+    uint64_t clock_epoch; // its publisher's
     s_radar_t radars[S_RADARS_MAX];
     size_t radar_count;
     s_bcis_t *bcis; // oldest first
@@ -95,6 +100,8 @@ struct st_state {
     s_intercept_t intercepts[S_UAVS_MAX];
     cgs_entities_t *truth;
     bool has_image;
+    bool image_shown;           // st_state_image_shown was told of a frame
+    uint64_t image_shown_frame; // that frame
     uint32_t image_uav;
     uint64_t image_frame;
     int image_mode;
@@ -157,15 +164,40 @@ static void s_advance (st_state_t *self, double t_s)
         self->now_s = t_s;
 }
 
+/* A message's own time moves time only while no clock is heard. */
 static void s_time_from (st_state_t *self, const Cgs__Header *hdr)
 {
-    if (hdr)
+    if (hdr && !self->have_clock)
         s_advance (self, hdr->sim_time_s);
 }
 
 void st_state_set_time (st_state_t *self, double sim_time_s)
 {
     s_advance (self, sim_time_s);
+}
+
+void st_state_set_clock (st_state_t *self, double t_s, uint64_t epoch)
+{
+    if (!isfinite (t_s))
+        return;
+    bool restarted = self->have_clock && epoch != self->clock_epoch && t_s < self->now_s;
+    self->have_clock = true;
+    self->clock_epoch = epoch;
+    if (!restarted) {
+        s_advance (self, t_s);
+        return;
+    }
+    // A restarted exercise: time goes back; nothing may stay "from the future".
+    self->now_s = t_s;
+    self->bcis_count = 0;
+    for (size_t i = 0; i < self->track_count; i++)
+        self->tracks[i].updated_s = fmin (self->tracks[i].updated_s, t_s);
+    for (size_t i = 0; i < self->radar_count; i++)
+        self->radars[i].heard_s = fmin (self->radars[i].heard_s, t_s);
+    for (int i = 0; i < S_UAVS_MAX; i++) {
+        self->uavs[i].heard_s = fmin (self->uavs[i].heard_s, t_s);
+        self->intercepts[i].heard_s = fmin (self->intercepts[i].heard_s, t_s);
+    }
 }
 
 double st_state_time (const st_state_t *self)
@@ -195,9 +227,10 @@ int st_state_take_uav (st_state_t *self, const Cgs__Uav *m, const Cgs__Header *h
         return -EINVAL;
     int i = s_uav_slot (self, m->entity_id);
     if (i < 0)
-        return -ENOMEM;
+        return -ENOSPC;
+    s_time_from (self, hdr);
     s_uav_t *u = &self->uavs[i];
-    *u = (s_uav_t){.valid = true, .id = m->entity_id};
+    *u = (s_uav_t){.valid = true, .id = m->entity_id, .heard_s = self->now_s};
     snprintf (u->name, sizeof u->name, "%s", m->name ? m->name : "");
     u->e = m->position->east_m;
     u->n = m->position->north_m;
@@ -213,7 +246,6 @@ int st_state_take_uav (st_state_t *self, const Cgs__Uav *m, const Cgs__Header *h
         u->loiter_n = m->loiter->center->north_m;
         u->loiter_radius_m = m->loiter->radius_m;
     }
-    s_time_from (self, hdr);
     return 0;
 }
 
@@ -248,7 +280,7 @@ int st_state_take_intercept (st_state_t *self, const Cgs__Intercept *m, const Cg
             return -EINVAL;
     int slot = s_intercept_slot (self, m->uav_id);
     if (slot < 0)
-        return -ENOMEM;
+        return -ENOSPC;
     s_intercept_t *x = &self->intercepts[slot];
     if (m->n_route > x->route_cap) {
         s_xy_t *r = realloc (x->route, m->n_route * sizeof *r);
@@ -291,6 +323,7 @@ int st_state_take_intercept (st_state_t *self, const Cgs__Intercept *m, const Cg
     x->target_in_footprint = m->target_in_footprint;
     x->designation = m->designation_number;
     s_time_from (self, hdr);
+    x->heard_s = self->now_s;
     return 0;
 }
 
@@ -305,7 +338,7 @@ static s_radar_t *s_radar (st_state_t *self, uint32_t uav_id, uint64_t epoch, in
             r = &self->radars[i];
     if (!r) {
         if (self->radar_count == S_RADARS_MAX) {
-            *ret_rc = -ENOMEM;
+            *ret_rc = -ENOSPC;
             return NULL;
         }
         s_scan_t *scans = calloc ((size_t)self->p.history_scans + 2, sizeof *scans);
@@ -324,6 +357,7 @@ static s_radar_t *s_radar (st_state_t *self, uint32_t uav_id, uint64_t epoch, in
     }
     if (epoch)
         r->epoch = epoch;
+    r->heard_s = self->now_s;
     return r;
 }
 
@@ -371,10 +405,10 @@ int st_state_take_mti (st_state_t *self, const Cgs__Mti *m, const Cgs__Header *h
         if (!m->hits[i] || !s_enu_ok (m->hits[i]->position))
             return -EINVAL;
     int rc;
+    s_time_from (self, hdr);
     s_radar_t *r = s_radar (self, m->uav_id, hdr ? hdr->epoch : 0, &rc);
     if (!r)
         return rc;
-    s_time_from (self, hdr);
     s_scan_t *s = s_scan (self, r, m->scan_number);
     if (!s)
         return 0;
@@ -399,10 +433,10 @@ int st_state_take_mti_scan (st_state_t *self, const Cgs__MtiScan *m, const Cgs__
     if (!m || m->uav_id == 0)
         return -EINVAL;
     int rc;
+    s_time_from (self, hdr);
     s_radar_t *r = s_radar (self, m->uav_id, hdr ? hdr->epoch : 0, &rc);
     if (!r)
         return rc;
-    s_time_from (self, hdr);
     s_scan_t *s = s_scan (self, r, m->scan_number);
     if (s)
         s->complete = true;
@@ -443,7 +477,8 @@ int st_state_take_bcis (st_state_t *self, const Cgs__Bcis *m, const Cgs__Header 
                         .n = rp->position->north_m,
                         .time_s = rp->sim_time_s};
         snprintf (b->marking, sizeof b->marking, "%s", rp->marking ? rp->marking : "");
-        s_advance (self, rp->sim_time_s);
+        if (!self->have_clock)
+            s_advance (self, rp->sim_time_s);
     }
     return 0;
 }
@@ -561,6 +596,12 @@ int st_state_take_image (st_state_t *self, const Cgs__Image *m, const Cgs__Heade
     return 0;
 }
 
+void st_state_image_shown (st_state_t *self, uint64_t frame)
+{
+    self->image_shown = true;
+    self->image_shown_frame = frame;
+}
+
 const char *st_state_image_path (const st_state_t *self, uint64_t *ret_frame)
 {
     if (ret_frame)
@@ -581,6 +622,22 @@ void st_state_prune (st_state_t *self)
     for (size_t i = self->track_count; i-- > 0;)
         if (now - self->tracks[i].updated_s > self->p.track_stale_s)
             s_track_remove (self, i);
+    // A radar, UAV or intercept no longer heard of (its service stopped).
+    for (size_t i = 0; i < self->radar_count; i++) {
+        s_radar_t *r = &self->radars[i];
+        if (now - r->heard_s > self->p.track_stale_s) {
+            for (size_t j = 0; j < r->count; j++)
+                free (r->scans[j].hits);
+            memset (r->scans, 0, ((size_t)self->p.history_scans + 2) * sizeof *r->scans);
+            r->count = 0;
+        }
+    }
+    for (int i = 0; i < S_UAVS_MAX; i++) {
+        if (self->uavs[i].valid && now - self->uavs[i].heard_s > self->p.track_stale_s)
+            self->uavs[i].valid = false;
+        if (self->intercepts[i].valid && now - self->intercepts[i].heard_s > self->p.track_stale_s)
+            self->intercepts[i].valid = false;
+    }
     cgs_entities_evict (self->truth, now, self->p.truth_stale_s);
 }
 
@@ -868,14 +925,14 @@ static json_object *s_json_truth (const st_state_t *self)
 
 static json_object *s_json_image (const st_state_t *self)
 {
-    if (!self->has_image)
+    if (!self->has_image || !self->image_shown)
         return NULL;
     json_object *o = json_object_new_object ();
     char url[96];
     snprintf (url, sizeof url, "/image/latest.png?frame=%llu",
-              (unsigned long long)self->image_frame);
+              (unsigned long long)self->image_shown_frame);
     s_add (o, "uav_id", json_object_new_int64 (self->image_uav));
-    s_add (o, "frame", json_object_new_int64 ((int64_t)self->image_frame));
+    s_add (o, "frame", json_object_new_int64 ((int64_t)self->image_shown_frame));
     s_add (o, "url", json_object_new_string (url));
     s_add (o, "mode",
            json_object_new_string (

@@ -32,8 +32,10 @@ st_state_t *st_state_new (const st_state_params_t *p);
 void st_state_destroy (st_state_t **self_p);
 
 /* Take one message of each topic. 0; -EINVAL when it lacks what the map
- * needs (nothing taken); -ENOMEM (what was taken before stays). hdr may be
- * NULL (no publisher epoch known). */
+ * needs (nothing taken; for an entity batch, the entities without a valid id,
+ * position or velocity are left out and the others taken); -ENOSPC when the
+ * table of UAVs, intercepts or radars (16 each) is full; -ENOMEM (what was
+ * taken before stays). hdr may be NULL (no publisher epoch known). */
 int st_state_take_uav (st_state_t *self, const Cgs__Uav *m, const Cgs__Header *hdr);
 int st_state_take_mti (st_state_t *self, const Cgs__Mti *m, const Cgs__Header *hdr);
 int st_state_take_mti_scan (st_state_t *self, const Cgs__MtiScan *m, const Cgs__Header *hdr);
@@ -42,11 +44,19 @@ int st_state_take_tracks (st_state_t *self, const Cgs__TrackBatch *m, const Cgs_
 int st_state_take_intercept (st_state_t *self, const Cgs__Intercept *m, const Cgs__Header *hdr);
 int st_state_take_image (st_state_t *self, const Cgs__Image *m, const Cgs__Header *hdr);
 int st_state_take_entities (st_state_t *self, const Cgs__EntityBatch *m, const Cgs__Header *hdr);
-/* The simulation time now (from `clock`); the picture never goes back in time. */
+/* The simulation time now, from `clock` (its publisher's epoch). Once a
+ * clock is heard, only the clock moves time (before, the messages' own times
+ * do); it never goes back, unless a new epoch of the clock starts earlier (a
+ * restarted exercise): then time is set back, BCIS replies are dropped and
+ * what was heard later than the new time counts as heard now. */
+void st_state_set_clock (st_state_t *self, double sim_time_s, uint64_t epoch);
+/* Move time on without a clock (tests, and before any clock is heard). */
 void st_state_set_time (st_state_t *self, double sim_time_s);
 /* Latest simulation time heard of. */
 double st_state_time (const st_state_t *self);
-/* Drop what has aged out at the present simulation time. */
+/* Drop what has aged out at the present simulation time: BCIS replies
+ * after bcis_timeout_s; tracks, UAVs, intercepts and a radar's hits not heard
+ * of for track_stale_s; entities after truth_stale_s. */
 void st_state_prune (st_state_t *self);
 
 /* The picture as one JSON "state" message (see README.md, "Protocol"), seq
@@ -59,6 +69,9 @@ size_t st_state_hit_count (const st_state_t *self); // every hit kept (current a
 size_t st_state_track_count (const st_state_t *self);
 /* The latest image's file ("" none) and frame number. */
 const char *st_state_image_path (const st_state_t *self, uint64_t *ret_frame);
+/* The picture shows the image of that frame (its file is there to serve);
+ * until this is called it shows none. */
+void st_state_image_shown (st_state_t *self, uint64_t frame);
 
 /* The footprint as drawn: each corner moved away from the centre by scale
  * (1, 5 or 10; any other value draws it as it is). */

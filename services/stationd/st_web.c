@@ -1,9 +1,12 @@
 /* st_web — the embedded web server (see st_web.h). */
 #include "st_web.h"
 
+#include "st_params.h"
+
 #include <civetweb.h>
 #include <errno.h>
 #include <pthread.h>
+#include <stdarg.h>
 #include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -12,14 +15,17 @@
 #include <sys/stat.h>
 #include <time.h>
 
-#define S_PATH_MAX 4096
+#define S_PATH_MAX    4096
+#define S_REQUEST_MAX 4096 // bytes of one page message
 
 struct st_web_conn {
     st_web_t *web;
     struct mg_connection *mg;
     bool operator;
-    bool listed;   // in the push list (ready), guarded by the web's lock
-    bool broken;   // a write failed
+    bool listed;   // in the push list, guarded by the web's lock
+    bool closing;  // its close handler runs: no new pushes (lock)
+    int refs;      // pushes in flight to it (lock)
+    bool broken;   // a write failed (atomic): it is being closed
     void *user;    // the request function's
     char peer[64]; // remote address
     st_web_conn_t *next;
@@ -32,21 +38,25 @@ struct st_web {
     void *arg;
     char token[260];
     int port;
+    bool loopback; // listens on a loopback address: Host is checked
+    int max_pages;
     uint8_t *relief;
     size_t relief_len;
-    pthread_mutex_t lock; // everything below
-    pthread_cond_t wake;  // a new picture, or stop
+    char *hello_operator, *hello_viewer; // set before serving, never changed
+    pthread_mutex_t lock;                // everything below
+    pthread_cond_t wake;                 // a new picture, or stop
+    pthread_cond_t idle;                 // a push round let go of its pages
     pthread_t pusher;
     bool pusher_started, stopping;
     st_web_conn_t *conns; // pages that are ready
     char *picture;        // newest picture not yet pushed (owned)
     size_t picture_len;
-    char *last; // the picture pushed last, for new pages (owned)
+    char *last; // a copy of the picture pushed last, for new pages (owned)
     size_t last_len;
-    char *hello_operator, *hello_viewer;
     char image_path[S_PATH_MAX];
     st_web_stats_t stats;
-    char last_error[256];
+    pthread_mutex_t error_lock; // last_error alone: CivetWeb's log callback may
+    char last_error[256];       // run inside any CivetWeb call
 };
 
 static double s_now (void)
@@ -56,14 +66,22 @@ static double s_now (void)
     return (double)ts.tv_sec + ts.tv_nsec * 1e-9;
 }
 
+static void s_error (st_web_t *self, const char *fmt, ...) __attribute__ ((format (printf, 2, 3)));
+static void s_error (st_web_t *self, const char *fmt, ...)
+{
+    va_list ap;
+    va_start (ap, fmt);
+    pthread_mutex_lock (&self->error_lock);
+    vsnprintf (self->last_error, sizeof self->last_error, fmt, ap);
+    pthread_mutex_unlock (&self->error_lock);
+    va_end (ap);
+}
+
 static int s_log (const struct mg_connection *conn, const char *message)
 {
     st_web_t *self = mg_get_user_data (mg_get_context (conn));
-    if (self) {
-        pthread_mutex_lock (&self->lock);
-        snprintf (self->last_error, sizeof self->last_error, "%s", message);
-        pthread_mutex_unlock (&self->lock);
-    }
+    if (self)
+        s_error (self, "%s", message);
     return 1; // handled: nothing on stdout
 }
 
@@ -84,6 +102,29 @@ static const char *s_origin_host (const char *origin)
     return p ? p + 3 : origin;
 }
 
+/* On a loopback server, Host must name this machine's loopback: another
+ * name that resolves here is a DNS-rebinding page from elsewhere. */
+static bool s_host_ok (const st_web_t *self, const char *host)
+{
+    if (!self->loopback)
+        return true; // reachable by its names; the token guards the commands
+    if (!host)
+        return false;
+    static const char *const names[] = {"127.0.0.1", "localhost", "[::1]"};
+    for (size_t i = 0; i < sizeof names / sizeof names[0]; i++) {
+        size_t n = strlen (names[i]);
+        if (strncasecmp (host, names[i], n) != 0)
+            continue;
+        if (host[n] == '\0')
+            return self->port == 80;
+        char *end;
+        long port = host[n] == ':' ? strtol (host + n + 1, &end, 10) : -1;
+        if (port == self->port && *end == '\0')
+            return true;
+    }
+    return false;
+}
+
 static int s_ws_connect (const struct mg_connection *conn, void *cbdata)
 {
     st_web_t *self = cbdata;
@@ -91,13 +132,27 @@ static int s_ws_connect (const struct mg_connection *conn, void *cbdata)
     const char *origin = mg_get_header (conn, "Origin");
     const char *host = mg_get_header (conn, "Host");
     // Browsers always send Origin; other tools (tests, scripts) may not.
-    if (origin && (!host || strcasecmp (s_origin_host (origin), host) != 0)) {
+    bool foreign = origin && (!host || strcasecmp (s_origin_host (origin), host) != 0);
+    if (foreign || !s_host_ok (self, host)) {
         pthread_mutex_lock (&self->lock);
         self->stats.refused++;
-        snprintf (self->last_error, sizeof self->last_error,
-                  "refused a WebSocket from %s: Origin %s is not this server (%s)", ri->remote_addr,
-                  origin, host ? host : "no Host header");
         pthread_mutex_unlock (&self->lock);
+        s_error (self, "refused a WebSocket from %s: %s %s is not this server", ri->remote_addr,
+                 foreign ? "Origin" : "Host",
+                 foreign ? origin
+                 : host  ? host
+                         : "(none)");
+        return 1;
+    }
+    pthread_mutex_lock (&self->lock);
+    bool full = self->stats.pages >= (uint64_t)self->max_pages;
+    if (full)
+        self->stats.full++;
+    pthread_mutex_unlock (&self->lock);
+    if (full) {
+        s_error (self,
+                 "refused a WebSocket from %s: %d pages are open, as many as the threads allow",
+                 ri->remote_addr, self->max_pages);
         return 1;
     }
     st_web_conn_t *c = calloc (1, sizeof *c);
@@ -117,16 +172,30 @@ static int s_ws_connect (const struct mg_connection *conn, void *cbdata)
     return 0;
 }
 
-/* Write text to a page; the caller holds no connection lock (CivetWeb takes it). */
+/* Write text to a page, never under the web's lock (CivetWeb takes the
+ * connection's own). A write that fails, or falls short, breaks the page:
+ * it gets a close frame and no more pushes. 0 or -EPIPE. */
 static int s_write (st_web_conn_t *c, const char *text, size_t len)
 {
-    if (c->broken)
+    if (__atomic_load_n (&c->broken, __ATOMIC_ACQUIRE))
         return -EPIPE;
-    if (mg_websocket_write (c->mg, MG_WEBSOCKET_OPCODE_TEXT, text, len) <= 0) {
-        c->broken = true;
-        return -EPIPE;
+    int n = mg_websocket_write (c->mg, MG_WEBSOCKET_OPCODE_TEXT, text, len);
+    if (n > 0 && (size_t)n >= len)
+        return 0;
+    __atomic_store_n (&c->broken, true, __ATOMIC_RELEASE);
+    mg_websocket_write (c->mg, MG_WEBSOCKET_OPCODE_CONNECTION_CLOSE, "", 0);
+    return -EPIPE;
+}
+
+/* A malloc'd copy of text, or NULL. */
+static char *s_dup (const char *text, size_t len)
+{
+    char *d = text ? malloc (len + 1) : NULL;
+    if (d) {
+        memcpy (d, text, len);
+        d[len] = '\0';
     }
-    return 0;
+    return d;
 }
 
 static void s_ws_ready (struct mg_connection *conn, void *cbdata)
@@ -136,13 +205,18 @@ static void s_ws_ready (struct mg_connection *conn, void *cbdata)
     if (!c)
         return;
     c->mg = conn;
-    pthread_mutex_lock (&self->lock);
     // The hello and the latest picture first, then the pushes: in that order.
     const char *hello = c->operator? self->hello_operator : self->hello_viewer;
     if (hello)
         s_write (c, hello, strlen (hello));
-    if (self->last)
-        s_write (c, self->last, self->last_len);
+    pthread_mutex_lock (&self->lock);
+    size_t len = self->last_len;
+    char *last = self->last ? s_dup (self->last, len) : NULL;
+    pthread_mutex_unlock (&self->lock);
+    if (last)
+        s_write (c, last, len);
+    free (last);
+    pthread_mutex_lock (&self->lock);
     c->listed = true;
     c->next = self->conns;
     self->conns = c;
@@ -158,11 +232,22 @@ static int s_ws_data (struct mg_connection *conn, int flags, char *data, size_t 
     int opcode = flags & 0xf;
     if (opcode == MG_WEBSOCKET_OPCODE_CONNECTION_CLOSE)
         return 0;
-    if (!c || opcode != MG_WEBSOCKET_OPCODE_TEXT)
+    if (c && __atomic_load_n (&c->broken, __ATOMIC_ACQUIRE))
+        return 0; // a write to it failed: close it
+    if (!c || (opcode != MG_WEBSOCKET_OPCODE_TEXT && opcode != MG_WEBSOCKET_OPCODE_CONTINUATION))
         return 1; // pings, pongs and binary frames: nothing to do
     pthread_mutex_lock (&self->lock);
     self->stats.requests++;
+    bool refuse = len > S_REQUEST_MAX || !(flags & 0x80) || opcode != MG_WEBSOCKET_OPCODE_TEXT;
+    if (refuse)
+        self->stats.oversized++;
     pthread_mutex_unlock (&self->lock);
+    if (refuse) {
+        static const char why[] = "{\"type\":\"error\",\"error\":\"a message must be one text "
+                                  "frame of at most 4096 bytes\"}";
+        st_web_send (c, why, sizeof why - 1);
+        return 1;
+    }
     self->request (self->arg, c, data, len, c->operator);
     return 1;
 }
@@ -174,12 +259,15 @@ static void s_ws_close (const struct mg_connection *conn, void *cbdata)
     if (!c)
         return;
     pthread_mutex_lock (&self->lock);
+    c->closing = true;
     for (st_web_conn_t **p = &self->conns; *p; p = &(*p)->next)
         if (*p == c) {
             *p = c->next;
             self->stats.pages--;
             break;
         }
+    while (c->refs > 0) // a push round is writing to it: wait until it is done
+        pthread_cond_wait (&self->idle, &self->lock);
     pthread_mutex_unlock (&self->lock);
     if (self->close_fn && c->user)
         self->close_fn (self->arg, c->user);
@@ -206,8 +294,11 @@ static int s_image (struct mg_connection *conn, void *cbdata)
     pthread_mutex_lock (&self->lock);
     snprintf (path, sizeof path, "%s", self->image_path);
     pthread_mutex_unlock (&self->lock);
+    // Only a regular file named latest.png (not a link): the path comes off the bus.
+    const char *base = strrchr (path, '/');
     struct stat st;
-    if (!path[0] || stat (path, &st) != 0) {
+    if (!path[0] || !base || strcmp (base, "/latest.png") != 0 || lstat (path, &st) != 0 ||
+        !S_ISREG (st.st_mode)) {
         mg_send_http_error (conn, 404, "%s", "no sensor image yet");
         return 404;
     }
@@ -215,36 +306,55 @@ static int s_image (struct mg_connection *conn, void *cbdata)
     return 200;
 }
 
-/* The push thread: the newest picture to every page, until stopped. */
+/* The push thread: the newest picture to every page, until stopped. The
+ * pages of a round are held (refs) so none is freed while written to, and
+ * written with the lock released. */
 static void *s_pusher (void *arg)
 {
     st_web_t *self = arg;
+    st_web_conn_t **round = calloc ((size_t)self->max_pages + 1, sizeof *round);
     pthread_mutex_lock (&self->lock);
     for (;;) {
         while (!self->picture && !self->stopping)
             pthread_cond_wait (&self->wake, &self->lock);
         if (self->stopping)
             break;
-        free (self->last);
-        self->last = self->picture;
-        self->last_len = self->picture_len;
+        char *pic = self->picture;
+        size_t len = self->picture_len;
         self->picture = NULL;
-        if (self->last_len > self->stats.max_push_bytes)
-            self->stats.max_push_bytes = self->last_len;
-        // Pages are written under the lock: a page's close waits for it, so
-        // none is freed while being written to.
-        double t0 = s_now ();
-        for (st_web_conn_t *c = self->conns; c; c = c->next) {
-            if (s_write (c, self->last, self->last_len) == 0)
-                self->stats.pushes++;
-            else if (c->listed) {
-                c->listed = false; // counted once; CivetWeb closes it
-                self->stats.write_errors++;
+        free (self->last);
+        self->last = s_dup (pic, len);
+        self->last_len = self->last ? len : 0;
+        if (len > self->stats.max_push_bytes)
+            self->stats.max_push_bytes = len;
+        size_t n = 0;
+        for (st_web_conn_t *c = self->conns; c && round && n < (size_t)self->max_pages + 1;
+             c = c->next)
+            if (!c->closing && !__atomic_load_n (&c->broken, __ATOMIC_ACQUIRE)) {
+                c->refs++;
+                round[n++] = c;
             }
+        pthread_mutex_unlock (&self->lock);
+        double t0 = s_now ();
+        uint64_t ok = 0, failed = 0;
+        for (size_t i = 0; i < n; i++) {
+            if (s_write (round[i], pic, len) == 0)
+                ok++;
+            else
+                failed++;
         }
-        self->stats.last_push_s = s_now () - t0;
+        double took = s_now () - t0;
+        free (pic);
+        pthread_mutex_lock (&self->lock);
+        for (size_t i = 0; i < n; i++)
+            round[i]->refs--;
+        pthread_cond_broadcast (&self->idle);
+        self->stats.pushes += ok;
+        self->stats.write_errors += failed;
+        self->stats.last_push_s = took;
     }
     pthread_mutex_unlock (&self->lock);
+    free (round);
     return NULL;
 }
 
@@ -272,8 +382,11 @@ static struct mg_context *s_start (st_web_t *self, const st_web_config_t *cfg, c
                              "30000",
                              "enable_websocket_ping_pong",
                              "yes",
+                             "tcp_nodelay",
+                             "1",
                              "additional_header",
-                             "X-Content-Type-Options: nosniff",
+                             "X-Content-Type-Options: nosniff\r\nX-Frame-Options: DENY\r\n"
+                             "Content-Security-Policy: frame-ancestors 'none'",
                              NULL};
     struct mg_callbacks callbacks = {.log_message = s_log};
     struct mg_init_data init = {&callbacks, self, options};
@@ -300,11 +413,22 @@ st_web_t *st_web_new (const st_web_config_t *cfg, st_web_request_fn *request,
         return NULL;
     }
     pthread_mutex_init (&self->lock, NULL);
+    pthread_mutex_init (&self->error_lock, NULL);
     pthread_cond_init (&self->wake, NULL);
+    pthread_cond_init (&self->idle, NULL);
+    self->loopback = st_params_is_loopback (cfg->listen_address);
+    self->max_pages = cfg->threads > 4 ? cfg->threads - 2 : 2;
+    self->port = cfg->port;
     self->request = request;
     self->close_fn = close_fn;
     self->arg = arg;
     snprintf (self->token, sizeof self->token, "%s", cfg->token ? cfg->token : "");
+    self->hello_operator = strdup (cfg->hello_operator ? cfg->hello_operator : "");
+    self->hello_viewer = strdup (cfg->hello_viewer ? cfg->hello_viewer : "");
+    if (!self->hello_operator || !self->hello_viewer) {
+        snprintf (err, errlen, "out of memory");
+        goto fail;
+    }
     if (cfg->relief_png && cfg->relief_len) {
         if (!(self->relief = malloc (cfg->relief_len))) {
             snprintf (err, errlen, "out of memory");
@@ -351,24 +475,26 @@ void st_web_destroy (st_web_t **self_p)
     st_web_t *self = self_p ? *self_p : NULL;
     if (!self)
         return;
-    if (self->pusher_started) {
-        pthread_mutex_lock (&self->lock);
-        self->stopping = true;
-        pthread_cond_signal (&self->wake);
-        pthread_mutex_unlock (&self->lock);
-        pthread_join (self->pusher, NULL);
-    }
+    pthread_mutex_lock (&self->lock);
+    self->stopping = true; // the push thread ends after its round
+    pthread_cond_signal (&self->wake);
+    pthread_mutex_unlock (&self->lock);
     if (self->mg) {
-        mg_stop (self->mg); // closes every page (their close handlers run)
+        // Closes every page: each close handler waits for a round writing to it.
+        mg_stop (self->mg);
         mg_exit_library ();
     }
+    if (self->pusher_started)
+        pthread_join (self->pusher, NULL);
     free (self->picture);
     free (self->last);
     free (self->hello_operator);
     free (self->hello_viewer);
     free (self->relief);
     pthread_cond_destroy (&self->wake);
+    pthread_cond_destroy (&self->idle);
     pthread_mutex_destroy (&self->lock);
+    pthread_mutex_destroy (&self->error_lock);
     free (self);
     *self_p = NULL;
 }
@@ -376,23 +502,6 @@ void st_web_destroy (st_web_t **self_p)
 int st_web_port (const st_web_t *self)
 {
     return self->port;
-}
-
-int st_web_set_hello (st_web_t *self, const char *hello_operator, const char *hello_viewer)
-{
-    char *a = strdup (hello_operator), *b = strdup (hello_viewer);
-    if (!a || !b) {
-        free (a);
-        free (b);
-        return -ENOMEM;
-    }
-    pthread_mutex_lock (&self->lock);
-    free (self->hello_operator);
-    free (self->hello_viewer);
-    self->hello_operator = a;
-    self->hello_viewer = b;
-    pthread_mutex_unlock (&self->lock);
-    return 0;
 }
 
 void st_web_publish (st_web_t *self, char *json, size_t len)
@@ -417,7 +526,7 @@ void st_web_set_image (st_web_t *self, const char *path)
 int st_web_send (st_web_conn_t *conn, const char *text, size_t len)
 {
     // From the page's own thread: CivetWeb's connection lock orders it with the pushes.
-    return mg_websocket_write (conn->mg, MG_WEBSOCKET_OPCODE_TEXT, text, len) > 0 ? 0 : -EPIPE;
+    return s_write (conn, text, len);
 }
 
 void *st_web_conn_user (const st_web_conn_t *conn)
@@ -439,7 +548,10 @@ void st_web_stats (st_web_t *self, st_web_stats_t *ret, char *err, size_t errlen
 {
     pthread_mutex_lock (&self->lock);
     *ret = self->stats;
-    if (err && errlen)
-        snprintf (err, errlen, "%s", self->last_error);
     pthread_mutex_unlock (&self->lock);
+    if (err && errlen) {
+        pthread_mutex_lock (&self->error_lock);
+        snprintf (err, errlen, "%s", self->last_error);
+        pthread_mutex_unlock (&self->error_lock);
+    }
 }

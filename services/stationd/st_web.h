@@ -6,13 +6,18 @@
  * CivetWeb thread, to the caller's request function, which answers that page
  * alone with st_web_send.
  *
- * CivetWeb runs its own threads, so this module is the one place where
- * threads share memory: the list of pages, the newest picture and the image
- * path, under one mutex. Operators are the pages that gave the configured
- * token (?token= on the WebSocket URL), or every page when there is none. A
- * WebSocket whose Origin is not this server's own host is refused, so
- * another web site open in the operator's browser cannot command the UAV.
- * No logging: errors are returned, counted and kept for the caller. */
+ * CivetWeb runs its own threads, so this module is where threads share
+ * memory: the list of pages, the newest picture and the image path, under one
+ * mutex that is never held across a network write (a slow page delays the
+ * push thread, up to write_timeout_s, never the caller's loop). A page whose
+ * write fails or times out is closed. Operators are the pages that gave the
+ * configured token (?token= on the WebSocket URL), or every page when there
+ * is none. A WebSocket whose Origin is not the Host it asked, or, on a
+ * loopback server, whose Host is not a loopback name of this port (DNS
+ * rebinding), is refused, so another web site open in the operator's
+ * browser cannot command the UAV. At most threads - 2 pages are open at
+ * once, so two threads always serve files. No logging: errors are returned,
+ * counted and kept for the caller. */
 #ifndef ST_WEB_H
 #define ST_WEB_H
 
@@ -32,6 +37,8 @@ typedef struct {
     const char *token;          // operators' token, "" for none
     const uint8_t *relief_png;  // the relief picture (copied), NULL for none
     size_t relief_len;
+    const char *hello_operator; // the first message each new page gets (copied),
+    const char *hello_viewer;   // by whether it is an operator's
 } st_web_config_t;
 
 /* A page's request (one WebSocket text message), called in that page's
@@ -44,7 +51,9 @@ typedef void (st_web_close_fn) (void *arg, void *user);
 typedef struct {
     uint64_t pages;          // open now
     uint64_t pages_total;    // opened since start
-    uint64_t refused;        // WebSocket upgrades refused (foreign Origin)
+    uint64_t refused;        // WebSocket upgrades refused (foreign Origin or Host)
+    uint64_t full;           // WebSocket upgrades refused: as many pages as threads allow
+    uint64_t oversized;      // page messages refused for their size (or fragmented)
     uint64_t pushes;         // pictures written to a page
     uint64_t skipped;        // pictures replaced before the push thread could send them
     uint64_t write_errors;   // writes that failed (the page is then closed)
@@ -60,8 +69,6 @@ st_web_t *st_web_new (const st_web_config_t *cfg, st_web_request_fn *request,
 void st_web_destroy (st_web_t **self_p);
 /* The port it listens on. */
 int st_web_port (const st_web_t *self);
-/* The first message each new page gets, by whether it is an operator's (copied). */
-int st_web_set_hello (st_web_t *self, const char *hello_operator, const char *hello_viewer);
 /* Hand a new picture to the push thread (takes ownership of json, malloc'd). */
 void st_web_publish (st_web_t *self, char *json, size_t len);
 /* The file /image/latest.png serves ("" none). */

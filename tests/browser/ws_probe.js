@@ -4,24 +4,34 @@
 // (a state as a summary: seq, sim time, counts), for --seconds, or until
 // --replies answers to what it sent have come. Exit 0; 2 when it cannot
 // connect (the reason on stdout as {"type":"connect-error",...}).
-//   node ws_probe.js URL [--origin O] [--send JSON]... [--seconds S] [--replies N]
+//   node ws_probe.js URL [--origin O] [--host H] [--send JSON]... [--send-size N]
+//                    [--seconds S] [--replies N]
+// (--host: the Host header to send; --send-size: also send a JSON message N bytes long)
 'use strict';
 const WebSocket = require(__dirname + '/node_modules/ws');
 
 const args = process.argv.slice(2);
 const url = args.shift();
 const sends = [];
-let origin = null, seconds = 5, replies = -1;
+let origin = null, host = null, seconds = 5, replies = -1;
 while (args.length) {
   const a = args.shift();
   if (a === '--origin') origin = args.shift();
+  else if (a === '--host') host = args.shift();
   else if (a === '--send') sends.push(args.shift());
+  else if (a === '--send-size') {
+    const n = Number(args.shift());
+    sends.push('{"op":"mgrs","req":99,"pad":"' + 'x'.repeat(Math.max(0, n - 36)) + '"}');
+  }
   else if (a === '--seconds') seconds = Number(args.shift());
   else if (a === '--replies') replies = Number(args.shift());
   else { console.error('ws_probe: unknown option ' + a); process.exit(64); }
 }
 
-const ws = new WebSocket(url, origin ? { origin } : {});
+const opts = {};
+if (origin) opts.origin = origin;
+if (host) opts.headers = { Host: host };
+const ws = new WebSocket(url, opts);
 let answered = 0;
 const done = (code) => { try { ws.terminate(); } catch (e) { /* closing anyway */ } process.exit(code); };
 ws.on('unexpected-response', (req, res) => {

@@ -115,6 +115,13 @@ static void test_token_file (void **state)
     fputs ("short\n", f);
     fclose (f);
     s_refused (text, "s.ini:3: [http] token_file", "at least 8");
+    // One longer than the token can be is refused, never cut.
+    f = fopen (path, "w");
+    for (int i = 0; i < ST_TOKEN_MAX + 10; i++)
+        fputc ('x', f);
+    fputc ('\n', f);
+    fclose (f);
+    s_refused (text, "s.ini:3: [http] token_file", "longer than");
     unlink (path);
     s_refused (text, "s.ini:3: [http] token_file", "cannot read");
     rmdir (dir);

@@ -513,7 +513,11 @@ static void test_truth_and_image (void **state)
     uint64_t frame = 0;
     assert_string_equal (st_state_image_path (st, &frame), "/srv/images/latest.png");
     assert_int_equal (frame, 42);
-    json_object *o = s_picture (st);
+    json_object *o = s_picture (st); // not shown until its file is there
+    assert_true (json_object_get_type (s_get (o, "image")) == json_type_null);
+    json_object_put (o);
+    st_state_image_shown (st, 42);
+    o = s_picture (st);
     json_object *truth = s_get (o, "truth");
     assert_int_equal (json_object_array_length (truth), 1); // not the UAV
     json_object *t = json_object_array_get_idx (truth, 0);
@@ -539,6 +543,69 @@ static void test_truth_and_image (void **state)
     st_state_destroy (&st);
 }
 
+static void test_clock_and_staleness (void **state)
+{
+    (void)state;
+    st_state_t *st = st_state_new (&s_params);
+    // Without a clock, messages move time; once a clock is heard only it does.
+    assert_int_equal (s_hits (st, 1, 2, 1), 0); // header time 1
+    assert_true (st_state_time (st) == 1);
+    st_state_set_clock (st, 10, 77);
+    assert_true (st_state_time (st) == 10);
+    assert_int_equal (s_hits (st, 500, 2, 1), 0); // header time 500: does not move it
+    assert_true (st_state_time (st) == 10);
+    st_state_set_clock (st, 9, 77); // the same clock never goes back
+    assert_true (st_state_time (st) == 10);
+    Cgs__Uav u = CGS__UAV__INIT;
+    Cgs__Enu up = CGS__ENU__INIT;
+    u.entity_id = 1;
+    u.position = &up;
+    assert_int_equal (st_state_take_uav (st, &u, NULL), 0);
+    // A radar and a UAV not heard of for track_stale_s (60 s) leave the map.
+    st_state_set_clock (st, 70, 77);
+    st_state_prune (st);
+    json_object *o = s_picture (st);
+    assert_int_equal (json_object_array_length (s_get (o, "uavs")), 1);
+    json_object_put (o);
+    assert_int_equal (st_state_hit_count (st), 4);
+    st_state_set_clock (st, 70.5, 77);
+    st_state_prune (st);
+    o = s_picture (st);
+    assert_int_equal (json_object_array_length (s_get (o, "uavs")), 0);
+    assert_int_equal (json_object_array_length (s_get (o, "hits")), 0);
+    json_object_put (o);
+    assert_int_equal (st_state_hit_count (st), 0);
+    // A restarted exercise (new clock epoch, earlier time): time goes back and
+    // a track heard "later" is not kept forever.
+    s_track_msg_t tm;
+    s_track (&tm, 4, CGS__TRACK_STATUS__TRACK_STATUS_CONFIRMED, 0, 0);
+    assert_int_equal (s_batch (st, &tm, 1, 70.5, 1), 0);
+    st_state_set_clock (st, 2, 78);
+    assert_true (st_state_time (st) == 2);
+    st_state_set_clock (st, 62.5, 78);
+    st_state_prune (st);
+    assert_int_equal (st_state_track_count (st), 0);
+    st_state_destroy (&st);
+}
+
+static void test_full_tables (void **state)
+{
+    (void)state;
+    st_state_t *st = st_state_new (&s_params);
+    Cgs__Uav u = CGS__UAV__INIT;
+    Cgs__Enu up = CGS__ENU__INIT;
+    u.position = &up;
+    for (uint32_t id = 1; id <= 16; id++) {
+        u.entity_id = id;
+        assert_int_equal (st_state_take_uav (st, &u, NULL), 0);
+    }
+    u.entity_id = 17;
+    assert_int_equal (st_state_take_uav (st, &u, NULL), -ENOSPC);
+    u.entity_id = 5; // a known one is still updated
+    assert_int_equal (st_state_take_uav (st, &u, NULL), 0);
+    st_state_destroy (&st);
+}
+
 int main (void)
 {
     const struct CMUnitTest tests[] = {
@@ -549,6 +616,8 @@ int main (void)
         cmocka_unit_test (test_tracks),
         cmocka_unit_test (test_footprint_scale_and_range),
         cmocka_unit_test (test_truth_and_image),
+        cmocka_unit_test (test_clock_and_staleness),
+        cmocka_unit_test (test_full_tables),
     };
     return cmocka_run_group_tests (tests, NULL, NULL);
 }

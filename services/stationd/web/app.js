@@ -1157,6 +1157,7 @@
 
   function onMessage(ev) {
     const t0 = performance.now();
+    lastMessageAt = t0;
     let m;
     try {
       m = JSON.parse(ev.data);
@@ -1226,6 +1227,7 @@
     ws = sock;
     sock.onopen = () => {
       connected = true;
+      lastMessageAt = performance.now();
       reconnectDelay = RECONNECT_MIN_MS;
       setConnection('connected', 'up');
     };
@@ -1239,6 +1241,19 @@
       scheduleReconnect();
     };
   }
+
+  // A link that went quiet (the server gave up on this page, or the network
+  // dropped it without a close) is closed and opened again: pictures come at
+  // push_hz, so several missed in a row mean the picture is frozen.
+  let lastMessageAt = 0;
+  setInterval(() => {
+    const hz = cgs.hello && cgs.hello.push_hz > 0 ? cgs.hello.push_hz : 5;
+    const quiet = Math.max(3000, 6000 / hz);
+    if (ws && connected && performance.now() - lastMessageAt > quiet) {
+      setConnection('no pictures for ' + Math.round(quiet / 1000) + ' s · reconnecting', 'wait');
+      ws.close();
+    }
+  }, 1000);
 
   function scheduleReconnect() {
     if (reconnectTimer) return;
