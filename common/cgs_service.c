@@ -145,6 +145,12 @@ static int s_parse (cgs_service_t *svc, int argc, char **argv)
     return 0;
 }
 
+static void s_on_zap (void *arg)
+{
+    cgs_service_t *svc = arg;
+    cgs_curve_zap_handle (svc->curve);
+}
+
 int cgs_service_init (cgs_service_t *svc, const cgs_service_info_t *info, int argc, char **argv)
 {
     memset (svc, 0, sizeof *svc);
@@ -220,11 +226,31 @@ int cgs_service_init (cgs_service_t *svc, const cgs_service_info_t *info, int ar
         cgs_log (LOG_ERR, "out of memory");
         return -ENOMEM;
     }
+    char why[1024];
+    if ((rc = cgs_curve_load (svc->exercise, svc->instance_name, &svc->curve, why, sizeof why)) <
+        0) {
+        cgs_log (LOG_ERR, "%s", why);
+        return rc;
+    }
+    if (svc->curve) { // the ZAP handler first: no server socket may admit anyone before it
+        if ((rc = cgs_curve_zap_bind (svc->curve, svc->ctx)) < 0 ||
+            (rc = cgs_loop_add_socket (svc->loop, cgs_curve_zap_socket (svc->curve), s_on_zap,
+                                       svc)) < 0) {
+            cgs_log (LOG_ERR, "cannot start the ZAP handler: %s", zmq_strerror (-rc));
+            return rc;
+        }
+        cgs_log (LOG_INFO, "CURVE on every socket, as %s", cgs_curve_public_key (svc->curve));
+    }
     if (*svc->instance->publish) {
         svc->pub = cgs_pub_new (svc->ctx, svc->instance_name, cgs_exercise_id (svc->exercise));
         if (!svc->pub)
             return -errno;
         cgs_pub_set_hwm (svc->pub, svc->instance->hwm);
+        if ((rc = cgs_curve_server (svc->curve, cgs_pub_socket (svc->pub))) < 0) {
+            cgs_log (LOG_ERR, "cannot make %s a CURVE server: %s", svc->instance->publish,
+                     zmq_strerror (-rc));
+            return rc;
+        }
         if ((rc = cgs_pub_bind (svc->pub, svc->instance->publish)) < 0) {
             cgs_log (LOG_ERR, "cannot bind %s: %s", svc->instance->publish, zmq_strerror (-rc));
             return rc;
@@ -272,7 +298,9 @@ int cgs_service_subscribe (cgs_service_t *svc, const char *topic, cgs_sub_fn *fn
             seen = strcmp (svc->connected[k], ep) == 0;
         if (seen || svc->nconnected == 64)
             continue;
-        if ((rc = cgs_sub_connect (svc->sub, ep)) < 0) {
+        if ((rc = cgs_curve_client (svc->curve, cgs_sub_socket (svc->sub), pubs[i]->public_key)) <
+                0 ||
+            (rc = cgs_sub_connect (svc->sub, ep)) < 0) {
             cgs_log (LOG_ERR, "cannot connect to %s (%s): %s", ep, pubs[i]->name,
                      zmq_strerror (-rc));
             return rc;
@@ -317,7 +345,9 @@ int cgs_service_serve_commands (cgs_service_t *svc, cgs_cmd_handler_fn *handler,
         cgs_log (LOG_WARNING, "saved state ignored: %s", cgs_cmd_server_load_error (svc->cmd));
         cgs_health_set_error (svc->health, cgs_cmd_server_load_error (svc->cmd));
     }
-    int rc = cgs_cmd_server_bind (svc->cmd, svc->instance->command);
+    int rc = cgs_curve_server (svc->curve, cgs_cmd_server_socket (svc->cmd));
+    if (rc == 0)
+        rc = cgs_cmd_server_bind (svc->cmd, svc->instance->command);
     if (rc < 0) {
         cgs_log (LOG_ERR, "cannot bind %s: %s", svc->instance->command, zmq_strerror (-rc));
         return rc;
@@ -363,6 +393,10 @@ int cgs_service_publish (cgs_service_t *svc, const char *topic, ProtobufCMessage
 static void s_on_health (void *arg)
 {
     cgs_service_t *svc = arg;
+    if (svc->curve) {
+        cgs_health_set_counter (svc->health, "curve_admitted", cgs_curve_admitted (svc->curve));
+        cgs_health_set_counter (svc->health, "curve_refused", cgs_curve_refused (svc->curve));
+    }
     if (cgs_lifecycle_take_reload ())
         cgs_log (LOG_NOTICE,
                  "SIGHUP: nothing to reload (restart the service to read changed files)");
@@ -403,6 +437,7 @@ void cgs_service_fini (cgs_service_t *svc)
     cgs_cmd_server_destroy (&svc->cmd);
     cgs_sub_destroy (&svc->sub);
     cgs_pub_destroy (&svc->pub);
+    cgs_curve_destroy (&svc->curve);
     cgs_health_destroy (&svc->health);
     cgs_loop_destroy (&svc->loop);
     cgs_exercise_destroy (&svc->exercise);

@@ -15,6 +15,7 @@
 
 #include "cgs_bus.h"
 #include "cgs_cmd.h"
+#include "cgs_curve.h"
 #include "cgs_exercise.h"
 #include "cgs_health.h"
 #include "cgs_loop.h"
@@ -60,7 +61,8 @@ typedef struct {
     cgs_sub_t *sub;        // created by the first cgs_service_subscribe
     cgs_cmd_server_t *cmd; // created by cgs_service_serve_commands
     cgs_health_t *health;
-    double sim_time_s;                    // latest simulation time, stamped on health
+    cgs_curve_t *curve; // CURVE keys and the ZAP handler; NULL when the exercise names none
+    double sim_time_s;  // latest simulation time, stamped on health
     char connected[64][CGS_ENDPOINT_MAX]; // endpoints the subscriber connected to
     int lock_fd;         // STATE_DIR/INSTANCE.lock, held for the process's life (-1 before)
     uint64_t bad_inputs; // messages the service could not use (cgs_service_bad_input)

@@ -840,7 +840,8 @@ static int s_setup (s_app_t *app, char *err, size_t errlen)
     if (rc < 0)
         return rc;
     if (app->uavsim &&
-        !(app->client = cgs_cmd_client_new (app->svc.ctx, app->uavsim->command, "gateway"))) {
+        (!(app->client = cgs_cmd_client_new (app->svc.ctx, app->uavsim->command, "gateway")) ||
+         cgs_curve_protect_client (app->svc.curve, app->client, app->uavsim->public_key) < 0)) {
         snprintf (err, errlen, "cannot make a command client for %s", app->uavsim->command);
         return -errno;
     }

@@ -927,7 +927,8 @@ int main (int argc, char **argv)
     if (app.uavsim) {
         app.client = cgs_cmd_client_new_exact (app.svc.ctx, app.uavsim->command, app.client_id,
                                                app.send_seq + 1);
-        if (!app.client) {
+        if (!app.client ||
+            cgs_curve_protect_client (app.svc.curve, app.client, app.uavsim->public_key) < 0) {
             cgs_log (LOG_ERR, "cannot make a command client for %s", app.uavsim->command);
             goto done;
         }

@@ -7,12 +7,14 @@
  *   mscgs status [--wait S] [--exercise F]
  *   mscgs ping INSTANCE [--exercise F]
  *   mscgs topics
+ *   mscgs keygen NAME [--dir DIR]
  *   mscgs loiter|goto|route|altitude|speed|pause|resume|time-scale ...   (uavsim)
  *   mscgs designate|cancel|footprint-scale|intercept-mode ...            (guidanced)
  */
 #include "cgs_bus.h"
 #include "cgs_config.h"
 #include "cgs_cmd.h"
+#include "cgs_curve.h"
 #include "cgs_exercise.h"
 #include "cgs_lifecycle.h"
 #include "cgs_loop.h"
@@ -64,6 +66,7 @@ static void s_usage (FILE *f)
                 "  status   a table of every service's health [--wait S]\n"
                 "  ping     ask a service's command endpoint for a reply: ping INSTANCE\n"
                 "  topics   list the bus topics\n"
+                "  keygen   make a CURVE key pair: keygen NAME [--dir DIR]\n"
                 "  loiter, goto, route, altitude, speed task a UAV (uavsim); --help for each\n"
                 "  pause, resume, time-scale X          the simulation clock (uavsim)\n"
                 "  designate TRACK_ID | designate --at POS, cancel, footprint-scale 1|5|10,\n"
@@ -116,6 +119,9 @@ static const char *s_exercise_path (const char *given, char *buf, size_t size)
     return "/etc/mscgs/exercise.ini";
 }
 
+/* The tools' CURVE keys of the exercise loaded last; NULL without keys. */
+static cgs_curve_t *s_curve;
+
 static cgs_exercise_t *s_load_exercise (const char *given)
 {
     char buf[PATH_MAX];
@@ -124,6 +130,13 @@ static cgs_exercise_t *s_load_exercise (const char *given)
     cgs_exercise_t *ex = NULL;
     if (cgs_exercise_load (path, &ex, err, sizeof err) < 0) {
         fprintf (stderr, "mscgs: %s\n", err);
+        return NULL;
+    }
+    // The tools' CURVE pair, when the exercise names keys.
+    cgs_curve_destroy (&s_curve);
+    if (cgs_curve_load (ex, NULL, &s_curve, err, sizeof err) < 0) {
+        fprintf (stderr, "mscgs: %s\n", err);
+        cgs_exercise_destroy (&ex);
         return NULL;
     }
     return ex;
@@ -154,7 +167,8 @@ static size_t s_connect_publishers (cgs_sub_t *sub, const cgs_exercise_t *ex, co
     if (n > S_MAX_INSTANCES)
         n = S_MAX_INSTANCES;
     for (size_t i = 0; i < n; i++)
-        if (cgs_sub_connect (sub, pubs[i]->publish) < 0)
+        if (cgs_curve_client (s_curve, cgs_sub_socket (sub), pubs[i]->public_key) < 0 ||
+            cgs_sub_connect (sub, pubs[i]->publish) < 0)
             fprintf (stderr, "mscgs: cannot connect to %s (%s)\n", pubs[i]->publish, pubs[i]->name);
     return n;
 }
@@ -507,6 +521,8 @@ static int s_cmd_ping (int argc, char **argv)
     }
     void *ctx = zmq_ctx_new ();
     cgs_cmd_client_t *cl = cgs_cmd_client_new (ctx, in->command, NULL);
+    if (cl)
+        cgs_curve_protect_client (s_curve, cl, in->public_key);
     Cgs__Ping ping = CGS__PING__INIT;
     ping.text = "mscgs ping";
     Cgs__Command cmd = CGS__COMMAND__INIT;
@@ -576,6 +592,8 @@ static int s_send (const char *tool, cgs_exercise_t *ex, const char *to, const c
     }
     void *ctx = zmq_ctx_new ();
     cgs_cmd_client_t *cl = cgs_cmd_client_new (ctx, in->command, "mscgs");
+    if (cl)
+        cgs_curve_protect_client (s_curve, cl, in->public_key);
     if (!cl) {
         zmq_ctx_term (ctx);
         fprintf (stderr, "mscgs %s: %s\n", tool, strerror (errno));
@@ -1007,6 +1025,59 @@ static int s_cmd_topics (void)
         printf ("%-12s %-16s %-20s %s\n", t->name, t->message->name,
                 strcmp (t->publishers, "*") == 0 ? "every service" : t->publishers, t->what);
     }
+    return 0;
+}
+
+/* mscgs keygen NAME [--dir DIR]: a CURVE key pair, the secret in DIR/NAME.key
+ * (mode 0600, never overwritten) and the public key in DIR/NAME.pub and on
+ * stdout, as the exercise file's lines. */
+static int s_cmd_keygen (int argc, char **argv)
+{
+    const char *dir = ".";
+    static const struct option opts[] = {{"dir", required_argument, NULL, 'd'}, {0, 0, 0, 0}};
+    int c;
+    while ((c = getopt_long (argc, argv, "", opts, NULL)) != -1) {
+        if (c != 'd') {
+            fprintf (stderr, "usage: mscgs keygen NAME [--dir DIR]\n");
+            return 2;
+        }
+        dir = optarg;
+    }
+    if (optind != argc - 1 || !*argv[optind] || strchr (argv[optind], '/')) {
+        fprintf (stderr, "usage: mscgs keygen NAME [--dir DIR]   (NAME without '/')\n");
+        return 2;
+    }
+    const char *name = argv[optind];
+    char pub[41], secret[41], spath[PATH_MAX], ppath[PATH_MAX];
+    if (zmq_curve_keypair (pub, secret) != 0) {
+        fprintf (stderr, "mscgs keygen: %s (libzmq without CURVE?)\n", zmq_strerror (zmq_errno ()));
+        return 1;
+    }
+    snprintf (spath, sizeof spath, "%s/%s.key", dir, name);
+    snprintf (ppath, sizeof ppath, "%s/%s.pub", dir, name);
+    int fd = open (spath, O_WRONLY | O_CREAT | O_EXCL, 0600);
+    if (fd < 0) {
+        fprintf (stderr, "mscgs keygen: cannot create %s: %s%s\n", spath, strerror (errno),
+                 errno == EEXIST ? " (a key is never overwritten: remove it first)" : "");
+        return 1;
+    }
+    char line[64];
+    int n = snprintf (line, sizeof line, "%s\n", secret);
+    bool ok = write (fd, line, (size_t)n) == n;
+    ok = close (fd) == 0 && ok;
+    FILE *f = ok ? fopen (ppath, "w") : NULL;
+    ok = f && fprintf (f, "%s\n", pub) > 0;
+    ok = f && fclose (f) == 0 && ok;
+    memset (secret, 0, sizeof secret);
+    memset (line, 0, sizeof line);
+    if (!ok) {
+        fprintf (stderr, "mscgs keygen: cannot write the key files in %s\n", dir);
+        return 1;
+    }
+    printf ("; %s: paste into its [service] section (or [curve] for the tools:\n"
+            "; client_public_key / client_secret_key_file)\npublic_key = %s\nsecret_key_file = "
+            "%s\n",
+            name, pub, spath);
     return 0;
 }
 
@@ -1878,6 +1949,8 @@ int main (int argc, char **argv)
         return s_cmd_ping (argc, argv);
     if (strcmp (cmd, "topics") == 0)
         return s_cmd_topics ();
+    if (strcmp (cmd, "keygen") == 0)
+        return s_cmd_keygen (argc, argv);
     if (strcmp (cmd, "snapshot") == 0)
         return s_cmd_snapshot (argc, argv);
     const char *tasks[] = {"loiter", "goto",  "route",  "altitude",

@@ -285,7 +285,8 @@ static void s_command (s_app_t *app, st_web_conn_t *conn, s_page_t *page, int64_
     }
     cgs_cmd_client_t **client =
         strcmp (to->program, "uavsim") == 0 ? &page->uavsim : &page->guidanced;
-    if (!*client && !(*client = cgs_cmd_client_new (app->svc.ctx, to->command, "stationd"))) {
+    if (!*client && (!(*client = cgs_cmd_client_new (app->svc.ctx, to->command, "stationd")) ||
+                     cgs_curve_protect_client (app->svc.curve, *client, to->public_key) < 0)) {
         s_count (&app->commands_unanswered);
         return s_refuse (conn, n, op, "cannot make a command client");
     }
