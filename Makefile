@@ -5,7 +5,7 @@
 #   make test       install missing packages, build under ASan+UBSan, run every test
 #   make bench      build optimised, run the benchmarks
 #   make montecarlo 200 whole intercepts in one process (MC_RUNS, MC_SEED)
-#   make install    install binaries and deploy files (PREFIX, DESTDIR)
+#   make install    install binaries, the page, systemd units, configs (PREFIX, DESTDIR)
 #   make clean      remove build/
 #   make format     clang-format every C, C++ and header file
 #
@@ -16,6 +16,8 @@
 
 PREFIX  ?= /usr/local
 DESTDIR ?=
+SYSCONFDIR ?= /etc
+UNITDIR ?= $(PREFIX)/lib/systemd/system
 O       ?= build
 SAN     ?= 0
 
@@ -164,6 +166,18 @@ install: all
 	install -d $(DESTDIR)$(PREFIX)/share/mscgs/web/vendor
 	install -m 0644 $(WEB_OWN) $(DESTDIR)$(PREFIX)/share/mscgs/web/
 	install -m 0644 $(WEB_VENDOR) $(DESTDIR)$(PREFIX)/share/mscgs/web/vendor/
+	install -d $(DESTDIR)$(UNITDIR) $(DESTDIR)$(SYSCONFDIR)/mscgs $(DESTDIR)$(PREFIX)/share/doc/mscgs
+	for f in deploy/systemd/*; do \
+	    sed -e 's|@BINDIR@|$(PREFIX)/bin|g' -e 's|@DATADIR@|$(PREFIX)/share|g' -e 's|@SYSCONFDIR@|$(SYSCONFDIR)|g' $$f \
+	        >$(DESTDIR)$(UNITDIR)/$$(basename $$f) && chmod 0644 $(DESTDIR)$(UNITDIR)/$$(basename $$f); \
+	done
+	@# The lab exercise becomes /etc/mscgs/exercise.ini, never over an admin's own.
+	if [ -e $(DESTDIR)$(SYSCONFDIR)/mscgs/exercise.ini ]; then \
+	    echo "install: $(DESTDIR)$(SYSCONFDIR)/mscgs/exercise.ini exists: left as it is"; \
+	else \
+	    sed 's|@DATADIR@|$(PREFIX)/share|g' deploy/exercises/lab.ini.in >$(DESTDIR)$(SYSCONFDIR)/mscgs/exercise.ini; \
+	fi
+	install -m 0644 README.md $(DESTDIR)$(PREFIX)/share/doc/mscgs/
 	cp -r deploy/. $(DESTDIR)$(PREFIX)/share/mscgs/
 
 clean:
