@@ -1,8 +1,6 @@
 /* cgs_curve — CURVE security with a ZAP handler (see cgs_curve.h). */
 #include "cgs_curve.h"
 
-#include "cgs_config.h"
-
 #include <errno.h>
 #include <pthread.h>
 #include <stdio.h>
@@ -67,23 +65,14 @@ static void s_allow (cgs_curve_t *self, const char *key)
         snprintf (self->allowed[self->nallowed++], S_KEY, "%s", key);
 }
 
-/* The public key of a secret key, to check a pair belongs together. */
-static int s_public_of (const char *secret, char ret[S_KEY])
-{
-    return zmq_curve_public (ret, secret) == 0 ? 0 : -EINVAL;
-}
-
 int cgs_curve_load (cgs_exercise_t *ex, const char *instance, cgs_curve_t **ret_curve, char *err,
                     size_t errlen)
 {
     *ret_curve = NULL;
-    cgs_config_t *cfg = cgs_exercise_config (ex);
-    const char *path = cgs_exercise_path (ex);
-    bool any = cgs_config_has_section (cfg, "curve");
-    for (size_t i = 0; i < cgs_exercise_instance_count (ex) && !any; i++)
-        any = *cgs_exercise_instance (ex, i)->public_key != '\0';
-    if (!any)
+    if (!cgs_exercise_uses_curve (ex))
         return 0;
+    // The keys themselves were checked when the exercise was loaded.
+    const char *path = cgs_exercise_path (ex);
     cgs_curve_t *self = calloc (1, sizeof *self);
     if (!self) {
         snprintf (err, errlen, "out of memory");
@@ -91,44 +80,15 @@ int cgs_curve_load (cgs_exercise_t *ex, const char *instance, cgs_curve_t **ret_
     }
     pthread_mutex_init (&self->lock, NULL);
     int rc = 0;
-    char what[256];
-    // Every instance must have a pair; all their public keys are admitted.
-    for (size_t i = 0; i < cgs_exercise_instance_count (ex); i++) {
-        const cgs_instance_t *in = cgs_exercise_instance (ex, i);
-        if (!*in->public_key) {
-            snprintf (err, errlen,
-                      "%s: [service %s] has no public_key, but the exercise uses CURVE (every "
-                      "instance needs a key pair: mscgs keygen)",
-                      path, in->name);
-            rc = -EINVAL;
-            goto fail;
-        }
-        s_allow (self, in->public_key);
-    }
-    // The tools' pair, and any other admitted keys.
-    const char *tool_pub = NULL, *tool_secret = NULL;
-    if ((rc = cgs_config_get_string (cfg, "curve", "client_public_key", "", &tool_pub, err,
-                                     errlen)) < 0 ||
-        (rc = cgs_config_get_path (cfg, "curve", "client_secret_key_file", "", &tool_secret, err,
-                                   errlen)) < 0)
-        goto fail;
-    if (*tool_pub && !s_z85 (tool_pub)) {
-        rc = cgs_config_error (cfg, "curve", "client_public_key", 0, err, errlen,
-                               "expected a CURVE public key of 40 Z85 characters");
-        goto fail;
-    }
-    if (*tool_pub)
-        s_allow (self, tool_pub);
-    for (size_t i = 0; i < cgs_config_count (cfg, "curve", "allow"); i++) {
-        const char *k = cgs_config_get_nth (cfg, "curve", "allow", i);
-        if (!s_z85 (k)) {
-            rc = cgs_config_error (cfg, "curve", "allow", i, err, errlen,
-                                   "expected a CURVE public key of 40 Z85 characters, got '%s'", k);
-            goto fail;
-        }
-        s_allow (self, k);
-    }
+    for (size_t i = 0; i < cgs_exercise_instance_count (ex); i++)
+        s_allow (self, cgs_exercise_instance (ex, i)->public_key);
+    if (*cgs_exercise_client_public_key (ex))
+        s_allow (self, cgs_exercise_client_public_key (ex));
+    for (size_t i = 0; i < cgs_exercise_allowed_count (ex); i++)
+        s_allow (self, cgs_exercise_allowed (ex, i));
     // This side's own pair.
+    char what[256];
+    const char *secret_file;
     if (instance) {
         const cgs_instance_t *in = cgs_exercise_find (ex, instance);
         if (!in) {
@@ -136,17 +96,11 @@ int cgs_curve_load (cgs_exercise_t *ex, const char *instance, cgs_curve_t **ret_
             rc = -EINVAL;
             goto fail;
         }
-        if (!*in->secret_key_file) {
-            snprintf (err, errlen, "%s: [service %s] has a public_key but no secret_key_file", path,
-                      instance);
-            rc = -EINVAL;
-            goto fail;
-        }
         snprintf (what, sizeof what, "%s: [service %s] secret_key_file", path, instance);
         snprintf (self->public_key, S_KEY, "%s", in->public_key);
-        rc = s_read_secret (in->secret_key_file, self->secret_key, err, errlen, what);
+        secret_file = in->secret_key_file;
     } else {
-        if (!*tool_pub || !*tool_secret) {
+        if (!*cgs_exercise_client_public_key (ex)) {
             snprintf (err, errlen,
                       "%s: the exercise uses CURVE: give [curve] client_public_key and "
                       "client_secret_key_file for the tools (mscgs keygen)",
@@ -155,13 +109,14 @@ int cgs_curve_load (cgs_exercise_t *ex, const char *instance, cgs_curve_t **ret_
             goto fail;
         }
         snprintf (what, sizeof what, "%s: [curve] client_secret_key_file", path);
-        snprintf (self->public_key, S_KEY, "%s", tool_pub);
-        rc = s_read_secret (tool_secret, self->secret_key, err, errlen, what);
+        snprintf (self->public_key, S_KEY, "%s", cgs_exercise_client_public_key (ex));
+        secret_file = cgs_exercise_client_secret_key_file (ex);
     }
-    if (rc < 0)
+    if ((rc = s_read_secret (secret_file, self->secret_key, err, errlen, what)) < 0)
         goto fail;
     char derived[S_KEY];
-    if (s_public_of (self->secret_key, derived) < 0 || strcmp (derived, self->public_key) != 0) {
+    if (zmq_curve_public (derived, self->secret_key) != 0 ||
+        strcmp (derived, self->public_key) != 0) {
         snprintf (err, errlen, "%s: the secret key does not belong to the public key %s", what,
                   self->public_key);
         rc = -EINVAL;

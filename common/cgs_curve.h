@@ -7,8 +7,11 @@
  * handler in each server process admits only the listed keys: every
  * instance's, the tools', and any `allow = KEY` of [curve] (libzmq admits
  * anyone who knows the server key when no handler runs, so the handler is
- * bound before any server socket). Without keys in the exercise everything
- * here does nothing. Pure of logging; errors name the file and key. */
+ * bound before any server socket). The exercise loader reads [curve] and
+ * checks every key and that every instance has its pair; here the secret
+ * keys are read and matched to their public keys. Without keys in the
+ * exercise everything here does nothing. Pure of logging; errors name the
+ * file and key. */
 #ifndef CGS_CURVE_H
 #define CGS_CURVE_H
 

@@ -4,9 +4,10 @@
  * exercise file's folder (as every path in a config file is); `state_dir` is
  * a runtime location, so a relative one is taken from the current working
  * directory of the process that loads the file. All four are made absolute.
- * The scenario need not exist when the exercise is loaded. A [curve] section
- * is left to the CURVE module; any other section, or an unknown key, is an
- * error. Pure: no logging. */
+ * The scenario need not exist when the exercise is loaded. [curve] names the
+ * tools' CURVE key pair and the other admitted client keys; when the exercise
+ * uses CURVE at all, every instance must have its pair (cgs_curve uses them).
+ * Any other section, or an unknown key, is an error. Pure: no logging. */
 #include "cgs_exercise.h"
 #include "cgs_util.h"
 
@@ -22,14 +23,19 @@
 #include <unistd.h>
 
 struct cgs_exercise {
-    cgs_config_t *config;    // the parsed file
-    char name[CGS_NAME_MAX]; // exercise name, default the file's base name
-    uint32_t id;             // 1..255, also the DIS exercise id
-    cgs_geodetic_t origin;   // origin of the local ENU frame
-    double time_scale;       // simulation seconds per wall second
-    uint64_t seed;           // seed of every model's random generator
-    char *state_dir;         // absolute
-    char *scenario;          // absolute, "" when none
+    cgs_config_t *config;                // the parsed file
+    char name[CGS_NAME_MAX];             // exercise name, default the file's base name
+    uint32_t id;                         // 1..255, also the DIS exercise id
+    cgs_geodetic_t origin;               // origin of the local ENU frame
+    double time_scale;                   // simulation seconds per wall second
+    uint64_t seed;                       // seed of every model's random generator
+    bool curve;                          // CURVE is used (some key, or a [curve] section)
+    char client_public_key[CGS_KEY_MAX]; // [curve]: the tools' pair ("" none)
+    char client_secret_key_file[4096];
+    char (*allowed)[CGS_KEY_MAX]; // [curve] allow = lines
+    size_t nallowed;
+    char *state_dir; // absolute
+    char *scenario;  // absolute, "" when none
     cgs_instance_t *instances;
     size_t count;
 };
@@ -364,6 +370,73 @@ static int s_load_services (cgs_exercise_t *self, char *err, size_t errlen)
     return s_check_endpoints (self, err, errlen);
 }
 
+/* A CURVE public key value of [section] key (idx-th), checked. */
+static int s_key (cgs_exercise_t *self, const char *section, const char *key, const char *value,
+                  size_t idx, char *err, size_t errlen)
+{
+    if (s_z85_ok (value))
+        return 0;
+    return cgs_config_error (self->config, section, key, idx, err, errlen,
+                             "expected a CURVE public key of %d Z85 characters, got '%s'",
+                             CGS_KEY_MAX - 1, value);
+}
+
+// The [curve] section, and every instance's pair when CURVE is used.
+static int s_load_curve (cgs_exercise_t *self, char *err, size_t errlen)
+{
+    cgs_config_t *cfg = self->config;
+    self->curve = cgs_config_has_section (cfg, "curve");
+    for (size_t i = 0; i < self->count; i++)
+        self->curve |= *self->instances[i].public_key != '\0';
+    if (!self->curve)
+        return 0;
+    const char *v;
+    int rc = cgs_config_get_string (cfg, "curve", "client_public_key", "", &v, err, errlen);
+    if (rc == 0 && *v)
+        rc = s_key (self, "curve", "client_public_key", v, 0, err, errlen);
+    if (rc < 0)
+        return rc;
+    snprintf (self->client_public_key, sizeof self->client_public_key, "%s", v);
+    rc = s_get_path (self, "curve", "client_secret_key_file", self->client_secret_key_file,
+                     sizeof self->client_secret_key_file, err, errlen);
+    if (rc < 0)
+        return rc;
+    if (!*self->client_public_key != !*self->client_secret_key_file)
+        return cgs_config_error (
+            cfg, "curve", *self->client_public_key ? "client_public_key" : "client_secret_key_file",
+            0, err, errlen, "give client_public_key and client_secret_key_file together");
+    size_t n = cgs_config_count (cfg, "curve", "allow");
+    self->allowed = calloc (n ? n : 1, sizeof *self->allowed);
+    if (!self->allowed) {
+        cgs_errf (err, errlen, "%s: out of memory", cgs_config_path (cfg));
+        return -ENOMEM;
+    }
+    for (size_t i = 0; i < n; i++) {
+        v = cgs_config_get_nth (cfg, "curve", "allow", i);
+        if ((rc = s_key (self, "curve", "allow", v, i, err, errlen)) < 0)
+            return rc;
+        snprintf (self->allowed[self->nallowed++], CGS_KEY_MAX, "%s", v);
+    }
+    for (size_t i = 0; i < self->count; i++) {
+        const cgs_instance_t *in = &self->instances[i];
+        if (!*in->public_key || !*in->secret_key_file) {
+            char sec[CGS_NAME_MAX + 16];
+            snprintf (sec, sizeof sec, "service %s", in->name);
+            int line = 0;
+            for (size_t k = 0; k < cgs_config_section_count (cfg) && !line; k++)
+                if (strcmp (cgs_config_section_name (cfg, k), sec) == 0)
+                    line = cgs_config_section_line (cfg, k);
+            cgs_errf (err, errlen,
+                      "%s:%d: [service %s] has no %s, but the exercise uses CURVE (every "
+                      "instance needs a key pair: mscgs keygen)",
+                      cgs_config_path (cfg), line, in->name,
+                      *in->public_key ? "secret_key_file" : "public_key");
+            return -EINVAL;
+        }
+    }
+    return 0;
+}
+
 int cgs_exercise_load (const char *path, cgs_exercise_t **ret_ex, char *err, size_t errlen)
 {
     assert (path && ret_ex);
@@ -381,7 +454,9 @@ int cgs_exercise_load (const char *path, cgs_exercise_t **ret_ex, char *err, siz
     rc = s_load_services (self, err, errlen);
     if (rc < 0)
         goto fail;
-    cgs_config_mark_section (self->config, "curve"); // read by the CURVE module
+    rc = s_load_curve (self, err, errlen);
+    if (rc < 0)
+        goto fail;
     rc = cgs_config_check_unused (self->config, err, errlen);
     if (rc < 0)
         goto fail;
@@ -401,6 +476,7 @@ void cgs_exercise_destroy (cgs_exercise_t **self_p)
     free (self->state_dir);
     free (self->scenario);
     free (self->instances);
+    free (self->allowed);
     free (self);
     *self_p = NULL;
 }
@@ -484,4 +560,37 @@ size_t cgs_exercise_publishers_of (const cgs_exercise_t *self, const char *topic
         n++;
     }
     return n;
+}
+
+bool cgs_exercise_uses_curve (const cgs_exercise_t *self)
+{
+    return self->curve;
+}
+
+const char *cgs_exercise_client_public_key (const cgs_exercise_t *self)
+{
+    return self->client_public_key;
+}
+
+const char *cgs_exercise_client_secret_key_file (const cgs_exercise_t *self)
+{
+    return self->client_secret_key_file;
+}
+
+size_t cgs_exercise_allowed_count (const cgs_exercise_t *self)
+{
+    return self->nallowed;
+}
+
+const char *cgs_exercise_allowed (const cgs_exercise_t *self, size_t i)
+{
+    return i < self->nallowed ? self->allowed[i] : NULL;
+}
+
+const cgs_instance_t *cgs_exercise_first_of (const cgs_exercise_t *self, const char *program)
+{
+    for (size_t i = 0; i < self->count; i++)
+        if (strcmp (self->instances[i].program, program) == 0)
+            return &self->instances[i];
+    return NULL;
 }

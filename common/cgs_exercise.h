@@ -65,8 +65,20 @@ uint64_t cgs_exercise_seed (const cgs_exercise_t *self);
 const char *cgs_exercise_state_dir (const cgs_exercise_t *self);
 /* Default scenario file, absolute, "" when none. */
 const char *cgs_exercise_scenario (const cgs_exercise_t *self);
-/* The parsed file, for sections other modules own (e.g. [curve]). */
+/* The parsed file. */
 cgs_config_t *cgs_exercise_config (cgs_exercise_t *self);
+/* Whether the exercise uses CURVE: some instance has a public_key, or there is
+ * a [curve] section. Then every instance has a public_key and a
+ * secret_key_file (checked at load). */
+bool cgs_exercise_uses_curve (const cgs_exercise_t *self);
+/* [curve]: the tools' pair ("" when not given; the secret key's file
+ * absolute), and the other client keys admitted (`allow =` lines). */
+const char *cgs_exercise_client_public_key (const cgs_exercise_t *self);
+const char *cgs_exercise_client_secret_key_file (const cgs_exercise_t *self);
+size_t cgs_exercise_allowed_count (const cgs_exercise_t *self);
+const char *cgs_exercise_allowed (const cgs_exercise_t *self, size_t i);
+/* The first instance of program (in the file's order), or NULL. */
+const cgs_instance_t *cgs_exercise_first_of (const cgs_exercise_t *self, const char *program);
 
 size_t cgs_exercise_instance_count (const cgs_exercise_t *self);
 const cgs_instance_t *cgs_exercise_instance (const cgs_exercise_t *self, size_t i);

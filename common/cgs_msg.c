@@ -1,6 +1,7 @@
 /* cgs_msg — protobuf-c encode/decode, arena, header access, JSON printing. */
 #include "cgs_msg.h"
 
+#include <ctype.h>
 #include <errno.h>
 #include <inttypes.h>
 #include <math.h>
@@ -652,4 +653,21 @@ int cgs_msg_print_json (FILE *f, const ProtobufCMessage *msg)
     int n = fprintf (f, "%s\n", json);
     free (json);
     return n < 0 ? -EIO : 0;
+}
+
+const char *cgs_msg_enum_short (const ProtobufCEnumDescriptor *desc, int value,
+                                const char *fallback)
+{
+    const ProtobufCEnumValue *ev = protobuf_c_enum_descriptor_get_value (desc, value);
+    if (!ev)
+        return fallback;
+    // The prefix is the enum's CamelCase name in UPPER_SNAKE, and a '_'.
+    const char *n = ev->name, *c = desc->short_name;
+    for (; *c; c++, n++) {
+        if (c != desc->short_name && isupper ((unsigned char)*c) && *n++ != '_')
+            return ev->name;
+        if (toupper ((unsigned char)*c) != *n)
+            return ev->name;
+    }
+    return *n == '_' && n[1] ? n + 1 : ev->name;
 }

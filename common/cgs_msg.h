@@ -72,5 +72,10 @@ int cgs_msg_decode_stamped (const ProtobufCMessageDescriptor *desc, const void *
 int cgs_msg_print_json (FILE *f, const ProtobufCMessage *msg);
 /* The same into a new malloc'd string; 0 or -ENOMEM. */
 int cgs_msg_to_json (const ProtobufCMessage *msg, char **ret_json);
+/* An enum value's name without the prefix its enum gives every value
+ * (InterceptState's INTERCEPT_STATE_DONE is "DONE"), or fallback when the
+ * value is not one of the enum's. */
+const char *cgs_msg_enum_short (const ProtobufCEnumDescriptor *desc, int value,
+                                const char *fallback);
 
 #endif

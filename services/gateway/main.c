@@ -829,11 +829,9 @@ static int s_setup (s_app_t *app, char *err, size_t errlen)
     }
     app->mono_offset = cgs_loop_now ();
     app->fd = -1;
-    for (size_t i = 0; i < cgs_exercise_instance_count (app->svc.exercise); i++) {
-        const cgs_instance_t *in = cgs_exercise_instance (app->svc.exercise, i);
-        if (strcmp (in->program, "uavsim") == 0 && *in->command)
-            app->uavsim = in;
-    }
+    app->uavsim = cgs_exercise_first_of (app->svc.exercise, "uavsim");
+    if (app->uavsim && !*app->uavsim->command)
+        app->uavsim = NULL; // it takes no tasks
     if (app->svc.check_only)
         return 0;
     int rc = s_socket (app, err, errlen);

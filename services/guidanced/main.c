@@ -837,13 +837,9 @@ static int s_setup (s_app_t *app, char *err, size_t errlen)
         app->uav_count++;
     }
     // uavsim takes the tasks.
-    for (size_t i = 0; i < cgs_exercise_instance_count (app->svc.exercise); i++) {
-        const cgs_instance_t *in = cgs_exercise_instance (app->svc.exercise, i);
-        if (strcmp (in->program, "uavsim") == 0 && *in->command) {
-            app->uavsim = in;
-            break;
-        }
-    }
+    app->uavsim = cgs_exercise_first_of (app->svc.exercise, "uavsim");
+    if (app->uavsim && !*app->uavsim->command)
+        app->uavsim = NULL;
     if (!app->uavsim)
         cgs_log (LOG_WARNING, "the exercise names no uavsim with a command endpoint: intercepts "
                               "are planned and published but not flown");

@@ -568,21 +568,13 @@ static void s_print_map_address (const cgs_instance_t *in)
             v6 ? "]" : "", p.port, p.token[0] ? "?token=... (the configured token)" : "");
 }
 
-/* The first instance of program in the exercise, or NULL. */
-static const cgs_instance_t *s_instance_of (const cgs_exercise_t *ex, const char *program)
-{
-    for (size_t i = 0; i < cgs_exercise_instance_count (ex); i++)
-        if (strcmp (cgs_exercise_instance (ex, i)->program, program) == 0)
-            return cgs_exercise_instance (ex, i);
-    return NULL;
-}
-
 /* Send cmd to the instance named to, or the first instance of program;
  * print the reply. Exit code: 0 ok, 1 refused or no reply, 2 usage. */
 static int s_send (const char *tool, cgs_exercise_t *ex, const char *to, const char *program,
                    Cgs__Command *cmd)
 {
-    const cgs_instance_t *in = to ? cgs_exercise_find (ex, to) : s_instance_of (ex, program);
+    const cgs_instance_t *in =
+        to ? cgs_exercise_find (ex, to) : cgs_exercise_first_of (ex, program);
     if (!in || !*in->command) {
         fprintf (stderr, "mscgs %s: %s\n", tool,
                  !in ? (to ? "no such instance in the exercise"
@@ -1136,12 +1128,7 @@ static void s_icpt_init (s_icpt_t *ic)
 /* The state's name without its prefix ("DONE"). */
 static const char *s_icpt_state_name (Cgs__InterceptState state)
 {
-    static const char *names[] = {"IDLE",     "TO_SECONDARY", "TO_WAYPOINT",
-                                  "APPROACH", "PRECISION",    "OVERFLIGHT",
-                                  "DONE",     "CANCELLED",    "LOST"};
-    if ((unsigned)state < sizeof names / sizeof names[0])
-        return names[state];
-    return "UNKNOWN";
+    return cgs_msg_enum_short (&cgs__intercept_state__descriptor, state, "UNKNOWN");
 }
 
 static bool s_icpt_state_final (Cgs__InterceptState state)

@@ -505,15 +505,11 @@ static void s_web_root (const s_app_t *app, char *ret, size_t size)
     snprintf (ret, size, "%s/../share/mscgs/web", exe);
 }
 
-/* The first instance of program with a command endpoint, or NULL. */
+/* The first instance of program, if it takes commands; else NULL. */
 static const cgs_instance_t *s_commanded (const cgs_exercise_t *ex, const char *program)
 {
-    for (size_t i = 0; i < cgs_exercise_instance_count (ex); i++) {
-        const cgs_instance_t *in = cgs_exercise_instance (ex, i);
-        if (strcmp (in->program, program) == 0 && *in->command)
-            return in;
-    }
-    return NULL;
+    const cgs_instance_t *in = cgs_exercise_first_of (ex, program);
+    return in && *in->command ? in : NULL;
 }
 
 static char *s_hello (s_app_t *app, bool operator)

@@ -2,6 +2,7 @@
 #include "st_state.h"
 
 #include "cgs_entities.h"
+#include "cgs_msg.h"
 
 #include <errno.h>
 #include <json-c/json.h>
@@ -669,10 +670,7 @@ static const char *s_mode_name (int m)
 
 static const char *s_intercept_state_name (int s)
 {
-    static const char *const names[] = {"IDLE",     "TO_SECONDARY", "TO_WAYPOINT",
-                                        "APPROACH", "PRECISION",    "OVERFLIGHT",
-                                        "DONE",     "CANCELLED",    "LOST"};
-    return s >= 0 && s < (int)(sizeof names / sizeof names[0]) ? names[s] : "IDLE";
+    return cgs_msg_enum_short (&cgs__intercept_state__descriptor, s, "IDLE");
 }
 
 static const char *s_force_name (cgs_force_t f)

@@ -22,6 +22,7 @@
  * Output: readable lines, then a block of key=value figures and a verdict
  * against the goals. Exit 0 whether or not the goals are met; 1 when
  * something broke (lost messages, errors); 2 on bad usage. */
+#include "bench_util.h"
 #include "cgs_bus.h"
 #include "cgs_cmd.h"
 
@@ -1109,17 +1110,6 @@ static void s_usage (FILE *f)
              CGS_BUS_DEFAULT_SNDHWM);
 }
 
-static bool s_parse_long (const char *s, long min, long max, long *ret)
-{
-    char *end = NULL;
-    errno = 0;
-    long v = s ? strtol (s, &end, 10) : 0;
-    if (!s || errno || end == s || *end || v < min || v > max)
-        return false;
-    *ret = v;
-    return true;
-}
-
 int main (int argc, char **argv)
 {
     s_opts_t o = {.messages = 2000000,
@@ -1149,20 +1139,20 @@ int main (int argc, char **argv)
         if (!ok)
             ;
         else if (!strcmp (a, "--messages"))
-            ok = s_parse_long (v, 2, 1000000000, &o.messages);
-        else if (!strcmp (a, "--runs") && (ok = s_parse_long (v, 1, S_MAX_RUNS, &n)))
+            ok = bench_parse_long (v, 2, 1000000000, &o.messages);
+        else if (!strcmp (a, "--runs") && (ok = bench_parse_long (v, 1, S_MAX_RUNS, &n)))
             o.runs = (int)n;
-        else if (!strcmp (a, "--hwm") && (ok = s_parse_long (v, 0, 100000000, &n)))
+        else if (!strcmp (a, "--hwm") && (ok = bench_parse_long (v, 0, 100000000, &n)))
             o.hwm = (int)n;
-        else if (!strcmp (a, "--size") && (ok = s_parse_long (v, 64, 4096, &n)))
+        else if (!strcmp (a, "--size") && (ok = bench_parse_long (v, 64, 4096, &n)))
             o.size = (size_t)n;
         else if (!strcmp (a, "--only") && (ok = !strcmp (v, "ours") || !strcmp (v, "raw"))) {
             o.ours = !strcmp (v, "ours");
             o.raw = !o.ours;
         } else if (!strcmp (a, "--calls"))
-            ok = s_parse_long (v, 1, 100000000, &o.calls);
+            ok = bench_parse_long (v, 1, 100000000, &o.calls);
         else if (!strcmp (a, "--durable-calls"))
-            ok = s_parse_long (v, 0, 100000000, &o.durable_calls);
+            ok = bench_parse_long (v, 0, 100000000, &o.durable_calls);
         else if (!strcmp (a, "--state-dir"))
             o.state_dir = v;
         else if (strcmp (a, "--runs") && strcmp (a, "--hwm") && strcmp (a, "--size") &&

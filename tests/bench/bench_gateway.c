@@ -669,17 +669,6 @@ static void s_usage (FILE *f)
              "Other options that take a value (meant for other benchmarks) are ignored.\n");
 }
 
-static bool s_parse_long (const char *s, long min, long max, long *ret)
-{
-    char *end = NULL;
-    errno = 0;
-    long v = s ? strtol (s, &end, 10) : 0;
-    if (!s || errno || end == s || *end || v < min || v > max)
-        return false;
-    *ret = v;
-    return true;
-}
-
 static void s_print (const char *what, const s_fig_t *f, const char *unit, double goal)
 {
     printf ("  %-44s median %12.0f %s (min %.0f, max %.0f)", what, f->median, unit, f->min, f->max);
@@ -710,17 +699,17 @@ int main (int argc, char **argv)
         }
         long n = 0;
         bool ok = true;
-        if (!strcmp (a, "--runs") && (ok = s_parse_long (v, 1, S_MAX_RUNS, &n)))
+        if (!strcmp (a, "--runs") && (ok = bench_parse_long (v, 1, S_MAX_RUNS, &n)))
             o.runs = (int)n;
         else if (!strcmp (a, "--pdus"))
-            ok = s_parse_long (v, 1, 1000000000, &o.pdus);
+            ok = bench_parse_long (v, 1, 1000000000, &o.pdus);
         else if (!strcmp (a, "--send-pdus"))
-            ok = s_parse_long (v, 1, 1000000000, &o.send_pdus);
-        else if (!strcmp (a, "--batch") && (ok = s_parse_long (v, 1, S_MAX_BATCH, &n)))
+            ok = bench_parse_long (v, 1, 1000000000, &o.send_pdus);
+        else if (!strcmp (a, "--batch") && (ok = bench_parse_long (v, 1, S_MAX_BATCH, &n)))
             o.batch = (int)n;
         else if (!strcmp (a, "--entities"))
-            ok = s_parse_long (v, 1, 65000, &o.entities);
-        else if (!strcmp (a, "--ticks") && (ok = s_parse_long (v, 1, 100000, &n)))
+            ok = bench_parse_long (v, 1, 65000, &o.entities);
+        else if (!strcmp (a, "--ticks") && (ok = bench_parse_long (v, 1, 100000, &n)))
             o.ticks = (int)n;
         else if (strncmp (a, "--", 2) != 0 || !v)
             ok = false; // not an option, or one without its value

@@ -970,17 +970,6 @@ static void s_usage (FILE *f)
         "Other options that take a value (meant for other benchmarks) are ignored.\n");
 }
 
-static bool s_parse_long (const char *s, long min, long max, long *ret)
-{
-    char *end = NULL;
-    errno = 0;
-    long v = s ? strtol (s, &end, 10) : 0;
-    if (!s || errno || end == s || *end || v < min || v > max)
-        return false;
-    *ret = v;
-    return true;
-}
-
 static void s_keys (const char *key, const s_fig_t *f, int decimals)
 {
     printf ("%s=%.*f\n%s_min=%.*f\n%s_max=%.*f\n", key, decimals, f->median, key, decimals, f->min,
@@ -999,10 +988,10 @@ int main (int argc, char **argv)
         }
         long n = 0;
         bool ok = true;
-        if (!strcmp (a, "--runs") && (ok = s_parse_long (v, 1, S_MAX_RUNS, &n)))
+        if (!strcmp (a, "--runs") && (ok = bench_parse_long (v, 1, S_MAX_RUNS, &n)))
             o.runs = (int)n;
         else if (!strcmp (a, "--seconds"))
-            ok = s_parse_long (v, 2, 3600, &o.seconds);
+            ok = bench_parse_long (v, 2, 3600, &o.seconds);
         else if (!strcmp (a, "--scan-s")) {
             char *end = NULL;
             double s = v ? strtod (v, &end) : 0;
@@ -1011,9 +1000,9 @@ int main (int argc, char **argv)
             if (ok)
                 o.scan_s = s;
         } else if (!strcmp (a, "--hits"))
-            ok = s_parse_long (v, S_SCANS, 1000000, &o.hits);
+            ok = bench_parse_long (v, S_SCANS, 1000000, &o.hits);
         else if (!strcmp (a, "--tracks"))
-            ok = s_parse_long (v, 1, 100000, &o.tracks);
+            ok = bench_parse_long (v, 1, 100000, &o.tracks);
         else if (!strcmp (a, "--viewport")) {
             int w = 0, h = 0;
             char extra;

@@ -200,11 +200,11 @@ function childTicks() {
     byParent.get(s[0]).push(pid);
   }
   const out = new Map();
-  const todo = (byParent.get(process.pid) || []).slice();
-  while (todo.length) {
-    const p = todo.pop();
+  const stack = (byParent.get(process.pid) || []).slice();
+  while (stack.length) {
+    const p = stack.pop();
     out.set(p, ticks.get(p));
-    for (const c of byParent.get(p) || []) todo.push(c);
+    for (const c of byParent.get(p) || []) stack.push(c);
   }
   return out;
 }

@@ -1,13 +1,28 @@
 /* bench_util — the timing helpers every benchmark uses: CPU and wall-clock
- * time in seconds, and the median of a sample. Header-only (benchmarks are
+ * time in seconds, the median of a sample, and option numbers. Header-only (benchmarks are
  * single files). */
 #ifndef BENCH_UTIL_H
 #define BENCH_UTIL_H
 
 #include <stdlib.h>
+#include <errno.h>
+#include <stdbool.h>
 #include <time.h>
 
 /* CPU time of this process, seconds. */
+/* A whole number in [min, max] from an option's text; false (nothing
+ * written) when it is not one. */
+static inline bool bench_parse_long (const char *s, long min, long max, long *ret)
+{
+    char *end = NULL;
+    errno = 0;
+    long v = s ? strtol (s, &end, 10) : 0;
+    if (!s || errno || end == s || *end || v < min || v > max)
+        return false;
+    *ret = v;
+    return true;
+}
+
 static inline double bench_cpu_s (void)
 {
     struct timespec ts;

@@ -13,6 +13,22 @@
 #include <unistd.h>
 #include <zmq.h>
 
+static void test_enum_short_names (void **state)
+{
+    (void)state;
+    static const char *const states[] = {"IDLE",     "TO_SECONDARY", "TO_WAYPOINT",
+                                         "APPROACH", "PRECISION",    "OVERFLIGHT",
+                                         "DONE",     "CANCELLED",    "LOST"};
+    for (int i = 0; i < 9; i++)
+        assert_string_equal (cgs_msg_enum_short (&cgs__intercept_state__descriptor, i, "?"),
+                             states[i]);
+    assert_string_equal (cgs_msg_enum_short (&cgs__intercept_state__descriptor, 9, "?"), "?");
+    assert_string_equal (cgs_msg_enum_short (&cgs__intercept_state__descriptor, -1, "?"), "?");
+    assert_string_equal (cgs_msg_enum_short (&cgs__track_status__descriptor, 2, "?"), "COASTING");
+    assert_string_equal (cgs_msg_enum_short (&cgs__uav_mode__descriptor, 1, "?"), "ROUTE");
+    assert_string_equal (cgs_msg_enum_short (&cgs__force__descriptor, 2, "?"), "HOSTILE");
+}
+
 static void test_json_prints_fields_enums_and_oneofs (void **state)
 {
     (void)state;
@@ -464,6 +480,7 @@ static void test_prepare_endpoint_creates_ipc_folder (void **state)
 int main (void)
 {
     const struct CMUnitTest tests[] = {
+        cmocka_unit_test (test_enum_short_names),
         cmocka_unit_test (test_json_prints_fields_enums_and_oneofs),
         cmocka_unit_test (test_arena_decodes_and_resets),
         cmocka_unit_test (test_header_slot),

@@ -221,8 +221,8 @@ static void test_every_key (void **state)
               "enabled = no\n"
               "\n"
               "[curve]\n"
-              "whatever = the CURVE module decides\n",
-              key);
+              "allow = %s\n",
+              key, key);
     if (s_load (t, text, &ex, err, sizeof err) != 0)
         fail_msg ("%s", err);
     assert_int_equal (cgs_exercise_id (ex), 255);
@@ -249,8 +249,8 @@ static void test_every_key (void **state)
     // the program, not the instance name, decides what it publishes
     assert_int_equal (cgs_exercise_publishers_of (ex, "mti", NULL, 0), 0);
     assert_int_equal (cgs_exercise_publishers_of (ex, "health", NULL, 0), 1);
-    assert_string_equal (cgs_config_get_nth (cgs_exercise_config (ex), "curve", "whatever", 0),
-                         "the CURVE module decides");
+    assert_string_equal (cgs_config_get_nth (cgs_exercise_config (ex), "curve", "allow", 0), key);
+    assert_string_equal (cgs_exercise_allowed (ex, 0), key);
     cgs_exercise_destroy (&ex);
 
     // a relative state_dir is taken from the working directory
@@ -395,6 +395,65 @@ static void test_bad_instance_name (void **state)
     cgs_exercise_destroy (&ex);
 }
 
+static void test_curve (void **state)
+{
+    s_tmp_t *t = *state;
+#define S_K1 "rq:rM>}U?@Lns47E1%kR.o@n%FcmmsL/@{H8]yf7"
+#define S_K2 "Yne@$w-vo<fVvi]a<NY6T1ed:M$fCG*[IaLV{hID"
+#define S_A  "[service a]\npublish = inproc://a\n"
+    // Without keys or [curve]: no CURVE.
+    cgs_exercise_t *ex = NULL;
+    char err[512] = "";
+    assert_int_equal (s_load (t, S_HEAD S_A, &ex, err, sizeof err), 0);
+    assert_false (cgs_exercise_uses_curve (ex));
+    assert_ptr_equal (cgs_exercise_first_of (ex, "a"), cgs_exercise_find (ex, "a"));
+    assert_null (cgs_exercise_first_of (ex, "b"));
+    cgs_exercise_destroy (&ex);
+    // Keys everywhere: the tools' pair and the allowed keys are read.
+    assert_int_equal (s_load (t,
+                              S_HEAD "[curve]\nclient_public_key = " S_K2
+                                     "\nclient_secret_key_file = ops.key\nallow = " S_K1
+                                     "\nallow = " S_K2 "\n" S_A "public_key = " S_K1
+                                     "\nsecret_key_file = a.key\n",
+                              &ex, err, sizeof err),
+                      0);
+    assert_true (cgs_exercise_uses_curve (ex));
+    assert_string_equal (cgs_exercise_client_public_key (ex), S_K2);
+    const char *f = cgs_exercise_client_secret_key_file (ex);
+    assert_true (f[0] == '/' && strstr (f, "/ops.key")); // relative to the file, made absolute
+    assert_int_equal (cgs_exercise_allowed_count (ex), 2);
+    assert_string_equal (cgs_exercise_allowed (ex, 1), S_K2);
+    assert_null (cgs_exercise_allowed (ex, 2));
+    cgs_exercise_destroy (&ex);
+    // A key on one instance makes CURVE the rule: the other needs its pair.
+    s_load_fails (t,
+                  S_HEAD S_A "public_key = " S_K1
+                             "\nsecret_key_file = a.key\n[service b]\npublish = inproc://b\n",
+                  ":7: [service b] has no public_key, but the exercise uses CURVE (every instance "
+                  "needs a key pair: mscgs keygen)");
+    s_load_fails (t, S_HEAD S_A "public_key = " S_K1 "\n",
+                  ":3: [service a] has no secret_key_file, but the exercise uses CURVE (every "
+                  "instance needs a key pair: mscgs keygen)");
+    // [curve] alone (an empty one too) turns CURVE on.
+    s_load_fails (t, S_HEAD "[curve]\n" S_A,
+                  ":4: [service a] has no public_key, but the exercise uses CURVE (every instance "
+                  "needs a key pair: mscgs keygen)");
+    // Its keys are checked, and its unknown keys refused.
+    s_load_fails (
+        t, S_HEAD "[curve]\nallow = notakey\n" S_A,
+        ":4: [curve] allow: expected a CURVE public key of 40 Z85 characters, got 'notakey'");
+    s_load_fails (t, S_HEAD "[curve]\nclient_public_key = " S_K2 "\n" S_A,
+                  ":4: [curve] client_public_key: give client_public_key and "
+                  "client_secret_key_file together");
+    s_load_fails (t,
+                  S_HEAD "[curve]\nalow = " S_K1 "\n" S_A "public_key = " S_K1
+                         "\nsecret_key_file = a.key\n",
+                  ":4: [curve] unknown key 'alow'");
+#undef S_K1
+#undef S_K2
+#undef S_A
+}
+
 static void test_unknown (void **state)
 {
     s_tmp_t *t = *state;
@@ -431,6 +490,7 @@ int main (void)
         cmocka_unit_test_setup_teardown (test_origin, s_setup, s_teardown),
         cmocka_unit_test_setup_teardown (test_bad_values, s_setup, s_teardown),
         cmocka_unit_test_setup_teardown (test_bad_instance_name, s_setup, s_teardown),
+        cmocka_unit_test_setup_teardown (test_curve, s_setup, s_teardown),
         cmocka_unit_test_setup_teardown (test_unknown, s_setup, s_teardown),
     };
     return cmocka_run_group_tests (tests, NULL, NULL);
