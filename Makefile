@@ -20,6 +20,9 @@ SYSCONFDIR ?= /etc
 UNITDIR ?= $(PREFIX)/lib/systemd/system
 O       ?= build
 SAN     ?= 0
+# FAULT=1 compiles in the debug-only fault channel (common/cgs_fault.h); the
+# sanitizer build the tests use has it, release builds do not.
+FAULT   ?= $(if $(filter 1,$(SAN)),1,0)
 
 CC      ?= cc
 CXX     ?= c++
@@ -47,6 +50,9 @@ else ifeq ($(SAN),1)
 else
   CFLAGS   += -O2
   CXXFLAGS += -O2
+endif
+ifeq ($(FAULT),1)
+  CPPFLAGS += -DCGS_FAULT
 endif
 
 # Compilers may be overridden from the environment; "cc" default is fine on Debian.

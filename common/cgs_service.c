@@ -19,6 +19,93 @@
 
 #define S_DEFAULT_EXERCISE "/etc/mscgs/exercise.ini"
 
+#ifdef CGS_FAULT
+/* ---- the debug-only fault channel (cgs_fault.h) ---------------------------------------- */
+
+static void s_on_fault_command (void *arg, const Cgs__Command *cmd, Cgs__Reply *reply)
+{
+    cgs_service_t *svc = arg;
+    static char text[256];
+    if (cmd->body_case != CGS__COMMAND__BODY_FAULT) {
+        reply->status = CGS__REPLY_STATUS__REPLY_STATUS_UNSUPPORTED;
+        reply->error = "the fault channel takes fault requests only";
+        return;
+    }
+    if (cgs_fault_request (&svc->fault, cmd->fault, cgs_loop_now (), text, sizeof text) < 0) {
+        reply->status = CGS__REPLY_STATUS__REPLY_STATUS_ERROR;
+        reply->error = text;
+        return;
+    }
+    const Cgs__Fault *f = cmd->fault;
+    if (f->action == CGS__FAULT_ACTION__FAULT_ACTION_SLOW && f->seconds > 0)
+        snprintf (text, sizeof text, "stalling %u ms in every %.0f ms for %g s", f->stall_ms,
+                  CGS_FAULT_PERIOD_S * 1e3, f->seconds);
+    else if (f->action == CGS__FAULT_ACTION__FAULT_ACTION_SLOW)
+        snprintf (text, sizeof text, "stalling %u ms in every %.0f ms until the end", f->stall_ms,
+                  CGS_FAULT_PERIOD_S * 1e3);
+    else if (f->action == CGS__FAULT_ACTION__FAULT_ACTION_HANG && f->seconds > 0)
+        snprintf (text, sizeof text, "hanging for %g s after this reply", f->seconds);
+    else if (f->action == CGS__FAULT_ACTION__FAULT_ACTION_HANG)
+        snprintf (text, sizeof text, "hanging until killed, after this reply");
+    else
+        snprintf (text, sizeof text, "crashing after this reply");
+    cgs_log (LOG_WARNING, "fault channel: %s", text);
+    reply->detail = text;
+}
+
+/* After the replies went out: do a pending crash or hang. */
+static void s_on_fault (void *arg)
+{
+    cgs_service_t *svc = arg;
+    cgs_cmd_server_dispatch (svc->fault_cmd, 10);
+    double hang_s = 0;
+    switch (cgs_fault_take (&svc->fault, &hang_s)) {
+    case CGS__FAULT_ACTION__FAULT_ACTION_CRASH:
+        abort ();
+    case CGS__FAULT_ACTION__FAULT_ACTION_HANG: {
+        double end = cgs_loop_now () + hang_s;
+        while (hang_s <= 0 || cgs_loop_now () < end)
+            usleep (10000); // deaf to signals but SIGKILL, like a real hang
+        cgs_log (LOG_WARNING, "fault channel: the hang of %g s is over", hang_s);
+        break;
+    }
+    default:
+        break;
+    }
+}
+
+static void s_on_fault_slow (void *arg)
+{
+    cgs_service_t *svc = arg;
+    bool was = svc->fault.stall_ms > 0;
+    unsigned ms = cgs_fault_stall_ms (&svc->fault, cgs_loop_now ());
+    if (ms > 0)
+        usleep (ms * 1000u);
+    else if (was)
+        cgs_log (LOG_WARNING, "fault channel: the slow-down is over");
+}
+
+/* Open the fault channel on ipc://STATE_DIR/INSTANCE.fault; 0 or -errno (logged). */
+static int s_fault_open (cgs_service_t *svc)
+{
+    char ep[4300];
+    snprintf (ep, sizeof ep, "ipc://%s/%s.fault", svc->state_dir, svc->instance_name);
+    svc->fault_cmd =
+        cgs_cmd_server_new (svc->ctx, svc->instance_name, NULL, s_on_fault_command, svc);
+    int rc = svc->fault_cmd ? cgs_cmd_server_bind (svc->fault_cmd, ep) : -errno;
+    if (rc == 0)
+        rc = cgs_loop_add_socket (svc->loop, cgs_cmd_server_socket (svc->fault_cmd), s_on_fault,
+                                  svc);
+    if (rc == 0 && cgs_loop_add_timer (svc->loop, CGS_FAULT_PERIOD_S, s_on_fault_slow, svc) < 0)
+        rc = -ENOMEM;
+    if (rc < 0)
+        cgs_log (LOG_ERR, "cannot open the fault channel %s: %s", ep, zmq_strerror (-rc));
+    else
+        cgs_log (LOG_NOTICE, "debug build: fault channel on %s", ep);
+    return rc;
+}
+#endif
+
 static void s_usage (const cgs_service_info_t *info, FILE *f)
 {
     fprintf (f, "usage: %s [options]\n%s\n\n", info->program, info->summary);
@@ -257,6 +344,10 @@ int cgs_service_init (cgs_service_t *svc, const cgs_service_info_t *info, int ar
         }
         cgs_health_watch_pub (svc->health, svc->pub);
     }
+#ifdef CGS_FAULT
+    if ((rc = s_fault_open (svc)) < 0)
+        return rc;
+#endif
     cgs_log (LOG_INFO, "exercise %s (id %u), instance %s, publishing on %s",
              cgs_exercise_name (svc->exercise), cgs_exercise_id (svc->exercise), svc->instance_name,
              *svc->instance->publish ? svc->instance->publish : "(nothing)");
@@ -435,6 +526,7 @@ int cgs_service_run (cgs_service_t *svc)
 void cgs_service_fini (cgs_service_t *svc)
 {
     cgs_cmd_server_destroy (&svc->cmd);
+    cgs_cmd_server_destroy (&svc->fault_cmd);
     cgs_sub_destroy (&svc->sub);
     cgs_pub_destroy (&svc->pub);
     cgs_curve_destroy (&svc->curve);

@@ -9,7 +9,10 @@
  * /etc/mscgs/exercise.ini), --instance NAME (default: the program's name),
  * --scenario FILE, --params FILE, --state-dir DIR, --time-scale X (the
  * exercise's time scale, for the service that owns time), --check (validate the
- * configuration and exit), -v/--verbose, -h/--help, --version. */
+ * configuration and exit), -v/--verbose, -h/--help, --version.
+ *
+ * Built with CGS_FAULT (make FAULT=1; the test build is), it also serves the
+ * debug-only fault channel of cgs_fault.h on ipc://STATE_DIR/INSTANCE.fault. */
 #ifndef CGS_SERVICE_H
 #define CGS_SERVICE_H
 
@@ -17,6 +20,7 @@
 #include "cgs_cmd.h"
 #include "cgs_curve.h"
 #include "cgs_exercise.h"
+#include "cgs_fault.h"
 #include "cgs_health.h"
 #include "cgs_loop.h"
 
@@ -64,8 +68,10 @@ typedef struct {
     cgs_curve_t *curve; // CURVE keys and the ZAP handler; NULL when the exercise names none
     double sim_time_s;  // latest simulation time, stamped on health
     char connected[64][CGS_ENDPOINT_MAX]; // endpoints the subscriber connected to
-    int lock_fd;         // STATE_DIR/INSTANCE.lock, held for the process's life (-1 before)
-    uint64_t bad_inputs; // messages the service could not use (cgs_service_bad_input)
+    int lock_fd;                 // STATE_DIR/INSTANCE.lock, held for the process's life (-1 before)
+    uint64_t bad_inputs;         // messages the service could not use (cgs_service_bad_input)
+    cgs_cmd_server_t *fault_cmd; // the fault channel (built with CGS_FAULT only), else NULL
+    cgs_fault_t fault;           // its requests and schedule
     size_t nconnected;
 } cgs_service_t;
 

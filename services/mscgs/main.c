@@ -72,7 +72,11 @@ static void s_usage (FILE *f)
                 "  designate TRACK_ID | designate --at POS, cancel, footprint-scale 1|5|10,\n"
                 "  intercept-mode head-on|mti-hits      the intercept (guidanced); --help\n"
                 "  snapshot [N]  write the imaging sensor's next N frames (default 1) as PNG\n"
-                "           files in imagerd's output folder [--to INSTANCE] [--uav ID]\n\n"
+                "           files in imagerd's output folder [--to INSTANCE] [--uav ID]\n"
+                "  fault INSTANCE crash | hang [S] | slow MS [S]   the debug-only fault\n"
+                "           channel of a test build (FAULT=1); --help\n"
+                "Commands to a service try for --wait S seconds (default 3) before they\n"
+                "report no reply; a retry is never applied twice.\n\n"
                 "The exercise file is --exercise F, else $MSCGS_EXERCISE, else\n"
                 "/etc/mscgs/exercise.ini, else the installed or source tree's default exercise.\n");
 }
@@ -568,6 +572,20 @@ static void s_print_map_address (const cgs_instance_t *in)
             v6 ? "]" : "", p.port, p.token[0] ? "?token=... (the configured token)" : "");
 }
 
+static double s_number (const char *what, const char *text);
+
+/* How long a command to a service keeps trying (--wait S): attempts of 1 s. */
+static double s_wait_s = 3;
+
+static void s_set_wait (const char *text)
+{
+    s_wait_s = s_number ("--wait", text);
+    if (s_wait_s < 1 || s_wait_s > 3600) {
+        fprintf (stderr, "mscgs: --wait: 1 to 3600 seconds, got '%s'\n", text);
+        exit (2);
+    }
+}
+
 /* Send cmd to the instance named to, or the first instance of program;
  * print the reply. Exit code: 0 ok, 1 refused or no reply, 2 usage. */
 static int s_send (const char *tool, cgs_exercise_t *ex, const char *to, const char *program,
@@ -594,7 +612,7 @@ static int s_send (const char *tool, cgs_exercise_t *ex, const char *to, const c
     Cgs__Reply *reply = NULL;
     char err[512];
     cgs_lifecycle_init ();
-    int rc = cgs_cmd_client_call (cl, cmd, 1000, 3, &reply, err, sizeof err);
+    int rc = cgs_cmd_client_call (cl, cmd, 1000, (int)ceil (s_wait_s), &reply, err, sizeof err);
     if (rc < 0) {
         fprintf (stderr, "mscgs %s: %s\n", tool, err);
         rc = 1;
@@ -667,13 +685,19 @@ static int s_cmd_task (const char *tool, int argc, char **argv)
     double radius = 0, speed = 0, altitude = 0;
     bool here = false, anticlockwise = false, no_loiter = false;
     const char *at = NULL;
-    static const struct option opts[] = {
-        {"exercise", required_argument, NULL, 'e'}, {"to", required_argument, NULL, 't'},
-        {"uav", required_argument, NULL, 'u'},      {"here", no_argument, NULL, 'H'},
-        {"at", required_argument, NULL, 'a'},       {"radius", required_argument, NULL, 'r'},
-        {"anticlockwise", no_argument, NULL, 'A'},  {"speed", required_argument, NULL, 's'},
-        {"altitude", required_argument, NULL, 'l'}, {"no-loiter", no_argument, NULL, 'N'},
-        {"help", no_argument, NULL, 'h'},           {NULL, 0, NULL, 0}};
+    static const struct option opts[] = {{"exercise", required_argument, NULL, 'e'},
+                                         {"to", required_argument, NULL, 't'},
+                                         {"uav", required_argument, NULL, 'u'},
+                                         {"here", no_argument, NULL, 'H'},
+                                         {"at", required_argument, NULL, 'a'},
+                                         {"radius", required_argument, NULL, 'r'},
+                                         {"anticlockwise", no_argument, NULL, 'A'},
+                                         {"speed", required_argument, NULL, 's'},
+                                         {"altitude", required_argument, NULL, 'l'},
+                                         {"no-loiter", no_argument, NULL, 'N'},
+                                         {"wait", required_argument, NULL, 'w'},
+                                         {"help", no_argument, NULL, 'h'},
+                                         {NULL, 0, NULL, 0}};
     int c;
     while ((c = getopt_long (argc, argv, "h", opts, NULL)) != -1) {
         switch (c) {
@@ -698,6 +722,9 @@ static int s_cmd_task (const char *tool, int argc, char **argv)
         case 'A':
             anticlockwise = true;
             break;
+        case 'w':
+            s_set_wait (optarg);
+            break;
         case 's':
             speed = s_number ("--speed", optarg);
             break;
@@ -719,7 +746,8 @@ static int s_cmd_task (const char *tool, int argc, char **argv)
                      "       mscgs pause | resume | time-scale X\n"
                      "Common options: --uav ID (entity id; default the only UAV), --to INSTANCE\n"
                      "(default the exercise's uavsim; guidanced also takes altitude and speed),\n"
-                     "--exercise F. POS is E,N in local metres, or quoted: 'geo LAT LON',\n"
+                     "--wait S (keep trying S seconds, default 3), --exercise F. POS is E,N in "
+                     "local metres, or quoted: 'geo LAT LON',\n"
                      "'36.6N 121.2W', 'mgrs GRID'.\n");
             return c == 'h' ? 0 : 2;
         }
@@ -838,7 +866,8 @@ static void s_guide_usage (FILE *f)
                 "       mscgs footprint-scale 1|5|10  the footprint's display scale\n"
                 "       mscgs intercept-mode head-on|mti-hits\n"
                 "Common options: --uav ID (entity id; default the only UAV), --to INSTANCE\n"
-                "(default the exercise's guidanced), --exercise F. POS is E,N in local metres,\n"
+                "(default the exercise's guidanced), --wait S (keep trying S seconds, default\n"
+                "3), --exercise F. POS is E,N in local metres,\n"
                 "or quoted: 'geo LAT LON', '36.6N 121.2W', 'mgrs GRID' (or the bare grid,\n"
                 "10SFE5964179460).\n");
 }
@@ -886,10 +915,13 @@ static int s_cmd_guide (const char *tool, int argc, char **argv)
 {
     const char *exercise = NULL, *to = NULL, *at = NULL;
     uint32_t uav = 0;
-    static const struct option opts[] = {
-        {"exercise", required_argument, NULL, 'e'}, {"to", required_argument, NULL, 't'},
-        {"uav", required_argument, NULL, 'u'},      {"at", required_argument, NULL, 'a'},
-        {"help", no_argument, NULL, 'h'},           {NULL, 0, NULL, 0}};
+    static const struct option opts[] = {{"exercise", required_argument, NULL, 'e'},
+                                         {"to", required_argument, NULL, 't'},
+                                         {"uav", required_argument, NULL, 'u'},
+                                         {"at", required_argument, NULL, 'a'},
+                                         {"wait", required_argument, NULL, 'w'},
+                                         {"help", no_argument, NULL, 'h'},
+                                         {NULL, 0, NULL, 0}};
     int c;
     while ((c = getopt_long (argc, argv, "h", opts, NULL)) != -1) {
         if (c == 'e')
@@ -898,6 +930,8 @@ static int s_cmd_guide (const char *tool, int argc, char **argv)
             to = optarg;
         else if (c == 'u')
             uav = s_id ("--uav", "an entity id", optarg);
+        else if (c == 'w')
+            s_set_wait (optarg);
         else if (c == 'a' && strcmp (tool, "designate") == 0)
             at = optarg;
         else if (c == 'a') {
@@ -1005,6 +1039,123 @@ static int s_cmd_snapshot (int argc, char **argv)
     int rc = s_send ("snapshot", ex, to, "imagerd", &cmd);
     cgs_exercise_destroy (&ex);
     return rc;
+}
+
+/* ---- fault: the debug-only fault channel ---------------------------------------------- */
+
+/* mscgs fault INSTANCE crash | hang [S] | slow MS [S] (cgs_fault.h). */
+static int s_cmd_fault (int argc, char **argv)
+{
+    const char *usage =
+        "usage: mscgs fault INSTANCE crash | hang [S] | slow MS [S] [--state-dir DIR]\n"
+        "                   [--exercise F]\n"
+        "The debug-only fault channel of a service built with FAULT=1 (the test build):\n"
+        "after its reply the service\n"
+        "  crash        aborts, as a crash would;\n"
+        "  hang [S]     blocks its event loop S seconds (default: until killed);\n"
+        "  slow MS [S]  stalls its event loop MS ms (1..90) in every 100 ms, S seconds\n"
+        "               (default: until it ends).\n"
+        "The channel is ipc://DIR/INSTANCE.fault; DIR is the service's state folder\n"
+        "(default the exercise's state_dir).\n";
+    const char *exercise = NULL, *state_dir = NULL;
+    static const struct option opts[] = {{"exercise", required_argument, NULL, 'e'},
+                                         {"state-dir", required_argument, NULL, 's'},
+                                         {"help", no_argument, NULL, 'h'},
+                                         {NULL, 0, NULL, 0}};
+    int c;
+    while ((c = getopt_long (argc, argv, "h", opts, NULL)) != -1) {
+        if (c == 'e')
+            exercise = optarg;
+        else if (c == 's')
+            state_dir = optarg;
+        else {
+            fputs (usage, c == 'h' ? stdout : stderr);
+            return c == 'h' ? 0 : 2;
+        }
+    }
+#ifndef CGS_FAULT
+    (void)exercise;
+    (void)state_dir;
+    fprintf (stderr, "mscgs fault: this mscgs was built without the fault channel (FAULT=1 "
+                     "builds have it; the test build does)\n");
+    return 2;
+#else
+    int nargs = argc - optind;
+    char **args = argv + optind;
+    Cgs__Fault fault = CGS__FAULT__INIT;
+    const char *action = nargs >= 2 ? args[1] : "";
+    if (strcmp (action, "crash") == 0 && nargs == 2)
+        fault.action = CGS__FAULT_ACTION__FAULT_ACTION_CRASH;
+    else if (strcmp (action, "hang") == 0 && (nargs == 2 || nargs == 3)) {
+        fault.action = CGS__FAULT_ACTION__FAULT_ACTION_HANG;
+        fault.seconds = nargs == 3 ? s_number ("hang", args[2]) : 0;
+    } else if (strcmp (action, "slow") == 0 && (nargs == 3 || nargs == 4)) {
+        fault.action = CGS__FAULT_ACTION__FAULT_ACTION_SLOW;
+        fault.stall_ms = s_id ("slow", "a stall in ms", args[2]);
+        fault.seconds = nargs == 4 ? s_number ("slow", args[3]) : 0;
+    } else {
+        fputs (usage, stderr);
+        return 2;
+    }
+    cgs_fault_t check = {0};
+    char why[256];
+    if (cgs_fault_request (&check, &fault, 0, why, sizeof why) < 0) {
+        fprintf (stderr, "mscgs fault: %s\n", why);
+        return 2;
+    }
+    cgs_exercise_t *ex = s_load_exercise (exercise);
+    if (!ex)
+        return 1;
+    int rc = 1;
+    char dir[PATH_MAX], path[PATH_MAX + 200], ep[PATH_MAX + 210];
+    if (!cgs_exercise_find (ex, args[0])) {
+        fprintf (stderr, "mscgs fault: %s is not in the exercise\n", args[0]);
+        rc = 2;
+        goto done;
+    }
+    if (!realpath (state_dir ? state_dir : cgs_exercise_state_dir (ex), dir)) {
+        fprintf (stderr, "mscgs fault: state folder %s: %s\n",
+                 state_dir ? state_dir : cgs_exercise_state_dir (ex), strerror (errno));
+        goto done;
+    }
+    snprintf (path, sizeof path, "%s/%s.fault", dir, args[0]);
+    snprintf (ep, sizeof ep, "ipc://%s", path);
+    if (access (path, F_OK) < 0) {
+        fprintf (stderr,
+                 "mscgs fault: no fault channel at %s: is %s running, built with FAULT=1, with "
+                 "state folder %s (--state-dir)?\n",
+                 path, args[0], dir);
+        goto done;
+    }
+    void *ctx = zmq_ctx_new ();
+    cgs_cmd_client_t *cl = cgs_cmd_client_new (ctx, ep, "mscgs-fault");
+    if (!cl) {
+        fprintf (stderr, "mscgs fault: %s\n", strerror (errno));
+        zmq_ctx_term (ctx);
+        goto done;
+    }
+    Cgs__Command cmd = CGS__COMMAND__INIT;
+    cmd.body_case = CGS__COMMAND__BODY_FAULT;
+    cmd.fault = &fault;
+    Cgs__Reply *reply = NULL;
+    char err[512];
+    cgs_lifecycle_init ();
+    // One attempt: a retried crash would crash the restarted service too.
+    if (cgs_cmd_client_call (cl, &cmd, 2000, 1, &reply, err, sizeof err) < 0)
+        fprintf (stderr, "mscgs fault: %s\n", err);
+    else {
+        bool ok = reply->status == CGS__REPLY_STATUS__REPLY_STATUS_OK;
+        fprintf (ok ? stdout : stderr, "%s: %s: %s\n", reply->server, ok ? "ok" : "refused",
+                 ok ? reply->detail : reply->error);
+        rc = ok ? 0 : 1;
+        cgs_cmd_reply_free (&reply);
+    }
+    cgs_cmd_client_destroy (&cl);
+    zmq_ctx_term (ctx);
+done:
+    cgs_exercise_destroy (&ex);
+    return rc;
+#endif
 }
 
 /* ---- topics -------------------------------------------------------------------------- */
@@ -1940,6 +2091,8 @@ int main (int argc, char **argv)
         return s_cmd_keygen (argc, argv);
     if (strcmp (cmd, "snapshot") == 0)
         return s_cmd_snapshot (argc, argv);
+    if (strcmp (cmd, "fault") == 0)
+        return s_cmd_fault (argc, argv);
     const char *tasks[] = {"loiter", "goto",  "route",  "altitude",
                            "speed",  "pause", "resume", "time-scale"};
     for (size_t i = 0; i < sizeof tasks / sizeof tasks[0]; i++)
