@@ -11,7 +11,10 @@
 
 command -v systemd-analyze >/dev/null || bail "no systemd-analyze"
 ROOT=$TMP/root
-make -s -C "$CGS_ROOT" install O="$CGS_BUILD" PREFIX="$ROOT/usr/local" SYSCONFDIR="$ROOT/etc" \
+# The build's own flags, should make have anything to relink.
+SAN=0
+ldd "$CGS_BUILD/bin/mtid" 2>/dev/null | grep -q libasan && SAN=1
+make -s -C "$CGS_ROOT" install O="$CGS_BUILD" SAN=$SAN PREFIX="$ROOT/usr/local" SYSCONFDIR="$ROOT/etc" \
     >"$TMP/install.out" 2>&1 || { cat "$TMP/install.out"; bail "make install failed"; }
 UNITS=$ROOT/usr/local/lib/systemd/system
 check "make install puts the units, the binaries, the page and the exercise in place" bash -c \
@@ -42,7 +45,7 @@ check "and names the installed parameter files" grep -q "params = $ROOT/usr/loca
 "$CGS_BUILD/bin/guidanced" --exercise "$EX" --check >"$TMP/check.out" 2>&1
 is "$?" 0 "guidanced --check passes with it"
 echo "; the admin's own" >>"$EX"
-make -s -C "$CGS_ROOT" install O="$CGS_BUILD" PREFIX="$ROOT/usr/local" SYSCONFDIR="$ROOT/etc" >"$TMP/install2.out" 2>&1
+make -s -C "$CGS_ROOT" install O="$CGS_BUILD" SAN=$SAN PREFIX="$ROOT/usr/local" SYSCONFDIR="$ROOT/etc" >"$TMP/install2.out" 2>&1
 check "a second make install leaves an existing exercise file alone" bash -c \
     "tail -1 '$EX' | grep -q \"the admin's own\" && grep -q 'left as it is' '$TMP/install2.out'"
 finish
