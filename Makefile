@@ -3,8 +3,10 @@
 #   make            build every service and the mscgs tool into build/
 #   make run        install missing packages, build, run the default exercise
 #   make test       install missing packages, build under ASan+UBSan, run every test
+#   make test-systemd  only the units under a real systemd in a container
 #   make bench      build optimised, run the benchmarks
 #   make montecarlo 200 whole intercepts in one process (MC_RUNS, MC_SEED)
+#   make soak       long fault injection: 30+ trials a service, a long exercise
 #   make install    install binaries, the page, systemd units, configs (PREFIX, DESTDIR)
 #   make clean      remove build/
 #   make format     clang-format every C, C++ and header file
@@ -80,6 +82,8 @@ UNIT_SRCS   := $(wildcard tests/unit/test_*.c)
 UNIT_BINS   := $(patsubst tests/unit/%.c,$(O)/tests/unit/%,$(UNIT_SRCS))
 INTEG_SRCS  := $(wildcard tests/integration/*.c)
 INTEG_BINS  := $(patsubst tests/integration/%.c,$(O)/tests/integration/%,$(INTEG_SRCS))
+FAULT_SRCS  := $(wildcard tests/fault/*.c)
+FAULT_BINS  := $(patsubst tests/fault/%.c,$(O)/tests/fault/%,$(FAULT_SRCS))
 BENCH_SRCS  := $(wildcard tests/bench/*.c)
 BENCH_BINS  := $(patsubst tests/bench/%.c,$(O)/bench/%,$(BENCH_SRCS))
 FUZZ_SRCS   := $(wildcard tests/fuzz/fuzz_*.c)
@@ -119,13 +123,13 @@ JOBS    ?= $(shell nproc 2>/dev/null || echo 2)
 # Keep objects that pattern chains would otherwise delete as intermediates.
 .SECONDARY:
 
-.PHONY: all run test test-build bench montecarlo fuzz fuzz-build install clean format deps help
+.PHONY: all run test test-systemd test-build bench montecarlo soak fault-build fuzz fuzz-build install clean format deps help
 .DEFAULT_GOAL := all
 
 all: $(BINS) $(WEB_FILES)
 
 help:
-	@sed -n '2,13p' Makefile | sed 's/^# \{0,1\}//'
+	@sed -n '2,17p' Makefile | sed 's/^# \{0,1\}//'
 
 deps:
 	@scripts/install-deps
@@ -135,11 +139,18 @@ run: deps
 	$(O)/bin/mscgs run --exercise deploy/exercises/default.ini --out $(O)/run --stop-after-intercept 20 $(RUN_ARGS)
 
 # The test build lives in its own folder so it never mixes with release objects.
+# The systemd test runs the release build in a container (tests/systemd/).
 test: deps
 	@$(MAKE) --no-print-directory -j$(JOBS) O=build/asan SAN=1 test-build
-	@tests/run build/asan
+	@$(MAKE) --no-print-directory -j$(JOBS) O=build/release SAN=0 all
+	@CGS_RELEASE_BUILD=build/release CGS_MAKE_CACHE=1 tests/run build/asan
 
-test-build: $(BINS) $(WEB_FILES) $(UNIT_BINS) $(INTEG_BINS) $(ALT_BINS)
+# Only the systemd container test (makes its cached image when there is none).
+test-systemd: deps
+	@$(MAKE) --no-print-directory -j$(JOBS) O=build/release SAN=0 all
+	@CGS_RELEASE_BUILD=build/release CGS_MAKE_CACHE=1 tests/run build/asan systemd
+
+test-build: $(BINS) $(WEB_FILES) $(UNIT_BINS) $(INTEG_BINS) $(FAULT_BINS) $(ALT_BINS)
 
 bench: deps
 	@$(MAKE) --no-print-directory -j$(JOBS) O=build/release SAN=0 all $(addprefix build/release/bench/,$(notdir $(BENCH_BINS)))
@@ -152,6 +163,16 @@ MC_SEED ?= 1
 montecarlo: deps
 	@$(MAKE) --no-print-directory -j$(JOBS) O=build/release SAN=0 build/release/bin/guidanced
 	build/release/bin/guidanced --monte-carlo --runs $(MC_RUNS) --seed $(MC_SEED)
+
+# Long fault injection (opt-in: not part of `make test`): at least 30 trials
+# of each service, then a long exercise that checks memory and message loss
+# (tests/fault/soak; SOAK_MINUTES, SOAK_SCALE, FAULT_TRIALS, SOAK_SERVICES).
+# Optimised, without sanitizers, with the fault channel.
+soak: deps
+	@$(MAKE) --no-print-directory -j$(JOBS) O=build/soak SAN=0 FAULT=1 fault-build
+	@tests/fault/soak build/soak
+
+fault-build: $(BINS) $(WEB_FILES) $(FAULT_BINS)
 
 # Coverage-guided fuzzing of the parsers (opt-in: not part of `make test`).
 fuzz:
@@ -270,6 +291,10 @@ $(O)/tests/unit/%: $(O)/obj/tests/unit/%.o $(SVC_LIB) $(LIB)
 	$(CC) $(LDFLAGS) $^ -o $@ $(CMOCKA_LIBS) $(LDLIBS)
 
 $(O)/tests/integration/%: $(O)/obj/tests/integration/%.o $(SVC_LIB) $(LIB)
+	@mkdir -p $(dir $@)
+	$(CC) $(LDFLAGS) $^ -o $@ $(LDLIBS)
+
+$(O)/tests/fault/%: $(O)/obj/tests/fault/%.o $(SVC_LIB) $(LIB)
 	@mkdir -p $(dir $@)
 	$(CC) $(LDFLAGS) $^ -o $@ $(LDLIBS)
 

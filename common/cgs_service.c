@@ -61,6 +61,7 @@ static void s_on_fault (void *arg)
     double hang_s = 0;
     switch (cgs_fault_take (&svc->fault, &hang_s)) {
     case CGS__FAULT_ACTION__FAULT_ACTION_CRASH:
+        usleep (200000); // lets ZeroMQ's I/O thread send the reply
         abort ();
     case CGS__FAULT_ACTION__FAULT_ACTION_HANG: {
         double end = cgs_loop_now () + hang_s;
@@ -445,6 +446,19 @@ int cgs_service_serve_commands (cgs_service_t *svc, cgs_cmd_handler_fn *handler,
     }
     cgs_health_watch_cmd (svc->health, svc->cmd);
     return cgs_loop_add_socket (svc->loop, cgs_cmd_server_socket (svc->cmd), s_on_cmd, svc);
+}
+
+void cgs_service_hold_commands (cgs_service_t *svc, bool hold)
+{
+    if (!svc->cmd || hold == svc->cmd_held)
+        return;
+    if (hold)
+        cgs_loop_remove (svc->loop, cgs_cmd_server_socket (svc->cmd), -1);
+    else if (cgs_loop_add_socket (svc->loop, cgs_cmd_server_socket (svc->cmd), s_on_cmd, svc) < 0) {
+        cgs_log (LOG_ERR, "out of memory: commands stay held");
+        return;
+    }
+    svc->cmd_held = hold;
 }
 
 void cgs_service_saved_state (const cgs_service_t *svc, const uint8_t **ret_buf, size_t *ret_len)

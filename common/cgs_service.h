@@ -72,6 +72,7 @@ typedef struct {
     uint64_t bad_inputs;         // messages the service could not use (cgs_service_bad_input)
     cgs_cmd_server_t *fault_cmd; // the fault channel (built with CGS_FAULT only), else NULL
     cgs_fault_t fault;           // its requests and schedule
+    bool cmd_held;               // cgs_service_hold_commands
     size_t nconnected;
 } cgs_service_t;
 
@@ -89,6 +90,11 @@ int cgs_service_subscribe (cgs_service_t *svc, const char *topic, cgs_sub_fn *fn
  * goes out; 0 or -errno (logged). */
 int cgs_service_serve_commands (cgs_service_t *svc, cgs_cmd_handler_fn *handler,
                                 cgs_cmd_save_fn *save, void *arg);
+/* Hold the commands (true): they wait in the socket, unanswered, while a
+ * client's retries cover the wait; or take them again (false), the waiting
+ * ones first. For a restarted service that must hear the bus before it can
+ * judge commands. */
+void cgs_service_hold_commands (cgs_service_t *svc, bool hold);
 /* Input the service cannot use (what: "a uav message without ..."): counted
  * in health as malformed, logged the first time, only counted after. */
 void cgs_service_bad_input (cgs_service_t *svc, const char *what);

@@ -23,6 +23,7 @@
 
 #define S_UAVS_MAX    16
 #define S_DELIVER_S   0.2 // wall seconds between delivery attempts
+#define S_HOLD_S      5.0 // wall seconds commands wait for the tracker after a start
 #define S_SEND_MS     400 // how long one delivery waits for uavsim
 #define S_FORWARD_MS  500 // altitude and speed commands forwarded to uavsim
 #define S_STATE_MAGIC "guidanced 1"
@@ -66,6 +67,8 @@ typedef struct {
     bool script_waiting_logged;
     double sim_time_s;
     char detail[512];
+    // Commands wait until the tracker is heard after a start (S_HOLD_S at most).
+    double hold_until;
     // The message being built.
     Cgs__Enu route_pts[GD_ROUTE_MAX];
     Cgs__Enu *route_ptr[GD_ROUTE_MAX];
@@ -376,6 +379,22 @@ static void s_on_track (void *arg, const char *topic, const ProtobufCMessage *ms
     for (size_t k = 0; k < app->uav_count; k++) {
         s_deliver (app, &app->uavs[k]);
         s_publish (app, &app->uavs[k]);
+    }
+    if (app->svc.cmd_held) {
+        cgs_service_hold_commands (&app->svc, false);
+        cgs_log (LOG_INFO, "taking commands: the tracker's picture is heard (%zu tracks)",
+                 app->track_count);
+    }
+}
+
+/* The tracker not heard within S_HOLD_S of the start: take commands anyway. */
+static void s_on_hold (void *arg)
+{
+    s_app_t *app = arg;
+    if (app->svc.cmd_held && cgs_loop_now () >= app->hold_until) {
+        cgs_service_hold_commands (&app->svc, false);
+        cgs_log (LOG_WARNING, "taking commands without the tracker's picture (none in %.0f s)",
+                 S_HOLD_S);
     }
 }
 
@@ -935,6 +954,11 @@ int main (int argc, char **argv)
         goto done;
     cgs_loop_add_timer (app.svc.loop, S_DELIVER_S, s_on_deliver, &app);
     cgs_loop_add_timer (app.svc.loop, 5.0, s_on_checkpoint, &app);
+    // A designation needs the tracks: until the tracker is heard (its next
+    // batch), commands wait unanswered rather than be refused for want of them.
+    cgs_service_hold_commands (&app.svc, true);
+    app.hold_until = cgs_loop_now () + S_HOLD_S;
+    cgs_loop_add_timer (app.svc.loop, 0.1, s_on_hold, &app);
     exit_code = cgs_service_run (&app.svc);
     s_save_now (&app);
 done:
