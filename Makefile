@@ -172,7 +172,7 @@ soak: deps
 	@$(MAKE) --no-print-directory -j$(JOBS) O=build/soak SAN=0 FAULT=1 fault-build
 	@tests/fault/soak build/soak
 
-fault-build: $(BINS) $(WEB_FILES) $(FAULT_BINS)
+fault-build: $(BINS) $(WEB_FILES) $(INTEG_BINS) $(FAULT_BINS)
 
 # Coverage-guided fuzzing of the parsers (opt-in: not part of `make test`).
 fuzz:
