@@ -59,6 +59,85 @@ int cgs_bus_prepare_endpoint (const char *endpoint)
     return s_mkdir_p (dir);
 }
 
+/* ---- liveness -------------------------------------------------------------------
+ * Without these options a tcp:// connection whose network goes silent (a
+ * cable pulled, a switch, a route or a host down: nothing tells either end)
+ * stays "connected" to ZeroMQ for as long as TCP keeps retransmitting into
+ * the void (about 15 minutes), backing off exponentially (0.2, 0.4, 0.8 ...
+ * s), and a reconnect whose SYN was lost waits for the kernel's SYN retries
+ * (1, 3, 7, 15 ... s after it started). So after a cut of 10 s traffic came
+ * back only at the next retransmission, 3 to 7 s after the network did
+ * (tests/integration/hosts.sh: 6.3 s). With them both ends drop a silent
+ * connection after 3 s, the connecting end tries a fresh one about once a
+ * second, and the first one after the network returns gets through: traffic
+ * resumes within about a second of it.
+ *
+ * The checks are the kernel's (TCP keepalive, TCP_USER_TIMEOUT), not
+ * ZeroMQ's heartbeats (ZMQ_HEARTBEAT_IVL, _TIMEOUT, _TTL): a subscriber whose
+ * receive queue is full stops reading its socket, so it cannot see the
+ * publisher's PINGs, its heartbeat times out, and libzmq (4.3.4, and master
+ * at the time of writing: zeromq/libzmq#3937) then aborts the process on an
+ * assertion (`_input_stopped`, stream_engine_base.cpp) when it reconnects. A
+ * subscriber held 8 s in its handler during a burst did exactly that. The
+ * kernel answers keepalives whatever the process does.
+ *
+ * All options exist since libzmq 4.2 (Debian 12 has 4.3.4); ipc:// and
+ * inproc:// ignore the tcp ones. */
+
+/* Keepalive probes once a connection has received nothing for 1 s, then
+ * every second: the end that only listens (a subscriber, which sends nothing
+ * after its subscriptions) finds a silent network this way. On a busy
+ * connection nothing is sent: the traffic itself shows the peer is there. */
+#define S_KEEPALIVE_IDLE_S  1
+#define S_KEEPALIVE_INTVL_S 1
+#define S_KEEPALIVE_CNT     3 // unanswered probes that end it (the user timeout below comes first)
+/* TCP_USER_TIMEOUT: a connection is dead once what it sent (data, or the
+ * keepalive probes above) has stayed unacknowledged for 3 s; this also ends
+ * the keepalive probing at 3 s of silence. The end that sends (a publisher)
+ * finds a silent network this way, where keepalives do not help (they are
+ * not sent while data is in flight). It also ends a connection whose peer
+ * has advertised a zero window for 3 s (Linux >= 5.11): a subscriber whose
+ * receive queue stayed full that long, already losing messages at its
+ * high-water mark, is dropped and reconnects at once, and what the publisher
+ * had queued for it counts as gaps. Far above any acknowledgement delay of
+ * a healthy network (a LAN's are well under a millisecond). */
+#define S_TCP_USER_TIMEOUT_MS 3000
+/* A connect whose SYN (or SYN-ACK) was lost gives up after 1.5 s instead of
+ * waiting for the kernel's SYN retries (3, 7, 15 ... s after it started),
+ * and a fresh attempt follows. 1.5 s lets the kernel's first retry (at 1 s)
+ * go out first, so while the peer is unreachable a SYN leaves at least once
+ * a second (at 0 and 1 s, then 0.1 to 0.2 s after the 1.5 s timeout, ...),
+ * and the first after the network returns gets through; with 1 s the
+ * kernel's retry raced the timeout and the gaps were up to 1.2 s. A LAN's
+ * connect takes well under a millisecond; 1.5 s also covers a loaded or
+ * long-haul link. */
+#define S_CONNECT_TIMEOUT_MS 1500
+/* The next attempt 100 to 200 ms (libzmq adds up to one interval at random)
+ * after a failed or lost connection: libzmq's default, set here because the
+ * recovery time depends on it. No ZMQ_RECONNECT_IVL_MAX: a back-off would add
+ * up to its maximum to the recovery after a long outage, to save one SYN a
+ * second per peer that is down. */
+#define S_RECONNECT_IVL_MS 100
+
+int cgs_bus_set_liveness (void *socket)
+{
+    static const struct {
+        int option, value;
+    } opts[] = {
+        {ZMQ_TCP_KEEPALIVE, 1},
+        {ZMQ_TCP_KEEPALIVE_IDLE, S_KEEPALIVE_IDLE_S},
+        {ZMQ_TCP_KEEPALIVE_INTVL, S_KEEPALIVE_INTVL_S},
+        {ZMQ_TCP_KEEPALIVE_CNT, S_KEEPALIVE_CNT},
+        {ZMQ_TCP_MAXRT, S_TCP_USER_TIMEOUT_MS}, // TCP_USER_TIMEOUT on Linux
+        {ZMQ_CONNECT_TIMEOUT, S_CONNECT_TIMEOUT_MS},
+        {ZMQ_RECONNECT_IVL, S_RECONNECT_IVL_MS},
+    };
+    for (size_t i = 0; i < sizeof opts / sizeof opts[0]; i++)
+        if (zmq_setsockopt (socket, opts[i].option, &opts[i].value, sizeof opts[i].value) < 0)
+            return -zmq_errno ();
+    return 0;
+}
+
 /* A new epoch: 32 random bits (a short varint on the wire; two starts of one
  * publisher share an epoch with odds of one in four billion). */
 static uint64_t s_new_epoch (void)
@@ -107,6 +186,11 @@ cgs_pub_t *cgs_pub_new (void *ctx, const char *source, uint32_t exercise_id)
         goto fail;
     int linger = 0;
     zmq_setsockopt (self->socket, ZMQ_LINGER, &linger, sizeof linger);
+    int rc = cgs_bus_set_liveness (self->socket);
+    if (rc < 0) {
+        errno = -rc;
+        goto fail;
+    }
     cgs_pub_set_hwm (self, CGS_BUS_DEFAULT_SNDHWM);
     self->bufcap = 4096;
     self->buf = malloc (self->bufcap);
@@ -304,6 +388,11 @@ cgs_sub_t *cgs_sub_new (void *ctx)
         goto fail;
     int linger = 0;
     zmq_setsockopt (self->socket, ZMQ_LINGER, &linger, sizeof linger);
+    int rc = cgs_bus_set_liveness (self->socket);
+    if (rc < 0) {
+        errno = -rc;
+        goto fail;
+    }
     cgs_sub_set_hwm (self, CGS_BUS_DEFAULT_RCVHWM);
     self->arena = cgs_msg_arena_new (64 * 1024);
     if (!self->arena)
