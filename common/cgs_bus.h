@@ -113,8 +113,8 @@ uint64_t cgs_sub_restarts (const cgs_sub_t *self);
 /* Set the options that make a tcp:// connection over a network that went
  * silent fail and reconnect within seconds (TCP keepalive and user timeout,
  * connect timeout, reconnect interval; values and reasons in cgs_bus.c),
- * before bind or connect. Every publisher and subscriber has them; 0 or
- * -errno. */
+ * before bind or connect. Every publisher and subscriber has them, and
+ * every command client and server (cgs_cmd); 0 or -errno. */
 int cgs_bus_set_liveness (void *socket);
 /* Wall-clock time now, Unix seconds. */
 double cgs_bus_wall_time (void);

@@ -130,7 +130,11 @@ static int s_client_open (cgs_cmd_client_t *self)
         return -zmq_errno ();
     int linger = 0;
     zmq_setsockopt (self->socket, ZMQ_LINGER, &linger, sizeof linger);
-    int rc = self->hook ? self->hook (self->socket, self->hook_arg) : 0;
+    // The bus's tcp liveness too: a kept client (guidanced's to uavsim)
+    // finds a silent network in seconds, not at TCP's retransmission limit.
+    int rc = cgs_bus_set_liveness (self->socket);
+    if (rc == 0 && self->hook)
+        rc = self->hook (self->socket, self->hook_arg);
     if (rc == 0 && zmq_connect (self->socket, self->endpoint) < 0)
         rc = -zmq_errno ();
     if (rc < 0) {
@@ -354,6 +358,12 @@ cgs_cmd_server_t *cgs_cmd_server_new (void *ctx, const char *name, const char *c
     zmq_setsockopt (self->socket, ZMQ_LINGER, &linger, sizeof linger);
     // A client that went away loses its reply silently; it will retry.
     zmq_setsockopt (self->socket, ZMQ_ROUTER_MANDATORY, &mandatory, sizeof mandatory);
+    // A client's connection over a network gone silent is dropped in seconds.
+    int rc = cgs_bus_set_liveness (self->socket);
+    if (rc < 0) {
+        errno = -rc;
+        goto fail;
+    }
     return self;
 fail:;
     int saved = errno ? errno : ENOMEM;

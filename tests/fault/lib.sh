@@ -244,8 +244,7 @@ trial () {
         stop "$p"
         check "$what: the first stop is clean (exit $EXIT_CODE)" test "$EXIT_CODE" = 0
         svc_start "$s" "r${n}a"
-        wait_for 30 restarted "$s" "$t_fault" ||
-            diag "$what: the first restart was not heard within 30 s"
+        check "$what: the first restart is heard (a new epoch)" wait_for 30 restarted "$s" "$t_fault"
         in_flight
         stop "${PID[$s]}"
         check "$what: the second stop is clean (exit $EXIT_CODE)" test "$EXIT_CODE" = 0
@@ -327,7 +326,6 @@ trial () {
         # for the fault. Counted, and said; not a failure of the service.
         diag "$what: the tracker ended track $TARGET, so the intercept is LOST (not the fault's doing)"
         printf '%s\t%s\n' "$kind" "$s" >>"$ART/track-ended.tsv"
-        check "$what: the intercept ends (LOST: its track ended)" true
     else
         check "$what: the intercept completes (state ${st:-none})" test "$st" = OVERFLIGHT -o "$st" = DONE
     fi

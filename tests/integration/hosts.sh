@@ -32,11 +32,6 @@
 # shellcheck source=tests/integration/lib.sh
 . "$(dirname "$0")/lib.sh"
 
-skip_all () {
-    echo "ok 1 # SKIP $*"
-    echo "1..1"
-    exit 0
-}
 [ "$(id -u)" = 0 ] || skip_all "needs root for network namespaces"
 command -v ip >/dev/null || skip_all "no ip command (iproute2)"
 [ -n "${EPOCHREALTIME:-}" ] || skip_all "needs bash 5 (EPOCHREALTIME)"

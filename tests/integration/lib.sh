@@ -25,48 +25,8 @@ export LSAN_OPTIONS=${LSAN_OPTIONS:-suppressions=$CGS_ROOT/tests/lsan.supp:print
 
 # ---- TAP ------------------------------------------------------------------------------
 
-T_N=0
-T_FAILED=0
-
-diag () { printf '# %s\n' "$*"; }
-
-# check NAME COMMAND...: one TAP line, ok when COMMAND succeeds.
-check () {
-    local name=$1; shift
-    T_N=$((T_N + 1))
-    if "$@"; then
-        echo "ok $T_N - $name"
-    else
-        echo "not ok $T_N - $name"
-        T_FAILED=$((T_FAILED + 1))
-    fi
-}
-
-# is ACTUAL EXPECTED NAME: one TAP line, ok when the two strings are equal.
-is () {
-    T_N=$((T_N + 1))
-    if [ "$1" = "$2" ]; then
-        echo "ok $T_N - $3"
-    else
-        echo "not ok $T_N - $3"
-        diag "  got '$1', expected '$2'"
-        T_FAILED=$((T_FAILED + 1))
-    fi
-}
-
-# bail WHY: a setup step failed; the rest of the script cannot run.
-bail () {
-    T_N=$((T_N + 1))
-    echo "not ok $T_N - $*"
-    T_FAILED=$((T_FAILED + 1))
-    exit 1
-}
-
-# finish: the plan (at the end, as TAP allows) and the exit code.
-finish () {
-    echo "1..$T_N"
-    [ "$T_FAILED" -eq 0 ]
-}
+# shellcheck source=tests/tap.sh
+. "$CGS_ROOT/tests/tap.sh"
 
 # ---- temporary folder and processes -----------------------------------------------------
 

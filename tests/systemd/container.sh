@@ -31,57 +31,10 @@ SUITE=bookworm
 SELF="tests/systemd/container.sh"
 EXERCISE=/etc/mscgs/exercise.ini
 
-# ---- TAP (as tests/integration/lib.sh, which needs the test peer of a test build) ----
+# ---- TAP (tests/tap.sh; not lib.sh, which needs the test peer of a test build) ----
 
-T_N=0
-T_FAILED=0
-
-diag () { printf '# %s\n' "$*"; }
-
-# check NAME COMMAND...: one TAP line, ok when COMMAND succeeds.
-check () {
-    local name=$1; shift
-    T_N=$((T_N + 1))
-    if "$@"; then
-        echo "ok $T_N - $name"
-    else
-        echo "not ok $T_N - $name"
-        T_FAILED=$((T_FAILED + 1))
-    fi
-}
-
-# is ACTUAL EXPECTED NAME: one TAP line, ok when the two strings are equal.
-is () {
-    T_N=$((T_N + 1))
-    if [ "$1" = "$2" ]; then
-        echo "ok $T_N - $3"
-    else
-        echo "not ok $T_N - $3"
-        diag "  got '$1', expected '$2'"
-        T_FAILED=$((T_FAILED + 1))
-    fi
-}
-
-# bail WHY: a setup step failed; the rest of the script cannot run.
-bail () {
-    T_N=$((T_N + 1))
-    echo "not ok $T_N - $*"
-    T_FAILED=$((T_FAILED + 1))
-    exit 1
-}
-
-# skip_all WHY: the whole test cannot run here; one skipped case, exit 0.
-skip_all () {
-    echo "ok 1 # SKIP $*"
-    echo "1..1"
-    exit 0
-}
-
-# finish: the plan (at the end, as TAP allows) and the exit code.
-finish () {
-    echo "1..$T_N"
-    [ "$T_FAILED" -eq 0 ]
-}
+# shellcheck source=tests/tap.sh
+. "$CGS_ROOT/tests/tap.sh"
 
 # wait_for SECONDS COMMAND...: poll COMMAND every 100 ms until it succeeds (0)
 # or the deadline passes (1).
