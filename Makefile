@@ -198,11 +198,19 @@ install: all
 	    sed -e 's|@BINDIR@|$(PREFIX)/bin|g' -e 's|@DATADIR@|$(PREFIX)/share|g' -e 's|@SYSCONFDIR@|$(SYSCONFDIR)|g' $$f \
 	        >$(DESTDIR)$(UNITDIR)/$$(basename $$f) && chmod 0644 $(DESTDIR)$(UNITDIR)/$$(basename $$f); \
 	done
-	@# The lab exercise becomes /etc/mscgs/exercise.ini, never over an admin's own.
+	@# The lab exercise becomes /etc/mscgs/exercise.ini, and its gateway's
+	@# parameters (DIS on the lab network's interface) /etc/mscgs/gateway.ini,
+	@# never over an admin's own.
 	if [ -e $(DESTDIR)$(SYSCONFDIR)/mscgs/exercise.ini ]; then \
 	    echo "install: $(DESTDIR)$(SYSCONFDIR)/mscgs/exercise.ini exists: left as it is"; \
 	else \
-	    sed 's|@DATADIR@|$(PREFIX)/share|g' deploy/exercises/lab.ini.in >$(DESTDIR)$(SYSCONFDIR)/mscgs/exercise.ini; \
+	    sed -e 's|@DATADIR@|$(PREFIX)/share|g' -e 's|@SYSCONFDIR@|$(SYSCONFDIR)|g' deploy/exercises/lab.ini.in \
+	        >$(DESTDIR)$(SYSCONFDIR)/mscgs/exercise.ini; \
+	fi
+	if [ -e $(DESTDIR)$(SYSCONFDIR)/mscgs/gateway.ini ]; then \
+	    echo "install: $(DESTDIR)$(SYSCONFDIR)/mscgs/gateway.ini exists: left as it is"; \
+	else \
+	    install -m 0644 deploy/params/gateway-lab.ini $(DESTDIR)$(SYSCONFDIR)/mscgs/gateway.ini; \
 	fi
 	install -m 0644 README.md $(DESTDIR)$(PREFIX)/share/doc/mscgs/
 	cp -r deploy/. $(DESTDIR)$(PREFIX)/share/mscgs/

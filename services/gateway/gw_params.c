@@ -2,6 +2,7 @@
 #include "gw_params.h"
 
 #include "cgs_config.h"
+#include "cgs_iface.h"
 
 #include <arpa/inet.h>
 #include <errno.h>
@@ -10,13 +11,25 @@
 #include <stdlib.h>
 #include <string.h>
 
+#define S_GROUP 0xef010203u     // 239.1.2.3, the default multicast group
+#define S_BROADCAST 0xffffffffu // 255.255.255.255
+
+static bool s_is_group (uint32_t a)
+{
+    return (a >> 28) == 0xe;
+}
+
 void gw_params_defaults (gw_params_t *p)
 {
     memset (p, 0, sizeof *p);
     p->port = 3000;
-    p->mode = GW_MODE_BROADCAST;
-    p->address = 0xffffffffu;
-    p->ttl = 1;
+    // Multicast on loopback with TTL 0: DIS tools on this machine hear it,
+    // nothing leaves it (an exercise that wants a network names it).
+    p->mode = GW_MODE_MULTICAST;
+    p->address = S_GROUP;
+    p->bind_address = S_GROUP;
+    snprintf (p->interface, sizeof p->interface, "lo");
+    p->ttl = 0;
     p->loopback = true;
     p->version = 7;
     p->site = 1;
@@ -38,6 +51,43 @@ const char *gw_params_mode_name (gw_mode_t mode)
     return mode == GW_MODE_MULTICAST ? "multicast"
            : mode == GW_MODE_UNICAST ? "unicast"
                                      : "broadcast";
+}
+
+void gw_params_describe (const gw_params_t *p, char *buf, size_t len)
+{
+    char a[INET_ADDRSTRLEN];
+    struct in_addr ia;
+    if (p->mode == GW_MODE_UNICAST) {
+        ia.s_addr = htonl (p->peers[0].addr);
+        inet_ntop (AF_INET, &ia, a, sizeof a);
+        int n = snprintf (buf, len, "unicast to %s:%u", a, p->peers[0].port);
+        if (p->peer_count > 1 && n >= 0 && (size_t)n < len)
+            snprintf (buf + n, len - (size_t)n, " and %zu more", p->peer_count - 1);
+        return;
+    }
+    ia.s_addr = htonl (p->address);
+    inet_ntop (AF_INET, &ia, a, sizeof a);
+    const char *on = *p->interface ? p->interface : "the routing table's interface";
+    if (p->mode == GW_MODE_MULTICAST)
+        snprintf (buf, len, "multicast to %s:%u on %s, TTL %d", a, p->port, on, p->ttl);
+    else
+        snprintf (buf, len, "broadcast to %s:%u on %s", a, p->port, on);
+}
+
+bool gw_params_leaves_host (const gw_params_t *p, bool interface_is_loopback)
+{
+    switch (p->mode) {
+    case GW_MODE_MULTICAST:
+        return p->ttl > 0 && !interface_is_loopback;
+    case GW_MODE_BROADCAST:
+        return !interface_is_loopback && !cgs_iface_addr_is_loopback (p->address);
+    case GW_MODE_UNICAST:
+    default:
+        for (size_t i = 0; i < p->peer_count; i++)
+            if (!cgs_iface_addr_is_loopback (p->peers[i].addr))
+                return true;
+        return false;
+    }
 }
 
 #define S_R(sec, k, field, lo, hi)                                                                 \
@@ -81,6 +131,30 @@ static int s_addr (cgs_config_t *cfg, const char *sec, const char *key, uint32_t
         return cgs_config_error (cfg, sec, key, 0, err, errlen,
                                  "expected an IPv4 address (a.b.c.d), got '%s'", s);
     *ret = ntohl (a.s_addr);
+    return 0;
+}
+
+/* The interface key: a name or a dotted IPv4 address; 0.0.0.0 (or "")
+ * leaves the choice to the routing table. */
+static int s_interface (cgs_config_t *cfg, gw_params_t *p, char *err, size_t errlen)
+{
+    const char *s;
+    char def[GW_IFACE_MAX];
+    snprintf (def, sizeof def, "%s", p->interface); // s may point at the default
+    int rc = cgs_config_get_string (cfg, "network", "interface", def, &s, err, errlen);
+    if (rc < 0)
+        return rc;
+    struct in_addr a;
+    if (strcmp (s, "0.0.0.0") == 0 || !*s) {
+        p->interface[0] = '\0';
+        return 0;
+    }
+    if (inet_pton (AF_INET, s, &a) != 1 && !cgs_iface_name_valid (s))
+        return cgs_config_error (cfg, "network", "interface", 0, err, errlen,
+                                 "expected an interface name (lo, eth0: `ip -br link` lists "
+                                 "them) or its IPv4 address, got '%s'",
+                                 s);
+    snprintf (p->interface, sizeof p->interface, "%s", s);
     return 0;
 }
 
@@ -135,19 +209,37 @@ static int s_read (cgs_config_t *cfg, void *arg, char *err, size_t errlen)
     if (rc == 0)
         rc = cgs_config_get_enum (cfg, "network", "mode", modes, mode, &mode, err, errlen);
     p.mode = (gw_mode_t)mode;
-    uint32_t def_addr = p.mode == GW_MODE_MULTICAST && p.address == 0xffffffffu
-                            ? 0xef010203u // 239.1.2.3
-                            : p.address;
+    // The address the mode takes when none is given: a group for multicast,
+    // 255.255.255.255 for broadcast.
+    uint32_t def_addr = p.address;
+    if (p.mode == GW_MODE_MULTICAST && !s_is_group (p.address))
+        def_addr = S_GROUP;
+    else if (p.mode == GW_MODE_BROADCAST && s_is_group (p.address))
+        def_addr = S_BROADCAST;
     if (rc == 0)
         rc = s_addr (cfg, "network", "address", def_addr, &p.address, err, errlen);
     if (rc == 0)
-        rc = s_addr (cfg, "network", "bind", p.bind_address, &p.bind_address, err, errlen);
+        rc = s_peers (cfg, &p, err, errlen);
+    // Unicast peers name their own destinations: no interface unless given.
+    if (p.mode == GW_MODE_UNICAST && !cgs_config_has (cfg, "network", "interface"))
+        p.interface[0] = '\0';
     if (rc == 0)
-        rc = s_addr (cfg, "network", "interface", p.interface, &p.interface, err, errlen);
+        rc = s_interface (cfg, &p, err, errlen);
+    // The address bound when none is given: what hears this mode's peers
+    // and nothing else (the group; every address for broadcast; loopback
+    // for unicast to loopback peers only).
+    uint32_t def_bind = p.bind_address;
+    if (!cgs_config_has (cfg, "network", "bind")) {
+        def_bind = 0;
+        if (p.mode == GW_MODE_MULTICAST)
+            def_bind = p.address;
+        else if (p.mode == GW_MODE_UNICAST && !gw_params_leaves_host (&p, false))
+            def_bind = 0x7f000001u; // 127.0.0.1
+    }
+    if (rc == 0)
+        rc = s_addr (cfg, "network", "bind", def_bind, &p.bind_address, err, errlen);
     if (rc == 0)
         rc = cgs_config_get_bool (cfg, "network", "loopback", p.loopback, &p.loopback, err, errlen);
-    if (rc == 0)
-        rc = s_peers (cfg, &p, err, errlen);
     if (rc == 0)
         rc = cgs_config_get_enum (cfg, "dis", "timestamp", timings, timing, &timing, err, errlen);
     p.absolute_time = timing == 0;
@@ -163,7 +255,7 @@ static int s_read (cgs_config_t *cfg, void *arg, char *err, size_t errlen)
         rc = cgs_config_get_int (cfg, "external", "max_entities", max, 1, 1000000, &max, err,
                                  errlen);
     p.max_entities = max;
-    if (rc == 0 && p.mode == GW_MODE_MULTICAST && (p.address >> 28) != 0xe)
+    if (rc == 0 && p.mode == GW_MODE_MULTICAST && !s_is_group (p.address))
         rc = cgs_config_error (cfg, "network", "address", 0, err, errlen,
                                "multicast needs a group in 224.0.0.0/4");
     if (rc == 0 && p.mode == GW_MODE_UNICAST && p.peer_count == 0)

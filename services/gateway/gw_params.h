@@ -1,5 +1,7 @@
 /* gw_params — the gateway's parameter file (deploy/params/gateway.ini): the
- * DIS network (port, broadcast, multicast group or unicast peers), the
+ * DIS network (port, broadcast, multicast group or unicast peers, the
+ * interface; by default multicast on loopback, which never leaves this
+ * machine, and whether given parameters would send off it), the
  * protocol version sent, site and application ids, entity-id assignment,
  * dead-reckoning thresholds and the external entities' table. Every value is
  * range-checked; errors name the file, the line, the section and key. Pure. */
@@ -11,6 +13,7 @@
 #include <stdint.h>
 
 #define GW_PEERS_MAX 16
+#define GW_IFACE_MAX 16 // an interface name (IF_NAMESIZE) or a dotted IPv4 address
 
 typedef enum {
     GW_MODE_BROADCAST = 0,
@@ -25,13 +28,16 @@ typedef struct {
 
 typedef struct {
     // [network]
-    uint16_t port;                 // UDP port bound and sent to (default 3000)
-    gw_mode_t mode;                // default broadcast
-    uint32_t address;              // broadcast address or multicast group (host order)
-    uint32_t bind_address;         // local address bound (default 0.0.0.0)
-    uint32_t interface;            // multicast interface (default 0.0.0.0: the kernel's choice)
-    int ttl;                       // multicast TTL (default 1)
-    bool loopback;                 // multicast loopback (default yes)
+    uint16_t port;   // UDP port bound and sent to (default 3000)
+    gw_mode_t mode;  // default multicast
+    uint32_t address; // broadcast address or multicast group (host order; default 239.1.2.3)
+    uint32_t bind_address; // local address bound (default: the group for multicast, 0.0.0.0
+                           // for broadcast, 127.0.0.1 for unicast to loopback peers only)
+    char interface[GW_IFACE_MAX]; // name or IPv4 address of the interface multicast and
+                                  // broadcast go out on and are heard on (default "lo");
+                                  // "" is the routing table's choice
+    int ttl;                      // multicast TTL (default 0: never leaves this host)
+    bool loopback;                // multicast loopback (default yes)
     gw_peer_t peers[GW_PEERS_MAX]; // unicast peers
     size_t peer_count;
     // [dis]
@@ -62,5 +68,14 @@ int gw_params_load_string (const char *name, const char *text, gw_params_t *p, c
                            size_t errlen);
 /* The mode's name. */
 const char *gw_params_mode_name (gw_mode_t mode);
+/* Where DIS goes, in words ("multicast to 239.1.2.3:3000 on lo, TTL 0"),
+ * into buf (always terminated). */
+void gw_params_describe (const gw_params_t *p, char *buf, size_t len);
+/* Whether these parameters can put DIS on a network rather than keep it on
+ * this machine, given whether p->interface is a loopback interface (the
+ * caller looks it up: cgs_iface_find). Multicast stays with TTL 0 or on a
+ * loopback interface; broadcast on a loopback interface or to 127.0.0.0/8;
+ * unicast when every peer is in 127.0.0.0/8. */
+bool gw_params_leaves_host (const gw_params_t *p, bool interface_is_loopback);
 
 #endif

@@ -6,6 +6,7 @@
  * codec and the dead reckoning are in gw_*.c; this file wires them to UDP
  * and the bus. */
 #include "cgs_cmd.h"
+#include "cgs_iface.h"
 #include "cgs_log.h"
 #include "cgs_service.h"
 #include "gw_in.h"
@@ -72,6 +73,7 @@ typedef struct {
     int fd;
     struct sockaddr_in dest[GW_PEERS_MAX];
     size_t ndest;
+    cgs_iface_t ifc; // the interface the parameters name (zeroed: none named)
     gw_out_t *out;
     gw_in_t *in;
     double sim_time_s;  // newest simulation time heard
@@ -742,15 +744,37 @@ static void s_on_publish (void *arg)
 
 /* ---- setup --------------------------------------------------------------------------------- */
 
+/* The UDP socket of the parameters' mode. Multicast joins its group on the
+ * interface and hears only that membership (IP_MULTICAST_ALL off); broadcast
+ * on a named interface is tied to it (SO_BINDTODEVICE), so are unicast
+ * peers when an interface is given. */
+/* The interface the parameters name, looked up on this host (none named:
+ * the routing table's choice, app->ifc zeroed). */
+static int s_interface (s_app_t *app, char *err, size_t errlen)
+{
+    const gw_params_t *p = &app->p;
+    memset (&app->ifc, 0, sizeof app->ifc);
+    if (!*p->interface)
+        return 0;
+    int rc = cgs_iface_find (p->interface, &app->ifc);
+    if (rc < 0)
+        snprintf (err, errlen, "%s: [network] interface %s: %s (`ip -br link` lists this host's)",
+                  *app->svc.params ? app->svc.params : "gateway parameters", p->interface,
+                  rc == -ENODEV ? "no such interface on this host" : strerror (-rc));
+    return rc;
+}
+
 static int s_socket (s_app_t *app, char *err, size_t errlen)
 {
     const gw_params_t *p = &app->p;
+    const cgs_iface_t ifc = app->ifc;
     int fd = socket (AF_INET, SOCK_DGRAM | SOCK_NONBLOCK | SOCK_CLOEXEC, 0);
     if (fd < 0) {
         snprintf (err, errlen, "cannot make a UDP socket: %s", strerror (errno));
         return -errno;
     }
-    int one = 1, size = 4 << 20;
+    int one = 1, zero = 0, size = 4 << 20;
+    const char *step = "bind";
     // Several DIS applications on one host share the port (broadcast and multicast).
     setsockopt (fd, SOL_SOCKET, SO_REUSEADDR, &one, sizeof one);
     setsockopt (fd, SOL_SOCKET, SO_RCVBUF, &size, sizeof size);
@@ -758,20 +782,29 @@ static int s_socket (s_app_t *app, char *err, size_t errlen)
     struct sockaddr_in sa = {.sin_family = AF_INET, .sin_port = htons (p->port)};
     sa.sin_addr.s_addr = htonl (p->bind_address);
     if (p->mode == GW_MODE_BROADCAST &&
-        setsockopt (fd, SOL_SOCKET, SO_BROADCAST, &one, sizeof one) < 0)
+        setsockopt (fd, SOL_SOCKET, SO_BROADCAST, &one, sizeof one) < 0) {
+        step = "SO_BROADCAST";
         goto fail;
+    }
+    if (p->mode != GW_MODE_MULTICAST && *p->interface &&
+        setsockopt (fd, SOL_SOCKET, SO_BINDTODEVICE, ifc.name, (socklen_t)strlen (ifc.name)) < 0) {
+        step = "SO_BINDTODEVICE";
+        goto fail;
+    }
     if (bind (fd, (struct sockaddr *)&sa, sizeof sa) < 0)
         goto fail;
     if (p->mode == GW_MODE_MULTICAST) {
-        struct ip_mreq mreq;
+        struct ip_mreqn mreq = {.imr_ifindex = (int)ifc.index};
         mreq.imr_multiaddr.s_addr = htonl (p->address);
-        mreq.imr_interface.s_addr = htonl (p->interface);
         unsigned char ttl = (unsigned char)p->ttl, loop = p->loopback;
-        struct in_addr ifa = {htonl (p->interface)};
-        if (setsockopt (fd, IPPROTO_IP, IP_ADD_MEMBERSHIP, &mreq, sizeof mreq) < 0 ||
+        step = "join the group";
+        if (setsockopt (fd, IPPROTO_IP, IP_ADD_MEMBERSHIP, &mreq, sizeof mreq) < 0)
+            goto fail;
+        step = "multicast options";
+        if (setsockopt (fd, IPPROTO_IP, IP_MULTICAST_ALL, &zero, sizeof zero) < 0 ||
             setsockopt (fd, IPPROTO_IP, IP_MULTICAST_TTL, &ttl, sizeof ttl) < 0 ||
             setsockopt (fd, IPPROTO_IP, IP_MULTICAST_LOOP, &loop, sizeof loop) < 0 ||
-            setsockopt (fd, IPPROTO_IP, IP_MULTICAST_IF, &ifa, sizeof ifa) < 0)
+            setsockopt (fd, IPPROTO_IP, IP_MULTICAST_IF, &mreq, sizeof mreq) < 0)
             goto fail;
     }
     app->ndest = 0;
@@ -790,10 +823,11 @@ static int s_socket (s_app_t *app, char *err, size_t errlen)
     return 0;
 fail:;
     int e = errno;
-    char addr[INET_ADDRSTRLEN];
+    char addr[INET_ADDRSTRLEN], where[160];
     inet_ntop (AF_INET, &sa.sin_addr, addr, sizeof addr);
-    snprintf (err, errlen, "DIS socket (%s %s:%u): %s", gw_params_mode_name (p->mode), addr,
-              p->port, strerror (e));
+    gw_params_describe (p, where, sizeof where);
+    snprintf (err, errlen, "DIS socket (%s, bound to %s:%u): %s: %s", where, addr, p->port, step,
+              strerror (e));
     close (fd);
     return -e;
 }
@@ -832,9 +866,10 @@ static int s_setup (s_app_t *app, char *err, size_t errlen)
     app->uavsim = cgs_exercise_first_of (app->svc.exercise, "uavsim");
     if (app->uavsim && !*app->uavsim->command)
         app->uavsim = NULL; // it takes no tasks
-    if (app->svc.check_only)
-        return 0;
-    int rc = s_socket (app, err, errlen);
+    int rc = s_interface (app, err, errlen);
+    if (rc < 0 || app->svc.check_only)
+        return rc;
+    rc = s_socket (app, err, errlen);
     if (rc < 0)
         return rc;
     if (app->uavsim &&
@@ -843,15 +878,15 @@ static int s_setup (s_app_t *app, char *err, size_t errlen)
         snprintf (err, errlen, "cannot make a command client for %s", app->uavsim->command);
         return -errno;
     }
-    char addr[INET_ADDRSTRLEN];
-    struct in_addr a = app->dest[0].sin_addr;
-    inet_ntop (AF_INET, &a, addr, sizeof addr);
-    cgs_log (LOG_INFO,
-             "DIS version %d, exercise %u, site %d application %d, port %u, %s to %s:%u%s; "
-             "uavsim at %s",
-             app->p.version, ex, app->p.site, app->p.application, app->p.port,
-             gw_params_mode_name (app->p.mode), addr, ntohs (app->dest[0].sin_port),
-             app->ndest > 1 ? " and more" : "", app->uavsim ? app->uavsim->command : "(none)");
+    char where[160];
+    gw_params_describe (&app->p, where, sizeof where);
+    cgs_log (LOG_INFO, "DIS version %d, exercise %u, site %d application %d, %s; uavsim at %s",
+             app->p.version, ex, app->p.site, app->p.application, where,
+             app->uavsim ? app->uavsim->command : "(none)");
+    // Once, at start: an exercise whose parameters put DIS on a network.
+    if (gw_params_leaves_host (&app->p, app->ifc.loopback))
+        cgs_log (LOG_NOTICE, "DIS leaves this machine: %s (%s)", where,
+                 *app->svc.params ? app->svc.params : "the built-in parameters");
     return 0;
 }
 
@@ -875,8 +910,12 @@ int main (int argc, char **argv)
         goto done;
     }
     if (app.svc.check_only) {
-        printf ("%s: parameters are good (DIS version %d, port %u, %s)\n", app.svc.instance_name,
-                app.p.version, app.p.port, gw_params_mode_name (app.p.mode));
+        char where[160];
+        gw_params_describe (&app.p, where, sizeof where);
+        printf ("%s: parameters are good (DIS version %d, %s: %s)\n", app.svc.instance_name,
+                app.p.version, where,
+                gw_params_leaves_host (&app.p, app.ifc.loopback) ? "leaves this machine"
+                                                                 : "this machine only");
         exit_code = 0;
         goto done;
     }

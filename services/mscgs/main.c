@@ -16,6 +16,7 @@
 #include "cgs_cmd.h"
 #include "cgs_curve.h"
 #include "cgs_exercise.h"
+#include "cgs_iface.h"
 #include "cgs_lifecycle.h"
 #include "cgs_loop.h"
 #include "cgs_service.h"
@@ -23,6 +24,7 @@
 #include "cgs_state.h"
 #include "cgs_topics.h"
 #include "gd_score.h"
+#include "gw_params.h"
 #include "st_params.h"
 
 #include <dirent.h>
@@ -570,6 +572,24 @@ static void s_print_map_address (const cgs_instance_t *in)
     bool v6 = strchr (host, ':') != NULL;
     printf ("mscgs run: tactical map (%s) at http://%s%s%s:%d/%s\n", in->name, v6 ? "[" : "", host,
             v6 ? "]" : "", p.port, p.token[0] ? "?token=... (the configured token)" : "");
+}
+
+/* Where a gateway instance sends DIS, from its parameters, and whether that
+ * leaves this machine (its interface looked up here, as the gateway does). */
+static void s_print_dis_destination (const cgs_instance_t *in)
+{
+    gw_params_t p;
+    char err[512], where[160];
+    gw_params_defaults (&p);
+    if (*in->params && gw_params_load (in->params, &p, err, sizeof err) < 0)
+        return; // the gateway itself reports the error in its log
+    gw_params_describe (&p, where, sizeof where);
+    cgs_iface_t ifc = {0};
+    bool known = !*p.interface || cgs_iface_find (p.interface, &ifc) == 0;
+    printf ("mscgs run: DIS (%s) %s: %s\n", in->name, where,
+            !known                                     ? "no such interface here (see its log)"
+            : gw_params_leaves_host (&p, ifc.loopback) ? "LEAVES THIS MACHINE, onto the network"
+                                                       : "this machine only");
 }
 
 static double s_number (const char *what, const char *text);
@@ -1980,6 +2000,8 @@ static int s_cmd_run (int argc, char **argv)
     for (size_t i = 0; i < run.nchildren; i++)
         if (strcmp (run.children[i].instance->program, "stationd") == 0)
             s_print_map_address (run.children[i].instance);
+        else if (strcmp (run.children[i].instance->program, "gateway") == 0)
+            s_print_dis_destination (run.children[i].instance);
 
     cgs_lifecycle_init ();
     void *ctx = NULL;

@@ -4,7 +4,9 @@
 # unit (and does print for a unit whose program is missing, so the check can
 # fail), `systemd-analyze security` scores every service 2.5 or better, the
 # installed lab exercise names the installed parameter files and passes
-# --check, and an existing exercise file is never overwritten. (A real
+# --check, its gateway's parameters (/etc/mscgs/gateway.ini) broadcast DIS on
+# the interface they name, and an existing exercise file or gateway
+# parameter file is never overwritten. (A real
 # systemd running the units is a separate, opt-in target.) TAP on stdout.
 # shellcheck source=tests/integration/lib.sh
 . "$(dirname "$0")/lib.sh"
@@ -44,8 +46,16 @@ check "the installed exercise uses tcp endpoints only" bash -c "! grep -qE '^(pu
 check "and names the installed parameter files" grep -q "params = $ROOT/usr/local/share/mscgs/params/guidance.ini" "$EX"
 "$CGS_BUILD/bin/guidanced" --exercise "$EX" --check >"$TMP/check.out" 2>&1
 is "$?" 0 "guidanced --check passes with it"
+GWP=$ROOT/etc/mscgs/gateway.ini
+check "the lab's gateway parameters are installed in $ROOT/etc/mscgs" cmp -s "$GWP" "$CGS_ROOT/deploy/params/gateway-lab.ini"
+check "and the lab exercise's gateway uses them" grep -q "^params = $ROOT/etc/mscgs/gateway.ini$" "$EX"
+check "they broadcast on an interface named explicitly" bash -c \
+    "grep -q '^mode = broadcast' '$GWP' && grep -qE '^interface = [a-z]' '$GWP'"
 echo "; the admin's own" >>"$EX"
+echo "; the admin's own" >>"$GWP"
 make -s -C "$CGS_ROOT" install O="$CGS_BUILD" SAN=$SAN PREFIX="$ROOT/usr/local" SYSCONFDIR="$ROOT/etc" >"$TMP/install2.out" 2>&1
 check "a second make install leaves an existing exercise file alone" bash -c \
-    "tail -1 '$EX' | grep -q \"the admin's own\" && grep -q 'left as it is' '$TMP/install2.out'"
+    "tail -1 '$EX' | grep -q \"the admin's own\" && grep -q 'exercise.ini exists: left as it is' '$TMP/install2.out'"
+check "and an existing gateway parameter file" bash -c \
+    "tail -1 '$GWP' | grep -q \"the admin's own\" && grep -q 'gateway.ini exists: left as it is' '$TMP/install2.out'"
 finish

@@ -2,10 +2,13 @@
 // dis.js — a DIS peer built on the open-dis library (npm `open-dis`), for the
 // gateway's interoperability test (tests/integration/gateway.sh). Test code.
 //
-//   node dis.js listen PORT PREFIX
+//   node dis.js listen PORT PREFIX [--group G [--join-on ADDR]]
 //       receive UDP on 127.0.0.1:PORT until killed: every datagram goes to
 //       PREFIX.pcap (for tshark) and is decoded by open-dis into one JSON
-//       line of PREFIX.jsonl (dis6 for versions 4-6, dis7 for version 7)
+//       line of PREFIX.jsonl (dis6 for versions 4-6, dis7 for version 7).
+//       With --group, bound to the multicast group G instead (the port
+//       shared) and joined to it on the interface of ADDR (default
+//       127.0.0.1, loopback: as a DIS tool hears the default exercise)
 //   node dis.js send-espdu PORT --exercise N --id S:A:E --ecef X,Y,Z
 //       [--vel VX,VY,VZ] [--marking M] [--dr ALG] [--version V] [--deactivate]
 //       encode an Entity State PDU with open-dis and send it to 127.0.0.1:PORT
@@ -145,11 +148,11 @@ function decode(buf) {
     return out;
 }
 
-function listen(port, prefix) {
+function listen(port, prefix, group, joinOn) {
     const pcap = fs.openSync(`${prefix}.pcap`, 'w');
     fs.writeSync(pcap, pcapHeader());
     const jsonl = fs.openSync(`${prefix}.jsonl`, 'w');
-    const sock = dgram.createSocket('udp4');
+    const sock = dgram.createSocket({ type: 'udp4', reuseAddr: true });
     sock.on('message', (msg, rinfo) => {
         fs.writeSync(pcap, pcapRecord(msg, rinfo.port, port));
         let line;
@@ -160,7 +163,14 @@ function listen(port, prefix) {
         }
         fs.writeSync(jsonl, JSON.stringify(line) + '\n');
     });
-    sock.bind(port, '127.0.0.1');
+    if (group) {
+        sock.bind(port, group, () => {
+            sock.addMembership(group, joinOn);
+            console.log(`listening on ${group}:${port}, joined on ${joinOn}`);
+        });
+    } else {
+        sock.bind(port, '127.0.0.1');
+    }
     const stop = () => {
         fs.closeSync(pcap);
         fs.closeSync(jsonl);
@@ -257,7 +267,7 @@ if (!cmd || !port) {
     console.error('usage: node dis.js listen|send-espdu|send-action|send-raw PORT ...');
     process.exit(2);
 }
-if (cmd === 'listen') listen(Number(port), rest[0]);
+if (cmd === 'listen') listen(Number(port), rest[0], arg(rest, '--group'), arg(rest, '--join-on', '127.0.0.1'));
 else if (cmd === 'send-espdu') sendEspdu(Number(port), rest);
 else if (cmd === 'send-action') sendAction(Number(port), rest);
 else if (cmd === 'send-raw') send(Number(port), Buffer.from(rest[0], 'hex'));

@@ -263,6 +263,21 @@ ct sh -c 'ldd /usr/bin/mscgs /usr/bin/uavsim /usr/bin/mtid /usr/bin/bcisd /usr/b
 check "every shared library of the programs is in the image (else: $SELF --make-cache)" \
     bash -c "! grep 'not found' '$TMP/ldd.out'"
 
+# The lab exercise's gateway broadcasts DIS on the interface its parameters
+# name (eth0); the container's private network has only lo, so it gets an
+# eth0: a veth whose other end (lan0) stays in the container, what is sent
+# on it counted and going nowhere else.
+nsenter --target "$LEADER" --net sh -c \
+    'ip link add eth0 type veth peer name lan0 && ip addr add 10.79.0.1/24 dev eth0 && ip link set lan0 up && ip link set eth0 up' \
+    >"$TMP/eth0.out" 2>&1 || bail "an eth0 in the container: $(cat "$TMP/eth0.out")"
+# eth0_tx: the packets sent on the container's eth0 (netlink: this host's
+# /sys shows its own namespace's interfaces).
+eth0_tx () {
+    nsenter --target "$LEADER" --net ip -s link show eth0 | awk 'tx { print $2; exit } /^ *TX:/ { tx = 1 }'
+}
+eth0_tx_grew () { [ "$(eth0_tx)" -gt "$TX0" ]; }
+TX0=$(eth0_tx)
+
 # ---- 1. mscgs.target starts every instance; they reach READY and talk -----------------
 
 START=$SECONDS
@@ -296,6 +311,14 @@ sed 's/^/#   /' "$TMP/status1.out"
 is "$rc" 0 "mscgs status: every instance is up"
 ct /usr/bin/mscgs echo clock --count 1 --timeout 5 --exercise "$EXERCISE" >"$TMP/clock.out" 2>&1
 is "$?" 0 "mscgs echo clock: uavsim's clock reaches a client in the container"
+
+# The lab's DIS goes out on the interface named, and the gateway says so once.
+GW=gateway@gateway.service
+ct journalctl --no-pager -o cat -p notice..notice -u "$GW" >"$TMP/gw.notice" 2>&1
+is "$(grep -c 'DIS leaves this machine: broadcast to 255.255.255.255:3000 on eth0' "$TMP/gw.notice")" 1 \
+    "$GW logs once, at notice level, that the lab's DIS leaves the machine on eth0"
+check "and its Entity State PDUs go out on eth0 (tx_packets $TX0 -> more)" \
+    wait_for 15 eth0_tx_grew
 
 # restarts_and_pids [UNIT...]: "UNIT NRESTARTS MAINPID" for every unit but those given.
 restarts_and_pids () {

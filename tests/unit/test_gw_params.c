@@ -1,10 +1,14 @@
 /* test_gw_params — the gateway's parameter file: the defaults are the values
  * deploy/params/gateway.ini documents (read by hand from it, and the shipped
  * file itself loaded), every key read from text, addresses in host order,
- * unicast peers with and without a port, and each kind of error naming its
- * file, line, section and key; a refused file leaves the parameters alone. */
+ * unicast peers with and without a port, the address bound and the
+ * interface each mode takes when none is given, whether a set of parameters
+ * sends DIS off this machine (the default never does, the lab's does), and
+ * each kind of error naming its file, line, section and key; a refused file
+ * leaves the parameters alone. */
 #include <setjmp.h>
 #include <stdarg.h>
+#include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
 
@@ -29,7 +33,8 @@ static void s_assert_equal (const gw_params_t *a, const gw_params_t *b)
     S_SAME (mode);
     S_SAME (address);
     S_SAME (bind_address);
-    S_SAME (interface);
+    if (strcmp (a->interface, b->interface) != 0)
+        fail_msg ("interface: '%s' != '%s'", a->interface, b->interface);
     S_SAME (ttl);
     S_SAME (loopback);
     S_SAME (peer_count);
@@ -86,11 +91,12 @@ static void test_defaults (void **state)
     gw_params_defaults (&p);
     // As deploy/params/gateway.ini gives them.
     assert_int_equal (p.port, 3000);
-    assert_int_equal (p.mode, GW_MODE_BROADCAST);
-    assert_int_equal (p.address, 0xffffffffu); // 255.255.255.255
-    assert_int_equal (p.bind_address, 0);
-    assert_int_equal (p.interface, 0);
-    assert_int_equal (p.ttl, 1);
+    // Multicast to 239.1.2.3 on loopback, TTL 0, bound to the group.
+    assert_int_equal (p.mode, GW_MODE_MULTICAST);
+    assert_int_equal (p.address, 0xef010203u);
+    assert_int_equal (p.bind_address, 0xef010203u);
+    assert_string_equal (p.interface, "lo");
+    assert_int_equal (p.ttl, 0);
     assert_true (p.loopback);
     assert_int_equal (p.peer_count, 0);
     assert_int_equal (p.version, 7);
@@ -112,7 +118,8 @@ static void test_defaults (void **state)
     assert_string_equal (gw_params_mode_name (GW_MODE_UNICAST), "unicast");
 }
 
-// The shipped file names every key but `peer`, and gives exactly the defaults.
+// The shipped file names every key but `peer` and `bind` (whose default
+// follows the mode: a comment shows it), and gives exactly the defaults.
 static void test_shipped_file (void **state)
 {
     (void)state;
@@ -120,7 +127,6 @@ static void test_shipped_file (void **state)
         {"network", "port"},
         {"network", "mode"},
         {"network", "address"},
-        {"network", "bind"},
         {"network", "interface"},
         {"network", "ttl"},
         {"network", "loopback"},
@@ -147,7 +153,8 @@ static void test_shipped_file (void **state)
     // Loaded over a set that differs in every field, it writes each one back.
     p = def;
     p.port = 4000, p.mode = GW_MODE_MULTICAST, p.address = 0xe0000001u, p.bind_address = 1;
-    p.interface = 2, p.ttl = 9, p.loopback = false, p.version = 5, p.site = 2;
+    snprintf (p.interface, sizeof p.interface, "eth9");
+    p.ttl = 9, p.loopback = false, p.version = 5, p.site = 2;
     p.application = 3, p.entity_id_base = 10, p.absolute_time = false, p.route_action_id = 1;
     p.position_threshold_m = 2, p.orientation_threshold_deg = 4, p.heartbeat_s = 6;
     p.timeout_s = 20, p.first_entity_id = 70000, p.max_entities = 5, p.publish_rate_hz = 2;
@@ -199,6 +206,7 @@ static void test_values (void **state)
     gw_params_t want;
     gw_params_defaults (&want);
     want.port = 3001, want.mode = GW_MODE_UNICAST, want.bind_address = 0x0a000005u;
+    want.interface[0] = '\0'; // unicast: none unless given
     want.ttl = 4, want.loopback = false;
     want.peer_count = 2;
     want.peers[0] = (gw_peer_t){0xc0a8010au, 3001}; // no port: the file's port
@@ -215,14 +223,116 @@ static void test_values (void **state)
     s_load ("[network]\nmode = multicast\ninterface = 192.168.7.1\n", &p);
     assert_int_equal (p.mode, GW_MODE_MULTICAST);
     assert_int_equal (p.address, 0xef010203u);
-    assert_int_equal (p.interface, 0xc0a80701u);
+    assert_string_equal (p.interface, "192.168.7.1");
     gw_params_defaults (&p);
     s_load ("[network]\nmode = multicast\naddress = 224.0.0.1\n", &p);
     assert_int_equal (p.address, 0xe0000001u);
     gw_params_defaults (&p);
-    s_load ("[network]\naddress = 192.168.1.255\n", &p);
+    s_load ("[network]\nmode = broadcast\naddress = 192.168.1.255\n", &p);
     assert_int_equal (p.mode, GW_MODE_BROADCAST);
     assert_int_equal (p.address, 0xc0a801ffu);
+}
+
+// What each mode takes when a key is not given: the address (a group for
+// multicast, 255.255.255.255 for broadcast), the address bound (only what
+// the mode's peers send to), the interface (loopback, none for unicast).
+static void test_mode_defaults (void **state)
+{
+    (void)state;
+    gw_params_t p;
+    gw_params_defaults (&p);
+    s_load ("[network]\nmode = broadcast\n", &p);
+    assert_int_equal (p.address, 0xffffffffu);
+    assert_int_equal (p.bind_address, 0);
+    assert_string_equal (p.interface, "lo");
+    gw_params_defaults (&p);
+    s_load ("[network]\nmode = multicast\naddress = 239.9.9.9\ninterface = eth1\n", &p);
+    assert_int_equal (p.bind_address, 0xef090909u); // the group
+    assert_string_equal (p.interface, "eth1");
+    gw_params_defaults (&p);
+    s_load ("[network]\nmode = unicast\npeer = 127.0.0.1:3001\npeer = 127.0.0.2\n", &p);
+    assert_int_equal (p.bind_address, 0x7f000001u); // loopback peers only: loopback
+    assert_string_equal (p.interface, "");
+    gw_params_defaults (&p);
+    s_load ("[network]\nmode = unicast\npeer = 127.0.0.1\npeer = 10.0.0.2\n", &p);
+    assert_int_equal (p.bind_address, 0);
+    gw_params_defaults (&p);
+    s_load ("[network]\nmode = unicast\npeer = 10.0.0.2\ninterface = eth0\nbind = 10.0.0.1\n", &p);
+    assert_string_equal (p.interface, "eth0");
+    assert_int_equal (p.bind_address, 0x0a000001u);
+    gw_params_defaults (&p);
+    s_load ("[network]\ninterface = 0.0.0.0\n", &p); // the routing table's choice
+    assert_string_equal (p.interface, "");
+    gw_params_defaults (&p);
+    s_load ("[network]\ninterface = enp3s0f1.100\n", &p);
+    assert_string_equal (p.interface, "enp3s0f1.100");
+}
+
+// Whether DIS can leave this machine, for every mode, against the rule the
+// header states; and the words that say where it goes.
+static void test_leaves_host (void **state)
+{
+    (void)state;
+    static const struct {
+        const char *text;   // the [network] section
+        bool loopback_if;   // whether its interface is a loopback one
+        bool leaves;        // expected
+        const char *where;  // expected description
+    } cases[] = {
+        {"", true, false, "multicast to 239.1.2.3:3000 on lo, TTL 0"},
+        {"ttl = 1\n", true, false, "multicast to 239.1.2.3:3000 on lo, TTL 1"},
+        {"interface = eth0\n", false, false, "multicast to 239.1.2.3:3000 on eth0, TTL 0"},
+        {"interface = eth0\nttl = 1\n", false, true, "multicast to 239.1.2.3:3000 on eth0, TTL 1"},
+        {"interface = 0.0.0.0\nttl = 2\n", false, true,
+         "multicast to 239.1.2.3:3000 on the routing table's interface, TTL 2"},
+        {"mode = broadcast\n", true, false, "broadcast to 255.255.255.255:3000 on lo"},
+        {"mode = broadcast\ninterface = eth0\n", false, true,
+         "broadcast to 255.255.255.255:3000 on eth0"},
+        {"mode = broadcast\ninterface = 0.0.0.0\naddress = 127.255.255.255\n", false, false,
+         "broadcast to 127.255.255.255:3000 on the routing table's interface"},
+        {"mode = unicast\npeer = 127.0.0.1:4000\n", false, false, "unicast to 127.0.0.1:4000"},
+        {"mode = unicast\npeer = 127.0.0.1\npeer = 10.1.1.1\npeer = 10.1.1.2\n", false, true,
+         "unicast to 127.0.0.1:3000 and 2 more"},
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        char text[256], where[160];
+        snprintf (text, sizeof text, "[network]\n%s", cases[i].text);
+        gw_params_t p;
+        gw_params_defaults (&p);
+        s_load (text, &p);
+        gw_params_describe (&p, where, sizeof where);
+        if (strcmp (where, cases[i].where) != 0)
+            fail_msg ("case %zu: '%s', want '%s'", i, where, cases[i].where);
+        if (gw_params_leaves_host (&p, cases[i].loopback_if) != cases[i].leaves)
+            fail_msg ("case %zu (%s): leaves_host should be %d", i, where, cases[i].leaves);
+    }
+    // A short buffer is cut and terminated.
+    gw_params_t p;
+    gw_params_defaults (&p);
+    char small[10];
+    gw_params_describe (&p, small, sizeof small);
+    assert_string_equal (small, "multicast");
+}
+
+// The lab exercise's parameters broadcast on the interface they name, so
+// they leave the machine; every other key keeps its default.
+static void test_lab_file (void **state)
+{
+    (void)state;
+    const char *root = getenv ("CGS_ROOT");
+    char path[1024], err[512] = "";
+    snprintf (path, sizeof path, "%s/deploy/params/gateway-lab.ini", root ? root : ".");
+    gw_params_t p, want;
+    gw_params_defaults (&p);
+    if (gw_params_load (path, &p, err, sizeof err) != 0)
+        fail_msg ("%s", err);
+    gw_params_defaults (&want);
+    want.mode = GW_MODE_BROADCAST;
+    want.address = 0xffffffffu;
+    want.bind_address = 0;
+    snprintf (want.interface, sizeof want.interface, "eth0");
+    s_assert_equal (&p, &want);
+    assert_true (gw_params_leaves_host (&p, false));
 }
 
 static void test_errors (void **state)
@@ -253,6 +363,10 @@ static void test_errors (void **state)
     s_fails ("[external]\nfirst_entity_id = 65534\n", "g.ini:2: [external] first_entity_id",
              "65534");
     s_fails ("[dis]\nsite = 1\nsite = 2\n", "g.ini:3: [dis] site", "twice");
+    s_fails ("[network]\ninterface = eth 0\n", "g.ini:2: [network] interface", "eth 0");
+    s_fails ("[network]\ninterface = averyverylongname\n", "g.ini:2: [network] interface",
+             "ip -br link");
+    s_fails ("[network]\ninterface = eth/0\n", "g.ini:2: [network] interface", "eth/0");
     // Seventeen peers: one too many, named at the seventeenth.
     char text[1024] = "[network]\nmode = unicast\n";
     for (int i = 1; i <= GW_PEERS_MAX + 1; i++) {
@@ -274,6 +388,9 @@ int main (void)
         cmocka_unit_test (test_defaults),
         cmocka_unit_test (test_shipped_file),
         cmocka_unit_test (test_values),
+        cmocka_unit_test (test_mode_defaults),
+        cmocka_unit_test (test_leaves_host),
+        cmocka_unit_test (test_lab_file),
         cmocka_unit_test (test_errors),
     };
     return cmocka_run_group_tests (tests, NULL, NULL);
