@@ -68,6 +68,7 @@
 'use strict';
 
 const fs = require('fs');
+const CHROMIUM_ARGS = require('../browser/chromium_args.js');
 const path = require('path');
 
 function say(s) {
@@ -457,7 +458,7 @@ async function main() {
   let browser;
   try {
     browser = await chromium.launch({
-      executablePath: opt.chromium, args: ['--no-sandbox'], headless: true, timeout: 60000,
+      executablePath: opt.chromium, args: CHROMIUM_ARGS, headless: true, timeout: 60000,
     });
   } catch (err) {
     fail('Chromium did not start (' + opt.chromium + '): ' + err.message.split('\n')[0]);

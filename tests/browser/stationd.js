@@ -23,6 +23,7 @@
 'use strict';
 
 const path = require('path');
+const CHROMIUM_ARGS = require('./chromium_args.js');
 const crypto = require('crypto');
 const { execFileSync } = require('child_process');
 const { chromium } = require('playwright-core');
@@ -254,7 +255,7 @@ async function rawCommand(page, query, msg) {
 
 async function main() {
   const t0 = Date.now();
-  const browser = await chromium.launch({ executablePath: opt.chromium, headless: true, args: ['--no-sandbox'] });
+  const browser = await chromium.launch({ executablePath: opt.chromium, headless: true, args: CHROMIUM_ARGS });
   try {
     await steps(browser);
   } finally {
