@@ -27,6 +27,7 @@
 #define S_SPEED_MIN      0.5  // ground vehicle speeds, m/s
 #define S_SPEED_MAX      40.0 // about 145 km/h
 #define S_RCS_MAX        31   // characters in a radar cross-section class name
+#define S_HALT_MAX_S     3600 // longest halt on a route point, seconds
 
 // Everything the parser passes around.
 typedef struct {
@@ -450,9 +451,29 @@ static int s_uav (s_ctx_t *c, const char *sec, cgs_scenario_uav_t *u)
 
 // --- ground vehicles --------------------------------------------------------------
 
-#define S_POINT_FORM "`point = POSITION [@ SPEED_MPS]`"
+#define S_POINT_FORM      "`point = POSITION [@ SPEED_MPS]`"
+#define S_POINT_HALT_FORM "`point = POSITION [@ SPEED_MPS] [halt SECONDS]`"
 
-// The idx-th `point =` of a vehicle: a position, then an optional '@' and leg speed.
+// Where the whole word (any case, between blanks or the ends of s) occurs in s:
+// the last place, or NULL; *ret_count says how many times.
+static char *s_word (char *s, const char *word, int *ret_count)
+{
+    size_t n = strlen (word);
+    char *last = NULL;
+    *ret_count = 0;
+    for (char *p = s; (p = strcasestr (p, word)); p++)
+        if ((p == s || isspace ((unsigned char)p[-1])) &&
+            (!p[n] || isspace ((unsigned char)p[n]))) {
+            last = p;
+            ++*ret_count;
+        }
+    return last;
+}
+
+/* The idx-th `point =` of a vehicle: a position, then an optional '@' and leg
+ * speed, then an optional word `halt` and its seconds. No position form has a
+ * word "halt" or an '@', and a speed is a bare number, so the last such word
+ * ends the position and speed, and the first '@' ends the position. */
 static int s_point (s_ctx_t *c, const char *sec, size_t idx, double def_speed, cgs_point_t *ret)
 {
     const char *value = cgs_config_get_nth (c->cfg, sec, "point", idx);
@@ -461,11 +482,32 @@ static int s_point (s_ctx_t *c, const char *sec, size_t idx, double def_speed, c
         return cgs_config_error (c->cfg, sec, "point", idx, c->err, c->errlen,
                                  "too long (%zu characters)", strlen (value));
     strcpy (buf, value);
+    int halts;
+    char *halt = s_word (buf, "halt", &halts);
+    double halt_s = 0;
+    if (halts > 1)
+        return cgs_config_error (c->cfg, sec, "point", idx, c->err, c->errlen,
+                                 "expected " S_POINT_HALT_FORM " with one 'halt' at most, got '%s'",
+                                 value);
+    if (halt) {
+        *halt = '\0';
+        const char *secs = s_trim (halt + 4);
+        if (strchr (secs, '@'))
+            return cgs_config_error (
+                c->cfg, sec, "point", idx, c->err, c->errlen,
+                "expected " S_POINT_HALT_FORM " (the speed before the halt), got '%s'", value);
+        if (!s_number (secs, &halt_s) || halt_s <= 0 || halt_s > S_HALT_MAX_S)
+            return cgs_config_error (c->cfg, sec, "point", idx, c->err, c->errlen,
+                                     "expected a halt after 'halt' in (0, %d] s, got '%s'",
+                                     S_HALT_MAX_S, secs);
+    }
     char *at = strchr (buf, '@');
     if (at && strchr (at + 1, '@'))
         return cgs_config_error (c->cfg, sec, "point", idx, c->err, c->errlen,
                                  "expected " S_POINT_FORM " with one '@' at most, got '%s'", value);
-    cgs_point_t p = {.speed_mps = def_speed, .line = cgs_config_line (c->cfg, sec, "point", idx)};
+    cgs_point_t p = {.speed_mps = def_speed,
+                     .halt_s = halt_s,
+                     .line = cgs_config_line (c->cfg, sec, "point", idx)};
     if (at) {
         *at = '\0';
         const char *speed = s_trim (at + 1);
@@ -521,6 +563,15 @@ static int s_route (s_ctx_t *c, const char *sec, cgs_scenario_vehicle_t *v)
         return cgs_config_error (c->cfg, sec, "point", n - 1, c->err, c->errlen,
                                  "no leg starts at the last point, so it takes no speed (only "
                                  "with end = loop, for the leg back to the first point)");
+    if (v->end == CGS_END_STOP && first->halt_s > 0)
+        return cgs_config_error (c->cfg, sec, "point", 0, c->err, c->errlen,
+                                 "with end = stop the vehicle never comes back to its first "
+                                 "point, so it cannot halt there (start_time_s delays its start)");
+    if (v->end == CGS_END_STOP && last->halt_s > 0)
+        return cgs_config_error (c->cfg, sec, "point", n - 1, c->err, c->errlen,
+                                 "with end = stop the vehicle stops for good on its last point, "
+                                 "so a halt there means nothing (use end = loop or reverse to "
+                                 "drive on)");
     return 0;
 }
 

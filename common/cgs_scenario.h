@@ -15,7 +15,8 @@
  *                    either, woods: vegetation_cover (0..1), canopy_height_m,
  *                    vegetation_feature_m, vegetation_seed
  *   [uav NAME]       one or more
- *   [vehicle NAME]   any number; route as repeated `point = POSITION [@ SPEED_MPS]`
+ *   [vehicle NAME]   any number; route as repeated
+ *                    `point = POSITION [@ SPEED_MPS] [halt SECONDS]`
  *   [operator]       optional; repeated `designate = FILTER nearest POSITION at TIME_S`
  *   [uavsim]         optional service settings
  *
@@ -23,7 +24,13 @@
  * `geo LAT LON`, `LAT{N|S} LON{E|W}`, MGRS). In a route point, an '@' (which
  * no position form contains) separates the position from the optional speed
  * of the leg that starts at that point: `point = 1200 -350 @ 8` (blanks
- * around '@' optional). Route rules: at least 2 points, consecutive points at
+ * around '@' optional). Then, after the whole word `halt` (any case; no
+ * position form has a word "halt", nor has a speed), a halt of SECONDS in
+ * (0, 3600]: the vehicle stops on that point for so long each time it
+ * reaches it, then drives on: `point = 1200 -350 @ 8 halt 60`, or
+ * `point = mgrs 10SFE 59641 79460 halt 30`. Not on the first or last point
+ * of a route with end = stop (it never comes back to the one, and stops for
+ * good on the other). Route rules: at least 2 points, consecutive points at
  * least 1 m apart; the last point takes a speed only with end = loop (the
  * leg back to the first point), and with loop it must not repeat the first
  * point (the route closes by itself); with end = reverse each leg keeps its
@@ -131,6 +138,7 @@ typedef struct {
     cgs_enu_t position; // local frame; up is ignored (vehicles keep to the ground)
     double speed_mps;   // speed on the leg that starts here (the vehicle's speed unless given)
     bool speed_given;   // an `@ SPEED` was written
+    double halt_s;      // seconds it halts on reaching this point (0: drives on; `halt S`)
     int line;           // line of its `point =`
 } cgs_point_t;
 

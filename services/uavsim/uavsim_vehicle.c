@@ -1,9 +1,10 @@
 /* uavsim_vehicle — a ground vehicle driving its route: a path of straights and
  * circular corner arcs built once from the route, a speed profile with
  * look-ahead braking that is integrated exactly between the points where the
- * speed limit changes, turns in place where the route doubles back, a seeded
- * lateral wander on the straights, heights and attitude from the terrain, and
- * a checksummed checkpoint of the dynamic state. Pure: no globals, no logging.
+ * speed limit changes, turns in place where the route doubles back, halts on
+ * the points that ask for one, a seeded lateral wander on the straights,
+ * heights and attitude from the terrain, and a checksummed checkpoint of the
+ * dynamic state. Pure: no globals, no logging.
  *
  * The vehicle's place is (element, direction, lap, x): element k runs from the
  * middle of the corner arc at point k to the middle of the one at point k+1
@@ -36,17 +37,19 @@
 #define S_DEV_WAVES      3             // sinusoids in the wander
 #define S_DEV_MIN_WAVE_M 100.0         // shortest wavelength drawn, metres
 #define S_DEV_MAX_WAVE_M 500.0         // longest wavelength drawn, metres
+#define S_MAX_HALT_S     1e6           // longest halt, seconds
 #define S_SAVE_MAGIC     0x48455655u   // "UVEH"
-#define S_SAVE_VERSION   1u
-#define S_SAVE_BYTES     180 // see s_save_write
+#define S_SAVE_VERSION   2u            // 2: the halt under way; 1: before halts
+#define S_SAVE_BYTES     188           // see uavsim_vehicle_save
+#define S_SAVE_V1_BYTES  180           // format 1: no halt field
 
-typedef enum { S_WAIT = 0, S_DRIVE = 1, S_PIVOT = 2, S_DONE = 3 } s_phase_t;
+typedef enum { S_WAIT = 0, S_DRIVE = 1, S_PIVOT = 2, S_DONE = 3, S_HALT = 4 } s_phase_t;
 
 /* What happens at a route point. */
 typedef enum {
     S_VX_START,    // first point of a stop route: never driven into
     S_VX_STOP,     // last point of a stop route
-    S_VX_PIVOT,    // stop on the point and turn in place
+    S_VX_PIVOT,    // stop on the point (halt there if it has one) and turn in place
     S_VX_STRAIGHT, // legs in line: driven straight through
     S_VX_ARC,      // rounded by a circular arc
 } s_vx_kind_t;
@@ -65,6 +68,7 @@ typedef struct {
     double ce_m, cn_m;   // arc centre
     double r0e_m, r0n_m; // centre to arc start
     double uie, uin;     // incoming leg direction (unit)
+    double halt_s;       // halt on arriving, seconds (0: none; > 0 only on S_VX_PIVOT)
 } s_vertex_t;
 
 typedef struct {
@@ -106,6 +110,7 @@ struct uavsim_vehicle {
     double v_mps;       // speed, m/s
     double heading_rad; // heading, radians clockwise from north
     double pivot_rad;   // turn in place still to do, radians (+ clockwise)
+    double halt_left_s; // halt still to stand, seconds (S_HALT only, else 0)
     uint64_t rng[4];    // xoshiro256** state
     s_dev_t dev;        // current wander
 
@@ -195,6 +200,7 @@ void uavsim_vehicle_params_defaults (uavsim_vehicle_params_t *p)
         .accel_mps2 = 1.5,
         .decel_mps2 = 2,
         .corner_cut_m = 10,
+        .halt_s = NULL,
     };
 }
 
@@ -231,6 +237,27 @@ int uavsim_vehicle_params_check (const uavsim_vehicle_params_t *p, char *err, si
         if (i > 0 &&
             hypot (q->e_m - p->points[i - 1].e_m, q->n_m - p->points[i - 1].n_m) < S_MIN_LEG_M) {
             cgs_errf (err, errlen, "point %zu repeats point %zu", i + 1, i);
+            return -EINVAL;
+        }
+    }
+    for (size_t i = 0; p->halt_s && i < p->n_points; i++) {
+        double h = p->halt_s[i];
+        if (!isfinite (h) || h < 0 || h > S_MAX_HALT_S) {
+            cgs_errf (err, errlen, "point %zu: halt must be 0 to %g s", i + 1, S_MAX_HALT_S);
+            return -EINVAL;
+        }
+        if (h == 0)
+            continue;
+        if (p->end == UAVSIM_VEHICLE_END_STOP && (i == 0 || i == p->n_points - 1)) {
+            cgs_errf (err, errlen, "point %zu: a stop route %s, so it takes no halt", i + 1,
+                      i == 0 ? "never returns to its first point" : "ends on its last point");
+            return -EINVAL;
+        }
+        if (p->end == UAVSIM_VEHICLE_END_LOOP && i > 0 && i == p->n_points - 1 &&
+            hypot (p->points[i].e_m - p->points[0].e_m, p->points[i].n_m - p->points[0].n_m) <
+                S_MIN_LEG_M) {
+            cgs_errf (err, errlen, "point %zu repeats point 1 to close the loop: halt on point 1",
+                      i + 1);
             return -EINVAL;
         }
     }
@@ -299,7 +326,15 @@ static uint64_t s_fingerprint (const uavsim_vehicle_params_t *p)
     for (size_t i = 0; i < sizeof d / sizeof d[0]; i++)
         h = s_fnv (h, s_bits (d[i]));
     h = s_fnv (h, (uint64_t)p->end);
-    return s_fnv (h, p->seed);
+    h = s_fnv (h, p->seed);
+    // Halts only where there are some: a route without them keeps the
+    // fingerprint it had before halts existed, so its old checkpoints load.
+    for (size_t i = 0; p->halt_s && i < p->n_points; i++)
+        if (p->halt_s[i] > 0) {
+            h = s_fnv (h, i);
+            h = s_fnv (h, s_bits (p->halt_s[i]));
+        }
+    return h;
 }
 
 /* --- building the path -------------------------------------------------------------- */
@@ -316,6 +351,10 @@ static void s_corner (uavsim_vehicle_t *self, double cut_m, int i)
     v->sigma = cross > 0 ? 1 : -1;
     v->uie = in->ue;
     v->uin = in->un;
+    if (v->halt_s > 0) { // stops on the point, whatever the angle
+        v->kind = S_VX_PIVOT;
+        return;
+    }
     if (v->theta_rad < S_STRAIGHT_RAD) {
         v->kind = S_VX_STRAIGHT;
         return;
@@ -378,6 +417,7 @@ int uavsim_vehicle_new (const uavsim_vehicle_params_t *p, uavsim_vehicle_t **ret
     for (int i = 0; i < self->npts; i++) {
         self->vx[i].e_m = p->points[i].e_m;
         self->vx[i].n_m = p->points[i].n_m;
+        self->vx[i].halt_s = p->halt_s ? p->halt_s[i] : 0;
     }
     double cum = 0;
     for (int k = 0; k < self->nlegs; k++) {
@@ -416,6 +456,7 @@ int uavsim_vehicle_new (const uavsim_vehicle_params_t *p, uavsim_vehicle_t **ret
     self->v_mps = 0;
     self->heading_rad = atan2 (self->legs[0].ue, self->legs[0].un);
     self->pivot_rad = 0;
+    self->halt_left_s = 0;
     s_update_out (self);
     *ret_v = self;
     return 0;
@@ -705,13 +746,17 @@ static void s_update_out (uavsim_vehicle_t *self)
     s_elem (self, self->k, self->dir, self->lap, &el);
     s_pose_t p;
     s_pose (self, &el, self->x_m, &p);
-    if (self->phase != S_PIVOT)
+    bool halted = self->phase == S_HALT;
+    if (self->phase != S_PIVOT && !halted)
         self->heading_rad = s_wrap_rad (atan2 (p.te, p.tn));
     uavsim_vehicle_state_t *o = &self->out;
     o->e_m = p.e_m;
     o->n_m = p.n_m;
     o->speed_mps = self->v_mps;
-    if (self->phase == S_PIVOT) {
+    if (halted) { // standing still, facing the way it came
+        o->ve_mps = 0;
+        o->vn_mps = 0;
+    } else if (self->phase == S_PIVOT) {
         o->ve_mps = self->v_mps * sin (self->heading_rad);
         o->vn_mps = self->v_mps * cos (self->heading_rad);
     } else { // (te, tn) is the unit direction the heading was taken from
@@ -728,11 +773,19 @@ static void s_update_out (uavsim_vehicle_t *self)
     o->next_point = self->dir > 0 ? (self->k + 1) % self->npts : self->k;
     o->direction = self->dir;
     o->lap = self->lap;
+    o->halted = halted;
+    o->halt_left_s = halted ? self->halt_left_s : 0;
 }
 
 /* --- motion --------------------------------------------------------------------------- */
 
-/* At the end of the current element: stop, turn in place, or drive on. */
+/* The point element el starts from when driven its way. */
+static const s_vertex_t *s_elem_start (const uavsim_vehicle_t *self, const s_elem_t *el)
+{
+    return s_vx_at (self, el->dir > 0 ? el->k : el->k + 1);
+}
+
+/* At the end of the current element: stop, halt, turn in place, or drive on. */
 static void s_arrive (uavsim_vehicle_t *self, const s_elem_t *el)
 {
     s_elem_t nx;
@@ -762,6 +815,25 @@ static void s_arrive (uavsim_vehicle_t *self, const s_elem_t *el)
     self->heading_rad = s_wrap_rad (from);
     self->pivot_rad = turn;
     self->phase = S_PIVOT;
+    // A halt comes first; the turn in place waits for its end.
+    double halt_s = s_elem_start (self, &nx)->halt_s;
+    if (halt_s > 0) {
+        self->halt_left_s = halt_s;
+        self->phase = S_HALT;
+    }
+}
+
+/* Stand for up to rem_s of the halt; returns the time left over. */
+static double s_halt (uavsim_vehicle_t *self, double rem_s)
+{
+    if (self->halt_left_s <= rem_s) {
+        rem_s -= self->halt_left_s;
+        self->halt_left_s = 0;
+        self->phase = S_PIVOT; // then the turn in place (perhaps none) to the next leg
+        return rem_s;
+    }
+    self->halt_left_s -= rem_s;
+    return 0;
 }
 
 /* Turn in place for up to rem_s; returns the time left over. */
@@ -785,6 +857,10 @@ static double s_pivot (uavsim_vehicle_t *self, double rem_s)
 static void s_drive (uavsim_vehicle_t *self, double rem_s)
 {
     for (int guard = 0; rem_s > 1e-9 && guard < 100000; guard++) {
+        if (self->phase == S_HALT) {
+            rem_s = s_halt (self, rem_s);
+            continue;
+        }
         if (self->phase == S_PIVOT) {
             rem_s = s_pivot (self, rem_s);
             continue;
@@ -925,7 +1001,8 @@ size_t uavsim_vehicle_save_size (const uavsim_vehicle_t *self)
 /* Layout, little-endian: magic u32, version u32, fingerprint u64, phase u32,
  * direction i32, element u32, reserved u32, lap u64, x f64, speed f64,
  * heading f64, turn left f64, generator 4 x u64, wander 3 x (wavenumber,
- * phase, weight) f64, CRC-32 of all before it u32: 180 bytes. */
+ * phase, weight) f64, halt left f64, CRC-32 of all before it u32: 188 bytes.
+ * Format 1 (before halts) is the same without the halt: 180 bytes. */
 int uavsim_vehicle_save (const uavsim_vehicle_t *self, void *buf, size_t len, size_t *ret_len)
 {
     assert (self && buf);
@@ -951,6 +1028,7 @@ int uavsim_vehicle_save (const uavsim_vehicle_t *self, void *buf, size_t len, si
         s_put (&p, s_bits (self->dev.phase_rad[i]), 8);
         s_put (&p, s_bits (self->dev.weight[i]), 8);
     }
+    s_put (&p, s_bits (self->halt_left_s), 8);
     s_put (&p, cgs_crc32 (buf, (size_t)(p - (uint8_t *)buf)), 4);
     assert (p - (uint8_t *)buf == S_SAVE_BYTES);
     if (ret_len)
@@ -966,13 +1044,15 @@ static bool s_in (double x, double lo, double hi)
 int uavsim_vehicle_restore (uavsim_vehicle_t *self, const void *buf, size_t len)
 {
     assert (self);
-    if (!buf || len != S_SAVE_BYTES)
+    if (!buf || (len != S_SAVE_BYTES && len != S_SAVE_V1_BYTES))
         return -EPROTO;
+    // Format 2, or format 1 (written before halts: no halt can be under way).
+    const uint64_t version = len == S_SAVE_BYTES ? S_SAVE_VERSION : 1;
     const uint8_t *p = buf;
-    const uint8_t *crc_at = p + S_SAVE_BYTES - 4;
-    if (cgs_crc32 (p, S_SAVE_BYTES - 4) != (uint32_t)s_get (&crc_at, 4))
+    const uint8_t *crc_at = p + len - 4;
+    if (cgs_crc32 (p, len - 4) != (uint32_t)s_get (&crc_at, 4))
         return -EPROTO;
-    if (s_get (&p, 4) != S_SAVE_MAGIC || s_get (&p, 4) != S_SAVE_VERSION ||
+    if (s_get (&p, 4) != S_SAVE_MAGIC || s_get (&p, 4) != version ||
         s_get (&p, 8) != self->fingerprint)
         return -EPROTO;
     uavsim_vehicle_t t = *self; // decoded into a copy; self untouched on failure
@@ -998,7 +1078,9 @@ int uavsim_vehicle_restore (uavsim_vehicle_t *self, const void *buf, size_t len)
             return -EPROTO;
         wsum += t.dev.weight[i];
     }
-    if (phase > S_DONE || (dir != 1 && dir != -1) || k >= (uint64_t)self->nlegs)
+    t.halt_left_s = version >= 2 ? s_get_f64 (&p) : 0;
+    if (phase > (version >= 2 ? S_HALT : S_DONE) || (dir != 1 && dir != -1) ||
+        k >= (uint64_t)self->nlegs)
         return -EPROTO;
     if (dir < 0 && self->end != UAVSIM_VEHICLE_END_REVERSE)
         return -EPROTO;
@@ -1017,6 +1099,15 @@ int uavsim_vehicle_restore (uavsim_vehicle_t *self, const void *buf, size_t len)
     if (t.phase == S_DONE && (self->end != UAVSIM_VEHICLE_END_STOP || t.v_mps != 0))
         return -EPROTO;
     if (t.phase == S_PIVOT && t.v_mps != 0)
+        return -EPROTO;
+    // A halt: standing at the start of its element, on a point that halts,
+    // for no longer than that point's halt.
+    if (t.phase == S_HALT) {
+        double halt_s = s_elem_start (&t, &el)->halt_s;
+        if (halt_s <= 0 || t.v_mps != 0 || t.x_m != 0 || !(t.halt_left_s > 0) ||
+            !s_in (t.halt_left_s, 0, halt_s))
+            return -EPROTO;
+    } else if (t.halt_left_s != 0)
         return -EPROTO;
     *self = t;
     s_update_out (self);

@@ -2,7 +2,8 @@
  * piecewise-linear route in the local east-north frame at its speed profile,
  * rounds corners at a bounded turn rate and lateral acceleration, slows for
  * sharp corners, wanders off the line as obstacle avoidance would (a seeded,
- * band-limited lateral offset), and stops, loops or reverses at the end.
+ * band-limited lateral offset), halts on points where the route says so,
+ * and stops, loops or reverses at the end.
  * Heights come from the terrain through uavsim_vehicle_ground. Pure: no
  * globals, clocks or logging; randomness from a generator kept in the object.
  *
@@ -24,6 +25,15 @@
  *   slowing from V to Vc costs (V-Vc)^2/(2 decel V); speeding up from Vc to V
  *   (V-Vc)^2/(2 accel V); each arc is driven at Vc; a turn in place takes
  *   angle / turn_rate.
+ * - Halts: a point with a halt (halt_s[i] > 0) is driven into like a turn in
+ *   place: no arc, the vehicle brakes (decel) to stop exactly on the point,
+ *   stands there halt_s[i] s facing the way it came (speed and velocity 0),
+ *   then turns in place to the next leg (if it bends) and accelerates
+ *   (accel) away. It halts each time it reaches the point: every lap of a
+ *   loop, both ways on a reversing route (at a reversing route's ends before
+ *   its turn about). A stop route never comes back to its first point and
+ *   ends on its last, so neither takes a halt. Time allowance: stopping
+ *   V/(2 decel), the halt, the turn in place, starting V/(2 accel).
  * - Deviation: on the straight part of each leg the vehicle is offset to the
  *   left by d = A w(x) g(x): g a sum of three sinusoids with seeded wavelengths
  *   100-500 m, phases and weights (|g| <= 1), w a raised-cosine taper to 0
@@ -69,7 +79,9 @@ typedef struct {
     double turn_rate_dps;                 // most turn rate, degrees/s (default 30)
     double accel_mps2;                    // acceleration, m/s^2 (default 1.5)
     double decel_mps2;                    // braking deceleration, m/s^2 (default 2)
-    double corner_cut_m; // farthest an arc passes from its corner point, m (default 10)
+    double corner_cut_m;  // farthest an arc passes from its corner point, m (default 10)
+    const double *halt_s; // seconds it halts on reaching each point, n_points values, 0 = none
+                          // (copied); NULL = no halts (default)
 } uavsim_vehicle_params_t;
 
 /* State for the entity message, after the latest step. */
@@ -86,6 +98,8 @@ typedef struct {
     int next_point;        // the route point it is driving to
     int direction;         // +1 along the route, -1 back along it (reverse)
     uint64_t lap;          // laps (loop) or passes (reverse) completed
+    bool halted;           // standing on a route point for its halt
+    double halt_left_s;    // of that halt, seconds still to stand (0 when not halted)
 } uavsim_vehicle_state_t;
 
 /* Height and attitude on the terrain. */
@@ -99,8 +113,10 @@ typedef struct {
 /* Fill p with the defaults above (no route). */
 void uavsim_vehicle_params_defaults (uavsim_vehicle_params_t *p);
 /* 0, or -EINVAL with a reason in err (may be NULL): a route of fewer than 2
- * points, non-finite values, negative or excessive speeds, consecutive points
- * closer than 1 cm, non-positive limits, an unknown end behaviour. */
+ * points, non-finite values, negative or excessive speeds or halts,
+ * consecutive points closer than 1 cm, non-positive limits, an unknown end
+ * behaviour, a halt where the vehicle never arrives (a stop route's first or
+ * last point, a loop's repeated last point). */
 int uavsim_vehicle_params_check (const uavsim_vehicle_params_t *p, char *err, size_t errlen);
 /* A vehicle waiting at its first point; 0, -EINVAL (bad parameters) or -ENOMEM. */
 int uavsim_vehicle_new (const uavsim_vehicle_params_t *p, uavsim_vehicle_t **ret_v);
@@ -126,11 +142,13 @@ void uavsim_vehicle_ground (const cgs_terrain_t *terrain, const uavsim_vehicle_s
 /* Bytes a checkpoint of this vehicle takes. */
 size_t uavsim_vehicle_save_size (const uavsim_vehicle_t *self);
 /* Write the full dynamic state (position on the route, speed, turn, laps, the
- * generator and the current wander) to buf; 0 with *ret_len set, or -ENOSPC. */
+ * generator, the current wander and the halt under way) to buf; 0 with
+ * *ret_len set, or -ENOSPC. */
 int uavsim_vehicle_save (const uavsim_vehicle_t *self, void *buf, size_t len, size_t *ret_len);
-/* Restore a checkpoint into a vehicle built from the same parameters; 0, or
- * -EPROTO (left unchanged) for a damaged or truncated checkpoint or one saved
- * from a vehicle with other parameters. */
+/* Restore a checkpoint into a vehicle built from the same parameters (one
+ * written before halts existed, format 1, restores too); 0, or -EPROTO (left
+ * unchanged) for a damaged or truncated checkpoint or one saved from a
+ * vehicle with other parameters. */
 int uavsim_vehicle_restore (uavsim_vehicle_t *self, const void *buf, size_t len);
 
 #endif

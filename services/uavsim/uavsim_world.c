@@ -148,8 +148,16 @@ static int s_build_vehicle (uavsim_world_t *self, size_t i, char *err, size_t er
         pts[k].n_m = v->points[k].position.n_m;
         pts[k].speed_mps = v->points[k].speed_mps;
     }
+    double *halts = calloc (v->point_count, sizeof *halts);
+    if (!halts) {
+        free (pts);
+        return -ENOMEM;
+    }
+    for (size_t k = 0; k < v->point_count; k++)
+        halts[k] = v->points[k].halt_s;
     uavsim_vehicle_params_t p;
     uavsim_vehicle_params_defaults (&p);
+    p.halt_s = halts;
     p.points = pts;
     p.n_points = v->point_count;
     p.speed_mps = v->speed_mps;
@@ -171,6 +179,7 @@ static int s_build_vehicle (uavsim_world_t *self, size_t i, char *err, size_t er
     if (rc == 0)
         rc = uavsim_vehicle_new (&p, &self->vehicles[i]);
     free (pts);
+    free (halts);
     if (rc < 0) {
         cgs_errf (err, errlen, "%s:%d: [vehicle %s]: %s", self->scenario->path, v->line, v->name,
                   *why ? why : "the vehicle model refused these values");

@@ -1,7 +1,7 @@
 /* Unit tests of uavsim_scenario: the shipped scenarios load; every value lands
  * in the struct (positions in every form against cgs_geo's conversions,
- * per-point speeds, defaults, ids); malformed scenarios fail with the file,
- * the exact line and the reason. */
+ * per-point speeds and halts, defaults, ids); malformed scenarios fail with
+ * the file, the exact line and the reason. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -187,6 +187,76 @@ static void test_bench_scenario (void **state)
     for (int f = 0; f < 4; f++)
         assert_true (forces[f] > 0);
     cgs_scenario_destroy (&sc);
+}
+
+/* Distance from (e, n) to the route's polyline (with the closing leg of a loop). */
+static double s_route_dist (const cgs_scenario_vehicle_t *v, double e, double n)
+{
+    double best = INFINITY;
+    size_t legs = v->point_count - (v->end != CGS_END_LOOP);
+    for (size_t i = 0; i < legs; i++) {
+        const cgs_enu_t *a = &v->points[i].position,
+                        *b = &v->points[(i + 1) % v->point_count].position;
+        double de = b->e_m - a->e_m, dn = b->n_m - a->n_m;
+        double u = ((e - a->e_m) * de + (n - a->n_m) * dn) / (de * de + dn * dn);
+        u = u < 0 ? 0 : u > 1 ? 1 : u;
+        best = fmin (best, hypot (e - (a->e_m + u * de), n - (a->n_m + u * dn)));
+    }
+    return best;
+}
+
+/* The scenario families for Monte Carlo runs: each is a whole scene with the
+ * default UAV and parameter files, friendly vehicles with BCIS and unknown
+ * ones without, and a designation of an unknown track next to the route of
+ * an unknown vehicle. */
+static void test_families (void **state)
+{
+    (void)state;
+    static const char *const names[] = {"convoy.ini",  "crossing.ini", "notch.ini",
+                                        "stop-go.ini", "masked.ini",   "dense.ini"};
+    cgs_geo_t *frame = cgs_geo_new (S_LAT, S_LON, 0);
+    for (size_t f = 0; f < sizeof names / sizeof names[0]; f++) {
+        cgs_scenario_t *sc = s_load_shipped (names[f], frame);
+        assert_int_equal (sc->uav_count, 1);
+        const cgs_scenario_uav_t *u = cgs_scenario_uav (sc, "uav1");
+        assert_non_null (u);
+        assert_non_null (strstr (u->radar_params, "/params/radar.ini"));
+        assert_non_null (strstr (u->bcis_params, "/params/bcis.ini"));
+        assert_true (u->sensor_depression_deg == 45 && u->sensor_hfov_deg == 10 &&
+                     u->sensor_vfov_deg == 7.5);
+        s_near (u->loiter_center, (cgs_enu_t){-6004, -6999, 0}, 1);
+        size_t friendly_bcis = 0, unknown = 0, halts = 0;
+        for (size_t i = 0; i < sc->vehicle_count; i++) {
+            const cgs_scenario_vehicle_t *v = &sc->vehicles[i];
+            friendly_bcis += v->force == CGS_FORCE_FRIENDLY && v->bcis_transponder;
+            unknown += v->force == CGS_FORCE_UNKNOWN && !v->bcis_transponder;
+            for (size_t j = 0; j < v->point_count; j++)
+                if (v->points[j].halt_s > 0) {
+                    halts++;
+                    assert_true (v->points[j].halt_s >= 30 && v->points[j].halt_s <= 120);
+                }
+        }
+        assert_true (friendly_bcis >= 1 && unknown >= 1);
+        assert_int_equal (sc->designation_count, 1);
+        const cgs_designation_t *d = &sc->designations[0];
+        assert_int_equal (d->pick, CGS_PICK_UNKNOWN);
+        double near = INFINITY;
+        for (size_t i = 0; i < sc->vehicle_count; i++)
+            if (sc->vehicles[i].force == CGS_FORCE_UNKNOWN)
+                near = fmin (near, s_route_dist (&sc->vehicles[i], d->near.e_m, d->near.n_m));
+        print_message ("%-12s %3zu vehicles (%zu friendly with BCIS, %zu unknown), %zu halts; "
+                       "designation at %.0f s, %.1f m from an unknown's route\n",
+                       names[f], sc->vehicle_count, friendly_bcis, unknown, halts, d->time_s, near);
+        assert_true (near <= 10);
+        if (strcmp (names[f], "stop-go.ini") == 0)
+            assert_true (halts >= 5);
+        if (strcmp (names[f], "dense.ini") == 0)
+            assert_int_equal (sc->vehicle_count, 201);
+        if (strcmp (names[f], "convoy.ini") == 0)
+            assert_true (sc->vehicle_count >= 12);
+        cgs_scenario_destroy (&sc);
+    }
+    cgs_geo_destroy (&frame);
 }
 
 static void test_values (void **state)
@@ -630,17 +700,154 @@ static void test_vegetation (void **state)
              ":2: [terrain] canopy_height_m: expected a number in [0.5, 100], got 'tall'");
 }
 
+/* Halts: `point = POSITION [@ SPEED] [halt S]` with every position form, with
+ * and without the speed and the halt, read into the struct. */
+static void test_halts (void **state)
+{
+    s_tmp_t *t = *state;
+    enum { FORMS = 6, SUFFIXES = 4 };
+    static const char *const suffix_fmt[SUFFIXES] = {"", " @ %g", " halt %g", " @ %g halt %g"};
+    char text[8192];
+    size_t len = (size_t)snprintf (text, sizeof text,
+                                   S_UAV "[vehicle h]\nforce = unknown\n"
+                                         "speed_mps = 9\nend = loop\n");
+    cgs_enu_t want[FORMS * SUFFIXES];
+    double want_speed[FORMS * SUFFIXES], want_halt[FORMS * SUFFIXES];
+    for (int f = 0; f < FORMS; f++)
+        for (int x = 0; x < SUFFIXES; x++) {
+            int i = f * SUFFIXES + x;
+            // Points around a ring, well apart.
+            cgs_enu_t p = {3000 * sin (i * 0.26), 3000 * cos (i * 0.26), 0};
+            cgs_geodetic_t g;
+            assert_int_equal (cgs_geo_enu_to_geodetic (t->frame, p, &g), 0);
+            char pos[128], mgrs[32];
+            if (f == 0)
+                snprintf (pos, sizeof pos, "%.3f %.3f", p.e_m, p.n_m);
+            else if (f == 1)
+                snprintf (pos, sizeof pos, "local %.3f %.3f 12", p.e_m, p.n_m);
+            else if (f == 2)
+                snprintf (pos, sizeof pos, "geo %.9f %.9f", g.lat_deg, g.lon_deg);
+            else if (f == 3) { // a height moves the point in the local frame a little
+                snprintf (pos, sizeof pos, "%.9fN %.9fW 400", g.lat_deg, -g.lon_deg);
+                g.height_m = 400;
+                assert_int_equal (cgs_geo_geodetic_to_enu (t->frame, g, &p), 0);
+            } else {
+                assert_int_equal (cgs_geo_to_mgrs (g, 5, mgrs, sizeof mgrs), 0);
+                cgs_geodetic_t gm; // the square's centre
+                assert_int_equal (cgs_geo_from_mgrs (mgrs, &gm, NULL), 0);
+                assert_int_equal (cgs_geo_geodetic_to_enu (t->frame, gm, &p), 0);
+                if (f == 4) // "mgrs 10SFE 12345 67890"
+                    snprintf (pos, sizeof pos, "mgrs %.5s %.5s %.5s", mgrs, mgrs + 5, mgrs + 10);
+                else // "10SFE1234567890"
+                    snprintf (pos, sizeof pos, "%s", mgrs);
+            }
+            want[i] = p;
+            want_speed[i] = x == 1 || x == 3 ? 5 + 0.5 * i : 9;
+            want_halt[i] = x >= 2 ? 1 + 10.25 * i : 0;
+            char suffix[64];
+            if (x == 2)
+                snprintf (suffix, sizeof suffix, suffix_fmt[x], want_halt[i]);
+            else
+                snprintf (suffix, sizeof suffix, suffix_fmt[x], want_speed[i], want_halt[i]);
+            len += (size_t)snprintf (text + len, sizeof text - len, "point = %s%s\n", pos, suffix);
+            assert_true (len < sizeof text);
+        }
+    cgs_scenario_t *sc = s_load (t, text);
+    const cgs_scenario_vehicle_t *v = &sc->vehicles[0];
+    assert_int_equal (v->point_count, FORMS * SUFFIXES);
+    for (size_t i = 0; i < v->point_count; i++) {
+        const cgs_point_t *p = &v->points[i];
+        s_near (p->position, want[i], 1e-3);
+        assert_true (p->speed_mps == want_speed[i]);
+        assert_true (p->speed_given == (i % SUFFIXES == 1 || i % SUFFIXES == 3));
+        assert_true (p->halt_s == want_halt[i]);
+        assert_int_equal (p->line, 7 + (int)i);
+    }
+    cgs_scenario_destroy (&sc);
+
+    // Spellings: any case, any blanks, no blank needed before '@'; halts on
+    // the first and last points of loop and reverse routes.
+    sc = s_load (t, S_UAV "[vehicle a]\nforce = unknown\nend = reverse\n"
+                          "point = 0 0@7 HALT 30\n"
+                          "point = 0 500 \t Halt\t2.5\n"
+                          "point = 500 500 halt 3600\n"
+                          "[vehicle b]\nforce = friendly\nend = loop\n"
+                          "point = 0 0 halt 0.5\n"
+                          "point = 0 500\n"
+                          "point = 500 500 @ 4 halt 60\n"
+                          "[vehicle c]\nforce = friendly\n"
+                          "point = 0 0 @ 6\npoint = 0 500 halt 45\npoint = 500 500\n");
+    const cgs_scenario_vehicle_t *a = &sc->vehicles[0], *b = &sc->vehicles[1],
+                                 *c = &sc->vehicles[2];
+    assert_true (a->points[0].halt_s == 30 && a->points[0].speed_mps == 7);
+    assert_true (a->points[1].halt_s == 2.5 && a->points[1].speed_mps == 10);
+    assert_true (a->points[2].halt_s == 3600);
+    s_near (a->points[1].position, (cgs_enu_t){0, 500, 0}, 0);
+    assert_true (b->points[0].halt_s == 0.5 && b->points[1].halt_s == 0);
+    assert_true (b->points[2].halt_s == 60 && b->points[2].speed_mps == 4);
+    assert_true (c->points[0].halt_s == 0 && c->points[1].halt_s == 45 && c->points[2].halt_s == 0);
+    cgs_scenario_destroy (&sc);
+}
+
+static void test_halt_errors (void **state)
+{
+    s_tmp_t *t = *state;
+    const char *range = ":6: [vehicle car] point: expected a halt after 'halt' in (0, 3600] s, got";
+    char want[256];
+    const char *bad[] = {"0", "-5", "3600.5", "soon", "", "30s", "nan", "inf"};
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+        char text[256];
+        snprintf (text, sizeof text,
+                  S_UAV S_CAR "point = 0 0\npoint = 0 100 @ 5 halt %s\n"
+                              "point = 0 200\n",
+                  bad[i]);
+        snprintf (want, sizeof want, "%s '%s'", range, bad[i]);
+        s_fails (t, text, want);
+    }
+    s_fails (t, S_UAV S_CAR "point = 0 0\npoint = 0 100 halt 5 halt 6\npoint = 0 200\n",
+             ":6: [vehicle car] point: expected `point = POSITION [@ SPEED_MPS] [halt SECONDS]` "
+             "with one 'halt' at most, got '0 100 halt 5 halt 6'");
+    s_fails (t, S_UAV S_CAR "point = 0 0\npoint = 0 100 halt 5 @ 8\npoint = 0 200\n",
+             ":6: [vehicle car] point: expected `point = POSITION [@ SPEED_MPS] [halt SECONDS]` "
+             "(the speed before the halt), got '0 100 halt 5 @ 8'");
+    // Not a whole word: part of the position or the speed, which then fail.
+    s_fails (t, S_UAV S_CAR "point = 0 0\npoint = 0 100 halt30\npoint = 0 200\n",
+             ":6: [vehicle car] point: expected a position as `E N [U]` or `local E N [U]` in "
+             "metres, `geo LAT LON [H]`, `LAT{N|S} LON{E|W} [H]` or `mgrs GRID`, got '0 100 "
+             "halt30'");
+    s_fails (t, S_UAV S_CAR "point = 0 0\npoint = 0 100 @ 8halt 30\npoint = 0 200\n",
+             ":6: [vehicle car] point: expected a speed after '@' in [0.5, 40] m/s, got '8halt "
+             "30'");
+    s_fails (t, S_UAV S_CAR "point = 0 0\npoint = halt 30\npoint = 0 200\n",
+             ":6: [vehicle car] point: expected a position as `E N [U]` or `local E N [U]` in "
+             "metres, `geo LAT LON [H]`, `LAT{N|S} LON{E|W} [H]` or `mgrs GRID`, got ''");
+    // Where a stop route never arrives, or arrives for good.
+    s_fails (t, S_UAV S_CAR "point = 0 0 @ 5 halt 30\npoint = 0 100\n",
+             ":5: [vehicle car] point: with end = stop the vehicle never comes back to its first "
+             "point, so it cannot halt there (start_time_s delays its start)");
+    s_fails (t, S_UAV S_CAR "point = 0 0\npoint = 0 100\npoint = 0 200 halt 30\n",
+             ":7: [vehicle car] point: with end = stop the vehicle stops for good on its last "
+             "point, so a halt there means nothing (use end = loop or reverse to drive on)");
+    // A halt of a point the route refuses for another reason still names that reason.
+    s_fails (t, S_UAV S_CAR "point = 0 0\npoint = 0 0.5 halt 30\npoint = 0 200\n",
+             ":6: [vehicle car] point: within 1 m of the previous point (line 5): a leg needs a "
+             "length");
+}
+
 int main (void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test (test_default_scenario),
         cmocka_unit_test (test_bench_scenario),
+        cmocka_unit_test (test_families),
         cmocka_unit_test_setup_teardown (test_values, s_setup, s_teardown),
         cmocka_unit_test_setup_teardown (test_defaults, s_setup, s_teardown),
         cmocka_unit_test_setup_teardown (test_errors, s_setup, s_teardown),
         cmocka_unit_test_setup_teardown (test_dem_errors, s_setup, s_teardown),
         cmocka_unit_test (test_no_frame),
         cmocka_unit_test_setup_teardown (test_vegetation, s_setup, s_teardown),
+        cmocka_unit_test_setup_teardown (test_halts, s_setup, s_teardown),
+        cmocka_unit_test_setup_teardown (test_halt_errors, s_setup, s_teardown),
     };
     return cmocka_run_group_tests (tests, NULL, NULL);
 }

@@ -3,7 +3,9 @@
  * the documented corner and acceleration allowances; turn rate and lateral
  * acceleration per step; corner arcs that pass the documented distance from
  * the corner; heights and attitude on a sloping plane; start time; stop, loop
- * and reverse; seeded wander within its bound; exact checkpoint and restore. */
+ * and reverse; halts on route points (timed from the same allowances, on
+ * every lap and pass); seeded wander within its bound; exact checkpoint and
+ * restore, in a halt and from a checkpoint written before halts existed. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -84,7 +86,8 @@ static bool s_same (const uavsim_vehicle_state_t *a, const uavsim_vehicle_state_
     return memcmp (da, db, sizeof da) == 0 && a->active == b->active &&
            a->finished == b->finished && a->turning_in_place == b->turning_in_place &&
            a->leg == b->leg && a->next_point == b->next_point && a->direction == b->direction &&
-           a->lap == b->lap;
+           a->lap == b->lap && a->halted == b->halted &&
+           memcmp (&a->halt_left_s, &b->halt_left_s, sizeof a->halt_left_s) == 0;
 }
 
 /* The documented corner: radius, speed, tangent length and half-arc length. */
@@ -887,6 +890,559 @@ static void test_restore_damaged (void **state)
     uavsim_vehicle_destroy (&c);
 }
 
+/* --- halts ------------------------------------------------------------------------------------ */
+
+static void test_halt_params (void **state)
+{
+    (void)state;
+    uavsim_vehicle_params_t p;
+    uavsim_vehicle_t *v = NULL;
+    char err[128];
+    double halts[S_ROUTE_N] = {0};
+    const double bad[] = {NAN, -1, INFINITY, 2e6};
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+        s_params (&p, s_route, S_ROUTE_N);
+        halts[1] = bad[i];
+        p.halt_s = halts;
+        assert_int_equal (uavsim_vehicle_new (&p, &v), -EINVAL);
+        assert_int_equal (uavsim_vehicle_params_check (&p, err, sizeof err), -EINVAL);
+        assert_non_null (strstr (err, "point 2: halt"));
+    }
+    // A stop route never comes back to its first point, and ends on its last.
+    for (int end = 0; end < 2; end++) {
+        memset (halts, 0, sizeof halts);
+        halts[end ? S_ROUTE_N - 1 : 0] = 10;
+        s_params (&p, s_route, S_ROUTE_N);
+        p.halt_s = halts;
+        assert_int_equal (uavsim_vehicle_params_check (&p, err, sizeof err), -EINVAL);
+        assert_non_null (strstr (err, "stop route"));
+        // Loop and reverse routes come back to both.
+        p.end = UAVSIM_VEHICLE_END_LOOP;
+        assert_int_equal (uavsim_vehicle_params_check (&p, err, sizeof err), 0);
+        p.end = UAVSIM_VEHICLE_END_REVERSE;
+        assert_int_equal (uavsim_vehicle_params_check (&p, err, sizeof err), 0);
+    }
+    // A loop's repeated last point is dropped: its halt belongs on the first.
+    const uavsim_vehicle_point_t closed[] = {{0, 0, 0}, {500, 0, 0}, {500, 500, 0}, {0, 0, 0}};
+    const double closed_halts[] = {0, 0, 0, 5};
+    s_params (&p, closed, 4);
+    p.end = UAVSIM_VEHICLE_END_LOOP;
+    p.halt_s = closed_halts;
+    assert_int_equal (uavsim_vehicle_params_check (&p, err, sizeof err), -EINVAL);
+    assert_non_null (strstr (err, "point 4 repeats point 1"));
+    assert_null (v);
+    // Halts only where they are: a halt point is stopped on, not rounded.
+    memset (halts, 0, sizeof halts);
+    halts[2] = 30;
+    s_params (&p, s_route, S_ROUTE_N);
+    p.halt_s = halts;
+    v = s_new (&p);
+    double r, vc;
+    uavsim_vehicle_corner (v, 1, &r, &vc);
+    assert_true (r > 0 && vc > 0);
+    uavsim_vehicle_corner (v, 2, &r, &vc);
+    assert_true (r == 0 && vc == 0);
+    uavsim_vehicle_destroy (&v);
+}
+
+/* One halt seen while stepping: a run of halted steps. */
+typedef struct {
+    double e_m, n_m;    // where it stood
+    double heading_deg; // facing
+    double from_s;      // arrival, from the first halted step's time left
+    int steps;          // halted steps
+    uint64_t lap;       // lap or pass, as the state says during the halt
+    int direction;      // direction of the leg after it
+    bool then_pivot;    // the step after it turned in place
+} s_halt_seen_t;
+
+/* Step v on a DT_S grid up to t_end_s, recording each halt (at most max);
+ * every halted step must be still, on one spot, and count down by the step. */
+static size_t s_run_halts (uavsim_vehicle_t *v, double t_end_s, const double *halts,
+                           s_halt_seen_t *seen, size_t max)
+{
+    size_t n = 0;
+    uavsim_vehicle_state_t prev = s_state (v);
+    for (int i = 0; i * DT_S < t_end_s; i++) {
+        double t1 = (i + 1) * DT_S;
+        assert_int_equal (uavsim_vehicle_step (v, i * DT_S, DT_S), 0);
+        uavsim_vehicle_state_t s = s_state (v);
+        assert_true (fabs (s_dheading (prev.heading_deg, s.heading_deg)) <=
+                     OMEGA_DPS * DT_S * (1 + 1e-9));
+        if (s.halted) {
+            assert_true (s.speed_mps == 0 && s.ve_mps == 0 && s.vn_mps == 0);
+            assert_false (s.turning_in_place || s.finished);
+            if (!prev.halted) {
+                assert_true (n < max);
+                // Where it stands: a route point with a halt, given by next_point and direction.
+                int at = s.direction > 0 ? s.leg : s.leg + 1;
+                assert_true (halts[at] > 0);
+                assert_true (s.halt_left_s > halts[at] - DT_S - 1e-9 && s.halt_left_s <= halts[at]);
+                seen[n] =
+                    (s_halt_seen_t){s.e_m, s.n_m, s.heading_deg, t1 - (halts[at] - s.halt_left_s),
+                                    0,     s.lap, s.direction,   false};
+                n++;
+            } else {
+                assert_true (s.e_m == prev.e_m && s.n_m == prev.n_m);
+                assert_true (s.heading_deg == prev.heading_deg);
+                assert_near (s.halt_left_s, prev.halt_left_s - DT_S, 1e-9);
+            }
+            seen[n - 1].steps++;
+        } else {
+            assert_true (s.halt_left_s == 0);
+            if (prev.halted)
+                seen[n - 1].then_pivot = s.turning_in_place;
+        }
+        prev = s;
+    }
+    return n;
+}
+
+/* A halt on a straight: brake to a stop on the point exactly, stand still
+ * for the time given, then set off, each within the step it falls in;
+ * the times from the documented allowances. */
+static void test_halt_on_point (void **state)
+{
+    (void)state;
+    const uavsim_vehicle_point_t pts[] = {{0, 0, 0}, {1000, 0, 0}, {1600, 0, 0}};
+    const double halts[] = {0, 45, 0};
+    uavsim_vehicle_params_t p;
+    s_params (&p, pts, 3);
+    p.halt_s = halts;
+    uavsim_vehicle_t *v = s_new (&p);
+    const double V = 10;
+    double t_arrive = V / (2 * ACC_MPS2) + 1000 / V + V / (2 * DEC_MPS2);
+    double t_leave = t_arrive + halts[1];
+    double t_end = t_leave + V / (2 * ACC_MPS2) + 600 / V + V / (2 * DEC_MPS2);
+    uavsim_vehicle_state_t prev = s_state (v);
+    int halted_steps = 0, braking_steps = 0;
+    double finished_s = -1, arrived_s = -1;
+    for (int i = 0; i < 3000 && finished_s < 0; i++) {
+        double t1 = (i + 1) * DT_S;
+        assert_int_equal (uavsim_vehicle_step (v, i * DT_S, DT_S), 0);
+        uavsim_vehicle_state_t s = s_state (v);
+        if (s.halted && !prev.halted) {
+            // Arrived on time (the braking is planned step by step: to 20 ms);
+            // from here on the halt is timed from the arrival exactly.
+            arrived_s = t1 - (halts[1] - s.halt_left_s);
+            print_message ("halt: arrived at %.6f s, expected %.6f s\n", arrived_s, t_arrive);
+            assert_near (arrived_s, t_arrive, 0.02);
+            t_arrive = arrived_s;
+            t_leave = t_arrive + halts[1];
+            t_end = t_leave + V / (2 * ACC_MPS2) + 600 / V + V / (2 * DEC_MPS2);
+        }
+        if (t1 < t_arrive - 0.02) {
+            assert_false (s.halted);
+            assert_true (s.e_m < 1000 && s.halt_left_s == 0);
+            if (t1 > t_arrive - V / DEC_MPS2 + 0.02) { // braking to the point
+                assert_near (s.speed_mps, DEC_MPS2 * (t_arrive - t1), 0.05);
+                braking_steps++;
+            }
+        } else if (arrived_s >= 0 && t1 < t_leave - 1e-6) {
+            // On the point exactly, still, facing the way it came.
+            assert_true (s.halted && s.active);
+            assert_false (s.turning_in_place || s.finished);
+            assert_true (s.e_m == 1000 && s.n_m == 0);
+            assert_true (s.speed_mps == 0 && s.ve_mps == 0 && s.vn_mps == 0);
+            assert_near (s.heading_deg, 90, 1e-12);
+            assert_near (s.halt_left_s, t_leave - t1, 1e-9);
+            assert_int_equal (s.leg, 1);
+            halted_steps++;
+        } else if (t1 > t_leave + 1e-6 && !s.finished) {
+            assert_false (s.halted);
+            assert_true (s.e_m > 1000 && s.halt_left_s == 0);
+            if (prev.halted) { // set off from rest within the step the halt ended in
+                double dt = t1 - t_leave;
+                print_message ("halt: arrived at %.4f s, left at %.4f s; %.4f s into the step "
+                               "after: %.6f m/s, %.6f m past the point\n",
+                               t_arrive, t_leave, dt, s.speed_mps, s.e_m - 1000);
+                assert_near (s.speed_mps, ACC_MPS2 * dt, 1e-9);
+                assert_near (s.e_m - 1000, 0.5 * ACC_MPS2 * dt * dt, 1e-9);
+            }
+        }
+        if (s.finished)
+            finished_s = t1;
+        prev = s;
+    }
+    print_message ("halt of %.0f s: %d halted steps, %d braking steps; finished in the step ending "
+                   "%.1f s, expected %.3f s\n",
+                   halts[1], halted_steps, braking_steps, finished_s, t_end);
+    assert_true (arrived_s > 0 && abs (halted_steps - 450) <= 1);
+    assert_true (braking_steps >= 45);
+    assert_true (finished_s - t_end >= -0.02 && finished_s - t_end <= DT_S + 0.02);
+    assert_true (prev.e_m == 1600 && prev.n_m == 0);
+    uavsim_vehicle_destroy (&v);
+
+    // All-zero halts are no halts: the same motion, bit for bit, as none.
+    const double zeros[] = {0, 0, 0};
+    p.halt_s = zeros;
+    uavsim_vehicle_t *a = s_new (&p);
+    p.halt_s = NULL;
+    uavsim_vehicle_t *b = s_new (&p);
+    for (int i = 0; i < 1500; i++) {
+        uavsim_vehicle_step (a, i * DT_S, DT_S);
+        uavsim_vehicle_step (b, i * DT_S, DT_S);
+        uavsim_vehicle_state_t sa = s_state (a), sb = s_state (b);
+        assert_true (s_same (&sa, &sb));
+        assert_false (sa.halted);
+    }
+    uavsim_vehicle_destroy (&a);
+    uavsim_vehicle_destroy (&b);
+}
+
+/* A halt on a corner: no arc; stop on the point, halt, turn in place, drive on. */
+static void test_halt_on_corner (void **state)
+{
+    (void)state;
+    const uavsim_vehicle_point_t pts[] = {{0, 0, 0}, {1000, 0, 0}, {1000, 800, 0}};
+    const double halts[] = {0, 20, 0};
+    uavsim_vehicle_params_t p;
+    s_params (&p, pts, 3);
+    p.halt_s = halts;
+    uavsim_vehicle_t *v = s_new (&p);
+    const double V = 10, turn_s = 90 / OMEGA_DPS;
+    double t_arrive = V / (2 * ACC_MPS2) + 1000 / V + V / (2 * DEC_MPS2);
+    double t_leave = t_arrive + halts[1];
+    double t_end = t_leave + turn_s + V / (2 * ACC_MPS2) + 800 / V + V / (2 * DEC_MPS2);
+    s_halt_seen_t seen[4];
+    size_t n = s_run_halts (v, t_end + 1, halts, seen, 4);
+    uavsim_vehicle_state_t s = s_state (v);
+    assert_int_equal (n, 1);
+    assert_true (seen[0].e_m == 1000 && seen[0].n_m == 0);
+    assert_near (seen[0].heading_deg, 90, 1e-12);
+    assert_near (seen[0].from_s, t_arrive, 0.02);
+    assert_true (abs (seen[0].steps - 200) <= 1);
+    assert_true (seen[0].then_pivot);
+    assert_true (s.finished && s.e_m == 1000 && s.n_m == 800);
+    uavsim_vehicle_destroy (&v);
+    // Finished on time: step again and watch for the end.
+    v = s_new (&p);
+    double finished_s = -1, pivot_steps = 0;
+    for (int i = 0; i < 3000 && finished_s < 0; i++) {
+        uavsim_vehicle_step (v, i * DT_S, DT_S);
+        s = s_state (v);
+        pivot_steps += s.turning_in_place;
+        if (s.finished)
+            finished_s = (i + 1) * DT_S;
+    }
+    print_message ("halt on a corner: finished in the step ending %.1f s, expected %.3f s; %.0f "
+                   "steps turning in place (90 deg at %.0f deg/s)\n",
+                   finished_s, t_end, pivot_steps, OMEGA_DPS);
+    assert_true (finished_s - t_end >= -0.02 && finished_s - t_end <= DT_S + 0.02);
+    assert_true (fabs (pivot_steps - turn_s / DT_S) <= 1);
+    uavsim_vehicle_destroy (&v);
+}
+
+/* Loop: the halts come round on every lap, the first point's at the end of each. */
+static void test_halt_loop (void **state)
+{
+    (void)state;
+    const uavsim_vehicle_point_t sq[] = {{0, 0, 0}, {600, 0, 0}, {600, 600, 0}, {0, 600, 0}};
+    const double halts[] = {10, 0, 20, 0};
+    uavsim_vehicle_params_t p;
+    s_params (&p, sq, 4);
+    p.speed_mps = 8;
+    p.end = UAVSIM_VEHICLE_END_LOOP;
+    p.halt_s = halts;
+    uavsim_vehicle_t *v = s_new (&p);
+    // A lap: two legs from a halt to a rounded corner and two from a corner to a halt.
+    const double V = 8;
+    s_corner_t c = s_corner_expected (90 * DEG, V, V, 600, 600);
+    double leg_s = V / (2 * ACC_MPS2) + (600 - c.t_m) / V +
+                   (V - c.vc_mps) * (V - c.vc_mps) / (2 * DEC_MPS2 * V) + c.half_m / c.vc_mps;
+    double leg2_s = c.half_m / c.vc_mps + (V - c.vc_mps) * (V - c.vc_mps) / (2 * ACC_MPS2 * V) +
+                    (600 - c.t_m) / V + V / (2 * DEC_MPS2);
+    double lap_s = 2 * (leg_s + leg2_s) + halts[0] + halts[2] + 2 * 90 / OMEGA_DPS;
+    s_halt_seen_t seen[16];
+    size_t n = s_run_halts (v, 3.5 * lap_s, halts, seen, 16);
+    print_message ("loop with halts: %zu halts in %.0f s; lap expected %.3f s, laps measured "
+                   "%.3f, %.3f s\n",
+                   n, 3.5 * lap_s, lap_s, seen[3].from_s - seen[1].from_s,
+                   seen[5].from_s - seen[3].from_s);
+    assert_int_equal (n, 7); // point 2, then point 0 and point 2 on each lap
+    for (size_t i = 0; i < n; i++) {
+        int at = i % 2 == 0 ? 2 : 0;
+        assert_true (seen[i].e_m == sq[at].e_m && seen[i].n_m == sq[at].n_m);
+        if (i + 1 < n) { // (the run ends in the last)
+            assert_true (abs (seen[i].steps - (int)(halts[at] / DT_S)) <= 1);
+            assert_true (seen[i].then_pivot); // 90 degrees to turn after each
+        }
+        assert_int_equal (seen[i].lap, (i + 1) / 2);
+        if (i >= 3)
+            assert_near (seen[i].from_s - seen[i - 2].from_s, lap_s, 0.02);
+    }
+    uavsim_vehicle_destroy (&v);
+}
+
+/* Reverse: the middle point halts both ways, each end before the turn about. */
+static void test_halt_reverse (void **state)
+{
+    (void)state;
+    const uavsim_vehicle_point_t pts[] = {{0, 0, 0}, {500, 0, 0}, {500, 400, 0}};
+    const double halts[] = {15, 25, 35};
+    uavsim_vehicle_params_t p;
+    s_params (&p, pts, 3);
+    p.speed_mps = 8;
+    p.end = UAVSIM_VEHICLE_END_REVERSE;
+    p.halt_s = halts;
+    uavsim_vehicle_t *v = s_new (&p);
+    const double V = 8;
+    // Point 0 to point 2 and back: each leg from rest to rest, a halt and a
+    // turn in place (90 degrees at point 1, 180 at the ends) at each point.
+    double pass_s = 2 * V / (2 * ACC_MPS2) + 2 * V / (2 * DEC_MPS2) + 900 / V + halts[1] +
+                    90 / OMEGA_DPS + 180 / OMEGA_DPS;
+    s_halt_seen_t seen[16];
+    size_t n = s_run_halts (v, 3 * pass_s + halts[0] + halts[2] + 30, halts, seen, 16);
+    // Points 1, 2 (end), 1, 0 (end), 1, 2, ...; the direction is the next leg's.
+    static const int order[] = {1, 2, 1, 0, 1, 2}, dirs[] = {1, -1, -1, 1, 1, -1};
+    print_message ("reverse with halts: %zu halts; passes expected %.3f s, measured %.3f s\n", n,
+                   pass_s + halts[2], seen[3].from_s - seen[1].from_s);
+    assert_true (n >= 6);
+    for (size_t i = 0; i < 6; i++) {
+        int at = order[i];
+        assert_true (seen[i].e_m == pts[at].e_m && seen[i].n_m == pts[at].n_m);
+        assert_true (abs (seen[i].steps - (int)(halts[at] / DT_S)) <= 1);
+        assert_true (seen[i].then_pivot);
+        assert_int_equal (seen[i].direction, dirs[i]);
+        if (at != 1) // at an end, facing the way it came in, before turning about
+            assert_near (seen[i].heading_deg, at == 2 ? 0 : 270, 1e-9);
+    }
+    assert_near (seen[3].from_s - seen[1].from_s, pass_s + halts[2], 0.02);
+    assert_near (seen[5].from_s - seen[3].from_s, pass_s + halts[0], 0.02);
+    uavsim_vehicle_destroy (&v);
+}
+
+/* Restored in the middle of a halt (with its turn still to come), it stands
+ * for the rest of the halt and drives on bit for bit as the original. */
+static void test_halt_save_restore (void **state)
+{
+    (void)state;
+    const uavsim_vehicle_point_t pts[] = {{0, 0, 0}, {500, 0, 0}, {500, 400, 0}};
+    const double halts[] = {15, 25, 35};
+    uavsim_vehicle_params_t p;
+    s_params (&p, pts, 3);
+    p.speed_mps = 8;
+    p.deviation_m = 12;
+    p.seed = 8;
+    p.end = UAVSIM_VEHICLE_END_REVERSE;
+    p.halt_s = halts;
+    // Find a time in the halt at each point.
+    uavsim_vehicle_t *probe = s_new (&p);
+    double t_in[3] = {-1, -1, -1};
+    for (int i = 0; i < 20000 && t_in[0] < 0; i++) {
+        uavsim_vehicle_step (probe, i * DT_S, DT_S);
+        uavsim_vehicle_state_t s = s_state (probe);
+        int at = s.direction > 0 ? s.leg : s.leg + 1;
+        if (s.halted && t_in[at] < 0 && s.halt_left_s < 0.5 * halts[at])
+            t_in[at] = (i + 1) * DT_S;
+    }
+    uavsim_vehicle_destroy (&probe);
+    for (int at = 0; at < 3; at++) {
+        assert_true (t_in[at] > 0);
+        uavsim_vehicle_t *a = s_new (&p);
+        int i = 0;
+        for (; i * DT_S < t_in[at] - 1e-9; i++)
+            uavsim_vehicle_step (a, i * DT_S, DT_S);
+        assert_true (s_state (a).halted);
+        uavsim_vehicle_destroy (&a);
+        uint64_t laps;
+        s_check_restore (&p, t_in[at], t_in[at] + 400, &laps);
+        assert_true (laps >= 1);
+    }
+
+    // A halted checkpoint: impossible halts refused (checksum recomputed), and
+    // a vehicle with another halt there refuses it.
+    uavsim_vehicle_t *a = s_new (&p), *b = s_new (&p);
+    int i = 0;
+    for (; (i + 1) * DT_S <= t_in[1]; i++)
+        uavsim_vehicle_step (a, i * DT_S, DT_S);
+    uint8_t buf[512], bad[512];
+    size_t n = 0;
+    assert_int_equal (uavsim_vehicle_save (a, buf, sizeof buf, &n), 0);
+    assert_int_equal (n, 188);
+    const double bad_left[] = {0, -1, 25.5, NAN};
+    for (size_t k = 0; k < sizeof bad_left / sizeof bad_left[0]; k++) {
+        memcpy (bad, buf, n);
+        uint64_t u;
+        memcpy (&u, &bad_left[k], 8);
+        for (int j = 0; j < 8; j++)
+            bad[176 + j] = (uint8_t)(u >> (8 * j)); // halt left (offset 176)
+        uint32_t crc = cgs_crc32 (bad, n - 4);
+        for (int j = 0; j < 4; j++)
+            bad[n - 4 + j] = (uint8_t)(crc >> (8 * j));
+        assert_int_equal (uavsim_vehicle_restore (b, bad, n), -EPROTO);
+    }
+    memcpy (bad, buf, n);
+    bad[16] = 1; // phase: driving, with a halt left
+    uint32_t crc = cgs_crc32 (bad, n - 4);
+    for (int j = 0; j < 4; j++)
+        bad[n - 4 + j] = (uint8_t)(crc >> (8 * j));
+    assert_int_equal (uavsim_vehicle_restore (b, bad, n), -EPROTO);
+    assert_false (s_state (b).active); // untouched
+    double other[] = {15, 26, 35};
+    p.halt_s = other;
+    uavsim_vehicle_t *c = s_new (&p);
+    assert_int_equal (uavsim_vehicle_restore (c, buf, n), -EPROTO);
+    assert_int_equal (uavsim_vehicle_restore (b, buf, n), 0);
+    uavsim_vehicle_state_t sa = s_state (a), sb = s_state (b);
+    assert_true (s_same (&sa, &sb) && sb.halted);
+    uavsim_vehicle_destroy (&a);
+    uavsim_vehicle_destroy (&b);
+    uavsim_vehicle_destroy (&c);
+}
+
+/* A checkpoint written before halts existed (format 1, 180 bytes, by the
+ * model of commit 564cda9: test_restore_damaged's vehicle after 1234 steps)
+ * still restores, to the state the model reaches now; it is saved again in
+ * format 2 with the same fields. A format-1 checkpoint cannot be in a halt. */
+static void test_restore_format_1 (void **state)
+{
+    (void)state;
+    static const uint8_t old[180] = {
+        0x55, 0x56, 0x45, 0x48, 0x01, 0x00, 0x00, 0x00, 0x4c, 0xf9, 0x79, 0xd8, 0xef, 0x3f, 0x56,
+        0x73, 0x01, 0x00, 0x00, 0x00, 0x01, 0x00, 0x00, 0x00, 0x01, 0x00, 0x00, 0x00, 0x00, 0x00,
+        0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x13, 0x8b, 0xb6, 0xa4, 0xde,
+        0xeb, 0x62, 0x40, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x20, 0x40, 0x35, 0x07, 0xab, 0xd7,
+        0x6a, 0xdc, 0x18, 0x40, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0xe1, 0x3a, 0x3e,
+        0x1b, 0xa7, 0xfa, 0x12, 0x0d, 0xca, 0x34, 0x01, 0x5f, 0x99, 0xb0, 0xb4, 0x8d, 0xb2, 0xc7,
+        0x5a, 0x41, 0x25, 0x28, 0xc0, 0x3e, 0x1f, 0xda, 0x80, 0xad, 0xf3, 0xb2, 0xe9, 0x9b, 0xe4,
+        0x72, 0x45, 0x22, 0xf6, 0xdf, 0x9d, 0x3f, 0x33, 0xd4, 0x62, 0xd0, 0x92, 0x43, 0x0e, 0x40,
+        0xf4, 0x50, 0xe3, 0x42, 0x6f, 0x02, 0xd6, 0x3f, 0x46, 0x47, 0x18, 0x35, 0x97, 0x05, 0x8e,
+        0x3f, 0x30, 0xe9, 0x2c, 0x48, 0x0e, 0xf9, 0x09, 0x40, 0xeb, 0x2a, 0xde, 0x90, 0x7b, 0xcf,
+        0xd7, 0x3f, 0xd5, 0x2f, 0xcd, 0xbf, 0x00, 0x56, 0x95, 0x3f, 0xc0, 0xaa, 0x84, 0xf8, 0xe9,
+        0x52, 0x14, 0x40, 0x20, 0x84, 0x3e, 0x2c, 0x15, 0x2e, 0xd2, 0x3f, 0x92, 0x5c, 0xa3, 0x39,
+    };
+    uavsim_vehicle_params_t p;
+    s_params (&p, s_route, S_ROUTE_N);
+    p.deviation_m = 10;
+    p.seed = 5;
+    uavsim_vehicle_t *a = s_new (&p), *b = s_new (&p);
+    for (int i = 0; i < 1234; i++)
+        uavsim_vehicle_step (a, i * DT_S, DT_S);
+    assert_int_equal (uavsim_vehicle_restore (b, old, sizeof old), 0);
+    uavsim_vehicle_state_t sa = s_state (a), sb = s_state (b);
+    print_message ("format-1 checkpoint: restored at (%.6f, %.6f) on leg %d, %.3f m/s\n", sb.e_m,
+                   sb.n_m, sb.leg, sb.speed_mps);
+    assert_true (s_same (&sa, &sb));
+    for (int i = 1234; i < 2000; i++) {
+        uavsim_vehicle_step (a, i * DT_S, DT_S);
+        uavsim_vehicle_step (b, i * DT_S, DT_S);
+    }
+    sa = s_state (a);
+    sb = s_state (b);
+    assert_true (s_same (&sa, &sb));
+    // Saved again: format 2, the same fields, no halt.
+    uavsim_vehicle_t *c = s_new (&p);
+    assert_int_equal (uavsim_vehicle_restore (c, old, sizeof old), 0);
+    uint8_t buf[512];
+    size_t n = 0;
+    assert_int_equal (uavsim_vehicle_save (c, buf, sizeof buf, &n), 0);
+    assert_int_equal (n, 188);
+    assert_int_equal (buf[4], 2);
+    assert_memory_equal (buf + 8, old + 8, 176 - 8);
+    for (int j = 0; j < 8; j++)
+        assert_int_equal (buf[176 + j], 0);
+    // Format 1 with the halt phase, or claiming format 2 at 180 bytes: refused.
+    uint8_t bad[180];
+    memcpy (bad, old, sizeof bad);
+    bad[16] = 4;
+    uint32_t crc = cgs_crc32 (bad, 176);
+    for (int j = 0; j < 4; j++)
+        bad[176 + j] = (uint8_t)(crc >> (8 * j));
+    assert_int_equal (uavsim_vehicle_restore (c, bad, sizeof bad), -EPROTO);
+    memcpy (bad, old, sizeof bad);
+    bad[4] = 2;
+    crc = cgs_crc32 (bad, 176);
+    for (int j = 0; j < 4; j++)
+        bad[176 + j] = (uint8_t)(crc >> (8 * j));
+    assert_int_equal (uavsim_vehicle_restore (c, bad, sizeof bad), -EPROTO);
+    uavsim_vehicle_destroy (&a);
+    uavsim_vehicle_destroy (&b);
+    uavsim_vehicle_destroy (&c);
+}
+
+/* Random routes with random halts: the limits hold on every step, every halt
+ * is on its point, and a stop route finishes on its last point within the
+ * bound of test_random_routes plus its halts. */
+static void test_halt_random (void **state)
+{
+    (void)state;
+    uint64_t rs = 77;
+    int halts_seen = 0, finished = 0;
+    for (int trial = 0; trial < 150; trial++) {
+        uavsim_vehicle_point_t pts[8];
+        double halts[8] = {0};
+        size_t n = 2 + (size_t)s_rand (&rs, 0, 6.999);
+        double e = 0, nn = 0, hd = s_rand (&rs, 0, 2 * M_PI), bare_s = 0, halt_sum = 0;
+        uavsim_vehicle_params_t p;
+        uavsim_vehicle_params_defaults (&p);
+        p.speed_mps = s_rand (&rs, 1, 20);
+        p.end = (uavsim_vehicle_end_t)(trial % 3);
+        for (size_t i = 0; i < n; i++) {
+            pts[i] =
+                (uavsim_vehicle_point_t){e, nn, s_rand (&rs, 0, 1) < 0.5 ? 0 : s_rand (&rs, 1, 20)};
+            bool stop_end = p.end == UAVSIM_VEHICLE_END_STOP && (i == 0 || i == n - 1);
+            if (!stop_end && s_rand (&rs, 0, 1) < 0.4)
+                halt_sum += halts[i] = s_rand (&rs, 0.05, 30);
+            double len = s_rand (&rs, 0, 1) < 0.2 ? s_rand (&rs, 0.5, 10) : s_rand (&rs, 10, 1000);
+            hd += s_rand (&rs, -M_PI, M_PI);
+            e += len * sin (hd);
+            nn += len * cos (hd);
+            if (i + 1 < n)
+                bare_s += hypot (e - pts[i].e_m, nn - pts[i].n_m) /
+                          (pts[i].speed_mps > 0 ? pts[i].speed_mps : p.speed_mps);
+        }
+        p.points = pts;
+        p.n_points = n;
+        p.halt_s = halts;
+        p.deviation_m = s_rand (&rs, 0, 1) < 0.3 ? 0 : s_rand (&rs, 0, 60);
+        p.seed = (uint64_t)trial;
+        p.turn_rate_dps = s_rand (&rs, 10, 60);
+        p.lat_accel_mps2 = s_rand (&rs, 0.5, 4);
+        p.accel_mps2 = s_rand (&rs, 0.5, 3);
+        p.decel_mps2 = s_rand (&rs, 0.5, 4);
+        double dt = s_rand (&rs, 0.05, 0.1);
+        double vmax = p.speed_mps;
+        for (size_t i = 0; i < n; i++)
+            vmax = fmax (vmax, pts[i].speed_mps);
+        uavsim_vehicle_t *v = s_new (&p);
+        uavsim_vehicle_state_t prev = s_state (v);
+        double bound_s =
+            2 * bare_s + halt_sum +
+            (double)n * (vmax / p.accel_mps2 + vmax / p.decel_mps2 + 180 / p.turn_rate_dps) + 10;
+        int steps = (int)(fmin (bound_s, 3000) / dt);
+        for (int i = 0; i < steps; i++) {
+            assert_int_equal (uavsim_vehicle_step (v, i * dt, dt), 0);
+            uavsim_vehicle_state_t s = s_state (v);
+            assert_true (s.speed_mps >= 0 && s.speed_mps <= vmax + 1e-9);
+            double dh = fabs (s_dheading (prev.heading_deg, s.heading_deg));
+            assert_true (dh <= p.turn_rate_dps * dt * (1 + 1e-9));
+            if (s.halted) {
+                int at = s.direction > 0 ? s.leg : (s.leg + 1) % (int)n;
+                assert_true (halts[at] > 0 && s.halt_left_s <= halts[at]);
+                assert_near (s.e_m, pts[at].e_m, 1e-9);
+                assert_near (s.n_m, pts[at].n_m, 1e-9);
+                assert_true (s.speed_mps == 0);
+                halts_seen += !prev.halted;
+            }
+            prev = s;
+        }
+        if (p.end == UAVSIM_VEHICLE_END_STOP) {
+            if (!prev.finished)
+                fail_msg ("trial %d: not finished after %.0f s", trial, steps * dt);
+            // (To the last bit only where the last leg starts without an arc: the
+            // arc's length is taken off the element's and back.)
+            assert_near (prev.e_m, pts[n - 1].e_m, 1e-9);
+            assert_near (prev.n_m, pts[n - 1].n_m, 1e-9);
+            finished++;
+        }
+        uavsim_vehicle_destroy (&v);
+    }
+    print_message ("150 random routes with halts: %d halts seen, %d stop routes finished\n",
+                   halts_seen, finished);
+    assert_true (halts_seen > 100 && finished == 50);
+}
+
 int main (void)
 {
     const struct CMUnitTest tests[] = {
@@ -902,6 +1458,14 @@ int main (void)
         cmocka_unit_test (test_random_routes),
         cmocka_unit_test (test_save_restore),
         cmocka_unit_test (test_restore_damaged),
+        cmocka_unit_test (test_halt_params),
+        cmocka_unit_test (test_halt_on_point),
+        cmocka_unit_test (test_halt_on_corner),
+        cmocka_unit_test (test_halt_loop),
+        cmocka_unit_test (test_halt_reverse),
+        cmocka_unit_test (test_halt_save_restore),
+        cmocka_unit_test (test_restore_format_1),
+        cmocka_unit_test (test_halt_random),
     };
     return cmocka_run_group_tests (tests, NULL, NULL);
 }

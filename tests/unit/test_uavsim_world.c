@@ -252,6 +252,38 @@ static void test_batches (void **state)
  * heading 0 with 30° depression: the body's down axis points west, so the
  * boresight (cos 30 forward, sin 30 down) points north and west: azimuth
  * 360 - atan(sin30/cos30) = 330, elevation 0. */
+/* A halt in the scenario reaches the vehicle model through the world: the
+ * vehicle drives 500 m at 10 m/s, stands 30 s at its halt point (speed 0,
+ * the same position), and goes on. */
+static void test_halt_in_the_world (void **state)
+{
+    (void)state;
+    uavsim_world_t *w = s_world ("[terrain]\nsize_m = 6000\nresolution_m = 50\nrelief_m = 0\n"
+                                 "[uav uav1]\nposition = -2000 -2000\n"
+                                 "[vehicle h]\nforce = unknown\nspeed_mps = 10\npoint = 0 0\n"
+                                 "point = 500 0 halt 30\npoint = 1500 0\n",
+                                 1);
+    // At 70 s it has arrived (50 s of driving, braking included) and stands.
+    while (uavsim_world_time (w) < 70)
+        uavsim_world_step (w);
+    uavsim_vehicle_state_t a, b;
+    uavsim_vehicle_state (uavsim_world_vehicle (w, 0), &a);
+    assert_true (fabs (a.e_m - 500) < 1e-6 && fabs (a.n_m) < 1e-6);
+    assert_true (a.halted);
+    assert_true (hypot (a.ve_mps, a.vn_mps) == 0);
+    while (uavsim_world_time (w) < 75)
+        uavsim_world_step (w);
+    uavsim_vehicle_state (uavsim_world_vehicle (w, 0), &b);
+    assert_true (b.e_m == a.e_m && b.n_m == a.n_m);
+    // 30 s after it stopped it goes on.
+    while (uavsim_world_time (w) < 110)
+        uavsim_world_step (w);
+    uavsim_vehicle_state (uavsim_world_vehicle (w, 0), &b);
+    assert_false (b.halted);
+    assert_true (b.e_m > 520);
+    uavsim_world_destroy (&w);
+}
+
 static void test_boresight (void **state)
 {
     (void)state;
@@ -274,6 +306,7 @@ int main (void)
         cmocka_unit_test (test_bad_checkpoints_change_nothing),
         cmocka_unit_test (test_messages_follow_the_models),
         cmocka_unit_test (test_batches),
+        cmocka_unit_test (test_halt_in_the_world),
         cmocka_unit_test (test_boresight),
     };
     return cmocka_run_group_tests (tests, NULL, NULL);
