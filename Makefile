@@ -5,7 +5,9 @@
 #   make test       install missing packages, build under ASan+UBSan, run every test
 #   make test-systemd  only the units under a real systemd in a container
 #   make bench      build optimised, run the benchmarks
-#   make montecarlo 200 whole intercepts in one process (MC_RUNS, MC_SEED)
+#   make montecarlo whole scenes in lockstep: every scenario family, the table
+#                   (MC_RUNS, MC_SEED, MC_JOBS, MC_FAMILIES)
+#   make validate-lockstep  the lockstep against the live system, 20 seeds
 #   make soak       long fault injection: 30+ trials a service, a long exercise
 #   make install    install binaries, the page, systemd units, configs (PREFIX, DESTDIR)
 #   make clean      remove build/
@@ -34,7 +36,13 @@ PKG_LIBS   := $(shell pkg-config --libs $(PKGS) 2>/dev/null)
 CMOCKA_LIBS := $(shell pkg-config --libs cmocka 2>/dev/null)
 
 WARN     = -Wall -Wextra -Werror -Wno-format-truncation  # snprintf truncation is intended
-CPPFLAGS = -D_GNU_SOURCE -Icommon $(addprefix -I,$(wildcard services/*)) -I$(O)/gen $(PKG_CFLAGS) -MMD -MP
+CPPFLAGS = -D_GNU_SOURCE -Icommon -I$(O)/gen $(PKG_CFLAGS) -MMD -MP
+# The folders a source may include from besides common/: a service's files
+# see their own service's folder only, so no service can include another's
+# code; the mscgs tool (its lockstep engine drives every service's adapter)
+# and the tests see every service's.
+ALL_SVC_INC = $(addprefix -I,$(wildcard services/*) $(wildcard services/mscgs/*/))
+src_inc = $(if $(filter services/mscgs/% tests/%,$(1)),$(ALL_SVC_INC),$(if $(filter services/%,$(1)),-Iservices/$(word 2,$(subst /, ,$(1)))))
 CFLAGS   = -std=c11 $(WARN) -g
 CXXFLAGS = -std=c++17 $(WARN) -g
 LDLIBS   = $(PKG_LIBS) -lcivetweb -lstdc++ -lm -lpthread
@@ -91,8 +99,10 @@ FUZZ_BINS   := $(patsubst tests/fuzz/%.c,$(O)/fuzz/%,$(FUZZ_SRCS))
 FUZZ_SECONDS ?= 60
 
 # Each service's core objects: every .c in its folder but main.c, linked into
-# the service and into the unit tests.
-SVC_CORE_C    := $(filter-out services/%/main.c,$(wildcard services/*/*.c))
+# the service and into the unit tests. The mscgs tool's subfolders
+# (lockstep/) are part of its core; imagerd's ctx/ holds one backend per build.
+MSCGS_SUB_C   := $(wildcard services/mscgs/*/*.c)
+SVC_CORE_C    := $(filter-out services/%/main.c,$(wildcard services/*/*.c)) $(MSCGS_SUB_C)
 SVC_CORE_OBJS := $(patsubst %.c,$(O)/obj/%.o,$(SVC_CORE_C))
 SVC_LIB       := $(if $(SVC_CORE_OBJS),$(O)/lib/libcgs_services.a)
 
@@ -123,20 +133,27 @@ JOBS    ?= $(shell nproc 2>/dev/null || echo 2)
 # Keep objects that pattern chains would otherwise delete as intermediates.
 .SECONDARY:
 
-.PHONY: all run test test-systemd test-build bench montecarlo soak fault-build fuzz fuzz-build install clean format deps help
+.PHONY: all run test test-systemd test-build bench montecarlo validate-lockstep soak fault-build fuzz fuzz-build install clean format deps help
 .DEFAULT_GOAL := all
 
 all: $(BINS) $(WEB_FILES)
 
 help:
-	@sed -n '2,17p' Makefile | sed 's/^# \{0,1\}//'
+	@sed -n '2,19p' Makefile | sed 's/^# \{0,1\}//'
 
 deps:
 	@scripts/install-deps
 
+# The default exercise at RUN_SPEED times real time, so the intercept ends
+# within about three minutes (its 95th percentile in lockstep is about 650 s
+# of simulation after the designation at 120 s); --duration stops it in any
+# case after RUN_DURATION s of simulation. RUN_SPEED=1 runs it at real time.
+RUN_SPEED ?= 5
+RUN_DURATION ?= 900
 run: deps
 	@$(MAKE) --no-print-directory -j$(JOBS) all
-	$(O)/bin/mscgs run --exercise deploy/exercises/default.ini --out $(O)/run --stop-after-intercept 20 $(RUN_ARGS)
+	$(O)/bin/mscgs run --exercise deploy/exercises/default.ini --out $(O)/run --speed $(RUN_SPEED) \
+	    --duration $(RUN_DURATION) --stop-after-intercept 20 $(RUN_ARGS)
 
 # The test build lives in its own folder so it never mixes with release objects.
 # The systemd test runs the release build in a container (tests/systemd/).
@@ -156,13 +173,22 @@ bench: deps
 	@$(MAKE) --no-print-directory -j$(JOBS) O=build/release SAN=0 all $(addprefix build/release/bench/,$(notdir $(BENCH_BINS)))
 	@tests/bench/run build/release
 
-# Whole intercepts with the cores of uavsim, mtid, trackerd and guidanced in
-# lockstep over random geometries (opt-in; MC_RUNS, MC_SEED).
+# Whole scenes in lockstep (opt-in): every scenario family of
+# deploy/scenarios/, MC_RUNS runs each, the table of imaged rates and
+# tracking metrics (MC_RUNS, MC_SEED, MC_JOBS, MC_FAMILIES).
 MC_RUNS ?= 200
 MC_SEED ?= 1
+MC_JOBS ?= $(JOBS)
+MC_FAMILIES ?= default convoy crossing notch stop-go masked dense
 montecarlo: deps
-	@$(MAKE) --no-print-directory -j$(JOBS) O=build/release SAN=0 build/release/bin/guidanced
-	build/release/bin/guidanced --monte-carlo --runs $(MC_RUNS) --seed $(MC_SEED)
+	@$(MAKE) --no-print-directory -j$(JOBS) O=build/release SAN=0 build/release/bin/mscgs
+	@scripts/montecarlo-table build/release $(MC_RUNS) $(MC_SEED) $(MC_JOBS) $(MC_FAMILIES)
+
+# The lockstep against the live system (opt-in, about ten minutes): the
+# default exercise over 20 seeds, live at 20x and in lockstep.
+validate-lockstep: deps
+	@$(MAKE) --no-print-directory -j$(JOBS) O=build/release SAN=0 all
+	@tests/lockstep/validate.sh build/release 20 20
 
 # Long fault injection (opt-in: not part of `make test`): at least 30 trials
 # of each service, then a long exercise that checks memory and message loss
@@ -253,11 +279,11 @@ $(O)/obj/gen/%.o: $(O)/gen/%.c | $(O)/gen/.stamp
 
 $(O)/obj/%.o: %.c | $(O)/gen/.stamp
 	@mkdir -p $(dir $@)
-	$(CC) $(CPPFLAGS) $(CFLAGS) -c $< -o $@
+	$(CC) $(CPPFLAGS) $(call src_inc,$<) $(CFLAGS) -c $< -o $@
 
 $(O)/obj/%.o: %.cpp | $(O)/gen/.stamp
 	@mkdir -p $(dir $@)
-	$(CXX) $(CPPFLAGS) $(CXXFLAGS) -c $< -o $@
+	$(CXX) $(CPPFLAGS) $(call src_inc,$<) $(CXXFLAGS) -c $< -o $@
 
 $(LIB): $(LIB_OBJS)
 	@mkdir -p $(dir $@)
@@ -271,9 +297,10 @@ endif
 
 # --- binaries ------------------------------------------------------------------
 .SECONDEXPANSION:
-# Every service's core objects ($(SVC_LIB)) come after the service's own, so
-# any program may use another service's core (mscgs scores with guidanced's).
-$(O)/bin/%: $$(foreach f,$$(wildcard services/$$*/*.c),$(O)/obj/$$(basename $$(f)).o) $(SVC_LIB) $(LIB)
+# A service links its own objects and common/ only; the mscgs tool also
+# every service's core ($(SVC_LIB), after its own objects), for its
+# lockstep engine.
+$(O)/bin/%: $$(foreach f,$$(wildcard services/$$*/*.c) $$(if $$(filter mscgs,$$*),$(MSCGS_SUB_C)),$(O)/obj/$$(basename $$(f)).o) $$(if $$(filter mscgs,$$*),$(SVC_LIB)) $(LIB)
 	@mkdir -p $(dir $@)
 	$(CC) $(LDFLAGS) $^ -o $@ $(LDLIBS)
 
@@ -286,7 +313,7 @@ $(O)/tests/unit/test_im_render: LDLIBS := $(SVC_LIB) $(LDLIBS) $(GL_LIBS_$(RENDE
 $(O)/bench/bench_imagerd: $(CTX_OBJ_$(RENDER))
 $(O)/bench/bench_imagerd: LDLIBS := $(SVC_LIB) $(LDLIBS) $(GL_LIBS_$(RENDER))
 
-$(O)/bin-$(ALT_RENDER)/imagerd: $(foreach f,$(wildcard services/imagerd/*.c),$(O)/obj/$(basename $(f)).o) $(CTX_OBJ_$(ALT_RENDER)) $(SVC_LIB) $(LIB)
+$(O)/bin-$(ALT_RENDER)/imagerd: $(foreach f,$(wildcard services/imagerd/*.c),$(O)/obj/$(basename $(f)).o) $(CTX_OBJ_$(ALT_RENDER)) $(LIB)
 	@mkdir -p $(dir $@)
 	$(CC) $(LDFLAGS) $^ -o $@ $(LDLIBS) $(GL_LIBS_$(ALT_RENDER))
 

@@ -315,18 +315,7 @@ int cgs_pub_send (cgs_pub_t *self, const char *topic, ProtobufCMessage *msg, dou
     h.sim_time_s = sim_time_s;
     h.wall_time_s = cgs_bus_wall_time ();
     size_t len = 0;
-    int rc = cgs_msg_encode_stamped (msg, &h, self->buf, self->bufcap, &len);
-    if (rc == -ENOBUFS) {
-        size_t cap = self->bufcap;
-        while (cap < len)
-            cap *= 2;
-        uint8_t *nb = realloc (self->buf, cap);
-        if (!nb)
-            return -ENOMEM;
-        self->buf = nb;
-        self->bufcap = cap;
-        rc = cgs_msg_encode_stamped (msg, &h, self->buf, self->bufcap, &len);
-    }
+    int rc = cgs_msg_encode_stamped_grow (msg, &h, &self->buf, &self->bufcap, &len);
     if (rc < 0)
         return rc;
 

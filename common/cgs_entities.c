@@ -169,3 +169,28 @@ double cgs_entities_latest_s (const cgs_entities_t *self)
 {
     return self->latest_s;
 }
+
+bool cgs_entity_at (const cgs_entity_state_t *s, double t_s, double stale_s,
+                    const cgs_terrain_t *terrain, cgs_enu_t *ret_pos)
+{
+    double dt = t_s - s->time_s;
+    if (!s->active || dt > stale_s || dt < -stale_s)
+        return false;
+    cgs_enu_t p = {s->position.e_m + s->velocity.e_m * dt, s->position.n_m + s->velocity.n_m * dt,
+                   s->position.u_m + s->velocity.u_m * dt};
+    if (s->kind != CGS_KIND_AIR && terrain)
+        p.u_m = cgs_terrain_height_clamped (terrain, p.e_m, p.n_m);
+    *ret_pos = p;
+    return true;
+}
+
+void cgs_entities_take (cgs_entities_t *self, const ProtobufCMessage *msg, const Cgs__Header *hdr,
+                        const cgs_port_t *port)
+{
+    size_t bad = 0;
+    if (cgs_entities_update (self, (const Cgs__EntityBatch *)msg, hdr->sim_time_s, &bad) < 0)
+        cgs_port_error (port, "out of memory for entities");
+    for (size_t i = 0; i < bad; i++)
+        cgs_port_bad_input (port,
+                            "an entity without a valid id, position, velocity, heading or time");
+}

@@ -8,7 +8,9 @@
 #define CGS_ENTITIES_H
 
 #include "cgs_geo.h"
+#include "cgs_port.h"
 #include "cgs_scenario.h"
+#include "header.pb-c.h"
 #include "world.pb-c.h"
 
 #include <stdbool.h>
@@ -46,6 +48,11 @@ void cgs_entities_destroy (cgs_entities_t **self_p);
  * them for a non-finite time). */
 int cgs_entities_update (cgs_entities_t *self, const Cgs__EntityBatch *batch, double t_s,
                          size_t *ret_bad);
+/* Take an `entity` batch (msg, with its header) as a service does: each
+ * entity refused is the port's bad input, running out of memory its
+ * error. */
+void cgs_entities_take (cgs_entities_t *self, const ProtobufCMessage *msg, const Cgs__Header *hdr,
+                        const cgs_port_t *port);
 /* Forget every entity whose state is older than t_s - stale_s. */
 void cgs_entities_evict (cgs_entities_t *self, double t_s, double stale_s);
 /* The entity of that id, or NULL. */
@@ -53,6 +60,13 @@ const cgs_entity_state_t *cgs_entities_find (const cgs_entities_t *self, uint32_
 /* Iterate: start with *cursor = 0; the next entity, or NULL at the end.
  * The table must not change during an iteration. */
 const cgs_entity_state_t *cgs_entities_next (const cgs_entities_t *self, size_t *cursor);
+/* Where entity s is at time t_s, dead-reckoned from its last state along
+ * its velocity (the sensors' view between `entity` batches); a ground
+ * entity (not CGS_KIND_AIR) is put on the terrain there (NULL: height as
+ * reckoned). False, and *ret_pos untouched, when it is inactive or its
+ * state is more than stale_s from t_s either way. */
+bool cgs_entity_at (const cgs_entity_state_t *s, double t_s, double stale_s,
+                    const cgs_terrain_t *terrain, cgs_enu_t *ret_pos);
 /* Entities known, and the newest simulation time heard of (0 before any). */
 size_t cgs_entities_count (const cgs_entities_t *self);
 double cgs_entities_latest_s (const cgs_entities_t *self);

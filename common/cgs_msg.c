@@ -237,6 +237,27 @@ size_t cgs_msg_stamped_size_max (ProtobufCMessage *msg)
     return n + S_HDR_FIXED + 2 * 10 + 256; // varints of 10 bytes, a source of up to 255
 }
 
+int cgs_msg_encode_stamped_grow (ProtobufCMessage *msg, const Cgs__Header *h, uint8_t **buf,
+                                 size_t *cap, size_t *ret_len)
+{
+    size_t len = 0;
+    int rc = cgs_msg_encode_stamped (msg, h, *buf, *cap, &len);
+    if (rc == -ENOBUFS) {
+        size_t n = *cap ? *cap : 256;
+        while (n < len)
+            n *= 2;
+        uint8_t *nb = realloc (*buf, n);
+        if (!nb)
+            return -ENOMEM;
+        *buf = nb;
+        *cap = n;
+        rc = cgs_msg_encode_stamped (msg, h, *buf, *cap, &len);
+    }
+    if (rc == 0)
+        *ret_len = len;
+    return rc;
+}
+
 int cgs_msg_encode_stamped (ProtobufCMessage *msg, const Cgs__Header *h, uint8_t *buf, size_t cap,
                             size_t *ret_len)
 {

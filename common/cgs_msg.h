@@ -57,6 +57,10 @@ const Cgs__Header *cgs_msg_header (const ProtobufCMessage *msg);
  * *ret_len, or -EINVAL when the type has no header. */
 int cgs_msg_encode_stamped (ProtobufCMessage *msg, const Cgs__Header *h, uint8_t *buf, size_t cap,
                             size_t *ret_len);
+/* The same into *buf (malloc'd, *cap bytes), grown (doubled) as needed:
+ * 0 and *ret_len, -ENOMEM (buf as it was), or -EINVAL. */
+int cgs_msg_encode_stamped_grow (ProtobufCMessage *msg, const Cgs__Header *h, uint8_t **buf,
+                                 size_t *cap, size_t *ret_len);
 /* An upper bound of the stamped encoding's size. */
 size_t cgs_msg_stamped_size_max (ProtobufCMessage *msg);
 /* Decode a stamped payload of type desc into the arena (required); the

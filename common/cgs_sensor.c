@@ -6,6 +6,13 @@
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
+#include <syslog.h>
+
+/* The model's seed: from the exercise seed, the UAV's id and the service's salt. */
+static uint64_t s_seed (uint64_t exercise_seed, uint32_t uav_id, uint64_t salt)
+{
+    return exercise_seed * 0x9E3779B97F4A7C15ull ^ (uint64_t)uav_id * salt;
+}
 
 int cgs_sensor_setup (cgs_sensor_t *self, const cgs_service_t *svc, const char *program,
                       uint64_t salt, char *err, size_t errlen)
@@ -36,12 +43,37 @@ int cgs_sensor_setup (cgs_sensor_t *self, const cgs_service_t *svc, const char *
                   self->uav_name, svc->instance_name, svc->exercise_path);
         return -EINVAL;
     }
-    self->seed = seed * 0x9E3779B97F4A7C15ull ^ (uint64_t)self->uav->id * salt;
+    self->seed = s_seed (seed, self->uav->id, salt);
     return cgs_scenario_terrain (self->scenario, self->frame, &self->terrain, err, errlen);
+}
+
+int cgs_sensor_attach (cgs_sensor_t *self, const char *uav_name, cgs_geo_t *frame,
+                       cgs_scenario_t *scenario, cgs_terrain_t *terrain, uint64_t exercise_seed,
+                       uint64_t salt, char *err, size_t errlen)
+{
+    const cgs_scenario_uav_t *u = cgs_scenario_uav (scenario, uav_name);
+    if (!u) {
+        cgs_errf (err, errlen, "the scenario has no [uav %s]", uav_name);
+        return -EINVAL;
+    }
+    memset (self, 0, sizeof *self);
+    snprintf (self->uav_name, sizeof self->uav_name, "%s", uav_name);
+    self->borrowed = true;
+    self->frame = frame;
+    self->scenario = scenario;
+    self->terrain = terrain;
+    self->uav = u;
+    self->seed = s_seed (exercise_seed, u->id, salt);
+    return 0;
 }
 
 void cgs_sensor_fini (cgs_sensor_t *self)
 {
+    if (self->borrowed) {
+        self->terrain = NULL;
+        self->scenario = NULL;
+        self->frame = NULL;
+    }
     cgs_terrain_destroy (&self->terrain);
     cgs_scenario_destroy (&self->scenario);
     cgs_geo_destroy (&self->frame);
@@ -78,4 +110,34 @@ cgs_enu_t cgs_sensor_uav_at (const cgs_sensor_t *self, double t_s)
     return (cgs_enu_t){self->position.e_m + self->velocity.e_m * dt,
                        self->position.n_m + self->velocity.n_m * dt,
                        self->position.u_m + self->velocity.u_m * dt};
+}
+
+bool cgs_sensor_on_uav (cgs_sensor_t *self, const Cgs__Uav *u, double t_s, const cgs_scan_t *scan,
+                        cgs_scan_pace_t *pace, double history_s, const char *what,
+                        const cgs_port_t *port, uint64_t *ret_end)
+{
+    bool new_id = false;
+    int rc = cgs_sensor_take_uav (self, u, t_s, &new_id);
+    if (rc > 0)
+        return false; // another UAV's
+    if (rc < 0) {
+        cgs_port_bad_input (port, "a uav message without a valid time, position, velocity or "
+                                  "heading");
+        return false;
+    }
+    if (new_id)
+        cgs_port_log (port, LOG_INFO, "%s on %s (entity %u) at t=%.2f s", what, self->uav_name,
+                      self->uav_id, t_s);
+    uint64_t skipped;
+    cgs_pace_t how = cgs_scan_pace (scan, pace, t_s, history_s, ret_end, &skipped);
+    if (how == CGS_PACE_BACK)
+        cgs_port_log (port, LOG_NOTICE, "simulation time went back to %.2f s; the scan follows",
+                      t_s);
+    if (skipped) {
+        cgs_port_error (port, "fell behind: %llu dwells skipped in all",
+                        (unsigned long long)pace->skipped);
+        cgs_port_log (port, LOG_WARNING, "fell behind: %llu dwells skipped in all",
+                      (unsigned long long)pace->skipped);
+    }
+    return true;
 }

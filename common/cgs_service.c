@@ -495,6 +495,41 @@ int cgs_service_publish (cgs_service_t *svc, const char *topic, ProtobufCMessage
     return rc;
 }
 
+static int s_port_publish (void *arg, const char *topic, ProtobufCMessage *msg, double sim_time_s)
+{
+    cgs_service_t *svc = arg;
+    svc->sim_time_s = sim_time_s;
+    return cgs_service_publish (svc, topic, msg);
+}
+
+static void s_port_log (void *arg, int priority, const char *line)
+{
+    (void)arg;
+    cgs_log (priority, "%s", line);
+}
+
+static void s_port_bad_input (void *arg, const char *what)
+{
+    cgs_service_bad_input (arg, what);
+}
+
+static void s_port_error (void *arg, const char *why)
+{
+    cgs_service_t *svc = arg;
+    cgs_health_set_error (svc->health, why);
+}
+
+cgs_port_t cgs_service_port (cgs_service_t *svc)
+{
+    return (cgs_port_t){
+        .arg = svc,
+        .publish = s_port_publish,
+        .log = s_port_log,
+        .bad_input = s_port_bad_input,
+        .error = s_port_error,
+    };
+}
+
 static void s_on_health (void *arg)
 {
     cgs_service_t *svc = arg;
@@ -567,10 +602,6 @@ void cgs_service_bad_input (cgs_service_t *svc, const char *what)
 void cgs_service_take_entities (cgs_service_t *svc, struct cgs_entities *ents,
                                 const ProtobufCMessage *msg, const Cgs__Header *hdr)
 {
-    size_t bad = 0;
-    if (cgs_entities_update (ents, (const Cgs__EntityBatch *)msg, hdr->sim_time_s, &bad) < 0)
-        cgs_health_set_error (svc->health, "out of memory for entities");
-    for (size_t i = 0; i < bad; i++)
-        cgs_service_bad_input (svc,
-                               "an entity without a valid id, position, velocity, heading or time");
+    cgs_port_t port = cgs_service_port (svc);
+    cgs_entities_take (ents, msg, hdr, &port);
 }

@@ -23,6 +23,7 @@
 #include "cgs_fault.h"
 #include "cgs_health.h"
 #include "cgs_loop.h"
+#include "cgs_port.h"
 
 #include <stdbool.h>
 
@@ -113,6 +114,11 @@ void cgs_service_saved_state (const cgs_service_t *svc, const uint8_t **ret_buf,
 /* Publish msg on topic stamped with svc->sim_time_s; a failure is counted and
  * becomes the health's last error. */
 int cgs_service_publish (cgs_service_t *svc, const char *topic, ProtobufCMessage *msg);
+/* The port an adapter of this service works through: publish stamps the
+ * message with the time given (and makes it the health's time), log goes
+ * to cgs_log, bad_input to cgs_service_bad_input, error to the health's
+ * last error. Valid while svc lives. */
+cgs_port_t cgs_service_port (cgs_service_t *svc);
 /* Run the loop until stopped: READY to systemd, health at 1 Hz, the watchdog
  * from the loop. Returns the process exit code. */
 int cgs_service_run (cgs_service_t *svc);

@@ -31,6 +31,7 @@
 #ifndef GD_GEOM_H
 #define GD_GEOM_H
 
+#include "cgs_footprint.h"
 #include "cgs_geo.h"
 #include "cgs_terrain.h"
 
@@ -38,9 +39,7 @@
 #include <stddef.h>
 
 /* A point or vector on the ground plane: east, north, metres (or m/s). */
-typedef struct {
-    double e, n;
-} gd_v2_t;
+typedef cgs_v2_t gd_v2_t;
 
 /* ---- small vector helpers ---------------------------------------------------------- */
 gd_v2_t gd_v2 (double e, double n);
@@ -185,24 +184,14 @@ typedef struct {
     double max_range_m;    // a ray that meets no ground within this is cut there
 } gd_sensor_t;
 
-typedef struct {
-    gd_v2_t corner[4]; // clockwise seen from above: near-left, far-left, far-right, near-right
-    double corner_up_m[4];
-    gd_v2_t center; // where the boresight meets the ground
-    double center_up_m;
-    bool clipped; // a ray met no ground within max_range (its point is at max_range)
-} gd_footprint_t;
+/* The footprint (common/cgs_footprint.h: its corners, centre, and the
+ * tests of a point inside it and its distance, shared with the scoring). */
+typedef cgs_footprint_t gd_footprint_t;
 
 /* The four ground vertices of the footprint trapezoid: the rays through
  * the corners of the image (pinhole camera: forward ± tan(γ/2)·right ±
  * tan(β/2)·up in the camera's axes) and the boresight, each met with the
  * terrain (terrain NULL: flat ground at height 0). 0 or -EINVAL. */
 int gd_footprint (const gd_sensor_t *s, const cgs_terrain_t *terrain, gd_footprint_t *ret);
-/* Scale a footprint about its centre by k (the display scale). */
-void gd_footprint_scale (const gd_footprint_t *f, double k, gd_footprint_t *ret);
-/* True when p lies inside (or on the edge of) the convex quadrilateral. */
-bool gd_footprint_contains (const gd_footprint_t *f, gd_v2_t p);
-/* Distance from p to the quadrilateral (0 inside). */
-double gd_footprint_distance (const gd_footprint_t *f, gd_v2_t p);
 
 #endif

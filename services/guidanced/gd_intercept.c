@@ -1,6 +1,6 @@
 /* gd_intercept — one UAV's intercept of a designated track (see gd_intercept.h). */
 #include "gd_intercept.h"
-#include "uavsim_uav.h"
+#include "cgs_flight.h"
 
 #include <errno.h>
 #include <math.h>
@@ -140,7 +140,7 @@ double gd_intercept_turn_radius (const gd_intercept_t *self)
         return 0;
     double v = fmax (self->uav.airspeed_mps, self->uav.ground_speed_mps);
     double bank = self->uav.bank_limit_deg > 1 ? self->uav.bank_limit_deg : 30.0;
-    return self->p.turn_radius_factor * uavsim_uav_turn_radius (v, bank);
+    return self->p.turn_radius_factor * cgs_flight_turn_radius (v, bank);
 }
 
 /* The target's position predicted to t_s from its latest track update. */
@@ -421,7 +421,7 @@ void gd_intercept_uav (gd_intercept_t *self, const gd_uav_t *u)
     gd_v2_t target = s_target_at (self, u->t_s);
     gd_v2_t dir = self->wp.dir;
     s_target_dir (self, self->track.vel, &dir);
-    bool inside = self->have_fp && gd_footprint_contains (&self->fp, target);
+    bool inside = self->have_fp && cgs_footprint_contains (&self->fp, target);
     self->inside = inside;
     switch (self->phase) {
     case GD_TO_SECONDARY:
@@ -573,7 +573,7 @@ static double s_confirm_distance (const gd_intercept_t *self, const gd_track_t *
     double best = INFINITY;
     for (size_t k = 0; k < self->n_samples; k++) {
         gd_v2_t p = gd_add (hit, gd_scale (t->vel, self->samples[k].t_s - t_hit));
-        best = fmin (best, gd_footprint_distance (&self->samples[k].fp, p));
+        best = fmin (best, cgs_footprint_distance (&self->samples[k].fp, p));
     }
     return best;
 }

@@ -136,14 +136,10 @@ static size_t s_entities_at (s_app_t *app, double t)
     size_t n = 0, cursor = 0;
     const cgs_entity_state_t *s;
     while ((s = cgs_entities_next (app->ents, &cursor))) {
-        double dt = t - s->time_s;
-        if (!s->active || s->id == app->sensor.uav_id || dt > S_STALE_S || dt < -S_STALE_S)
+        cgs_enu_t p;
+        if (s->id == app->sensor.uav_id ||
+            !cgs_entity_at (s, t, S_STALE_S, app->sensor.terrain, &p))
             continue;
-        cgs_enu_t p = {s->position.e_m + s->velocity.e_m * dt,
-                       s->position.n_m + s->velocity.n_m * dt,
-                       s->position.u_m + s->velocity.u_m * dt};
-        if (s->kind != CGS_KIND_AIR)
-            p.u_m = cgs_terrain_height_clamped (app->sensor.terrain, p.e_m, p.n_m);
         app->draw[n++] = (im_entity_t){
             .id = s->id,
             .kind = s->kind,

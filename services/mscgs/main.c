@@ -23,7 +23,9 @@
 #include "cgs_util.h"
 #include "cgs_state.h"
 #include "cgs_topics.h"
-#include "gd_score.h"
+#include "ms_metrics.h"
+#include "ms_montecarlo.h"
+#include "ms_observer.h"
 #include "gw_params.h"
 #include "st_params.h"
 
@@ -77,6 +79,9 @@ static void s_usage (FILE *f)
                 "           files in imagerd's output folder [--to INSTANCE] [--uav ID]\n"
                 "  fault INSTANCE crash | hang [S] | slow MS [S]   the debug-only fault\n"
                 "           channel of a test build (FAULT=1); --help\n"
+                "  montecarlo  whole scenes in lockstep, many runs, with the imaged rate and\n"
+                "           tracking metrics: [--scenario F] [--runs N] [--seed S] [--jobs J];\n"
+                "           --help\n"
                 "Commands to a service try for --wait S seconds (default 3) before they\n"
                 "report no reply; a retry is never applied twice.\n\n"
                 "The exercise file is --exercise F, else $MSCGS_EXERCISE, else\n"
@@ -1244,401 +1249,6 @@ static int s_cmd_keygen (int argc, char **argv)
     return 0;
 }
 
-/* ---- the intercept's score (run) ----------------------------------------------------- */
-
-#define S_HITS_MAX   4096 // hits remembered per radar (from mti.truth), the newest
-#define S_RADARS_MAX 8    // radars whose hits are remembered
-#define S_VOTES_MAX  32   // distinct entities counted among a track's hits
-
-/* The entity that produced each recent hit of one radar: a ring, oldest
- * overwritten first. */
-typedef struct {
-    uint32_t uav_id; // the radar
-    uint64_t epoch;  // its mtid's epoch: hit ids start again at each start
-    size_t next;     // slot the next hit goes to
-    size_t count;    // slots filled
-    uint32_t hit_id[S_HITS_MAX];
-    uint32_t entity_id[S_HITS_MAX];
-} s_hits_t;
-
-/* What `mscgs run` knows of the intercept, from ground truth. */
-typedef struct {
-    // The latest `intercept` message, whatever its designation (progress line).
-    bool seen;
-    Cgs__InterceptState state;
-    uint32_t track_id;
-    double latest_s; // latest simulation time of an intercept or entity message
-    // The present designation (at the end of the run, the last one).
-    bool designated;
-    uint64_t designation_number;
-    uint32_t desig_track_id;
-    uint32_t first_track_id;         // the track designated (desig_track_id changes on a hand-over)
-    Cgs__InterceptState desig_state; // its latest state; kept once final
-    uint32_t replans;
-    bool final;         // reached DONE, LOST or CANCELLED
-    double final_s;     // simulation time it did
-    uint32_t entity_id; // the designated target's true entity, 0 until known
-    char marking[32];
-    uint32_t other_entity_id; // the designated track (after a hand-over) follows this one instead
-    char other_marking[32];
-    gd_score_t score;
-    // Which entity produced each recent hit, per radar.
-    s_hits_t radars[S_RADARS_MAX];
-    size_t nradars;
-    uint64_t radars_ignored; // mti.truth of radars beyond S_RADARS_MAX
-    uint64_t malformed;      // messages with a non-finite time, position or corner, ignored
-} s_icpt_t;
-
-static void s_icpt_init (s_icpt_t *ic)
-{
-    memset (ic, 0, sizeof *ic);
-    ic->final_s = NAN;
-    gd_score_init (&ic->score);
-}
-
-/* The state's name without its prefix ("DONE"). */
-static const char *s_icpt_state_name (Cgs__InterceptState state)
-{
-    return cgs_msg_enum_short (&cgs__intercept_state__descriptor, state, "UNKNOWN");
-}
-
-static bool s_icpt_state_final (Cgs__InterceptState state)
-{
-    return state == CGS__INTERCEPT_STATE__INTERCEPT_STATE_DONE ||
-           state == CGS__INTERCEPT_STATE__INTERCEPT_STATE_LOST ||
-           state == CGS__INTERCEPT_STATE__INTERCEPT_STATE_CANCELLED;
-}
-
-/* The hits of radar uav_id; a new slot when create (NULL when full). */
-static s_hits_t *s_icpt_radar (s_icpt_t *ic, uint32_t uav_id, bool create)
-{
-    for (size_t i = 0; i < ic->nradars; i++)
-        if (ic->radars[i].uav_id == uav_id)
-            return &ic->radars[i];
-    if (!create || ic->nradars == S_RADARS_MAX)
-        return NULL;
-    s_hits_t *h = &ic->radars[ic->nradars++];
-    h->uav_id = uav_id;
-    return h;
-}
-
-static void s_hits_add (s_hits_t *h, uint32_t hit_id, uint32_t entity_id)
-{
-    h->hit_id[h->next] = hit_id;
-    h->entity_id[h->next] = entity_id;
-    h->next = (h->next + 1) % S_HITS_MAX;
-    if (h->count < S_HITS_MAX)
-        h->count++;
-}
-
-/* The entity that produced hit_id (the newest such hit), 0 if not remembered. */
-static uint32_t s_hits_entity (const s_hits_t *h, uint32_t hit_id)
-{
-    for (size_t k = 1; k <= h->count; k++) {
-        size_t i = (h->next + S_HITS_MAX - k) % S_HITS_MAX;
-        if (h->hit_id[i] == hit_id)
-            return h->entity_id[i];
-    }
-    return 0;
-}
-
-/* The entity that produced most of the track's remembered hits, 0 if none. */
-static uint32_t s_icpt_track_entity (s_icpt_t *ic, uint32_t radar, const Cgs__Track *tr)
-{
-    const s_hits_t *h = s_icpt_radar (ic, radar, false);
-    if (!h)
-        return 0;
-    uint32_t entity[S_VOTES_MAX];
-    size_t votes[S_VOTES_MAX], n = 0, best = 0;
-    for (size_t i = 0; i < tr->n_history; i++) {
-        uint32_t e = tr->history[i]->hit_id ? s_hits_entity (h, tr->history[i]->hit_id) : 0;
-        if (e == 0)
-            continue;
-        size_t k = 0;
-        while (k < n && entity[k] != e)
-            k++;
-        if (k == n) {
-            if (n == S_VOTES_MAX)
-                continue;
-            entity[n] = e;
-            votes[n++] = 0;
-        }
-        votes[k]++;
-        if (votes[k] > votes[best])
-            best = k;
-    }
-    return n ? entity[best] : 0;
-}
-
-/* A new designation: the score starts again. */
-static void s_icpt_designate (s_icpt_t *ic, const Cgs__Intercept *m, double t_s)
-{
-    ic->designated = true;
-    ic->designation_number = m->designation_number;
-    ic->desig_track_id = m->track_id;
-    ic->first_track_id = m->track_id;
-    ic->desig_state = m->state;
-    ic->replans = 0;
-    ic->final = false;
-    ic->final_s = NAN;
-    ic->entity_id = 0;
-    ic->marking[0] = '\0';
-    ic->other_entity_id = 0;
-    ic->other_marking[0] = '\0';
-    gd_score_init (&ic->score);
-    gd_score_designated (&ic->score, t_s);
-}
-
-/* The footprint of an intercept message; false when it shows none. */
-static bool s_icpt_footprint (const Cgs__Footprint *f, gd_footprint_t *ret)
-{
-    if (!f || f->n_corners < 4)
-        return false;
-    for (size_t i = 0; i < 4; i++)
-        if (!isfinite (f->corners[i]->east_m) || !isfinite (f->corners[i]->north_m))
-            return false;
-    if (f->center && (!isfinite (f->center->east_m) || !isfinite (f->center->north_m)))
-        return false;
-    memset (ret, 0, sizeof *ret);
-    double e = 0, n = 0;
-    for (size_t i = 0; i < 4; i++) {
-        ret->corner[i] = (gd_v2_t){f->corners[i]->east_m, f->corners[i]->north_m};
-        ret->corner_up_m[i] = f->corners[i]->up_m;
-        e += f->corners[i]->east_m / 4;
-        n += f->corners[i]->north_m / 4;
-    }
-    ret->center = f->center ? (gd_v2_t){f->center->east_m, f->center->north_m} : (gd_v2_t){e, n};
-    ret->center_up_m = f->center ? f->center->up_m : 0;
-    return true;
-}
-
-static void s_on_intercept (void *arg, const char *topic, const ProtobufCMessage *msg,
-                            const Cgs__Header *hdr)
-{
-    (void)topic;
-    s_icpt_t *ic = arg;
-    const Cgs__Intercept *m = (const Cgs__Intercept *)msg;
-    double t = hdr->sim_time_s;
-    if (!isfinite (t)) {
-        ic->malformed++;
-        return;
-    }
-    ic->seen = true;
-    ic->state = m->state;
-    ic->track_id = m->track_id;
-    ic->latest_s = fmax (ic->latest_s, t);
-    if (m->track_id != 0 && (!ic->designated || m->designation_number != ic->designation_number))
-        s_icpt_designate (ic, m, t);
-    if (!ic->designated || m->designation_number != ic->designation_number)
-        return; // nothing designated yet
-    if (m->track_id != 0)
-        ic->desig_track_id = m->track_id;
-    ic->replans = m->replans;
-    if (!ic->final) {
-        ic->desig_state = m->state;
-        ic->final = s_icpt_state_final (m->state);
-        ic->final_s = ic->final ? t : NAN;
-    }
-    gd_footprint_t fp;
-    bool shown = s_icpt_footprint (m->footprint, &fp);
-    if (!shown && m->footprint && m->footprint->n_corners >= 4)
-        ic->malformed++; // a footprint with a non-finite corner: judges nothing
-    gd_score_footprint (&ic->score, t, shown ? &fp : NULL);
-}
-
-static void s_on_mti_truth (void *arg, const char *topic, const ProtobufCMessage *msg,
-                            const Cgs__Header *hdr)
-{
-    (void)topic;
-    s_icpt_t *ic = arg;
-    const Cgs__MtiTruth *m = (const Cgs__MtiTruth *)msg;
-    s_hits_t *h = s_icpt_radar (ic, m->uav_id, true);
-    if (!h) {
-        ic->radars_ignored++;
-        return;
-    }
-    if (hdr->epoch != h->epoch) { // a restarted mtid numbers its hits from 1 again
-        h->epoch = hdr->epoch;
-        h->next = h->count = 0;
-    }
-    for (size_t i = 0; i < m->n_items; i++)
-        if (m->items[i]->hit_id && m->items[i]->entity_id)
-            s_hits_add (h, m->items[i]->hit_id, m->items[i]->entity_id);
-}
-
-static void s_on_track (void *arg, const char *topic, const ProtobufCMessage *msg,
-                        const Cgs__Header *hdr)
-{
-    (void)topic;
-    (void)hdr;
-    s_icpt_t *ic = arg;
-    const Cgs__TrackBatch *b = (const Cgs__TrackBatch *)msg;
-    if (!ic->designated)
-        return;
-    for (size_t i = 0; i < b->n_tracks; i++) {
-        const Cgs__Track *tr = b->tracks[i];
-        if (tr->track_id != ic->desig_track_id)
-            continue;
-        // The designated target is the vehicle the designated track followed
-        // first; a track that took over and follows another vehicle is
-        // reported, and the score stays with the designated one.
-        uint32_t e = s_icpt_track_entity (ic, tr->uav_id ? tr->uav_id : b->uav_id, tr);
-        if (e != 0 && ic->entity_id == 0) {
-            ic->entity_id = e;
-            ic->marking[0] = '\0';
-        } else if (e != 0 && e == ic->entity_id) {
-            ic->other_entity_id = 0; // the track follows the designated vehicle (again)
-        } else if (e != 0 && tr->track_id != ic->first_track_id && e != ic->other_entity_id) {
-            ic->other_entity_id = e;
-            ic->other_marking[0] = '\0';
-        }
-    }
-}
-
-static void s_on_entity (void *arg, const char *topic, const ProtobufCMessage *msg,
-                         const Cgs__Header *hdr)
-{
-    (void)topic;
-    s_icpt_t *ic = arg;
-    const Cgs__EntityBatch *b = (const Cgs__EntityBatch *)msg;
-    if (!isfinite (hdr->sim_time_s)) {
-        ic->malformed++;
-        return;
-    }
-    ic->latest_s = fmax (ic->latest_s, hdr->sim_time_s);
-    if (!ic->designated || ic->entity_id == 0)
-        return;
-    for (size_t i = 0; i < b->n_entities; i++) {
-        const Cgs__Entity *en = b->entities[i];
-        if (ic->other_entity_id && en->entity_id == ic->other_entity_id)
-            snprintf (ic->other_marking, sizeof ic->other_marking, "%s", en->marking);
-        if (en->entity_id != ic->entity_id)
-            continue;
-        snprintf (ic->marking, sizeof ic->marking, "%s", en->marking);
-        if (en->active && en->position &&
-            !(isfinite (en->position->east_m) && isfinite (en->position->north_m)))
-            ic->malformed++;
-        else if (en->active && en->position)
-            gd_score_target (&ic->score, hdr->sim_time_s,
-                             (gd_v2_t){en->position->east_m, en->position->north_m});
-    }
-}
-
-/* The intercept section of the summary, for a person. */
-static void s_icpt_print (const s_icpt_t *ic, FILE *f)
-{
-    const gd_score_t *sc = &ic->score;
-    fprintf (f, "Intercept\n");
-    if (!ic->designated) {
-        fprintf (f, "  no target was designated\n");
-        return;
-    }
-    fprintf (f, "  designated        track %u at sim %.1f s (designation %llu)\n",
-             ic->desig_track_id, sc->designation_s, (unsigned long long)ic->designation_number);
-    if (ic->entity_id)
-        fprintf (f, "  true target       entity %u \"%s\" (most of the track's MTI hits)\n",
-                 ic->entity_id, ic->marking);
-    else
-        fprintf (f, "  true target       unknown (no MTI truth for the track's hits)\n");
-    if (ic->other_entity_id)
-        fprintf (f,
-                 "  hand-over         track %u now follows entity %u \"%s\", not the designated "
-                 "target\n",
-                 ic->desig_track_id, ic->other_entity_id, ic->other_marking);
-    fprintf (f, "  state             %s", s_icpt_state_name (ic->desig_state));
-    if (ic->final)
-        fprintf (f, " at sim %.1f s", ic->final_s);
-    fprintf (f, ", %u replan%s\n", ic->replans, ic->replans == 1 ? "" : "s");
-    if (sc->imaged)
-        fprintf (f,
-                 "  imaged            yes: %.1f s inside the footprint, first at sim %.1f s, "
-                 "%.1f s after designation\n",
-                 sc->inside_s, sc->first_inside_s, gd_score_time_to_image (sc));
-    else if (isfinite (sc->closest_edge_m))
-        fprintf (f, "  imaged            no: %.1f m from the footprint at closest\n",
-                 sc->closest_edge_m);
-    else
-        fprintf (f, "  imaged            no: no footprint was seen with the target\n");
-    if (isfinite (sc->closest_m))
-        fprintf (f, "  closest approach  %.1f m from the footprint centre at sim %.1f s\n",
-                 sc->closest_m, sc->closest_s);
-    fprintf (f, "  judged            %zu of %zu target positions against a footprint\n", sc->judged,
-             sc->samples);
-    if (ic->radars_ignored)
-        fprintf (
-            f, "  not read          MTI truth of %llu message%s from radars beyond the first %d\n",
-            (unsigned long long)ic->radars_ignored, ic->radars_ignored == 1 ? "" : "s",
-            S_RADARS_MAX);
-    if (ic->malformed)
-        fprintf (f,
-                 "  ignored           %llu message%s with a non-finite time, position or corner\n",
-                 (unsigned long long)ic->malformed, ic->malformed == 1 ? "" : "s");
-}
-
-/* A JSON number, or null when not finite. */
-static void s_json_number (FILE *f, const char *key, double v, const char *end)
-{
-    if (isfinite (v))
-        fprintf (f, "  \"%s\": %.3f%s\n", key, v, end);
-    else
-        fprintf (f, "  \"%s\": null%s\n", key, end);
-}
-
-/* A JSON string (markings are ASCII; anything else is escaped). */
-static void s_json_string (FILE *f, const char *key, const char *s, const char *end)
-{
-    fprintf (f, "  \"%s\": \"", key);
-    for (const unsigned char *c = (const unsigned char *)s; *c; c++) {
-        if (*c == '"' || *c == '\\')
-            fprintf (f, "\\%c", *c);
-        else if (*c < 0x20 || *c >= 0x7f)
-            fprintf (f, "\\u%04x", *c);
-        else
-            fputc (*c, f);
-    }
-    fprintf (f, "\"%s\n", end);
-}
-
-/* The intercept summary as JSON to path; 0 or -errno. */
-static int s_icpt_write_json (const s_icpt_t *ic, const char *path)
-{
-    FILE *f = fopen (path, "w");
-    if (!f)
-        return -errno;
-    const gd_score_t *sc = &ic->score;
-    bool d = ic->designated;
-    fprintf (f, "{\n  \"designated\": %s,\n", d ? "true" : "false");
-    if (d)
-        fprintf (f, "  \"track_id\": %u,\n", ic->desig_track_id);
-    else
-        fprintf (f, "  \"track_id\": null,\n");
-    if (d && ic->entity_id) {
-        fprintf (f, "  \"target_entity_id\": %u,\n", ic->entity_id);
-        s_json_string (f, "target_marking", ic->marking, ",");
-    } else
-        fprintf (f, "  \"target_entity_id\": null,\n  \"target_marking\": null,\n");
-    if (d && ic->other_entity_id)
-        fprintf (f, "  \"handed_over_to_entity_id\": %u,\n", ic->other_entity_id);
-    else
-        fprintf (f, "  \"handed_over_to_entity_id\": null,\n");
-    s_json_number (f, "designation_time_s", d ? sc->designation_s : NAN, ",");
-    if (d) {
-        s_json_string (f, "final_state", s_icpt_state_name (ic->desig_state), ",");
-        fprintf (f, "  \"replans\": %u,\n", ic->replans);
-    } else
-        fprintf (f, "  \"final_state\": null,\n  \"replans\": null,\n");
-    fprintf (f, "  \"imaged\": %s,\n", d && sc->imaged ? "true" : "false");
-    s_json_number (f, "time_in_footprint_s", d ? sc->inside_s : NAN, ",");
-    s_json_number (f, "closest_approach_m", d ? sc->closest_m : NAN, ",");
-    s_json_number (f, "closest_approach_time_s", d ? sc->closest_s : NAN, ",");
-    s_json_number (f, "designation_to_overflight_s", gd_score_time_to_image (sc), "");
-    fprintf (f, "}\n");
-    int rc = ferror (f) ? -EIO : 0;
-    if (fclose (f) != 0 && rc == 0)
-        rc = -errno;
-    return rc;
-}
-
 /* ---- run ------------------------------------------------------------------------------ */
 
 typedef struct {
@@ -1667,7 +1277,8 @@ typedef struct {
     s_child_t children[S_MAX_INSTANCES];
     size_t nchildren;
     s_table_t table;
-    s_icpt_t icpt;
+    ms_icpt_t icpt;
+    ms_metrics_t *metrics; // tracking quality against ground truth
     cgs_sub_t *sub;
     double start;
     bool tty;
@@ -1798,9 +1409,9 @@ static void s_progress (s_run_t *run)
     else
         snprintf (sim, sizeof sim, "no clock yet");
     char icpt[64] = "";
-    const s_icpt_t *ic = &run->icpt;
+    const ms_icpt_t *ic = &run->icpt;
     if (ic->seen && (ic->track_id != 0 || ic->state != CGS__INTERCEPT_STATE__INTERCEPT_STATE_IDLE))
-        snprintf (icpt, sizeof icpt, " | intercept %s track %u", s_icpt_state_name (ic->state),
+        snprintf (icpt, sizeof icpt, " | intercept %s track %u", ms_icpt_state_name (ic->state),
                   ic->track_id);
     fprintf (stdout,
              "%s[%6.1f s] %s | %zu/%zu running, %zu reporting | in %.0f msg/s | gaps %llu drops "
@@ -1834,7 +1445,11 @@ static int s_write_summary_text (s_run_t *run, const char *path)
     fprintf (f, "\nlast health:\n");
     s_table_print (&run->table, f);
     fprintf (f, "\n");
-    s_icpt_print (&run->icpt, f);
+    ms_icpt_print (&run->icpt, f);
+    if (run->metrics) {
+        fprintf (f, "\n");
+        ms_metrics_print (run->metrics, f);
+    }
     int rc = ferror (f) ? -EIO : 0;
     if (fclose (f) != 0 && rc == 0)
         rc = -errno;
@@ -1850,10 +1465,45 @@ static void s_write_summary (s_run_t *run)
     if (rc < 0)
         fprintf (stderr, "mscgs run: cannot write %s: %s\n", path, strerror (-rc));
     snprintf (path, sizeof path, "%s/summary.json", run->out);
-    rc = s_icpt_write_json (&run->icpt, path);
+    char *tracking = NULL;
+    if (run->metrics && ms_metrics_json (run->metrics, &tracking) < 0)
+        tracking = NULL;
+    rc = ms_icpt_write_json (&run->icpt, path, tracking);
+    free (tracking);
     if (rc < 0)
         fprintf (stderr, "mscgs run: cannot write %s: %s\n", path, strerror (-rc));
-    s_icpt_print (&run->icpt, stdout);
+    ms_icpt_print (&run->icpt, stdout);
+    if (run->metrics)
+        ms_metrics_print (run->metrics, stdout);
+}
+
+/* The observer's handlers, then the metrics' (which read the observer's
+ * hit attribution). */
+static void s_run_on_track (void *arg, const char *topic, const ProtobufCMessage *msg,
+                            const Cgs__Header *hdr)
+{
+    s_run_t *run = arg;
+    ms_icpt_on_track (&run->icpt, topic, msg, hdr);
+    if (run->metrics)
+        ms_metrics_on_track (run->metrics, topic, msg, hdr);
+}
+
+static void s_run_on_mti_truth (void *arg, const char *topic, const ProtobufCMessage *msg,
+                                const Cgs__Header *hdr)
+{
+    s_run_t *run = arg;
+    ms_icpt_on_mti_truth (&run->icpt, topic, msg, hdr);
+    if (run->metrics)
+        ms_metrics_on_mti_truth (run->metrics, topic, msg, hdr);
+}
+
+static void s_run_on_entity (void *arg, const char *topic, const ProtobufCMessage *msg,
+                             const Cgs__Header *hdr)
+{
+    s_run_t *run = arg;
+    ms_icpt_on_entity (&run->icpt, topic, msg, hdr);
+    if (run->metrics)
+        ms_metrics_on_entity (run->metrics, topic, msg, hdr);
 }
 
 /* True when --duration has passed, or --stop-after-intercept's time after
@@ -2009,13 +1659,14 @@ static int s_cmd_run (int argc, char **argv)
     if (!run.sub)
         return 1;
     s_table_init (&run.table, run.ex);
-    s_icpt_init (&run.icpt);
+    ms_icpt_init (&run.icpt);
     cgs_sub_on (run.sub, "health", s_on_health, &run.table);
     cgs_sub_on (run.sub, "clock", s_on_clock, &run.table);
-    cgs_sub_on (run.sub, "intercept", s_on_intercept, &run.icpt);
-    cgs_sub_on (run.sub, "track", s_on_track, &run.icpt);
-    cgs_sub_on (run.sub, "mti.truth", s_on_mti_truth, &run.icpt);
-    cgs_sub_on (run.sub, "entity", s_on_entity, &run.icpt);
+    run.metrics = ms_metrics_new (&run.icpt);
+    cgs_sub_on (run.sub, "intercept", ms_icpt_on_intercept, &run.icpt);
+    cgs_sub_on (run.sub, "track", s_run_on_track, &run);
+    cgs_sub_on (run.sub, "mti.truth", s_run_on_mti_truth, &run);
+    cgs_sub_on (run.sub, "entity", s_run_on_entity, &run);
     s_connect_publishers (run.sub, run.ex, "health"); // every service publishes health
     run.start = cgs_loop_now ();
     run.tty = isatty (STDOUT_FILENO);
@@ -2050,7 +1701,10 @@ static int s_cmd_run (int argc, char **argv)
         fputc ('\n', stdout);
     if (run.icpt.final && run.stop_after_intercept_s >= 0)
         printf ("mscgs run: the intercept ended (%s) at sim %.1f s\n",
-                s_icpt_state_name (run.icpt.desig_state), run.icpt.final_s);
+                ms_icpt_state_name (run.icpt.desig_state), run.icpt.final_s);
+    else if (run.duration_s > 0 && s_run_over (&run))
+        printf ("mscgs run: --duration %g s reached: the safety stop, before %s\n", run.duration_s,
+                run.icpt.designated ? "the intercept ended" : "any target was designated");
     printf ("mscgs run: stopping %zu services\n", run.nchildren);
     for (size_t i = 0; i < run.nchildren; i++)
         if (run.children[i].pid > 0)
@@ -2082,6 +1736,7 @@ static int s_cmd_run (int argc, char **argv)
     s_write_summary (&run);
     printf ("mscgs run: done; logs in %s, summary in %s/summary.txt\n", run.logs, run.out);
     cgs_sub_destroy (&run.sub);
+    ms_metrics_destroy (&run.metrics);
     zmq_ctx_term (ctx);
     cgs_exercise_destroy (&run.ex);
     return 0;
@@ -2115,6 +1770,8 @@ int main (int argc, char **argv)
         return s_cmd_snapshot (argc, argv);
     if (strcmp (cmd, "fault") == 0)
         return s_cmd_fault (argc, argv);
+    if (strcmp (cmd, "montecarlo") == 0)
+        return ms_montecarlo_main (argc, argv);
     const char *tasks[] = {"loiter", "goto",  "route",  "altitude",
                            "speed",  "pause", "resume", "time-scale"};
     for (size_t i = 0; i < sizeof tasks / sizeof tasks[0]; i++)

@@ -3,12 +3,13 @@
  * time passes, and publishes each dwell's hits (`mti`), what it saw of each
  * entity (`mti.truth`, for scoring) and each completed scan (`mti.scan`).
  * `mtid --monte-carlo` runs the detector against the closed forms instead.
- * The model is in mti_*.c; this file wires it to the bus. */
-#include "cgs_entities.h"
+ * The model is in mti_*.c, the handling of its inputs and outputs in
+ * mti_adapter.c; this file wires the adapter to the bus. */
 #include "cgs_log.h"
 #include "cgs_scenario.h"
 #include "cgs_sensor.h"
 #include "cgs_service.h"
+#include "mti_adapter.h"
 #include "mti_mc.h"
 #include "mti_params.h"
 #include "mti_radar.h"
@@ -21,288 +22,18 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define S_STALE_S    10.0 // an entity not heard of for this long (simulation time) is forgotten
-#define S_WARNED_MAX 16   // unknown cross-section classes remembered for logging once
-
 typedef struct {
     cgs_service_t svc;
     cgs_sensor_t sensor; // its UAV, scenario and terrain
     mti_params_t params;
-    mti_radar_t *radar;
-    cgs_scan_pace_t pace; // the next dwell to run
-    cgs_entities_t *ents;
-    mti_target_t *targets;
-    size_t target_cap;
-    /* The scan in progress. */
-    uint32_t scan;
-    double scan_start_s;
-    uint32_t scan_hits, scan_fas;
-    uint64_t dwells_run;
-    char warned[S_WARNED_MAX][CGS_ENTITY_CLASS_MAX]; // unknown classes already logged
-    size_t warned_count;
-    /* Output messages, reused. */
-    Cgs__MtiHit *hit_msgs;
-    Cgs__MtiHit **hit_ptrs;
-    Cgs__Enu *hit_pos;
-    size_t hit_cap;
-    Cgs__MtiTruthItem *truth_msgs;
-    Cgs__MtiTruthItem **truth_ptrs;
-    size_t truth_cap;
+    mti_adapter_t *adapter;
 } s_app_t;
 
-/* ---- entities ------------------------------------------------------------------------ */
-
-/* A message the model cannot use: counted in health, logged the first time. */
-static void s_bad (s_app_t *app, const char *what)
+static void s_on_message (void *arg, const char *topic, const ProtobufCMessage *msg,
+                          const Cgs__Header *hdr)
 {
-    cgs_service_bad_input (&app->svc, what);
-}
-
-static void s_on_entity (void *arg, const char *topic, const ProtobufCMessage *msg,
-                         const Cgs__Header *hdr)
-{
-    (void)topic;
     s_app_t *app = arg;
-    cgs_service_take_entities (&app->svc, app->ents, msg, hdr);
-}
-
-/* Log each unknown cross-section class once (the first S_WARNED_MAX of them). */
-static void s_warn_class (s_app_t *app, const cgs_entity_state_t *s)
-{
-    for (size_t i = 0; i < app->warned_count; i++)
-        if (strcmp (app->warned[i], s->rcs_class) == 0)
-            return;
-    if (app->warned_count == S_WARNED_MAX)
-        return;
-    snprintf (app->warned[app->warned_count++], CGS_ENTITY_CLASS_MAX, "%s", s->rcs_class);
-    const mti_class_t *c = mti_params_class (&app->params, s->rcs_class, NULL);
-    cgs_log (LOG_WARNING,
-             "entity %u: radar cross-section class '%s' is not in the parameters; "
-             "seen as class '%s'",
-             s->id, s->rcs_class, c->name);
-}
-
-/* The ground entities as they are at time t (moved on along their velocity). */
-static size_t s_targets_at (s_app_t *app, double t)
-{
-    size_t count = cgs_entities_count (app->ents);
-    if (app->target_cap < count) {
-        mti_target_t *tg = realloc (app->targets, count * sizeof *tg);
-        if (!tg) {
-            cgs_health_set_error (app->svc.health, "out of memory for targets: a dwell ran empty");
-            return 0;
-        }
-        app->targets = tg;
-        app->target_cap = count;
-    }
-    size_t n = 0, cursor = 0;
-    const cgs_entity_state_t *s;
-    while ((s = cgs_entities_next (app->ents, &cursor))) {
-        if (s->kind == CGS_KIND_AIR || !s->active || s->id == app->sensor.uav_id)
-            continue;
-        double dt = t - s->time_s;
-        if (dt > S_STALE_S || dt < -S_STALE_S)
-            continue;
-        // Moved on along its velocity, on the ground there.
-        double east = s->position.e_m + s->velocity.e_m * dt,
-               north = s->position.n_m + s->velocity.n_m * dt;
-        bool known;
-        mti_params_class (&app->params, s->rcs_class, &known);
-        if (!known)
-            s_warn_class (app, s);
-        app->targets[n++] = (mti_target_t){
-            .id = s->id,
-            .position = {east, north,
-                         cgs_terrain_height_clamped (app->sensor.terrain, east, north)},
-            .velocity = s->velocity,
-            .rcs_class = s->rcs_class,
-        };
-    }
-    return n;
-}
-
-/* ---- publication --------------------------------------------------------------------- */
-
-static int s_reserve_out (s_app_t *app, size_t hits, size_t truth)
-{
-    if (hits > app->hit_cap) {
-        size_t cap = hits * 2;
-        free (app->hit_msgs);
-        free (app->hit_ptrs);
-        free (app->hit_pos);
-        app->hit_msgs = calloc (cap, sizeof *app->hit_msgs);
-        app->hit_ptrs = calloc (cap, sizeof *app->hit_ptrs);
-        app->hit_pos = calloc (cap, sizeof *app->hit_pos);
-        app->hit_cap = app->hit_msgs && app->hit_ptrs && app->hit_pos ? cap : 0;
-        if (!app->hit_cap)
-            return -ENOMEM;
-    }
-    if (truth > app->truth_cap) {
-        size_t cap = truth * 2;
-        free (app->truth_msgs);
-        free (app->truth_ptrs);
-        app->truth_msgs = calloc (cap, sizeof *app->truth_msgs);
-        app->truth_ptrs = calloc (cap, sizeof *app->truth_ptrs);
-        app->truth_cap = app->truth_msgs && app->truth_ptrs ? cap : 0;
-        if (!app->truth_cap)
-            return -ENOMEM;
-    }
-    return 0;
-}
-
-static void s_publish_dwell (s_app_t *app, const mti_dwell_t *d, const mti_dwell_out_t *out)
-{
-    if (s_reserve_out (app, out->hit_count, out->truth_count) < 0) {
-        cgs_health_set_error (app->svc.health, "out of memory for a dwell's messages");
-        return;
-    }
-    double t = (d->start_s + d->end_s) / 2;
-    app->svc.sim_time_s = t;
-    for (size_t i = 0; i < out->hit_count; i++) {
-        const mti_hit_t *h = &out->hits[i];
-        Cgs__MtiHit *m = &app->hit_msgs[i];
-        cgs__mti_hit__init (m);
-        cgs__enu__init (&app->hit_pos[i]);
-        app->hit_pos[i].east_m = h->position.e_m;
-        app->hit_pos[i].north_m = h->position.n_m;
-        app->hit_pos[i].up_m = h->position.u_m;
-        m->hit_id = h->hit_id;
-        m->position = &app->hit_pos[i];
-        m->range_m = h->range_m;
-        m->azimuth_deg = h->azimuth_deg;
-        m->radial_velocity_mps = h->radial_velocity_mps;
-        m->snr_db = h->snr_db;
-        m->range_sigma_m = h->range_sigma_m;
-        m->azimuth_sigma_deg = h->azimuth_sigma_deg;
-        m->sim_time_s = t;
-        app->hit_ptrs[i] = m;
-    }
-    Cgs__Enu plat = CGS__ENU__INIT;
-    plat.east_m = app->sensor.position.e_m;
-    plat.north_m = app->sensor.position.n_m;
-    plat.up_m = app->sensor.position.u_m;
-    Cgs__Mti mti = CGS__MTI__INIT;
-    mti.uav_id = app->sensor.uav_id;
-    mti.scan_number = d->scan;
-    mti.dwell_number = d->dwell;
-    mti.beam_azimuth_deg = d->az_center_deg;
-    mti.platform_position = &plat;
-    mti.n_hits = out->hit_count;
-    mti.hits = app->hit_ptrs;
-    cgs_service_publish (&app->svc, "mti", &mti.base);
-
-    for (size_t i = 0; i < out->truth_count; i++) {
-        const mti_truth_t *tr = &out->truth[i];
-        Cgs__MtiTruthItem *m = &app->truth_msgs[i];
-        cgs__mti_truth_item__init (m);
-        m->entity_id = tr->entity_id;
-        m->in_beam = true;
-        m->visible = tr->visible;
-        m->snr_db = isfinite (tr->snr_db) ? tr->snr_db : -999.0;
-        m->pd = tr->pd;
-        m->detected = tr->detected;
-        m->hit_id = tr->hit_id;
-        m->radial_velocity_mps = tr->radial_velocity_mps;
-        m->range_m = tr->range_m;
-        app->truth_ptrs[i] = m;
-    }
-    Cgs__MtiTruth truth = CGS__MTI_TRUTH__INIT;
-    truth.uav_id = app->sensor.uav_id;
-    truth.scan_number = d->scan;
-    truth.dwell_number = d->dwell;
-    truth.n_items = out->truth_count;
-    truth.false_alarms = out->false_alarms;
-    truth.items = app->truth_ptrs;
-    cgs_service_publish (&app->svc, "mti.truth", &truth.base);
-}
-
-static void s_publish_scan (s_app_t *app, const mti_dwell_t *d)
-{
-    Cgs__MtiScan m = CGS__MTI_SCAN__INIT;
-    m.uav_id = app->sensor.uav_id;
-    m.scan_number = d->scan;
-    m.scan_start_s = app->scan_start_s;
-    m.scan_end_s = d->end_s;
-    m.full_revolution = app->params.scan_mode == MTI_SCAN_FULL;
-    m.sector_center_deg = app->params.sector_center_deg;
-    if (app->params.sector_ref == MTI_SECTOR_HEADING) // as an azimuth, at the scan's end
-        m.sector_center_deg = fmod (m.sector_center_deg + app->sensor.heading_deg + 720.0, 360.0);
-    m.sector_width_deg = m.full_revolution ? 360.0 : app->params.sector_width_deg;
-    m.hit_count = app->scan_hits;
-    m.false_alarm_count = app->scan_fas;
-    m.expected_false_alarms = mti_radar_gate_pfa (app->radar) * mti_radar_gates (app->radar) *
-                              mti_radar_dwells_per_scan (app->radar);
-    app->svc.sim_time_s = d->end_s;
-    cgs_service_publish (&app->svc, "mti.scan", &m.base);
-}
-
-/* ---- the radar ----------------------------------------------------------------------- */
-
-static void s_run_dwell (s_app_t *app, uint64_t k)
-{
-    mti_dwell_t d;
-    mti_radar_schedule (app->radar, k, app->sensor.heading_deg, &d);
-    if (d.scan != app->scan || d.scan_start) {
-        app->scan = d.scan;
-        app->scan_start_s = d.start_s;
-        app->scan_hits = app->scan_fas = 0;
-    }
-    double t = (d.start_s + d.end_s) / 2;
-    mti_platform_t plat = {.position = cgs_sensor_uav_at (&app->sensor, t),
-                           .velocity = app->sensor.velocity,
-                           .heading_deg = app->sensor.heading_deg};
-    size_t n = s_targets_at (app, t);
-    mti_dwell_out_t out;
-    int rc = mti_radar_dwell (app->radar, &d, &plat, app->targets, n, &out);
-    if (rc < 0) {
-        char why[128];
-        snprintf (why, sizeof why, "dwell %llu not run: %s", (unsigned long long)k, strerror (-rc));
-        cgs_health_set_error (app->svc.health, why);
-        return;
-    }
-    app->dwells_run++;
-    app->scan_hits += (uint32_t)out.hit_count;
-    app->scan_fas += out.false_alarms;
-    s_publish_dwell (app, &d, &out);
-    if (d.scan_end) {
-        s_publish_scan (app, &d);
-        cgs_entities_evict (app->ents, t, S_STALE_S);
-    }
-}
-
-static void s_on_uav (void *arg, const char *topic, const ProtobufCMessage *msg,
-                      const Cgs__Header *hdr)
-{
-    (void)topic;
-    s_app_t *app = arg;
-    const Cgs__Uav *u = (const Cgs__Uav *)msg;
-    double t = hdr->sim_time_s;
-    bool new_id = false;
-    int rc = cgs_sensor_take_uav (&app->sensor, u, t, &new_id);
-    if (rc > 0)
-        return; // another UAV's
-    if (rc < 0) {
-        s_bad (app, "a uav message without a valid time, position, velocity or heading");
-        return;
-    }
-    if (new_id)
-        cgs_log (LOG_INFO, "radar on %s (entity %u) at t=%.2f s", app->sensor.uav_name,
-                 app->sensor.uav_id, t);
-    uint64_t end, skipped;
-    cgs_pace_t how =
-        cgs_scan_pace (mti_radar_scan (app->radar), &app->pace, t, S_STALE_S, &end, &skipped);
-    if (how == CGS_PACE_BACK)
-        cgs_log (LOG_NOTICE, "simulation time went back to %.2f s; the scan follows", t);
-    if (skipped) {
-        char why[160];
-        snprintf (why, sizeof why, "fell behind: %llu dwells skipped in all",
-                  (unsigned long long)app->pace.skipped);
-        cgs_health_set_error (app->svc.health, why);
-        cgs_log (LOG_WARNING, "%s", why);
-    }
-    // Run every dwell that has ended by now.
-    while (app->pace.next < end)
-        s_run_dwell (app, app->pace.next++);
+    mti_adapter_on_message (app->adapter, topic, msg, hdr);
 }
 
 /* ---- --monte-carlo ------------------------------------------------------------------- */
@@ -444,19 +175,20 @@ static int s_setup (s_app_t *app, char *err, size_t errlen)
     } else {
         cgs_log (LOG_INFO, "radar parameters: the built-in defaults (no parameter file named)");
     }
-    app->radar = mti_radar_new (&app->params, app->sensor.terrain, app->sensor.seed);
-    app->ents = cgs_entities_new ();
-    if (!app->radar || !app->ents) {
+    cgs_port_t port = cgs_service_port (&app->svc);
+    app->adapter = mti_adapter_new (&app->params, &app->sensor, &port);
+    if (!app->adapter) {
         snprintf (err, errlen, "out of memory");
         return -ENOMEM;
     }
+    const mti_radar_t *radar = mti_adapter_radar (app->adapter);
     const mti_params_t *p = &app->params;
     cgs_log (LOG_INFO,
              "%s: %.1f GHz, PRF %.0f Hz, %g x %g deg beam at %g deg/s, %u dwells of %.1f ms "
              "per scan, FFT %d, %s, CFAR %d+%d cells Pfa %g, %d of %d, range %.0f..%.0f m",
              app->sensor.uav_name, p->frequency_hz / 1e9, p->prf_hz, p->azimuth_beamwidth_deg,
-             p->elevation_beamwidth_deg, p->sweep_rate_dps, mti_radar_dwells_per_scan (app->radar),
-             mti_radar_dwell_s (app->radar) * 1e3, p->fft_size,
+             p->elevation_beamwidth_deg, p->sweep_rate_dps, mti_radar_dwells_per_scan (radar),
+             mti_radar_dwell_s (radar) * 1e3, p->fft_size,
              p->canceller == MTI_CANCELLER_THREE ? "three-pulse canceller"
              : p->canceller == MTI_CANCELLER_TWO ? "two-pulse canceller"
                                                  : "no canceller",
@@ -494,22 +226,16 @@ int main (int argc, char **argv)
         exit_code = 0;
         goto done;
     }
-    if (cgs_service_subscribe (&app.svc, "entity", s_on_entity, &app) < 0 ||
-        cgs_service_subscribe (&app.svc, "uav", s_on_uav, &app) < 0)
-        goto done;
+    for (size_t i = 0; mti_adapter_topics[i]; i++)
+        if (cgs_service_subscribe (&app.svc, mti_adapter_topics[i], s_on_message, &app) < 0)
+            goto done;
     exit_code = cgs_service_run (&app.svc);
-    cgs_log (LOG_INFO, "%llu dwells run, %llu skipped", (unsigned long long)app.dwells_run,
-             (unsigned long long)app.pace.skipped);
+    const mti_adapter_stats_t *st = mti_adapter_stats (app.adapter);
+    cgs_log (LOG_INFO, "%llu dwells run, %llu skipped", (unsigned long long)st->dwells_run,
+             (unsigned long long)st->skipped);
 done:
-    mti_radar_destroy (&app.radar);
+    mti_adapter_destroy (&app.adapter);
     cgs_sensor_fini (&app.sensor);
-    cgs_entities_destroy (&app.ents);
-    free (app.targets);
-    free (app.hit_msgs);
-    free (app.hit_ptrs);
-    free (app.hit_pos);
-    free (app.truth_msgs);
-    free (app.truth_ptrs);
     cgs_service_fini (&app.svc);
     return exit_code;
 }

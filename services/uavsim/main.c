@@ -2,11 +2,13 @@
  * UAVs and drives the ground vehicles in fixed simulation steps paced by the
  * time scale, publishes `clock`, `entity` and `uav`, serves the task and
  * clock commands, and checkpoints the world so a restarted uavsim continues
- * where it was. The models are in uavsim_*.c; this file wires them to the bus. */
+ * where it was. The models are in uavsim_*.c, the stepping, publication and
+ * UAV commands in uavsim_adapter.c; this file paces the adapter by the wall
+ * clock and wires it to the bus. */
 #include "cgs_lifecycle.h"
 #include "cgs_log.h"
 #include "cgs_service.h"
-#include "uavsim_msgs.h"
+#include "uavsim_adapter.h"
 #include "uavsim_world.h"
 
 #include <errno.h>
@@ -21,14 +23,13 @@ typedef struct {
     cgs_service_t svc;
     cgs_geo_t *frame;
     uavsim_world_t *world;
-    uavsim_msgs_t *msgs;
+    uavsim_adapter_t *adapter;
     bool fresh; // --fresh: ignore the saved state
     double time_scale;
     bool paused;
-    double anchor_wall_s; // monotonic wall time when pacing was last anchored
-    uint64_t anchor_tick; // world tick then
-    uint64_t lag_events;  // times the simulation fell behind and re-anchored
-    double next_entity_s, next_uav_s, next_clock_s; // simulation times of the next publications
+    double anchor_wall_s;      // monotonic wall time when pacing was last anchored
+    uint64_t anchor_tick;      // world tick then
+    uint64_t lag_events;       // times the simulation fell behind and re-anchored
     double next_paused_wall_s; // while paused: wall time of the next republication
     char detail[256];
 } s_app_t;
@@ -55,47 +56,16 @@ static void s_anchor (s_app_t *app)
     app->anchor_tick = uavsim_world_tick (app->world);
 }
 
-/* ---- publication ------------------------------------------------------------------- */
-
-static void s_publish_entities (s_app_t *app)
-{
-    size_t n = uavsim_msgs_entities (app->msgs, app->world);
-    for (size_t k = 0; k < n; k++)
-        cgs_service_publish (&app->svc, "entity", &uavsim_msgs_batch (app->msgs, k)->base);
-}
-
-static void s_publish_uavs (s_app_t *app)
-{
-    for (size_t i = 0; i < uavsim_world_scenario (app->world)->uav_count; i++)
-        cgs_service_publish (&app->svc, "uav", &uavsim_msgs_uav (app->msgs, app->world, i)->base);
-}
-
 static void s_publish_clock (s_app_t *app)
 {
-    Cgs__Clock *c = uavsim_msgs_clock (app->msgs, app->world, app->time_scale, app->paused,
-                                       cgs_exercise_origin (app->svc.exercise));
-    cgs_service_publish (&app->svc, "clock", &c->base);
+    uavsim_adapter_set_pacing (app->adapter, app->time_scale, app->paused);
+    uavsim_adapter_publish_clock (app->adapter);
 }
 
-/* Publish what is due at the present simulation time. */
 static void s_publish_due (s_app_t *app, bool all)
 {
-    const cgs_uavsim_settings_t *set = &uavsim_world_scenario (app->world)->settings;
-    double t = uavsim_world_time (app->world);
-    app->svc.sim_time_s = t;
-    double eps = 1e-9;
-    if (all || t + eps >= app->next_entity_s) {
-        s_publish_entities (app);
-        app->next_entity_s = floor (t * set->entity_rate_hz + eps + 1) / set->entity_rate_hz;
-    }
-    if (all || t + eps >= app->next_uav_s) {
-        s_publish_uavs (app);
-        app->next_uav_s = floor (t * set->uav_rate_hz + eps + 1) / set->uav_rate_hz;
-    }
-    if (all || t + eps >= app->next_clock_s) {
-        s_publish_clock (app);
-        app->next_clock_s = floor (t * set->clock_rate_hz + eps + 1) / set->clock_rate_hz;
-    }
+    uavsim_adapter_set_pacing (app->adapter, app->time_scale, app->paused);
+    uavsim_adapter_publish_due (app->adapter, all);
 }
 
 /* ---- pacing ------------------------------------------------------------------------- */
@@ -125,9 +95,9 @@ static void s_on_tick (void *arg)
     // not fit is dropped (simulation time slips) rather than piled up.
     double start = cgs_loop_now ();
     uint64_t done = 0;
+    uavsim_adapter_set_pacing (app->adapter, app->time_scale, app->paused);
     while (done < behind) {
-        uavsim_world_step (app->world);
-        s_publish_due (app, false);
+        uavsim_adapter_step (app->adapter);
         done++;
         if ((done & 15) == 0 && cgs_loop_now () - start > S_BUDGET_S)
             break;
@@ -197,155 +167,13 @@ static int s_restore (s_app_t *app, const uint8_t *buf, size_t len, char *err, s
 
 /* ---- commands ----------------------------------------------------------------------- */
 
-static int s_uav (s_app_t *app, uint32_t id, Cgs__Reply *reply)
-{
-    int i = uavsim_world_find_uav (app->world, id);
-    if (i < 0) {
-        snprintf (app->detail, sizeof app->detail, "no UAV with entity id %u%s", id,
-                  id == 0 ? " (give one: the scenario has several)" : "");
-        reply->status = CGS__REPLY_STATUS__REPLY_STATUS_ERROR;
-        reply->error = app->detail;
-    }
-    return i;
-}
-
-static void s_refuse (s_app_t *app, Cgs__Reply *reply, const char *fmt, const char *what)
-{
-    snprintf (app->detail, sizeof app->detail, fmt, what);
-    reply->status = CGS__REPLY_STATUS__REPLY_STATUS_ERROR;
-    reply->error = app->detail;
-}
-
-static cgs_enu_t s_enu (const Cgs__Enu *p)
-{
-    cgs_enu_t e = {0, 0, 0};
-    if (p) {
-        e.e_m = p->east_m;
-        e.n_m = p->north_m;
-        e.u_m = p->up_m;
-    }
-    return e;
-}
-
-/* The UAV's state before a command, so a refused command changes nothing. */
-static int s_keep (uavsim_uav_model_t *uav, uint8_t **ret_buf, size_t *ret_len)
-{
-    size_t size = uavsim_uav_save_size (uav);
-    uint8_t *buf = malloc (size);
-    if (!buf)
-        return -ENOMEM;
-    int rc = uavsim_uav_save (uav, buf, size, ret_len);
-    if (rc < 0) {
-        free (buf);
-        return rc;
-    }
-    *ret_buf = buf;
-    return 0;
-}
-
-/* 0 when the UAV can fly an orbit of radius_m (0: its default) at its
- * commanded airspeed, else refuse with the smallest radius it can fly. */
-static int s_radius_ok (s_app_t *app, uavsim_uav_model_t *uav, double radius_m, Cgs__Reply *reply)
-{
-    uavsim_uav_state_t st;
-    uavsim_uav_state (uav, &st);
-    double min_r = uavsim_uav_min_turn_radius (uav, st.commanded_airspeed_mps);
-    if (radius_m == 0 || radius_m >= min_r)
-        return 0;
-    snprintf (app->detail, sizeof app->detail,
-              "a %.0f m orbit is tighter than the UAV can turn at %.0f m/s (at least %.0f m)",
-              radius_m, st.commanded_airspeed_mps, ceil (min_r));
-    reply->status = CGS__REPLY_STATUS__REPLY_STATUS_ERROR;
-    reply->error = app->detail;
-    return -EINVAL;
-}
-
 static void s_on_command (void *arg, const Cgs__Command *cmd, Cgs__Reply *reply)
 {
     s_app_t *app = arg;
-    int i = -1;
-    uavsim_uav_model_t *uav = NULL;
-    int rc = 0;
+    if (uavsim_adapter_command (app->adapter, cmd, reply) == 0 ||
+        reply->status == CGS__REPLY_STATUS__REPLY_STATUS_UNSUPPORTED)
+        return; // a UAV's command (judged and logged there), or not uavsim's
     switch (cmd->body_case) {
-    case CGS__COMMAND__BODY_TASK_ROUTE: {
-        const Cgs__TaskRoute *t = cmd->task_route;
-        if ((i = s_uav (app, t->uav_id, reply)) < 0)
-            return;
-        uav = uavsim_world_uav (app->world, (size_t)i);
-        if (t->n_waypoints == 0 || t->n_waypoints > UAVSIM_UAV_ROUTE_MAX) {
-            snprintf (app->detail, sizeof app->detail, "a route needs 1 to %d points",
-                      UAVSIM_UAV_ROUTE_MAX);
-            reply->status = CGS__REPLY_STATUS__REPLY_STATUS_ERROR;
-            reply->error = app->detail;
-            return;
-        }
-        cgs_enu_t *pts = calloc (t->n_waypoints, sizeof *pts);
-        uint8_t *before = NULL;
-        size_t before_len = 0;
-        if (!pts || s_keep (uav, &before, &before_len) < 0) {
-            free (pts);
-            return s_refuse (app, reply, "%s", "out of memory");
-        }
-        for (size_t k = 0; k < t->n_waypoints; k++)
-            pts[k] = s_enu (t->waypoints[k]);
-        // Apply speed, altitude and route together, or none of them.
-        const char *why = NULL;
-        if (t->airspeed_mps > 0 && uavsim_uav_set_speed (uav, t->airspeed_mps) < 0)
-            why = "route refused: the airspeed is outside the UAV's limits";
-        else if (t->altitude_agl_m > 0 && uavsim_uav_set_altitude (uav, t->altitude_agl_m) < 0)
-            why = "route refused: the altitude must be in (0, 20000] m above ground";
-        else if (t->loiter_at_end && s_radius_ok (app, uav, t->loiter_radius_m, reply) < 0)
-            why = "route refused: its end orbit is tighter than the UAV can turn";
-        else if (uavsim_uav_route (uav, pts, t->n_waypoints, t->loiter_at_end, t->loiter_radius_m,
-                                   !t->loiter_anticlockwise) < 0)
-            why = "route refused: a point is out of range";
-        if (why)
-            uavsim_uav_restore (uav, before, before_len);
-        free (pts);
-        free (before);
-        if (why)
-            return s_refuse (app, reply, "%s", why);
-        break;
-    }
-    case CGS__COMMAND__BODY_GO_TO: {
-        const Cgs__GoTo *g = cmd->go_to;
-        if ((i = s_uav (app, g->uav_id, reply)) < 0)
-            return;
-        uav = uavsim_world_uav (app->world, (size_t)i);
-        if (s_radius_ok (app, uav, g->radius_m, reply) < 0)
-            return;
-        if (uavsim_uav_goto (uav, s_enu (g->point), g->radius_m, !g->anticlockwise) < 0)
-            return s_refuse (app, reply, "%s", "go to refused: bad point or radius");
-        break;
-    }
-    case CGS__COMMAND__BODY_LOITER: {
-        const Cgs__Loiter *l = cmd->loiter;
-        if ((i = s_uav (app, l->uav_id, reply)) < 0)
-            return;
-        uav = uavsim_world_uav (app->world, (size_t)i);
-        if (s_radius_ok (app, uav, l->radius_m, reply) < 0)
-            return;
-        rc = l->at_present_position
-                 ? uavsim_uav_loiter_here (uav, l->radius_m, l->clockwise)
-                 : uavsim_uav_loiter (uav, s_enu (l->center), l->radius_m, l->clockwise);
-        if (rc < 0)
-            return s_refuse (app, reply, "%s", "loiter refused: bad centre or radius");
-        break;
-    }
-    case CGS__COMMAND__BODY_SET_ALTITUDE:
-        if ((i = s_uav (app, cmd->set_altitude->uav_id, reply)) < 0)
-            return;
-        uav = uavsim_world_uav (app->world, (size_t)i);
-        if (uavsim_uav_set_altitude (uav, cmd->set_altitude->altitude_agl_m) < 0)
-            return s_refuse (app, reply, "%s", "altitude must be in (0, 20000] m above ground");
-        break;
-    case CGS__COMMAND__BODY_SET_SPEED:
-        if ((i = s_uav (app, cmd->set_speed->uav_id, reply)) < 0)
-            return;
-        uav = uavsim_world_uav (app->world, (size_t)i);
-        if (uavsim_uav_set_speed (uav, cmd->set_speed->airspeed_mps) < 0)
-            return s_refuse (app, reply, "%s", "airspeed outside the UAV's limits");
-        break;
     case CGS__COMMAND__BODY_PAUSE:
         app->paused = true;
         s_publish_clock (app);
@@ -357,33 +185,23 @@ static void s_on_command (void *arg, const Cgs__Command *cmd, Cgs__Reply *reply)
         break;
     case CGS__COMMAND__BODY_SET_TIME_SCALE: {
         double x = cmd->set_time_scale->time_scale;
-        if (!(x > 0) || x > 1000)
-            return s_refuse (app, reply, "%s", "time scale must be in (0, 1000]");
+        if (!(x > 0) || x > 1000) {
+            snprintf (app->detail, sizeof app->detail, "time scale must be in (0, 1000]");
+            reply->status = CGS__REPLY_STATUS__REPLY_STATUS_ERROR;
+            reply->error = app->detail;
+            return;
+        }
         app->time_scale = x;
         s_anchor (app);
         s_publish_clock (app);
         break;
     }
-    case CGS__COMMAND__BODY_PING:
+    default: // PING
         break;
-    default:
-        reply->status = CGS__REPLY_STATUS__REPLY_STATUS_UNSUPPORTED;
-        snprintf (app->detail, sizeof app->detail, "uavsim does not handle %s", cgs_cmd_name (cmd));
-        reply->error = app->detail;
-        return;
     }
-    if (uav) {
-        uavsim_uav_state_t s;
-        uavsim_uav_state (uav, &s);
-        snprintf (app->detail, sizeof app->detail, "%s: task %llu accepted at t=%.2f s",
-                  cgs_cmd_name (cmd), (unsigned long long)s.task_number,
-                  uavsim_world_time (app->world));
-        s_publish_uavs (app);
-    } else {
-        snprintf (app->detail, sizeof app->detail, "%s at t=%.2f s, time scale %g%s",
-                  cgs_cmd_name (cmd), uavsim_world_time (app->world), app->time_scale,
-                  app->paused ? ", paused" : "");
-    }
+    snprintf (app->detail, sizeof app->detail, "%s at t=%.2f s, time scale %g%s",
+              cgs_cmd_name (cmd), uavsim_world_time (app->world), app->time_scale,
+              app->paused ? ", paused" : "");
     cgs_log (LOG_INFO, "%s (from %s #%llu)", app->detail, cmd->client_id,
              (unsigned long long)cmd->command_number);
     reply->detail = app->detail;
@@ -443,8 +261,9 @@ int main (int argc, char **argv)
         exit_code = 0;
         goto done;
     }
-    app.msgs = uavsim_msgs_new (app.world);
-    if (!app.msgs) {
+    cgs_port_t port = cgs_service_port (&app.svc);
+    app.adapter = uavsim_adapter_new (app.world, o, &port);
+    if (!app.adapter) {
         cgs_log (LOG_ERR, "out of memory");
         goto done;
     }
@@ -477,7 +296,7 @@ int main (int argc, char **argv)
     if (cgs_service_save_state (&app.svc) == 0)
         cgs_log (LOG_INFO, "saved the world at t=%.2f s", uavsim_world_time (app.world));
 done:
-    uavsim_msgs_destroy (&app.msgs);
+    uavsim_adapter_destroy (&app.adapter);
     uavsim_world_destroy (&app.world);
     cgs_geo_destroy (&app.frame);
     cgs_service_fini (&app.svc);

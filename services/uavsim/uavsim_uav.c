@@ -579,12 +579,7 @@ const uavsim_uav_params_t *uavsim_uav_params (const uavsim_uav_model_t *self)
 double uavsim_uav_min_turn_radius (const uavsim_uav_model_t *self, double v_mps)
 {
     assert (self);
-    return uavsim_uav_turn_radius (v_mps, self->p.bank_limit_deg);
-}
-
-double uavsim_uav_turn_radius (double v_mps, double bank_limit_deg)
-{
-    return v_mps * v_mps / (UAVSIM_UAV_G_MPS2 * tan (bank_limit_deg * S_DEG));
+    return cgs_flight_turn_radius (v_mps, self->p.bank_limit_deg);
 }
 
 /* --- save and restore ---------------------------------------------------------- */

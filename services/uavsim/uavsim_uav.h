@@ -51,16 +51,17 @@
 #ifndef UAVSIM_UAV_H
 #define UAVSIM_UAV_H
 
+#include "cgs_flight.h"
 #include "cgs_geo.h"
 
 #include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
 
-#define UAVSIM_UAV_G_MPS2       9.80665 // standard gravity, m/s²
-#define UAVSIM_UAV_ROUTE_MAX    1024    // most points in a route
-#define UAVSIM_UAV_AGL_MAX_M    20000.0 // highest commanded altitude above ground, metres
-#define UAVSIM_UAV_RADIUS_MAX_M 1e6     // largest loiter radius, metres
+#define UAVSIM_UAV_G_MPS2       CGS_FLIGHT_G_MPS2 // standard gravity, m/s²
+#define UAVSIM_UAV_ROUTE_MAX    1024              // most points in a route
+#define UAVSIM_UAV_AGL_MAX_M    20000.0           // highest commanded altitude above ground, metres
+#define UAVSIM_UAV_RADIUS_MAX_M 1e6               // largest loiter radius, metres
 
 /* The UAV's mode, with the numbers of proto/world.proto's enum UavMode. */
 typedef enum {
@@ -159,8 +160,6 @@ const cgs_enu_t *uavsim_uav_route_points (const uavsim_uav_model_t *self, size_t
 const uavsim_uav_params_t *uavsim_uav_params (const uavsim_uav_model_t *self);
 /* Smallest turn radius at airspeed v_mps and the bank limit, metres. */
 double uavsim_uav_min_turn_radius (const uavsim_uav_model_t *self, double v_mps);
-/* The same for any UAV: V² / (g·tan(bank_limit)), metres. */
-double uavsim_uav_turn_radius (double v_mps, double bank_limit_deg);
 
 /* Bytes uavsim_uav_save needs for the present state. */
 size_t uavsim_uav_save_size (const uavsim_uav_model_t *self);

@@ -178,27 +178,8 @@ line=$(grep -n '^threshold_deg' "$TMP/bad.ini" | cut -d: -f1)
 is "$?" 1 "guidanced --check refuses a threshold of 200 degrees"
 check "naming the file, line and key" grep -q "bad.ini:$line: \[replan\] threshold_deg" "$TMP/bad.log"
 
-# The Monte Carlo driver from the command line: a small set, one run traced,
-# bad options refused.
-"$GUIDANCED" --monte-carlo --runs 2 --seed 3 --quiet >"$TMP/mc.out" 2>"$TMP/mc.err"
-is "$?" 0 "guidanced --monte-carlo --runs 2 runs"
-check "its last line is JSON with 2 runs" bash -c "tail -1 '$TMP/mc.out' | grep -q '^{\"drawn\":[0-9]*,\"runs\":2,'"
-"$GUIDANCED" --monte-carlo --seed 3 --trace 0 >"$TMP/trace.out" 2>&1
-rc=$?
-check "--trace 0 repeats run 0 (exit $rc: 0 imaged, 3 not)" test "$rc" = 0 -o "$rc" = 3
-check "and prints the run second by second" test "$(grep -c ' | uav ' "$TMP/trace.out")" -gt 60
-check "ending with its outcome" grep -q '^run 0: ' "$TMP/trace.out"
-"$GUIDANCED" --monte-carlo --runs -3 >/dev/null 2>"$TMP/mc-bad.err"
-is "$?" 2 "--runs -3 is refused"
-check "with the reason" grep -q -- "--runs: expected a count" "$TMP/mc-bad.err"
-"$GUIDANCED" --monte-carlo --method sideways >/dev/null 2>"$TMP/mc-bad.err"
-is "$?" 2 "--method sideways is refused"
-"$GUIDANCED" --monte-carlo --turn-fraction '' >/dev/null 2>"$TMP/mc-bad.err"
-is "$?" 2 "an empty --turn-fraction is refused"
-"$GUIDANCED" --monte-carlo --runs 2 --trace 60 >/dev/null 2>"$TMP/mc-bad.err"
-is "$?" 2 "--trace beyond the geometries --runs 2 may draw is refused"
-check "with the reason" grep -q -- "--trace: run 60 is beyond the 54 geometries" "$TMP/mc-bad.err"
-"$GUIDANCED" --monte-carlo 50 >/dev/null 2>"$TMP/mc-bad.err"
-is "$?" 2 "a stray argument is refused"
+# The Monte Carlo of whole intercepts is `mscgs montecarlo` now (montecarlo.sh).
+"$GUIDANCED" --monte-carlo >/dev/null 2>"$TMP/mc-bad.err"
+check "guidanced has no --monte-carlo any more (refused, exit $?)" grep -q "monte-carlo" "$TMP/mc-bad.err"
 
 finish

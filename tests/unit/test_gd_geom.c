@@ -1381,43 +1381,43 @@ static void test_footprint_contains_distance_scale (void **state)
     gd_footprint_t f = {0};
     s_hand_corners (FP_H, FP_EPS, 0, f.corner);
     f.center = gd_v2 (0, 1000);
-    assert_true (gd_footprint_contains (&f, f.center));
-    assert_near (gd_footprint_distance (&f, f.center), 0.0, 0);
+    assert_true (cgs_footprint_contains (&f, f.center));
+    assert_near (cgs_footprint_distance (&f, f.center), 0.0, 0);
     for (int i = 0; i < 4; i++) {
         gd_v2_t a = f.corner[i], b = f.corner[(i + 1) % 4], ab = gd_sub (b, a);
         gd_v2_t out = gd_scale (gd_v2 (-ab.n, ab.e), 1 / gd_norm (ab));
         gd_v2_t mid = gd_scale (gd_add (a, b), 0.5);
-        assert_true (gd_footprint_contains (&f, mid)); // on the edge counts
-        assert_true (gd_footprint_contains (&f, a));
-        assert_true (gd_footprint_contains (&f, gd_add (mid, gd_scale (out, -1e-5))));
-        assert_false (gd_footprint_contains (&f, gd_add (mid, gd_scale (out, 1e-5))));
-        assert_near (gd_footprint_distance (&f, gd_add (mid, gd_scale (out, 30))), 30.0, 1e-9);
-        assert_near (gd_footprint_distance (&f, gd_add (mid, gd_scale (out, -5))), 0.0, 0);
+        assert_true (cgs_footprint_contains (&f, mid)); // on the edge counts
+        assert_true (cgs_footprint_contains (&f, a));
+        assert_true (cgs_footprint_contains (&f, gd_add (mid, gd_scale (out, -1e-5))));
+        assert_false (cgs_footprint_contains (&f, gd_add (mid, gd_scale (out, 1e-5))));
+        assert_near (cgs_footprint_distance (&f, gd_add (mid, gd_scale (out, 30))), 30.0, 1e-9);
+        assert_near (cgs_footprint_distance (&f, gd_add (mid, gd_scale (out, -5))), 0.0, 0);
     }
     // The outward normals are what the comment says: near edge south, far north.
     double far_n = 1140.2815, near_n = 876.9765;
-    assert_false (gd_footprint_contains (&f, gd_v2 (0, far_n + 0.01)));
-    assert_false (gd_footprint_contains (&f, gd_v2 (0, near_n - 0.01)));
-    assert_true (gd_footprint_contains (&f, gd_v2 (0, far_n - 0.01)));
-    assert_near (gd_footprint_distance (&f, gd_v2 (0, f.corner[1].n + 50)), 50.0, 1e-9);
-    assert_near (gd_footprint_distance (&f, gd_v2 (0, f.corner[0].n - 20)), 20.0, 1e-9);
-    assert_near (gd_footprint_distance (&f, gd_add (f.corner[2], gd_v2 (30, 40))), 50.0, 1e-9);
+    assert_false (cgs_footprint_contains (&f, gd_v2 (0, far_n + 0.01)));
+    assert_false (cgs_footprint_contains (&f, gd_v2 (0, near_n - 0.01)));
+    assert_true (cgs_footprint_contains (&f, gd_v2 (0, far_n - 0.01)));
+    assert_near (cgs_footprint_distance (&f, gd_v2 (0, f.corner[1].n + 50)), 50.0, 1e-9);
+    assert_near (cgs_footprint_distance (&f, gd_v2 (0, f.corner[0].n - 20)), 20.0, 1e-9);
+    assert_near (cgs_footprint_distance (&f, gd_add (f.corner[2], gd_v2 (30, 40))), 50.0, 1e-9);
     // West of the track at the centre's northing: beyond the left edge.
-    assert_false (gd_footprint_contains (&f, gd_v2 (-140, 1000)));
-    assert_true (gd_footprint_contains (&f, gd_v2 (-110, 1000)));
+    assert_false (cgs_footprint_contains (&f, gd_v2 (-140, 1000)));
+    assert_true (cgs_footprint_contains (&f, gd_v2 (-110, 1000)));
 
     gd_footprint_t g;
-    gd_footprint_scale (&f, 5.0, &g);
+    cgs_footprint_scale (&f, 5.0, &g);
     assert_v2_near (g.center, f.center, 0);
     for (int i = 0; i < 4; i++)
         assert_v2_near (gd_sub (g.corner[i], g.center),
                         gd_scale (gd_sub (f.corner[i], f.center), 5.0), 1e-9);
     // Far corner: 1000 + 5·140.2815 = 1701.4073 north, 5·132.4060 = 662.03 east.
     assert_v2_near (g.corner[2], gd_v2 (662.0300, 1701.4073), 1e-3);
-    assert_true (gd_footprint_contains (&g, gd_v2 (0, far_n + 50)));
-    assert_false (gd_footprint_contains (&f, gd_v2 (0, far_n + 50)));
+    assert_true (cgs_footprint_contains (&g, gd_v2 (0, far_n + 50)));
+    assert_false (cgs_footprint_contains (&f, gd_v2 (0, far_n + 50)));
     // 50 m beyond the scaled far edge: 50.
-    assert_near (gd_footprint_distance (&g, gd_v2 (0, g.corner[1].n + 50)), 50.0, 1e-9);
+    assert_near (cgs_footprint_distance (&g, gd_v2 (0, g.corner[1].n + 50)), 50.0, 1e-9);
 }
 
 int main (void)

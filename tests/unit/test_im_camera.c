@@ -457,7 +457,7 @@ static void test_in_view_matches_footprint (void **state)
                 edge++;
                 continue;
             }
-            bool in_fp = gd_footprint_contains (&g, p);
+            bool in_fp = cgs_footprint_contains (&g, p);
             bool in_img = im_camera_in_view (&cam, s_v (p.e, p.n, 0));
             if (in_fp != in_img)
                 fail_msg ("pose %d point (%.3f, %.3f): footprint says %d, image says %d "

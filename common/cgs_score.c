@@ -1,16 +1,16 @@
-/* gd_score — how well an intercept imaged its target, judged from ground
+/* cgs_score — how well an intercept imaged its target, judged from ground
  * truth: each target position against the latest true footprint. */
-#include "gd_score.h"
+#include "cgs_score.h"
 
 #include <math.h>
 #include <string.h>
 
-#define GD_SCORE_MAX_AGE_S 0.5 // default: a footprint older than this judges nothing
+#define CGS_SCORE_MAX_AGE_S 0.5 // default: a footprint older than this judges nothing
 
-void gd_score_init (gd_score_t *self)
+void cgs_score_init (cgs_score_t *self)
 {
     memset (self, 0, sizeof *self);
-    self->max_age_s = GD_SCORE_MAX_AGE_S;
+    self->max_age_s = CGS_SCORE_MAX_AGE_S;
     self->designation_s = NAN;
     self->first_inside_s = NAN;
     self->closest_m = INFINITY;
@@ -18,7 +18,7 @@ void gd_score_init (gd_score_t *self)
     self->closest_edge_m = INFINITY;
 }
 
-void gd_score_designated (gd_score_t *self, double t_s)
+void cgs_score_designated (cgs_score_t *self, double t_s)
 {
     if (self->designated)
         return;
@@ -26,7 +26,7 @@ void gd_score_designated (gd_score_t *self, double t_s)
     self->designation_s = t_s;
 }
 
-void gd_score_footprint (gd_score_t *self, double t_s, const gd_footprint_t *fp)
+void cgs_score_footprint (cgs_score_t *self, double t_s, const cgs_footprint_t *fp)
 {
     self->have_fp = fp != NULL;
     if (!fp)
@@ -39,22 +39,22 @@ void gd_score_footprint (gd_score_t *self, double t_s, const gd_footprint_t *fp)
  * shown and its time is within max_age_s of t_s (either way: footprints and
  * target positions come from different publishers, so a footprint a little
  * newer than the target position is as good as one a little older). */
-static bool s_footprint_fresh (const gd_score_t *self, double t_s)
+static bool s_footprint_fresh (const cgs_score_t *self, double t_s)
 {
     return self->have_fp && fabs (t_s - self->fp_t_s) <= self->max_age_s;
 }
 
 /* Judge p at t_s against the footprint; returns whether it is inside. */
-static bool s_judge (gd_score_t *self, double t_s, gd_v2_t p)
+static bool s_judge (cgs_score_t *self, double t_s, cgs_v2_t p)
 {
     self->judged++;
-    bool inside = gd_footprint_contains (&self->fp, p);
-    double centre_m = gd_norm (gd_sub (p, self->fp.center));
+    bool inside = cgs_footprint_contains (&self->fp, p);
+    double centre_m = hypot (p.e - self->fp.center.e, p.n - self->fp.center.n);
     if (centre_m < self->closest_m) {
         self->closest_m = centre_m;
         self->closest_s = t_s;
     }
-    double edge_m = inside ? 0.0 : gd_footprint_distance (&self->fp, p);
+    double edge_m = inside ? 0.0 : cgs_footprint_distance (&self->fp, p);
     if (edge_m < self->closest_edge_m)
         self->closest_edge_m = edge_m;
     if (inside && !self->imaged) {
@@ -64,7 +64,7 @@ static bool s_judge (gd_score_t *self, double t_s, gd_v2_t p)
     return inside;
 }
 
-void gd_score_target (gd_score_t *self, double t_s, gd_v2_t p)
+void cgs_score_target (cgs_score_t *self, double t_s, cgs_v2_t p)
 {
     self->samples++;
     bool inside = s_footprint_fresh (self, t_s) && s_judge (self, t_s, p);
@@ -76,7 +76,7 @@ void gd_score_target (gd_score_t *self, double t_s, gd_v2_t p)
     self->last_t_s = t_s;
 }
 
-double gd_score_time_to_image (const gd_score_t *self)
+double cgs_score_time_to_image (const cgs_score_t *self)
 {
     if (!self->designated || !self->imaged)
         return NAN;

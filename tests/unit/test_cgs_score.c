@@ -1,4 +1,4 @@
-/* test_gd_score — the intercept score against hand computation: a target
+/* test_cgs_score — the intercept score against hand computation: a target
  * driving straight through a square footprint at a known speed (time inside,
  * first-inside time, closest approach to the centre, time to image); a
  * footprint that goes stale or is withdrawn (NULL) judges nothing; a target
@@ -18,7 +18,7 @@
 #include <math.h>
 #include <stdio.h>
 
-#include "gd_score.h"
+#include "cgs_score.h"
 
 #define assert_near(a, b, tol)                                                                     \
     do {                                                                                           \
@@ -35,14 +35,14 @@
 
 /* The square footprint, corners clockwise seen from above: near-left,
  * far-left, far-right, near-right (looking north). */
-static gd_footprint_t s_square (void)
+static cgs_footprint_t s_square (void)
 {
-    gd_footprint_t f = {0};
-    f.corner[0] = gd_v2 (-HALF_M, -HALF_M);
-    f.corner[1] = gd_v2 (-HALF_M, HALF_M);
-    f.corner[2] = gd_v2 (HALF_M, HALF_M);
-    f.corner[3] = gd_v2 (HALF_M, -HALF_M);
-    f.center = gd_v2 (0, 0);
+    cgs_footprint_t f = {0};
+    f.corner[0] = (cgs_v2_t){-HALF_M, -HALF_M};
+    f.corner[1] = (cgs_v2_t){-HALF_M, HALF_M};
+    f.corner[2] = (cgs_v2_t){HALF_M, HALF_M};
+    f.corner[3] = (cgs_v2_t){HALF_M, -HALF_M};
+    f.center = (cgs_v2_t){0, 0};
     return f;
 }
 
@@ -53,36 +53,36 @@ static double s_t (int i)
 
 /* Drive the target east along north_m, with the footprint shown every 0.5 s
  * while t ≤ fp_until_s, withdrawn (NULL) once after that. */
-static void s_drive (gd_score_t *sc, double start_e, double north_m, double fp_until_s)
+static void s_drive (cgs_score_t *sc, double start_e, double north_m, double fp_until_s)
 {
     bool withdrawn = false;
     for (int i = 0; i < SAMPLES; i++) {
         double t = s_t (i);
         if (i % 5 == 0 && t <= fp_until_s) {
-            gd_footprint_t f = s_square ();
-            gd_score_footprint (sc, t, &f);
+            cgs_footprint_t f = s_square ();
+            cgs_score_footprint (sc, t, &f);
         } else if (t > fp_until_s && !withdrawn) {
-            gd_score_footprint (sc, t, NULL);
+            cgs_score_footprint (sc, t, NULL);
             withdrawn = true;
         }
-        gd_score_target (sc, t, gd_v2 (start_e + i, north_m));
+        cgs_score_target (sc, t, (cgs_v2_t){start_e + i, north_m});
     }
 }
 
 static void test_init (void **state)
 {
     (void)state;
-    gd_score_t sc;
-    gd_score_init (&sc);
+    cgs_score_t sc;
+    cgs_score_init (&sc);
     assert_near (sc.max_age_s, 0.5, 0);
     assert_true (isinf (sc.closest_m) && sc.closest_m > 0);
     assert_true (isinf (sc.closest_edge_m) && sc.closest_edge_m > 0);
     assert_false (sc.designated);
     assert_false (sc.imaged);
-    assert_true (isnan (gd_score_time_to_image (&sc)));
+    assert_true (isnan (cgs_score_time_to_image (&sc)));
     // Only the first designation counts.
-    gd_score_designated (&sc, 3.0);
-    gd_score_designated (&sc, 7.0);
+    cgs_score_designated (&sc, 3.0);
+    cgs_score_designated (&sc, 7.0);
     assert_true (sc.designated);
     assert_near (sc.designation_s, 3.0, 0);
 }
@@ -94,9 +94,9 @@ static void test_init (void **state)
 static void test_drive_through (void **state)
 {
     (void)state;
-    gd_score_t sc;
-    gd_score_init (&sc);
-    gd_score_designated (&sc, DESIG_S);
+    cgs_score_t sc;
+    cgs_score_init (&sc);
+    cgs_score_designated (&sc, DESIG_S);
     s_drive (&sc, START_E, ROAD_N_M, INFINITY);
     assert_int_equal (sc.samples, SAMPLES);
     assert_int_equal (sc.judged, SAMPLES);
@@ -106,18 +106,18 @@ static void test_drive_through (void **state)
     assert_near (sc.closest_m, sqrt (0.25 + ROAD_N_M * ROAD_N_M), 1e-9);
     assert_near (sc.closest_s, 20.0, 1e-12);
     assert_near (sc.closest_edge_m, 0.0, 0);
-    assert_near (gd_score_time_to_image (&sc), 15.1 - DESIG_S, 1e-12);
+    assert_near (cgs_score_time_to_image (&sc), 15.1 - DESIG_S, 1e-12);
 }
 
 /* Not designated: imaged, but no time to image. */
 static void test_not_designated (void **state)
 {
     (void)state;
-    gd_score_t sc;
-    gd_score_init (&sc);
+    cgs_score_t sc;
+    cgs_score_init (&sc);
     s_drive (&sc, START_E, ROAD_N_M, INFINITY);
     assert_true (sc.imaged);
-    assert_true (isnan (gd_score_time_to_image (&sc)));
+    assert_true (isnan (cgs_score_time_to_image (&sc)));
 }
 
 /* One footprint at t = 0, then none newer: only samples within 0.5 s of it
@@ -125,13 +125,13 @@ static void test_not_designated (void **state)
 static void test_stale_footprint (void **state)
 {
     (void)state;
-    gd_score_t sc;
-    gd_score_init (&sc);
-    gd_score_designated (&sc, DESIG_S);
-    gd_footprint_t f = s_square ();
-    gd_score_footprint (&sc, 0.0, &f);
+    cgs_score_t sc;
+    cgs_score_init (&sc);
+    cgs_score_designated (&sc, DESIG_S);
+    cgs_footprint_t f = s_square ();
+    cgs_score_footprint (&sc, 0.0, &f);
     for (int i = 0; i < SAMPLES; i++)
-        gd_score_target (&sc, s_t (i), gd_v2 (START_E + i, ROAD_N_M));
+        cgs_score_target (&sc, s_t (i), (cgs_v2_t){START_E + i, ROAD_N_M});
     assert_int_equal (sc.samples, SAMPLES);
     assert_int_equal (sc.judged, 6);
     assert_false (sc.imaged);
@@ -139,14 +139,14 @@ static void test_stale_footprint (void **state)
     // The last judged sample, t = 0.5 s at e = −195.5, is the closest.
     assert_near (sc.closest_edge_m, 195.5 - HALF_M, 1e-9);
     assert_near (sc.closest_s, 0.5, 1e-12);
-    assert_true (isnan (gd_score_time_to_image (&sc)));
+    assert_true (isnan (cgs_score_time_to_image (&sc)));
 
     // A shorter max_age_s judges fewer.
-    gd_score_init (&sc);
+    cgs_score_init (&sc);
     sc.max_age_s = 0.25;
-    gd_score_footprint (&sc, 0.0, &f);
+    cgs_score_footprint (&sc, 0.0, &f);
     for (int i = 0; i < SAMPLES; i++)
-        gd_score_target (&sc, s_t (i), gd_v2 (START_E + i, ROAD_N_M));
+        cgs_score_target (&sc, s_t (i), (cgs_v2_t){START_E + i, ROAD_N_M});
     assert_int_equal (sc.judged, 3);
 }
 
@@ -154,14 +154,14 @@ static void test_stale_footprint (void **state)
 static void test_no_footprint (void **state)
 {
     (void)state;
-    gd_score_t sc;
-    gd_score_init (&sc);
-    gd_score_designated (&sc, DESIG_S);
-    gd_footprint_t f = s_square ();
-    gd_score_footprint (&sc, 0.0, &f);
+    cgs_score_t sc;
+    cgs_score_init (&sc);
+    cgs_score_designated (&sc, DESIG_S);
+    cgs_footprint_t f = s_square ();
+    cgs_score_footprint (&sc, 0.0, &f);
     for (int i = 0; i < SAMPLES; i++) {
-        gd_score_footprint (&sc, s_t (i), NULL);
-        gd_score_target (&sc, s_t (i), gd_v2 (START_E + i, ROAD_N_M));
+        cgs_score_footprint (&sc, s_t (i), NULL);
+        cgs_score_target (&sc, s_t (i), (cgs_v2_t){START_E + i, ROAD_N_M});
     }
     assert_int_equal (sc.judged, 0);
     assert_false (sc.imaged);
@@ -175,9 +175,9 @@ static void test_no_footprint (void **state)
 static void test_footprint_withdrawn (void **state)
 {
     (void)state;
-    gd_score_t sc;
-    gd_score_init (&sc);
-    gd_score_designated (&sc, DESIG_S);
+    cgs_score_t sc;
+    cgs_score_init (&sc);
+    cgs_score_designated (&sc, DESIG_S);
     s_drive (&sc, START_E, ROAD_N_M, 20.0);
     assert_int_equal (sc.judged, 201); // t = 0 .. 20 s
     assert_true (sc.imaged);
@@ -192,9 +192,9 @@ static void test_footprint_withdrawn (void **state)
 static void test_never_enters (void **state)
 {
     (void)state;
-    gd_score_t sc;
-    gd_score_init (&sc);
-    gd_score_designated (&sc, DESIG_S);
+    cgs_score_t sc;
+    cgs_score_init (&sc);
+    cgs_score_designated (&sc, DESIG_S);
     s_drive (&sc, -200.0, 80.0, INFINITY);
     assert_int_equal (sc.judged, SAMPLES);
     assert_false (sc.imaged);
@@ -202,13 +202,13 @@ static void test_never_enters (void **state)
     assert_near (sc.closest_edge_m, 30.0, 1e-9);
     assert_near (sc.closest_m, 80.0, 1e-9);
     assert_near (sc.closest_s, 20.0, 1e-12);
-    assert_true (isnan (gd_score_time_to_image (&sc)));
+    assert_true (isnan (cgs_score_time_to_image (&sc)));
 
     // Past the corner: at (−200, 80) the nearest point is the corner (−50, 50).
-    gd_score_init (&sc);
-    gd_footprint_t f = s_square ();
-    gd_score_footprint (&sc, 0.0, &f);
-    gd_score_target (&sc, 0.0, gd_v2 (-200.0, 80.0));
+    cgs_score_init (&sc);
+    cgs_footprint_t f = s_square ();
+    cgs_score_footprint (&sc, 0.0, &f);
+    cgs_score_target (&sc, 0.0, (cgs_v2_t){-200.0, 80.0});
     assert_near (sc.closest_edge_m, hypot (150.0, 30.0), 1e-9);
 }
 

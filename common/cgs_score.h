@@ -1,24 +1,26 @@
-/* gd_score — how well an intercept imaged its target, judged from ground
+/* cgs_score — how well an intercept imaged its target, judged from ground
  * truth (which guidanced itself never sees): the true footprint over time
  * against the designated target's true position over time. Used by the
- * Monte Carlo driver and by `mscgs run`'s summary. Pure: no logging.
+ * mscgs tool: `mscgs run`'s summary and the lockstep Monte Carlo. Pure: no
+ * logging.
  *
  * Feed footprints and target positions in time order, as they come; each
  * target position is judged against the latest footprint, if it is no
  * older than max_age_s. Time inside is the sum of the intervals between
  * consecutive target positions that were both inside. */
-#ifndef GD_SCORE_H
-#define GD_SCORE_H
+#ifndef CGS_SCORE_H
+#define CGS_SCORE_H
 
-#include "gd_geom.h"
+#include "cgs_footprint.h"
 
 #include <stdbool.h>
+#include <stddef.h>
 
 typedef struct {
     double max_age_s; // a footprint older than this judges nothing (default 0.5 s)
     // Latest footprint.
     bool have_fp;
-    gd_footprint_t fp;
+    cgs_footprint_t fp;
     double fp_t_s;
     // Latest target sample.
     bool have_target;
@@ -34,18 +36,18 @@ typedef struct {
     double closest_s;       // when
     double closest_edge_m;  // closest distance to the footprint (0 once inside)
     size_t samples, judged; // target positions fed, and judged against a footprint
-} gd_score_t;
+} cgs_score_t;
 
 /* A score with nothing seen yet (closest_m and closest_edge_m +inf). */
-void gd_score_init (gd_score_t *self);
+void cgs_score_init (cgs_score_t *self);
 /* The designation happened at t_s (the first call counts). */
-void gd_score_designated (gd_score_t *self, double t_s);
+void cgs_score_designated (cgs_score_t *self, double t_s);
 /* The true footprint at t_s, or NULL when none is shown (no intercept). */
-void gd_score_footprint (gd_score_t *self, double t_s, const gd_footprint_t *fp);
+void cgs_score_footprint (cgs_score_t *self, double t_s, const cgs_footprint_t *fp);
 /* The target's true ground position at t_s. */
-void gd_score_target (gd_score_t *self, double t_s, gd_v2_t p);
+void cgs_score_target (cgs_score_t *self, double t_s, cgs_v2_t p);
 /* Designation to the first moment inside, seconds; NaN when not imaged or
  * not designated. */
-double gd_score_time_to_image (const gd_score_t *self);
+double cgs_score_time_to_image (const cgs_score_t *self);
 
 #endif

@@ -1,0 +1,347 @@
+/* ms_montecarlo — `mscgs montecarlo`: whole scenes in lockstep (ls_mc),
+ * with a progress bar on a terminal, each run that did not image its
+ * designated vehicle listed with the reason and the command that replays it
+ * alone with a trace, per-run JSON and CSV files on request, and one JSON
+ * object as the last line of standard output. */
+#include "ms_montecarlo.h"
+
+#include "cgs_util.h"
+#include "ls_mc.h"
+
+#include <errno.h>
+#include <getopt.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#define S_DEFAULT_EXERCISE "deploy/exercises/default.ini"
+
+static void s_usage (FILE *f)
+{
+    fprintf (f,
+             "usage: mscgs montecarlo [--scenario F] [--exercise F] [--runs N] [--seed S]\n"
+             "                        [--jobs J] [--spread S] [--limit S] [--json F] [--csv F]\n"
+             "                        [--trace RUN] [--seeds-only] [--quiet]\n"
+             "Runs N whole exercises (default 100) in lockstep, in this process and J-1\n"
+             "others: the adapters of uavsim, mtid, bcisd, trackerd and guidanced over an\n"
+             "in-process bus, every vehicle, the terrain, the BCIS and the scenario's\n"
+             "[operator] designation. Run i varies, from the seed and i alone: the exercise\n"
+             "seed (radar noise, vehicle wander), the designation time (uniform in\n"
+             "+-spread s, default 30) and the UAV's start point on its loiter orbit\n"
+             "(--seeds-only: run i is the scene as it stands with exercise seed S + i, as\n"
+             "`mscgs run` runs it with that seed). A run\n"
+             "images when the designated vehicle (the one the designated track followed\n"
+             "first) is inside the true footprint at least once, as `mscgs run` judges it.\n"
+             "Prints each run that did not image, with the command that replays it\n"
+             "(--trace RUN: that run alone, with every service's log lines), then one JSON\n"
+             "object: runs, imaged, imaged_pct and its 95%% interval, wrong_vehicle, lost,\n"
+             "miss and time-to-image quantiles, GOSPA and SIAP figures. --json and --csv\n"
+             "write every run. Exit code 0, 1 when a run reported bad input or an error\n"
+             "(a defect), 2 for bad options.\n"
+             "Defaults: --exercise %s, the exercise's scenario, seed 1, 1 job, --limit:\n"
+             "1500 s after the last designation.\n",
+             S_DEFAULT_EXERCISE);
+}
+
+static int s_number (const char *what, const char *text, double lo, double hi, double *ret)
+{
+    char *end;
+    double v = strtod (text, &end);
+    if (end == text || *end || !(v >= lo && v <= hi)) {
+        fprintf (stderr, "mscgs montecarlo: --%s: expected a number in [%g, %g], got '%s'\n", what,
+                 lo, hi, text);
+        return -EINVAL;
+    }
+    *ret = v;
+    return 0;
+}
+
+static int s_count (const char *what, const char *text, uint64_t lo, uint64_t hi, uint64_t *ret)
+{
+    uint64_t v;
+    if (cgs_parse_u64 (text, hi, &v) < 0 || v < lo) {
+        fprintf (stderr, "mscgs montecarlo: --%s: expected a whole number %llu..%llu, got '%s'\n",
+                 what, (unsigned long long)lo, (unsigned long long)hi, text);
+        return -EINVAL;
+    }
+    *ret = v;
+    return 0;
+}
+
+/* ---- output ------------------------------------------------------------------------- */
+
+typedef struct {
+    const ls_mc_config_t *c;
+    bool bar;   // a progress bar on standard error (a terminal)
+    bool quiet; // no progress at all
+} s_progress_t;
+
+static void s_progress (void *arg, size_t done, const ls_mc_run_t *run)
+{
+    const s_progress_t *p = arg;
+    (void)run;
+    if (p->quiet)
+        return;
+    size_t n = p->c->runs;
+    if (p->bar) {
+        int width = 40, filled = (int)(width * done / n);
+        fprintf (stderr, "\r[%.*s%*s] %zu/%zu runs", filled,
+                 "########################################", width - filled, "", done, n);
+        if (done == n)
+            fputc ('\n', stderr);
+    } else if (done % 10 == 0 || done == n) {
+        fprintf (stderr, "mscgs montecarlo: %zu/%zu runs\n", done, n);
+    }
+}
+
+/* The replay command of run i. */
+static void s_replay (FILE *f, const ls_mc_config_t *c, size_t i)
+{
+    fprintf (f, "mscgs montecarlo --exercise %s", c->exercise_path);
+    if (c->scenario_path)
+        fprintf (f, " --scenario %s", c->scenario_path);
+    fprintf (f, " --seed %llu --spread %g%s", (unsigned long long)c->seed, c->spread_s,
+             c->seeds_only ? " --seeds-only" : "");
+    if (c->limit_s > 0)
+        fprintf (f, " --limit %g", c->limit_s);
+    fprintf (f, " --trace %zu", i);
+}
+
+/* A number for JSON: null when not finite. */
+static void s_jnum (FILE *f, const char *key, double v, const char *fmt)
+{
+    fprintf (f, ",\"%s\":", key);
+    if (isfinite (v))
+        fprintf (f, fmt, v);
+    else
+        fputs ("null", f);
+}
+
+static void s_run_json (FILE *f, const ls_mc_run_t *r)
+{
+    fprintf (f, "{\"run\":%zu,\"exercise_seed\":%llu", r->index,
+             (unsigned long long)r->exercise_seed);
+    s_jnum (f, "designation_shift_s", r->designation_shift_s, "%.3f");
+    s_jnum (f, "uav_phase_deg", r->uav_phase_deg, "%.3f");
+    fprintf (f, ",\"outcome\":\"%s\",\"final_state\":\"%s\",\"designated\":%s,\"imaged\":%s",
+             ls_mc_outcome_name (r->outcome), r->final_state, r->designated ? "true" : "false",
+             r->imaged ? "true" : "false");
+    s_jnum (f, "miss_m", r->miss_m, "%.2f");
+    s_jnum (f, "closest_m", r->closest_m, "%.2f");
+    s_jnum (f, "time_to_image_s", r->time_to_image_s, "%.2f");
+    s_jnum (f, "end_s", r->end_s, "%.2f");
+    fprintf (f, ",\"replans\":%u,\"target_entity_id\":%u,\"bad_inputs\":%llu,\"errors\":%llu}",
+             r->replans, r->target_entity_id, (unsigned long long)r->bad_inputs,
+             (unsigned long long)r->errors);
+}
+
+static int s_write_runs (const char *json, const char *csv, const ls_mc_run_t *runs, size_t n)
+{
+    if (json) {
+        FILE *f = fopen (json, "w");
+        if (!f) {
+            fprintf (stderr, "mscgs montecarlo: %s: %s\n", json, strerror (errno));
+            return -errno;
+        }
+        fputs ("[\n", f);
+        for (size_t i = 0; i < n; i++) {
+            s_run_json (f, &runs[i]);
+            fputs (i + 1 < n ? ",\n" : "\n", f);
+        }
+        fputs ("]\n", f);
+        if (fclose (f) != 0)
+            return -errno;
+    }
+    if (csv) {
+        FILE *f = fopen (csv, "w");
+        if (!f) {
+            fprintf (stderr, "mscgs montecarlo: %s: %s\n", csv, strerror (errno));
+            return -errno;
+        }
+        fputs ("run,exercise_seed,designation_shift_s,uav_phase_deg,outcome,final_state,imaged,"
+               "miss_m,closest_m,time_to_image_s,end_s,replans,target_entity_id\n",
+               f);
+        for (size_t i = 0; i < n; i++) {
+            const ls_mc_run_t *r = &runs[i];
+            fprintf (f, "%zu,%llu,%.3f,%.3f,%s,%s,%d,%.2f,%.2f,%.2f,%.2f,%u,%u\n", r->index,
+                     (unsigned long long)r->exercise_seed, r->designation_shift_s, r->uav_phase_deg,
+                     ls_mc_outcome_name (r->outcome), r->final_state, r->imaged, r->miss_m,
+                     r->closest_m, r->time_to_image_s, r->end_s, r->replans, r->target_entity_id);
+        }
+        if (fclose (f) != 0)
+            return -errno;
+    }
+    return 0;
+}
+
+static void s_summary_json (FILE *f, const ls_mc_config_t *c, const ls_mc_result_t *r)
+{
+    fprintf (f,
+             "{\"runs\":%zu,\"seed\":%llu,\"jobs\":%d,\"imaged\":%zu,\"imaged_pct\":%.2f,"
+             "\"imaged_pct_ci95\":[%.2f,%.2f],\"designated\":%zu,\"wrong_vehicle\":%zu,"
+             "\"lost\":%zu,\"not_designated\":%zu,\"unfinished\":%zu",
+             r->runs, (unsigned long long)c->seed, c->jobs, r->imaged, r->imaged_pct,
+             r->imaged_lo_pct, r->imaged_hi_pct, r->designated, r->wrong_vehicle, r->lost,
+             r->not_designated, r->unfinished);
+    s_jnum (f, "miss_p50_m", r->miss_p50_m, "%.2f");
+    s_jnum (f, "miss_p95_m", r->miss_p95_m, "%.2f");
+    s_jnum (f, "time_to_image_p50_s", r->time_to_image_p50_s, "%.1f");
+    s_jnum (f, "time_to_image_p95_s", r->time_to_image_p95_s, "%.1f");
+    s_jnum (f, "gospa_m", r->gospa.distance, "%.2f");
+    s_jnum (f, "gospa_localisation_m2", r->gospa.localisation, "%.1f");
+    s_jnum (f, "gospa_missed_m2", r->gospa.missed, "%.1f");
+    s_jnum (f, "gospa_false_m2", r->gospa.false_, "%.1f");
+    s_jnum (f, "completeness", r->siap.completeness, "%.4f");
+    s_jnum (f, "ambiguity", r->siap.ambiguity, "%.4f");
+    s_jnum (f, "spuriousness", r->siap.spuriousness, "%.4f");
+    s_jnum (f, "position_accuracy_m", r->siap.position_accuracy_m, "%.2f");
+    s_jnum (f, "swaps_per_truth_hour", r->siap.swaps_per_truth_hour, "%.3f");
+    s_jnum (f, "breaks_per_truth_hour", r->siap.breaks_per_truth_hour, "%.3f");
+    s_jnum (f, "false_tracks_per_hour", r->siap.false_tracks_per_hour, "%.3f");
+    fprintf (f, ",\"bad_inputs\":%llu,\"errors\":%llu,\"failures\":%llu}\n",
+             (unsigned long long)r->bad_inputs, (unsigned long long)r->errors,
+             (unsigned long long)r->failures);
+}
+
+/* ---- the command ---------------------------------------------------------------------- */
+
+int ms_montecarlo_main (int argc, char **argv)
+{
+    ls_mc_config_t c = {
+        .exercise_path = S_DEFAULT_EXERCISE,
+        .runs = 100,
+        .seed = 1,
+        .spread_s = 30,
+        .jobs = 1,
+    };
+    const char *json = NULL, *csv = NULL;
+    long trace = -1;
+    bool quiet = false;
+    static const struct option opts[] = {
+        {"scenario", required_argument, NULL, 's'}, {"exercise", required_argument, NULL, 'e'},
+        {"runs", required_argument, NULL, 'n'},     {"seed", required_argument, NULL, 'S'},
+        {"jobs", required_argument, NULL, 'j'},     {"spread", required_argument, NULL, 'p'},
+        {"limit", required_argument, NULL, 'l'},    {"json", required_argument, NULL, 'J'},
+        {"csv", required_argument, NULL, 'C'},      {"trace", required_argument, NULL, 't'},
+        {"quiet", no_argument, NULL, 'q'},          {"help", no_argument, NULL, 'h'},
+        {"seeds-only", no_argument, NULL, 'O'},     {NULL, 0, NULL, 0},
+    };
+    int o;
+    uint64_t u;
+    double v;
+    optind = 1;
+    while ((o = getopt_long (argc, argv, "h", opts, NULL)) != -1) {
+        switch (o) {
+        case 's':
+            c.scenario_path = optarg;
+            break;
+        case 'e':
+            c.exercise_path = optarg;
+            break;
+        case 'n':
+            if (s_count ("runs", optarg, 1, 1000000, &u) < 0)
+                return 2;
+            c.runs = (size_t)u;
+            break;
+        case 'S':
+            if (s_count ("seed", optarg, 0, UINT64_MAX / 2, &u) < 0)
+                return 2;
+            c.seed = u;
+            break;
+        case 'j':
+            if (s_count ("jobs", optarg, 1, 64, &u) < 0)
+                return 2;
+            c.jobs = (int)u;
+            break;
+        case 'p':
+            if (s_number ("spread", optarg, 0, 3600, &c.spread_s) < 0)
+                return 2;
+            break;
+        case 'l':
+            if (s_number ("limit", optarg, 1, 1e6, &v) < 0)
+                return 2;
+            c.limit_s = v;
+            break;
+        case 'J':
+            json = optarg;
+            break;
+        case 'C':
+            csv = optarg;
+            break;
+        case 't':
+            if (s_count ("trace", optarg, 0, 999999, &u) < 0)
+                return 2;
+            trace = (long)u;
+            break;
+        case 'q':
+            quiet = true;
+            break;
+        case 'O':
+            c.seeds_only = true;
+            break;
+        case 'h':
+            s_usage (stdout);
+            return 0;
+        default:
+            s_usage (stderr);
+            return 2;
+        }
+    }
+    if (optind < argc) {
+        fprintf (stderr, "mscgs montecarlo: unexpected argument '%s' (see --help)\n", argv[optind]);
+        return 2;
+    }
+    char err[1024] = "";
+    if (trace >= 0) {
+        ls_mc_run_t run;
+        int rc = ls_mc_one (&c, (size_t)trace, stdout, &run, err, sizeof err);
+        if (rc < 0) {
+            fprintf (stderr, "mscgs montecarlo: %s\n", err);
+            return 1;
+        }
+        printf ("run %ld (exercise seed %llu, designation %+.1f s, UAV at %.0f deg on its "
+                "orbit, NaN: as the scenario): %s, final state %s, miss %.1f m\n",
+                trace, (unsigned long long)run.exercise_seed, run.designation_shift_s,
+                run.uav_phase_deg, ls_mc_outcome_name (run.outcome), run.final_state, run.miss_m);
+        s_run_json (stdout, &run);
+        fputc ('\n', stdout);
+        return run.bad_inputs || run.errors || run.failures ? 1 : 0;
+    }
+    ls_mc_run_t *runs = calloc (c.runs, sizeof *runs);
+    if (!runs) {
+        fprintf (stderr, "mscgs montecarlo: out of memory\n");
+        return 1;
+    }
+    s_progress_t pr = {.c = &c, .bar = isatty (STDERR_FILENO), .quiet = quiet};
+    ls_mc_result_t r;
+    int rc = ls_mc_run (&c, runs, s_progress, &pr, &r, err, sizeof err);
+    if (rc < 0) {
+        fprintf (stderr, "mscgs montecarlo: %s\n", err);
+        free (runs);
+        return 1;
+    }
+    for (size_t i = 0; i < c.runs; i++) {
+        const ls_mc_run_t *o = &runs[i];
+        if (o->imaged)
+            continue;
+        printf ("run %zu: %s (final state %s", i, ls_mc_outcome_name (o->outcome), o->final_state);
+        if (o->designated && isfinite (o->miss_m))
+            printf (", %.0f m from the footprint at closest", o->miss_m);
+        printf ("); replay: ");
+        s_replay (stdout, &c, i);
+        printf ("\n");
+    }
+    for (size_t i = 0; i < c.runs; i++)
+        if (runs[i].bad_inputs || runs[i].errors || runs[i].failures)
+            printf ("run %zu: %llu bad inputs, %llu errors, %llu failures (%s)\n", i,
+                    (unsigned long long)runs[i].bad_inputs, (unsigned long long)runs[i].errors,
+                    (unsigned long long)runs[i].failures, runs[i].first_error);
+    int wrc = s_write_runs (json, csv, runs, c.runs);
+    free (runs);
+    s_summary_json (stdout, &c, &r);
+    if (wrc < 0)
+        return 1;
+    return r.bad_inputs || r.errors || r.failures ? 1 : 0;
+}

@@ -1,0 +1,68 @@
+#!/bin/bash
+# validate.sh — is the lockstep faithful to the live system? The default
+# exercise runs live (`mscgs run`, every service, the real bus) at time scale
+# SCALE over exercise seeds 1..N, and in lockstep (`mscgs montecarlo
+# --seeds-only`) over the same seeds; each side's imaged rate comes with its
+# 95% Wilson interval, and the two agree when each rate lies inside the other
+# side's interval. Opt-in (make validate-lockstep): minutes, not a CI test.
+# Prints a table, per seed and in all; exit 0 when they agree.
+#
+# Usage: tests/lockstep/validate.sh BUILD_DIR [N] [SCALE]   (defaults 20 seeds, 20x)
+set -u
+build=$(cd "${1:?usage: validate.sh BUILD_DIR [N] [SCALE]}" && pwd)
+n=${2:-20}
+scale=${3:-20}
+root=$(cd "$(dirname "$0")/../.." && pwd)
+tmp=$(mktemp -d /tmp/cgs-validate.XXXXXX)
+trap 'rm -rf "$tmp"' EXIT
+mscgs=$build/bin/mscgs
+[ -x "$mscgs" ] || { echo "validate: no $mscgs (make first)" >&2; exit 2; }
+
+# The default exercise with seed S, its folders in $tmp.
+exercise () {
+    sed -e "s|ipc:///tmp/mscgs/|ipc://$tmp/|" -e "s|^state_dir = .*|state_dir = $tmp/state|" \
+        -e "s|= \.\./|= $root/deploy/|" -e "s|^seed = .*|seed = $1|" \
+        "$root/deploy/exercises/default.ini" >"$2"
+}
+
+echo "lockstep: $n runs of the default exercise, seeds 1..$n"
+exercise 1 "$tmp/ls.ini"
+"$mscgs" montecarlo --exercise "$tmp/ls.ini" --seeds-only --seed 1 --runs "$n" --jobs 2 --quiet \
+    --csv "$tmp/lockstep.csv" >"$tmp/lockstep.out" 2>&1 || { cat "$tmp/lockstep.out"; exit 1; }
+
+echo "live: $n runs of the default exercise at ${scale}x"
+: >"$tmp/live.csv"
+for s in $(seq 1 "$n"); do
+    exercise "$s" "$tmp/live-$s.ini"
+    out=$tmp/live-$s
+    "$mscgs" run --exercise "$tmp/live-$s.ini" --speed "$scale" --stop-after-intercept 5 \
+        --duration 2400 --out "$out" >"$out.log" 2>&1
+    imaged=$(grep -c '"imaged": true' "$out/summary.json" 2>/dev/null)
+    state=$(sed -n 's/.*"final_state": "\([A-Z_]*\)".*/\1/p' "$out/summary.json" 2>/dev/null)
+    echo "$s,${imaged:-0},${state:-NONE}" >>"$tmp/live.csv"
+    printf '  seed %2d: live %s (%s)\n' "$s" "$([ "${imaged:-0}" = 1 ] && echo imaged || echo missed)" "${state:-no designation}"
+done
+
+# Per seed, side by side; the lockstep CSV's 7th column is imaged (0/1).
+echo
+echo "seed  live  lockstep"
+paste -d, "$tmp/live.csv" <(tail -n +2 "$tmp/lockstep.csv") |
+    awk -F, '{ printf "%4d  %4d  %8d   (%s / %s)\n", $1, $2, $10, $3, $8 }'
+awk -F, -v n="$n" '
+    FNR == 1 { file++ }
+    file == 1 { live += $2 }
+    file == 2 && FNR > 1 { ls += $7 }
+    function wilson (k, n, side,   p, z, c, h) {
+        z = 1.959964; p = k / n; c = (p + z * z / (2 * n)) / (1 + z * z / n)
+        h = z * sqrt (p * (1 - p) / n + z * z / (4 * n * n)) / (1 + z * z / n)
+        return side < 0 ? c - h : c + h
+    }
+    END {
+        pl = live / n; ps = ls / n
+        ll = wilson (live, n, -1); lh = wilson (live, n, 1)
+        sl = wilson (ls, n, -1); sh = wilson (ls, n, 1)
+        printf "\nimaged: live %d/%d = %.0f%% [%.0f%%, %.0f%%]; lockstep %d/%d = %.0f%% [%.0f%%, %.0f%%] (95%% Wilson)\n", live, n, 100 * pl, 100 * ll, 100 * lh, ls, n, 100 * ps, 100 * sl, 100 * sh
+        ok = ps >= ll && ps <= lh && pl >= sl && pl <= sh
+        printf "%s\n", ok ? "agree: each rate lies inside the other side'"'"'s interval" : "DISAGREE: a rate lies outside the other side'"'"'s interval"
+        exit !ok
+    }' "$tmp/live.csv" "$tmp/lockstep.csv"

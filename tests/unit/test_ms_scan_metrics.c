@@ -1,0 +1,161 @@
+/* test_ms_scan_metrics — ms_metrics from messages, one radar scan worked by
+ * hand. Radar 1's scan 1: `mti.truth` says vehicle 5 was detected (hit 101)
+ * and was in the beam and visible; vehicle 6 was in the beam and visible
+ * but never detected (not yet a truth); vehicle 7 was detected but not
+ * visible in this scan (masked: not a truth of the scan). `entity` puts 5
+ * at (1000, 0) at t = 9.5 s moving east at 10 m/s, so at the scan's end
+ * (t = 10 s) it is at (1005, 0). The `track` batch of scan 1 has track 10
+ * at (1005, 30) whose history holds hit 101 (so it stands for vehicle 5,
+ * 30 m away), track 11 at (3000, 0) with no attributed hit (a false
+ * track), and tentative track 12 (not counted).
+ *   GOSPA (c = 500, p = 2): X = {(1005, 0)}, Y = {(1005, 30), (3000, 0)}:
+ *   5 pairs with 10 (30 m), 11 is false: 900 + 500²/2 = 125900, distance
+ *   √125900 = 354.82 m; localisation 900, missed 0, false 125000.
+ *   SIAP: J = 1, JT = 1, N = 2, NA = 1: completeness 1, ambiguity 1,
+ *   spuriousness 0.5, position accuracy 30 m.
+ * A second batch split in two (batch_count 2) is taken only when both
+ * halves are in. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include <cmocka.h>
+
+#include "ms_metrics.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+static void s_truth (ms_icpt_t *ic, ms_metrics_t *m)
+{
+    Cgs__MtiTruthItem it[3], *ip[3];
+    uint32_t ids[3] = {5, 6, 7}, hits[3] = {101, 0, 102};
+    bool visible[3] = {true, true, false}, detected[3] = {true, false, true};
+    for (int i = 0; i < 3; i++) {
+        cgs__mti_truth_item__init (&it[i]);
+        it[i].entity_id = ids[i];
+        it[i].in_beam = true;
+        it[i].visible = visible[i];
+        it[i].detected = detected[i];
+        it[i].hit_id = hits[i];
+        ip[i] = &it[i];
+    }
+    Cgs__MtiTruth t = CGS__MTI_TRUTH__INIT;
+    t.uav_id = 1;
+    t.scan_number = 1;
+    t.n_items = 3;
+    t.items = ip;
+    Cgs__Header h = CGS__HEADER__INIT;
+    h.sim_time_s = 9.0;
+    h.epoch = 1;
+    ms_icpt_on_mti_truth (ic, "mti.truth", &t.base, &h);
+    ms_metrics_on_mti_truth (m, "mti.truth", &t.base, &h);
+}
+
+static void s_entities (ms_metrics_t *m)
+{
+    Cgs__Enu p = CGS__ENU__INIT;
+    Cgs__EnuVelocity v = CGS__ENU_VELOCITY__INIT;
+    p.east_m = 1000;
+    v.east_mps = 10;
+    Cgs__Entity e = CGS__ENTITY__INIT, *ep = &e;
+    e.entity_id = 5;
+    e.position = &p;
+    e.velocity = &v;
+    e.active = true;
+    e.kind = CGS__ENTITY_KIND__ENTITY_KIND_WHEELED;
+    Cgs__EntityBatch b = CGS__ENTITY_BATCH__INIT;
+    b.n_entities = 1;
+    b.entities = &ep;
+    Cgs__Header h = CGS__HEADER__INIT;
+    h.sim_time_s = 9.5;
+    ms_metrics_on_entity (m, "entity", &b.base, &h);
+}
+
+/* Track batch k of n of scan 1 with the tracks given (ids 10, 11, 12). */
+static void s_tracks (ms_icpt_t *ic, ms_metrics_t *m, uint32_t k, uint32_t n, const int *which,
+                      size_t count)
+{
+    Cgs__Track t[3], *tp[3];
+    Cgs__Enu pos[3];
+    Cgs__TrackHistoryPoint hp = CGS__TRACK_HISTORY_POINT__INIT, *hpp = &hp;
+    hp.hit_id = 101;
+    const double e[3] = {1005, 3000, 500}, nn[3] = {30, 0, 0};
+    for (size_t j = 0; j < count; j++) {
+        int i = which[j];
+        cgs__track__init (&t[j]);
+        cgs__enu__init (&pos[j]);
+        pos[j].east_m = e[i];
+        pos[j].north_m = nn[i];
+        t[j].track_id = (uint32_t)(10 + i);
+        t[j].uav_id = 1;
+        t[j].position = &pos[j];
+        t[j].status = i == 2 ? CGS__TRACK_STATUS__TRACK_STATUS_TENTATIVE
+                             : CGS__TRACK_STATUS__TRACK_STATUS_CONFIRMED;
+        if (i == 0) {
+            t[j].n_history = 1;
+            t[j].history = &hpp;
+        }
+        tp[j] = &t[j];
+    }
+    Cgs__TrackBatch b = CGS__TRACK_BATCH__INIT;
+    b.uav_id = 1;
+    b.scan_number = 1;
+    b.batch_index = k;
+    b.batch_count = n;
+    b.n_tracks = count;
+    b.tracks = tp;
+    Cgs__Header h = CGS__HEADER__INIT;
+    h.sim_time_s = 10.0;
+    ms_metrics_on_track (m, "track", &b.base, &h);
+    (void)ic;
+}
+
+static void test_one_scan (void **state)
+{
+    (void)state;
+    ms_icpt_t *ic = calloc (1, sizeof *ic);
+    assert_non_null (ic);
+    ms_icpt_init (ic);
+    ms_metrics_t *m = ms_metrics_new (ic);
+    assert_non_null (m);
+    s_truth (ic, m);
+    s_entities (m);
+    // Batch 1 of 2: nothing yet.
+    const int first[] = {0, 2};
+    s_tracks (ic, m, 0, 2, first, 2);
+    assert_int_equal (ms_metrics_gospa (m)->scans, 0);
+    const int second[] = {1};
+    s_tracks (ic, m, 1, 2, second, 1);
+    const ms_gospa_mean_t *g = ms_metrics_gospa (m);
+    assert_int_equal (g->scans, 1);
+    assert_true (fabs (g->distance - sqrt (125900.0)) < 1e-9);
+    assert_true (fabs (g->localisation - 900) < 1e-9);
+    assert_true (g->missed == 0);
+    assert_true (fabs (g->false_ - 125000) < 1e-9);
+    ms_siap_result_t r;
+    ms_siap_result (ms_metrics_siap (m), &r);
+    assert_int_equal (r.truth_scans, 1);
+    assert_int_equal (r.tracked_truth_scans, 1);
+    assert_int_equal (r.track_scans, 2);
+    assert_int_equal (r.associated_track_scans, 1);
+    assert_true (r.completeness == 1 && r.ambiguity == 1 && r.spuriousness == 0.5);
+    assert_true (fabs (r.position_accuracy_m - 30) < 1e-9);
+    assert_int_equal (ms_metrics_failures (m), 0);
+    char *json = NULL;
+    assert_int_equal (ms_metrics_json (m, &json), 0);
+    assert_non_null (strstr (json, "\"tracking\":{\"scans\":1,\"gospa_m\":354.8239"));
+    assert_non_null (strstr (json, "\"spuriousness\":0.5000"));
+    free (json);
+    ms_metrics_destroy (&m);
+    assert_null (m);
+    free (ic);
+}
+
+int main (void)
+{
+    const struct CMUnitTest tests[] = {cmocka_unit_test (test_one_scan)};
+    return cmocka_run_group_tests (tests, NULL, NULL);
+}
