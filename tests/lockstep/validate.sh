@@ -13,7 +13,7 @@ build=$(cd "${1:?usage: validate.sh BUILD_DIR [N] [SCALE]}" && pwd)
 n=${2:-20}
 scale=${3:-20}
 root=$(cd "$(dirname "$0")/../.." && pwd)
-tmp=$(mktemp -d /tmp/cgs-validate.XXXXXX)
+tmp=$(mktemp -d "${TMPDIR:-/tmp}/cgs-validate.XXXXXX") || exit 2
 trap 'rm -rf "$tmp"' EXIT
 mscgs=$build/bin/mscgs
 [ -x "$mscgs" ] || { echo "validate: no $mscgs (make first)" >&2; exit 2; }
