@@ -264,6 +264,8 @@ static bool s_track_from_msg (const Cgs__Track *m, double t_s, gd_track_t *ret)
     ret->vel = gd_v2 (m->velocity->east_mps, m->velocity->north_mps);
     ret->hits = m->hit_count;
     ret->last_hit_s = isfinite (m->last_hit_time_s) ? m->last_hit_time_s : NAN;
+    ret->continues = m->continues;
+    ret->continues_p = isfinite (m->continues_probability) ? m->continues_probability : 0;
     size_t n = m->n_history, skip = n > GD_HISTORY_MAX ? n - GD_HISTORY_MAX : 0;
     ret->history_count = 0;
     for (size_t k = skip; k < n; k++) {

@@ -531,6 +531,10 @@ static bool s_takes_over (const gd_intercept_t *self, const gd_track_t *t)
         (t->status != 1 && t->status != 2) || gd_norm (t->vel) > self->p.max_target_speed_mps ||
         t->friendly != self->track.friendly) // BCIS says it is another vehicle
         return false;
+    if (t->continues == self->orphan_id)
+        return true; // the tracker says it is the same target
+    if (t->continues != 0)
+        return false; // the tracker says it continues another track: another vehicle
     const gd_track_t *refs[2] = {&self->track, self->holding ? &self->held : NULL};
     bool whole = t->hits > 0 && t->hits <= t->history_count;
     if (t->hits > 0 && isfinite (self->track.last_hit_s) &&

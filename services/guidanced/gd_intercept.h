@@ -85,8 +85,10 @@ typedef struct {
     gd_v2_t history[GD_HISTORY_MAX]; // past hits, oldest first
     double history_t_s[GD_HISTORY_MAX];
     size_t history_count;
-    uint32_t hits;     // hits it has taken in all (0: unknown)
-    double last_hit_s; // time of its newest hit (NaN: unknown)
+    uint32_t hits;      // hits it has taken in all (0: unknown)
+    double last_hit_s;  // time of its newest hit (NaN: unknown)
+    uint32_t continues; // the deleted track whose target the tracker says this one is (0: none)
+    double continues_p; // with this probability
 } gd_track_t;
 
 typedef enum {

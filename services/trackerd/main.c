@@ -252,9 +252,9 @@ static int s_monte_carlo (int argc, char **argv)
     printf ("{\"mode\":\"%s\",\"sigma_meas_m\":%g,\"sigma_mod_mps2\":%g,\"scan_period_s\":%g,"
             "\"r\":%.6g,\"g\":%.6f,\"g_d_hz\":%.6f,\"threshold_deg\":%g,\"speed_mps\":%g,"
             "\"turn_deg\":%g,\"targets\":%zu,\"scans\":%zu,\"seed\":%llu,\"lost\":%zu,",
-            p.filter.mode == TRK_FILTER_KALMAN ? "kalman" : "paper", sigma,
-            p.filter.sigma_mod_mps2[0], p.filter.dt_s, g.r, g.g, g.gd_hz, p.turn_threshold_deg,
-            speed, turn, c.targets, c.scans, (unsigned long long)c.seed, r.lost);
+            trk_params_mode_name (p.filter.mode), sigma, p.filter.sigma_mod_mps2[0], p.filter.dt_s,
+            g.r, g.g, g.gd_hz, p.turn_threshold_deg, speed, turn, c.targets, c.scans,
+            (unsigned long long)c.seed, r.lost);
     if (turn > 0)
         printf ("\"turns\":%zu,\"detected_within_2_scans\":%zu,\"detection_rate\":%.5f,"
                 "\"straight_scans\":%zu,\"false_turns\":%zu,\"false_turn_rate\":%.6f,"
@@ -320,14 +320,21 @@ static int s_setup (s_app_t *app, char *err, size_t errlen)
     const trk_params_t *p = &app->params;
     trk_adapter_set_verbose (app->adapter, app->svc.verbose != 0);
     const trk_gains_t *g = trk_tracker_gains (s_trk (app));
+    char deletion[96];
+    if (p->filter.mode == TRK_FILTER_IMM)
+        snprintf (deletion, sizeof deletion,
+                  "below existence %g (models: manoeuvre %g m/s2, stopped)", p->delete_existence,
+                  p->imm.sigma_mps2[1]);
+    else
+        snprintf (deletion, sizeof deletion, "after %d misses", p->delete_misses);
     cgs_log (LOG_INFO,
              "filter %s: sigma_meas %g/%g m, sigma_mod %g/%g m/s2, scan %g s: r %.4g/%.4g, "
-             "g %.4f/%.4f, g_d %.5f/%.5f 1/s; gate %.3f (%.1f), M/N %d/%d, delete after %d "
-             "misses, turn threshold %g deg",
-             p->filter.mode == TRK_FILTER_KALMAN ? "kalman" : "paper", p->filter.sigma_meas_m[0],
+             "g %.4f/%.4f, g_d %.5f/%.5f 1/s; gate %.3f (%.1f), M/N %d/%d, delete %s, turn "
+             "threshold %g deg",
+             trk_params_mode_name (p->filter.mode), p->filter.sigma_meas_m[0],
              p->filter.sigma_meas_m[1], p->filter.sigma_mod_mps2[0], p->filter.sigma_mod_mps2[1],
              p->filter.dt_s, g[0].r, g[1].r, g[0].g, g[1].g, g[0].gd_hz, g[1].gd_hz,
-             p->gate_probability, trk_params_gate (p), p->confirm_m, p->confirm_n, p->delete_misses,
+             p->gate_probability, trk_params_gate (p), p->confirm_m, p->confirm_n, deletion,
              p->turn_threshold_deg);
     return 0;
 }

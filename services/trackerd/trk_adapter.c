@@ -20,7 +20,10 @@ typedef struct {
     bool open; // hits have come for scan_number and it has not ended
     trk_hit_t *hits;
     size_t count, cap;
-    double platform[2];   // the radar's ground position (latest dwell)
+    double platform[3];   // the radar's position (latest dwell)
+    double platform_v[2]; // its ground velocity, from its positions a second or more apart
+    bool has_ref;         // the earlier position that velocity is measured from:
+    double ref_p[2], ref_t;
     bool has_closed;      // a scan of it has been processed:
     uint32_t last_closed; // its number
     bool has_time;        // the latest simulation time heard from it:
@@ -42,7 +45,7 @@ struct trk_adapter {
     Cgs__Track **tptr;
     Cgs__Enu *tpos;
     Cgs__EnuVelocity *tvel;
-    double *tcov; // 16 per track
+    double *tcov; // 16 per track, then 3 mode probabilities
     Cgs__TrackHistoryPoint *hpts;
     Cgs__TrackHistoryPoint **hptr;
     Cgs__Enu *hpos;
@@ -176,7 +179,7 @@ static int s_reserve (trk_adapter_t *self, size_t tracks, size_t points)
         void *d = realloc (self->tvel, n * sizeof *self->tvel);
         if (d)
             self->tvel = d;
-        void *e = realloc (self->tcov, n * 16 * sizeof *self->tcov);
+        void *e = realloc (self->tcov, n * 19 * sizeof *self->tcov);
         if (e)
             self->tcov = e;
         if (!a || !b || !c || !d || !e)
@@ -247,9 +250,21 @@ static void s_fill (trk_adapter_t *self, size_t i, size_t *hp, const trk_track_t
     m->miss_count = t->misses;
     m->last_hit_time_s = t->last_hit_s;
     m->last_scan_number = t->last_scan;
-    memcpy (&self->tcov[i * 16], e.P, sizeof e.P);
+    double *c = &self->tcov[i * 19];
+    memcpy (c, e.P, sizeof e.P);
     m->n_covariance = 16;
-    m->covariance = &self->tcov[i * 16];
+    m->covariance = c;
+    m->continues = t->continues;
+    m->continues_probability = t->continues_p;
+    if (trk_tracker_params (self->trk)->filter.mode == TRK_FILTER_IMM) {
+        m->existence_probability = t->existence;
+        m->detection_probability = t->pd;
+        if (t->hits >= 2) {
+            memcpy (c + 16, t->imm.mu, sizeof t->imm.mu);
+            m->n_mode_probabilities = TRK_IMM_MODELS;
+            m->mode_probabilities = c + 16;
+        }
+    }
     m->n_history = t->history_count;
     m->history = &self->hptr[*hp];
     for (uint32_t k = 0; k < t->history_count; k++, (*hp)++) {
@@ -403,6 +418,8 @@ static void s_close_implicit (trk_adapter_t *self, s_radar_t *r)
         .sector_center_deg = r->sector_center_deg,
         .sector_width_deg = r->sector_width_deg,
         .platform = {r->platform[0], r->platform[1]},
+        .platform_up_m = r->platform[2],
+        .platform_velocity = {r->platform_v[0], r->platform_v[1]},
     };
     self->stats.implicit_scans++;
     if (r->count)
@@ -443,6 +460,21 @@ static void s_on_mti (trk_adapter_t *self, const Cgs__Mti *m, const Cgs__Header 
     const Cgs__Enu *pl = m->platform_position;
     r->platform[0] = pl->east_m;
     r->platform[1] = pl->north_m;
+    r->platform[2] = pl->up_m;
+    double t_now = hdr && isfinite (hdr->sim_time_s) ? hdr->sim_time_s : NAN;
+    if (isfinite (t_now)) {
+        double dt = r->has_ref ? t_now - r->ref_t : -1;
+        if (dt >= 1 && dt <= 60) {
+            r->platform_v[0] = (pl->east_m - r->ref_p[0]) / dt;
+            r->platform_v[1] = (pl->north_m - r->ref_p[1]) / dt;
+        }
+        if (!(dt >= 0 && dt < 1)) { // a new reference a second or more on (or after a jump)
+            r->has_ref = true;
+            r->ref_p[0] = pl->east_m;
+            r->ref_p[1] = pl->north_m;
+            r->ref_t = t_now;
+        }
+    }
     if (r->count + m->n_hits > r->cap) {
         size_t cap = (r->count + m->n_hits) * 2;
         trk_hit_t *h = realloc (r->hits, cap * sizeof *h);
@@ -503,7 +535,12 @@ static void s_on_mti_scan (trk_adapter_t *self, const Cgs__MtiScan *m)
         .full_revolution = m->full_revolution,
         .sector_center_deg = m->sector_center_deg,
         .sector_width_deg = m->sector_width_deg,
+        .expected_false_alarms = isfinite (m->expected_false_alarms) && m->expected_false_alarms > 0
+                                     ? m->expected_false_alarms
+                                     : 0,
         .platform = {r->platform[0], r->platform[1]},
+        .platform_up_m = r->platform[2],
+        .platform_velocity = {r->platform_v[0], r->platform_v[1]},
     };
     r->scan_number = m->scan_number;
     s_run_scan (self, r, &scan);

@@ -128,7 +128,7 @@ int trk_filter_update (trk_estimate_t *pred, const trk_filter_params_t *p,
                        const trk_gains_t gains[2], const double z[2], const double R[4])
 {
     double K[8];
-    if (p->mode == TRK_FILTER_KALMAN) {
+    if (p->mode != TRK_FILTER_PAPER) {
         if (trk_filter_kalman_gain (pred, R, K) < 0)
             return -EDOM;
     } else {

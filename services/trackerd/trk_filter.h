@@ -24,6 +24,7 @@
 typedef enum {
     TRK_FILTER_PAPER = 0,  // the paper's constant gains
     TRK_FILTER_KALMAN = 1, // full covariance Kalman filter, gains from the actual dt
+    TRK_FILTER_IMM = 2,    // interacting multiple models with state-dependent Pd (trk_imm)
 } trk_filter_mode_t;
 
 /* The filter's parameters. */

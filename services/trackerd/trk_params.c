@@ -13,7 +13,7 @@ void trk_params_defaults (trk_params_t *p)
     *p = (trk_params_t){
         .filter =
             {
-                .mode = TRK_FILTER_PAPER,
+                .mode = TRK_FILTER_IMM,
                 .sigma_meas_m = {25, 25},
                 .sigma_mod_mps2 = {0.2, 0.2},
                 .dt_s = 10,
@@ -34,6 +34,33 @@ void trk_params_defaults (trk_params_t *p)
         .turn_threshold_deg = 20,
         .turn_min_speed_mps = 3,
         .turn_settle_updates = 3,
+        .imm =
+            {
+                .sigma_mps2 = {0.2, 1.5},
+                .stopped_sigma_mps = 0.05,
+                .sojourn_s = {200, 20, 60},
+                .exit = {{0, 0.6, 0.4}, {0.8, 0, 0.2}, {0.4, 0.6, 0}},
+            },
+        .radial_update = true,
+        .detection =
+            {
+                .pd = 0.87,
+                .mdv_along_mps = 1.0,
+                .mdv_across_mps = 1.8,
+                .width_mps = 0.3,
+                .span_mps = 46.875,
+                .min_range_m = 500,
+                .max_range_m = 20000,
+            },
+        .false_alarms_per_scan = 5,
+        .existence_hit_ratio = 20,
+        .delete_existence = 0.1,
+        .lifetime_s = 3600,
+        .stopped_lifetime_s = 120,
+        .max_sigma_m = 1000,
+        .continue_window_s = 120,
+        .continue_probability = 0.5,
+        .birth_density = 1e-8,
     };
 }
 
@@ -52,6 +79,26 @@ static const cgs_config_real_t s_reals[] = {
     S_R ("association", "maneuver_accel_mps2", maneuver_accel_mps2, 0, 1000),
     S_R ("association", "radial_sigma_mps", radial_sigma_mps, 0.001, 1000),
     S_R ("association", "radial_span_mps", radial_span_mps, 0, 1e5),
+    S_R ("filter", "sigma_maneuver_mps2", imm.sigma_mps2[1], 1e-6, 100),
+    S_R ("filter", "stopped_sigma_mps", imm.stopped_sigma_mps, 1e-6, 100),
+    S_R ("filter", "cv_sojourn_s", imm.sojourn_s[0], 0.1, 1e6),
+    S_R ("filter", "maneuver_sojourn_s", imm.sojourn_s[1], 0.1, 1e6),
+    S_R ("filter", "stopped_sojourn_s", imm.sojourn_s[2], 0.1, 1e6),
+    S_R ("detection", "pd", detection.pd, 0.01, 1),
+    S_R ("detection", "mdv_along_mps", detection.mdv_along_mps, 0, 1000),
+    S_R ("detection", "mdv_across_mps", detection.mdv_across_mps, 0, 1000),
+    S_R ("detection", "mdv_width_mps", detection.width_mps, 0.001, 1000),
+    S_R ("detection", "min_range_m", detection.min_range_m, 0, 1e7),
+    S_R ("detection", "max_range_m", detection.max_range_m, 1, 1e7),
+    S_R ("detection", "false_alarms_per_scan", false_alarms_per_scan, 1e-6, 1e7),
+    S_R ("association", "existence_hit_ratio", existence_hit_ratio, 1, 1e9),
+    S_R ("association", "delete_existence", delete_existence, 1e-6, 0.9),
+    S_R ("association", "lifetime_s", lifetime_s, 1, 1e9),
+    S_R ("association", "stopped_lifetime_s", stopped_lifetime_s, 1, 1e9),
+    S_R ("association", "max_sigma_m", max_sigma_m, 1, 1e7),
+    S_R ("association", "continue_window_s", continue_window_s, 0, 86400),
+    S_R ("association", "continue_probability", continue_probability, 0.01, 1),
+    S_R ("association", "birth_density", birth_density, 1e-15, 1),
     S_R ("identity", "bcis_sigma_m", bcis_sigma_m, 0.01, 1e5),
     S_R ("identity", "timeout_s", identity_timeout_s, 0.01, 86400),
     S_R ("turn", "threshold_deg", turn_threshold_deg, 0.1, 179),
@@ -70,7 +117,7 @@ static const cgs_config_int_t s_ints[] = {
 #define S_NREALS (sizeof s_reals / sizeof s_reals[0])
 #define S_NINTS  (sizeof s_ints / sizeof s_ints[0])
 
-static const char *const s_mode_names[] = {"paper", "kalman", NULL};
+static const char *const s_mode_names[] = {"paper", "kalman", "imm", NULL};
 static const char *const s_noise_names[] = {"parameters", "hit", NULL};
 
 /* The consistency of the set, after each value's own range. cfg (may be
@@ -86,9 +133,14 @@ static int s_check (cgs_config_t *cfg, const trk_params_t *p, char *err, size_t 
         sec = "association", key = "confirm_m";
         snprintf (msg, sizeof msg, "must be at most confirm_n (%d), got %d", p->confirm_n,
                   p->confirm_m);
-    } else if ((unsigned)p->filter.mode > TRK_FILTER_KALMAN) {
+    } else if ((unsigned)p->filter.mode > TRK_FILTER_IMM) {
         sec = "filter", key = "mode";
-        snprintf (msg, sizeof msg, "expected paper or kalman, got value %d", (int)p->filter.mode);
+        snprintf (msg, sizeof msg, "expected paper, kalman or imm, got value %d",
+                  (int)p->filter.mode);
+    } else if (p->detection.min_range_m >= p->detection.max_range_m) {
+        sec = "detection", key = "min_range_m";
+        snprintf (msg, sizeof msg, "must be below max_range_m (%g), got %g",
+                  p->detection.max_range_m, p->detection.min_range_m);
     } else if ((unsigned)p->measurement_noise > TRK_NOISE_HIT) {
         sec = "filter", key = "measurement_noise";
         snprintf (msg, sizeof msg, "expected parameters or hit, got value %d",
@@ -118,9 +170,14 @@ static int s_read (cgs_config_t *cfg, void *arg, char *err, size_t errlen)
         rc = cgs_config_get_bool (cfg, "association", "radial_velocity", p.radial_velocity,
                                   &p.radial_velocity, err, errlen);
     if (rc == 0)
+        rc = cgs_config_get_bool (cfg, "filter", "radial_update", p.radial_update, &p.radial_update,
+                                  err, errlen);
+    if (rc == 0)
         rc = cgs_config_check_unused (cfg, err, errlen);
     if (rc < 0)
         return rc;
+    p.imm.sigma_mps2[0] = p.filter.sigma_mod_mps2[0];
+    p.detection.span_mps = p.radial_span_mps;
     p.filter.mode = (trk_filter_mode_t)mode;
     p.measurement_noise = (trk_noise_t)noise;
     if ((rc = s_check (cfg, &p, err, errlen)) < 0)
@@ -138,6 +195,11 @@ int trk_params_load_string (const char *name, const char *text, trk_params_t *p,
                             size_t errlen)
 {
     return cgs_config_read (name, text, s_read, p, err, errlen);
+}
+
+const char *trk_params_mode_name (trk_filter_mode_t mode)
+{
+    return (unsigned)mode <= TRK_FILTER_IMM ? s_mode_names[mode] : "?";
 }
 
 double trk_params_gate (const trk_params_t *p)

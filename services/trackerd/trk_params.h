@@ -7,11 +7,13 @@
  * names the file, the line, the section and key, and what was expected.
  * Pure: no logging, no globals.
  *
- * Sections: [filter], [association], [identity], [turn]. */
+ * Sections: [filter], [detection], [association], [identity], [turn]. */
 #ifndef TRK_PARAMS_H
 #define TRK_PARAMS_H
 
 #include "trk_filter.h"
+#include "trk_imm.h"
+#include "trk_pd.h"
 
 #include <stdbool.h>
 #include <stddef.h>
@@ -40,6 +42,19 @@ typedef struct {
     double turn_threshold_deg;     // τ = cos(turn_threshold_deg)
     double turn_min_speed_mps;     // no turn detection below this estimated speed
     int turn_settle_updates;       // updates after initiation before turns are looked for
+    // The IMM tracker (mode = imm).
+    trk_imm_params_t imm;         // its models (σ_cv: the larger of filter.sigma_mod_mps2)
+    bool radial_update;           // the filter takes the hits' radial velocity too
+    trk_pd_params_t detection;    // what the radar can see ([detection]; span: radial_span_mps)
+    double false_alarms_per_scan; // when the radar does not say (clutter density of the costs)
+    double existence_hit_ratio;   // a hit in the gate: this much likelier the target's than clutter
+    double delete_existence;      // a confirmed track whose existence falls below this is deleted
+    double lifetime_s;            // mean time a moving target stays in the scene
+    double stopped_lifetime_s;    // ... a stopped one, unseen, is believed to
+    double max_sigma_m;           // a coasting track this vague (largest position σ) is deleted
+    double continue_window_s;     // a new track may continue one deleted this long before
+    double continue_probability;  // the least probability that names it as continued
+    double birth_density;         // new targets per m² against which continuation is weighed
 } trk_params_t;
 
 /* The defaults (deploy/params/tracker.ini documents each). */
@@ -52,6 +67,8 @@ int trk_params_load_string (const char *name, const char *text, trk_params_t *p,
                             size_t errlen);
 /* Check a set built in code; 0 or -EINVAL with err filled. */
 int trk_params_check (const trk_params_t *p, char *err, size_t errlen);
+/* The filter mode's name in the parameter file ("paper", "kalman", "imm"). */
+const char *trk_params_mode_name (trk_filter_mode_t mode);
 /* The chi-square gate G of two degrees of freedom: −2 ln(1 − P_G). */
 double trk_params_gate (const trk_params_t *p);
 /* The gate of three (position and radial velocity): the χ²₃ quantile of P_G. */

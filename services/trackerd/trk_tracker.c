@@ -33,6 +33,10 @@
 #define S_FORBIDDEN    1e9   // cost of a pair outside the gate in a cluster's matrix
 #define S_TIME_SLACK_S 1.0   // a track this far after a scan's end means time went back
 #define S_BCIS_RADARS  64    // radars a BCIS reply can mark a track of
+#define S_MODEL_MIN_MU 1e-3  // IMM: a model this unlikely opens no gate
+#define S_SHARE_MIN    0.01  // IMM: least share of a hit's likelihood a track may take it with
+#define S_CLOSE_GATE2  9.2103 // IMM: χ²₂ at 0.99: a hit this close to a confirmed track starts none
+#define S_CLOSE_GATE3  11.345 // χ²₃ at 0.99, with the radial velocity
 
 /* A hit of the scan being processed. */
 typedef struct {
@@ -40,6 +44,7 @@ typedef struct {
     double R[4];       // measurement covariance
     bool in_confirmed; // inside a confirmed track's gate
     size_t track;      // assigned track (index), or SIZE_MAX
+    double best_cost;  // IMM: the least cost of a pair with it
 } s_hit_t;
 
 /* A track-hit pair inside the gate. */
@@ -52,6 +57,8 @@ typedef struct {
     bool plain;                       // inside the filter's own gate (first pass)
     double cost_plain, log_det_plain; // without the manoeuvre allowance
     double cost_wide, log_det_wide;   // with it (second pass)
+    double miss;                      // IMM: the cost of leaving the track without a hit (NaN:
+                                      // G + 1 + ln|S| of its worst-conditioned pair)
 } s_pair_t;
 
 struct trk_tracker {
@@ -94,6 +101,11 @@ struct trk_tracker {
     size_t turn_count, turn_cap;
     trk_track_t *dead;
     size_t dead_count, dead_cap;
+    // IMM: confirmed tracks deleted lately, which a new track may continue.
+    trk_track_t *lost;
+    size_t lost_count, lost_cap;
+    trk_pd_radar_t radar; // the radar during the scan being processed
+    double clutter_ln;    // ln of its false alarm density per m² (IMM costs)
 };
 
 static int s_grow (void **p, size_t *cap, size_t need, size_t size)
@@ -120,6 +132,9 @@ trk_tracker_t *trk_tracker_new (const trk_params_t *p)
     if (!self)
         return NULL;
     self->p = *p;
+    self->p.imm.sigma_mps2[0] = fmax (p->filter.sigma_mod_mps2[0], p->filter.sigma_mod_mps2[1]);
+    self->p.detection.span_mps = p->radial_span_mps;
+    self->p.imm.max_speed_mps = 0; // the filter's models unbounded (see s_same_target)
     for (int a = 0; a < 2; a++)
         if (trk_gains_paper (p->filter.sigma_meas_m[a], p->filter.sigma_mod_mps2[a], p->filter.dt_s,
                              &self->gains[a]) < 0)
@@ -159,6 +174,7 @@ void trk_tracker_destroy (trk_tracker_t **self_p)
     free (self->chits);
     free (self->turns);
     free (self->dead);
+    free (self->lost);
     free (self);
     *self_p = NULL;
 }
@@ -196,9 +212,30 @@ uint32_t trk_tracker_next_id (const trk_tracker_t *self)
     return self->next_id;
 }
 
+static bool s_imm (const trk_tracker_t *self, const trk_track_t *t)
+{
+    return self->p.filter.mode == TRK_FILTER_IMM && t->hits >= 2;
+}
+
+/* IMM: the track's models mixed and moved to t_s; ret->mu holds the
+ * predicted mode probabilities. */
+static void s_imm_predict (const trk_tracker_t *self, const trk_track_t *t, double t_s,
+                           trk_imm_t *ret)
+{
+    trk_imm_t mixed;
+    trk_imm_mix (&self->p.imm, &t->imm, t_s - t->est.t_s, &mixed);
+    trk_imm_predict (&self->p.imm, &mixed, t_s, ret);
+}
+
 void trk_tracker_predict (const trk_tracker_t *self, const trk_track_t *t, double t_s,
                           trk_estimate_t *ret)
 {
+    if (s_imm (self, t)) {
+        trk_imm_t pr;
+        s_imm_predict (self, t, t_s, &pr);
+        trk_imm_combine (&pr, ret);
+        return;
+    }
     trk_filter_predict (&t->est, &self->p.filter, t_s, ret);
 }
 
@@ -322,12 +359,118 @@ trk_hit_t trk_hit_from_mti (uint32_t hit_id, double t_s, cgs_enu_t hit, cgs_enu_
 
 /* ---- gating ------------------------------------------------------------------------ */
 
+/* The span over which a false alarm's radial velocity is spread. */
+static double s_radial_span (const trk_tracker_t *self)
+{
+    return self->p.radial_span_mps > 0 ? self->p.radial_span_mps : 2 * self->p.max_speed_mps;
+}
+
+/* A hit as the IMM's measurement: its position, and its radial velocity
+ * when the radar measured it and radial says to use it. */
+static void s_meas (const trk_tracker_t *self, const s_hit_t *h, bool radial, trk_meas_t *m)
+{
+    memset (m, 0, sizeof *m);
+    m->z[0] = h->h.z[0];
+    m->z[1] = h->h.z[1];
+    memcpy (m->R, h->R, sizeof m->R);
+    m->has_radial = radial && h->h.has_radial;
+    m->radial_mps = h->h.radial_mps;
+    m->los[0] = h->h.los[0];
+    m->los[1] = h->h.los[1];
+    m->radial_var = self->p.radial_sigma_mps * self->p.radial_sigma_mps;
+    m->span_mps = self->p.radial_span_mps;
+}
+
 /* The manoeuvre allowance of a gate dt after the track's estimate: the
  * variance, per axis, of a displacement a_m dt² / 2. */
 static double s_maneuver_var (const trk_tracker_t *self, double dt)
 {
+    if (self->p.filter.mode == TRK_FILTER_IMM)
+        return 0; // the manoeuvre model's own covariance sizes the gate
     double m = self->p.maneuver_accel_mps2 * dt * dt / 2;
     return m * m;
+}
+
+static void s_model_pd (const trk_tracker_t *self, const trk_pd_radar_t *r, const trk_imm_t *s,
+                        double up_m, double pd[TRK_IMM_MODELS]);
+
+/* The IMM tracker's pair. The hit must lie in the gate of one of the
+ * models the target may be in (not of their moment-matched mixture, which is
+ * no Gaussian: a stopped model here, a moving one far on, and the gate of
+ * the mixture would take in what lies between); position and radial
+ * velocity are gated together, with their covariance, and nothing is added
+ * for manoeuvres: the manoeuvre model is there for them. The costs are
+ * likelihood ratios against the radar's false alarm density λ (Bar-Shalom's
+ * assignment costs): −2 ln(Σ_j c_j pd_j N(ν_j; S_j) / λ) for the pair,
+ * −2 ln(1 − Pd) for leaving the track without a hit, Pd = Σ_j c_j pd_j its
+ * detection probability; so a model the radar could not have seen (stopped,
+ * in the notch) takes no hit it could not have made, and a track the radar
+ * could hardly see is better left without a hit than given a stranger's. */
+static void s_try_pair_imm (trk_tracker_t *self, size_t ti, size_t hi)
+{
+    const trk_track_t *t = &self->tracks[self->act[ti]];
+    s_hit_t *h = &self->hits[hi];
+    const trk_params_t *p = &self->p;
+    trk_meas_t m;
+    s_meas (self, h, p->radial_velocity, &m);
+    double gate = m.has_radial ? self->gate3 : self->gate, pd0 = p->detection.pd;
+    double d2, ld, cost, miss;
+    bool close = false;
+    trk_estimate_t pr;
+    double ln_lambda = self->clutter_ln + (m.has_radial ? -log (s_radial_span (self)) : 0);
+    double k_ln_2pi = (m.has_radial ? 3 : 2) * log (2 * S_PI);
+    if (!s_imm (self, t)) { // one hit: no models yet
+        trk_tracker_predict (self, t, h->h.t_s, &pr);
+        d2 = trk_meas_distance (&pr, &m, &ld);
+        if (d2 < 0 || d2 > gate)
+            return;
+        cost = d2 + ld + k_ln_2pi - 2 * log (pd0) + 2 * ln_lambda;
+        miss = -2 * log (1 - fmin (pd0, 0.999));
+    } else {
+        trk_imm_t mp;
+        s_imm_predict (self, t, h->h.t_s, &mp);
+        trk_imm_combine (&mp, &pr);
+        d2 = trk_meas_distance (&pr, &m, &ld);
+        if (d2 < 0)
+            return;
+        double pd[TRK_IMM_MODELS], pd_all = 0, best = INFINITY, lj[TRK_IMM_MODELS];
+        double d2v[TRK_IMM_MODELS];
+        bool inside = false;
+        int likeliest = 0;
+        s_model_pd (self, &self->radar, &mp, t->up_m, pd);
+        for (int j = 0; j < TRK_IMM_MODELS; j++) {
+            double ldj, d2j = d2v[j] = trk_meas_distance (&mp.m[j], &m, &ldj);
+            lj[j] = d2j < 0 ? INFINITY : d2j + ldj;
+            best = fmin (best, lj[j]);
+            pd_all += mp.mu[j] * pd[j];
+            inside = inside || (d2j >= 0 && d2j <= gate && mp.mu[j] >= S_MODEL_MIN_MU);
+            if (mp.mu[j] > mp.mu[likeliest])
+                likeliest = j;
+        }
+        if (!inside)
+            return;
+        // Close to where the likeliest model puts the target: a hit the
+        // track leaves is a second look at it or clutter about it, not a
+        // new target (a neighbour in a column lies further out).
+        close =
+            d2v[likeliest] >= 0 && d2v[likeliest] <= (m.has_radial ? S_CLOSE_GATE3 : S_CLOSE_GATE2);
+        double sum = 0;
+        for (int j = 0; j < TRK_IMM_MODELS; j++)
+            if (isfinite (lj[j]))
+                sum += mp.mu[j] * pd[j] * exp (-0.5 * (lj[j] - best));
+        cost = best + k_ln_2pi - 2 * log (fmax (sum, 1e-300)) + 2 * ln_lambda;
+        miss = -2 * log (1 - fmin (pd_all, 0.999));
+    }
+    s_pair_t *pp = &self->pairs[self->pair_count++];
+    pp->track = ti;
+    pp->hit = hi;
+    pp->gate = gate;
+    pp->plain = true;
+    pp->cost_plain = pp->cost_wide = cost;
+    pp->log_det_plain = pp->log_det_wide = ld;
+    pp->miss = miss;
+    if (t->status != TRK_TENTATIVE && close)
+        h->in_confirmed = true;
 }
 
 /* Try a track-hit pair; adds it when the hit is inside the gate: within G
@@ -351,6 +494,10 @@ static void s_try_pair (trk_tracker_t *self, size_t ti, size_t hi)
         double slack = 3 * sqrt (t->est.P[0] + t->est.P[5] + h->R[0] + h->R[3]);
         if (hypot (de, dn) > self->p.max_speed_mps * dt + slack)
             return;
+    }
+    if (self->p.filter.mode == TRK_FILTER_IMM) {
+        s_try_pair_imm (self, ti, hi);
+        return;
     }
     trk_estimate_t pr;
     trk_filter_predict (&t->est, &self->p.filter, h->h.t_s, &pr);
@@ -389,6 +536,7 @@ static void s_try_pair (trk_tracker_t *self, size_t ti, size_t hi)
     pp->log_det_plain = log_det;
     pp->cost_wide = d2_gate + ld_gate;
     pp->log_det_wide = ld_gate;
+    pp->miss = NAN;
     // A hit inside a confirmed track's gate proper (no manoeuvre allowance)
     // is that target's, or clutter about it: it starts no track.
     if (t->status != TRK_TENTATIVE && pp->plain)
@@ -404,11 +552,27 @@ static int s_gate (trk_tracker_t *self, size_t nt, size_t nh, double t_lo, doubl
         // time, centred where the track is mid-scan, plus its motion either way.
         double t_end = fmax (t_hi, t->est.t_s), t_mid = fmax ((t_lo + t_hi) / 2, t->est.t_s);
         trk_estimate_t pe;
-        trk_filter_predict (&t->est, &self->p.filter, t_end, &pe);
+        trk_tracker_predict (self, t, t_end, &pe);
         double lam = s_lambda_max (pe.P[0], pe.P[1], pe.P[5]) + r_max +
                      (t->status == TRK_TENTATIVE ? 0 : s_maneuver_var (self, t_end - t->est.t_s));
         double speed = hypot (t->est.x[2], t->est.x[3]);
         double reach = sqrt (self->gate3 * lam) + speed * (t_hi - t_lo) / 2 + 1;
+        if (s_imm (self, t)) {
+            // Each model's own gate, wherever its prediction lies: a hit in
+            // any of them is a candidate (s_try_pair_imm).
+            trk_imm_t mp;
+            s_imm_predict (self, t, t_end, &mp);
+            for (int j = 0; j < TRK_IMM_MODELS; j++) {
+                if (mp.mu[j] < S_MODEL_MIN_MU)
+                    continue;
+                const double *P = mp.m[j].P;
+                double off = hypot (mp.m[j].x[0] - pe.x[0], mp.m[j].x[1] - pe.x[1]);
+                double sp = hypot (mp.m[j].x[2], mp.m[j].x[3]);
+                reach = fmax (reach,
+                              off + sqrt (self->gate3 * (s_lambda_max (P[0], P[1], P[5]) + r_max)) +
+                                  fmax (speed, sp) * (t_hi - t_lo) / 2 + 1);
+            }
+        }
         double ce = t->est.x[0] + t->est.x[2] * (t_mid - t->est.t_s);
         double cn = t->est.x[1] + t->est.x[3] * (t_mid - t->est.t_s);
         // Pairs: at most one per hit for this track.
@@ -456,6 +620,8 @@ static int s_solve_cluster (trk_tracker_t *self, size_t lo, size_t hi, trk_scan_
     size_t np = hi - lo;
     if (np == 1) { // one track, one hit
         const s_pair_t *pp = &self->work[lo];
+        if (isfinite (pp->miss) && !(pp->cost < pp->miss))
+            return 0; // better left without it
         self->assigned[pp->track] = pp->hit;
         self->hits[pp->hit].track = pp->track;
         if (out->largest_cluster < 1)
@@ -498,7 +664,8 @@ static int s_solve_cluster (trk_tracker_t *self, size_t lo, size_t hi, trk_scan_
         c[i * cols + j] = pp->cost;
         // Leaving the track without a hit costs G + 1 + ln|S| of its
         // worst-conditioned pair: any pair inside the gate is worth more.
-        double miss = pp->gate + 1 + pp->log_det, *slot = &c[i * cols + m + i];
+        double miss = isfinite (pp->miss) ? pp->miss : pp->gate + 1 + pp->log_det;
+        double *slot = &c[i * cols + m + i];
         if (*slot == S_FORBIDDEN || miss > *slot)
             *slot = miss;
     }
@@ -563,6 +730,25 @@ static int s_pass (trk_tracker_t *self, size_t nt, size_t nh, bool wide, trk_sca
  * (a target that turned or braked). */
 static int s_associate (trk_tracker_t *self, size_t nt, size_t nh, trk_scan_out_t *out)
 {
+    if (self->p.filter.mode == TRK_FILTER_IMM) {
+        // A hit goes only to a track that could share it (a JPDA-style
+        // marginal of at least S_SHARE_MIN among the tracks that want it):
+        // a second hit of one target in a scan (at the scan's seam, where a
+        // target is looked at twice) must not go to a track whose likelihood
+        // of it is a small fraction of its own track's.
+        for (size_t hi = 0; hi < nh; hi++)
+            self->hits[hi].best_cost = INFINITY;
+        for (size_t q = 0; q < self->pair_count; q++) {
+            s_hit_t *h = &self->hits[self->pairs[q].hit];
+            h->best_cost = fmin (h->best_cost, self->pairs[q].cost_plain);
+        }
+        double margin = -2 * log (S_SHARE_MIN);
+        size_t kept = 0;
+        for (size_t q = 0; q < self->pair_count; q++)
+            if (self->pairs[q].cost_plain <= self->hits[self->pairs[q].hit].best_cost + margin)
+                self->pairs[kept++] = self->pairs[q];
+        self->pair_count = kept;
+    }
     int rc = s_pass (self, nt, nh, false, out);
     return rc < 0 ? rc : s_pass (self, nt, nh, true, out);
 }
@@ -671,18 +857,336 @@ static int s_popcount (uint32_t v)
     return n;
 }
 
+/* The radar during a scan, as trk_pd sees it. */
+static trk_pd_radar_t s_radar (const trk_scan_t *scan)
+{
+    return (trk_pd_radar_t){
+        .position = {scan->platform[0], scan->platform[1], scan->platform_up_m},
+        .velocity = {scan->platform_velocity[0], scan->platform_velocity[1]},
+        .full_revolution = scan->full_revolution,
+        .sector_center_deg = scan->sector_center_deg,
+        .sector_width_deg = scan->sector_width_deg,
+    };
+}
+
 /* Whether a sector scan covered a position. */
 static bool s_covered (const trk_scan_t *scan, double e, double n)
 {
-    if (scan->full_revolution || !(scan->sector_width_deg < 360))
-        return true;
-    double az = atan2 (e - scan->platform[0], n - scan->platform[1]) * 180 / S_PI;
-    double off = fmod (az - scan->sector_center_deg, 360.0);
-    if (off > 180)
-        off -= 360;
-    if (off < -180)
-        off += 360;
-    return fabs (off) <= scan->sector_width_deg / 2;
+    trk_pd_radar_t r = s_radar (scan);
+    return trk_pd_covered (&r, e, n);
+}
+
+/* A scan's hit h (or none) counted on t: hits, misses, history, the M-of-N
+ * window. Returns the hits in the window's last confirm_n scans. */
+static int s_count (trk_tracker_t *self, trk_track_t *t, const s_hit_t *h, const trk_scan_t *scan,
+                    trk_scan_out_t *out)
+{
+    const trk_params_t *p = &self->p;
+    if (h) {
+        t->hits++;
+        t->misses = 0;
+        t->last_hit_s = h->h.t_s;
+        t->last_scan = scan->scan_number;
+        t->up_m = h->h.up_m;
+        s_history_add (self, t, &h->h, scan->scan_number);
+        out->updated++;
+    } else {
+        t->misses++;
+    }
+    t->window = (t->window << 1) | (h ? 1u : 0u);
+    uint32_t nmask = p->confirm_n >= 32 ? UINT32_MAX : (1u << p->confirm_n) - 1;
+    return s_popcount (t->window & nmask);
+}
+
+/* ---- the IMM tracker's upkeep ------------------------------------------------------ */
+
+static void s_continue_new (trk_tracker_t *self, trk_track_t *t, trk_scan_out_t *out);
+
+/* The detection probability the radar had of each model's state. */
+static void s_model_pd (const trk_tracker_t *self, const trk_pd_radar_t *r, const trk_imm_t *s,
+                        double up_m, double pd[TRK_IMM_MODELS])
+{
+    for (int j = 0; j < TRK_IMM_MODELS; j++) {
+        const trk_estimate_t *e = &s->m[j];
+        double x[3] = {e->x[0], e->x[1], up_m}, v[2] = {e->x[2], e->x[3]};
+        double de = e->x[0] - r->position[0], dn = e->x[1] - r->position[1], g = hypot (de, dn);
+        double ue = g > 0 ? de / g : 0, un = g > 0 ? dn / g : 0;
+        double var = ue * ue * e->P[10] + 2 * ue * un * e->P[11] + un * un * e->P[15];
+        pd[j] = trk_pd_of (&self->p.detection, r, x, v, sqrt (fmax (0.0, var)));
+    }
+}
+
+/* Largest position standard deviation of an estimate. */
+static double s_sigma_max (const trk_estimate_t *e)
+{
+    return sqrt (s_lambda_max (e->P[0], e->P[1], e->P[5]));
+}
+
+/* One scan's outcome for a track of the IMM tracker: hit h (or NULL).
+ * Returns false when the track is to be deleted. */
+static bool s_upkeep_imm (trk_tracker_t *self, trk_track_t *t, const s_hit_t *h,
+                          const trk_scan_t *scan, trk_scan_out_t *out)
+{
+    const trk_params_t *p = &self->p;
+    trk_pd_radar_t radar = s_radar (scan);
+    double mid = (scan->start_s + scan->end_s) / 2;
+    if (!h) {
+        trk_estimate_t pe;
+        trk_tracker_predict (self, t, fmax (mid, t->est.t_s), &pe);
+        if (!trk_pd_covered (&radar, pe.x[0], pe.x[1]))
+            return true; // not looked at: neither hit nor miss
+    }
+    t->scans++;
+    uint32_t misses_before = t->misses;
+    if (t->hits == 1) {
+        // One hit: no velocity yet, nothing for the models. A second hit
+        // starts them by two-point differencing (a target the radar saw
+        // twice moves: never the stopped model).
+        if (h) {
+            double z1[2] = {t->est.x[0], t->est.x[1]};
+            double R1[4] = {t->est.P[0], t->est.P[1], t->est.P[4], t->est.P[5]};
+            trk_filter_init_two (&t->est, z1, R1, t->est.t_s, h->h.z, h->R, h->h.t_s);
+            const double mu0[TRK_IMM_MODELS] = {0.7, 0.3, 0};
+            trk_imm_init (&t->imm, &t->est, mu0);
+        } else {
+            out->missed++;
+        }
+    } else {
+        double t_at = h ? h->h.t_s : fmax (mid, t->est.t_s);
+        trk_imm_t pr;
+        s_imm_predict (self, t, t_at, &pr);
+        double pd[TRK_IMM_MODELS], pd_all = 0, rate = 0;
+        s_model_pd (self, &radar, &pr, t->up_m, pd);
+        for (int j = 0; j < TRK_IMM_MODELS; j++) {
+            pd_all += pr.mu[j] * pd[j];
+            rate += pr.mu[j] / (j == TRK_MODEL_STOPPED ? p->stopped_lifetime_s : p->lifetime_s);
+        }
+        t->pd = pd_all;
+        // Existence: the target may have left the scene since (at a rate
+        // that depends on what it was doing), then what the scan showed.
+        double e = t->existence * exp (-rate * fmax (0.0, t_at - t->est.t_s));
+        if (h) {
+            trk_meas_t m;
+            s_meas (self, h, p->radial_velocity && p->radial_update, &m);
+            if (trk_imm_update (&pr, &m, pd, NULL) < 0) {
+                h = NULL; // a covariance gone bad: a miss, not a hit
+            } else {
+                // No ground vehicle is faster than max_speed_mps: a model's
+                // velocity beyond it is projected back onto that bound (the
+                // estimate projection of a constrained Kalman filter).
+                for (int j = 0; j < TRK_IMM_MODELS; j++) {
+                    double *x = pr.m[j].x, v = hypot (x[2], x[3]);
+                    if (v > p->max_speed_mps) {
+                        x[2] *= p->max_speed_mps / v;
+                        x[3] *= p->max_speed_mps / v;
+                    }
+                }
+                t->imm = pr;
+                trk_imm_combine (&t->imm, &t->est);
+                t->updates++;
+                // A hit where the radar expected none still shows the target
+                // is there: its detection probability counts as at least half
+                // the radar's.
+                double q = fmax (pd_all, p->detection.pd / 2) * p->existence_hit_ratio;
+                e = e * q / (e * q + 1 - e);
+            }
+        }
+        if (!h) {
+            trk_imm_miss (&pr, pd);
+            t->imm = pr;
+            trk_imm_combine (&t->imm, &t->est);
+            e = e * (1 - pd_all) / (1 - e * pd_all);
+            out->missed++;
+        }
+        t->existence = fmin (0.999, e);
+    }
+    int got = s_count (self, t, h, scan, out);
+    if (t->status == TRK_TENTATIVE) {
+        if (got >= p->confirm_m) {
+            t->status = TRK_CONFIRMED;
+            t->existence = fmax (t->existence, 0.9);
+            out->confirmed++;
+            s_continue_new (self, t, out);
+        } else {
+            uint32_t n = (uint32_t)p->confirm_n, seen = t->scans < n ? t->scans : n;
+            if (got + (int)(n - seen) < p->confirm_m)
+                return false; // can no longer be confirmed in its first N scans
+        }
+    } else if (h) {
+        // A hit after a coast of two scans or more moves a velocity the
+        // models only predicted: it is confirmed again by the next hit.
+        if (misses_before >= 2) {
+            t->status = TRK_COASTING;
+            t->reconfirm = true;
+        } else {
+            t->status = TRK_CONFIRMED;
+            t->reconfirm = false;
+        }
+    } else if (t->existence < p->delete_existence || s_sigma_max (&t->est) > p->max_sigma_m) {
+        return false; // probably gone, or no longer anywhere in particular
+    } else {
+        t->status = TRK_COASTING;
+        t->reconfirm = false;
+    }
+    if (h && t->status == TRK_CONFIRMED)
+        s_turn (self, t, scan->scan_number);
+    return true;
+}
+
+/* ---- continuation --------------------------------------------------------------------- */
+
+/* ln of the density of young's estimate under e: position and velocity,
+ * each with the sum of the two covariances (the cross-covariance between
+ * position and velocity left out); -INFINITY far outside any gate. */
+static double s_state_ll (const trk_tracker_t *self, const trk_estimate_t *e,
+                          const trk_estimate_t *young)
+{
+    double ll = 0;
+    for (int b = 0; b < 4; b += 2) { // position, then velocity
+        double S0 = e->P[b * 5] + young->P[b * 5];
+        double S1 = e->P[b * 4 + b + 1] + young->P[b * 4 + b + 1];
+        double S3 = e->P[(b + 1) * 5] + young->P[(b + 1) * 5];
+        double det = S0 * S3 - S1 * S1;
+        if (!(S0 > 0) || !(det > 0) || !isfinite (det))
+            return -INFINITY;
+        double d0 = young->x[b] - e->x[b], d1 = young->x[b + 1] - e->x[b + 1];
+        double d2 = (S3 * d0 * d0 - 2 * S1 * d0 * d1 + S0 * d1 * d1) / det;
+        if (d2 > self->gate3 + 10)
+            return -INFINITY;
+        ll += -0.5 * d2 - 0.5 * log (det) - log (2 * S_PI);
+    }
+    return ll;
+}
+
+/* ln of the likelihood that young, at its estimate's time, is the target of
+ * old: old's models predicted there, each weighed by its probability, times
+ * the chance that old's vehicle is still in the scene. -INFINITY when the
+ * two cannot be one target. */
+static double s_same_target (const trk_tracker_t *self, const trk_track_t *old,
+                             const trk_track_t *young)
+{
+    if (old->uav_id != young->uav_id || young->est.t_s <= old->last_hit_s ||
+        (old->friendly && young->friendly && old->friendly_id != young->friendly_id))
+        return -INFINITY;
+    double ll[TRK_IMM_MODELS], best = -INFINITY;
+    trk_imm_t pr;
+    if (s_imm (self, old)) {
+        // Over the gap the moving models spread no further than a ground
+        // vehicle can (trk_imm_predict_model's bound at max_speed_mps).
+        trk_imm_params_t ip = self->p.imm;
+        ip.max_speed_mps = self->p.max_speed_mps;
+        trk_imm_t mixed;
+        trk_imm_mix (&ip, &old->imm, young->est.t_s - old->est.t_s, &mixed);
+        trk_imm_predict (&ip, &mixed, young->est.t_s, &pr);
+    } else {
+        const double mu0[TRK_IMM_MODELS] = {1, 0, 0};
+        trk_imm_init (&pr, &old->est, mu0);
+        trk_filter_predict (&old->est, &self->p.filter, young->est.t_s, &pr.m[0]);
+    }
+    for (int j = 0; j < TRK_IMM_MODELS; j++) {
+        ll[j] = pr.mu[j] > 0 ? s_state_ll (self, &pr.m[j], &young->est) : -INFINITY;
+        best = fmax (best, ll[j]);
+    }
+    if (!isfinite (best))
+        return -INFINITY;
+    double sum = 0;
+    for (int j = 0; j < TRK_IMM_MODELS; j++)
+        if (isfinite (ll[j]))
+            sum += pr.mu[j] * exp (ll[j] - best);
+    // Times the prior that old's vehicle is still in the scene (its
+    // existence probability, low at its deletion, says rather that the
+    // radar lost it).
+    return best + log (sum) - fmax (0.0, young->est.t_s - old->est.t_s) / self->p.lifetime_s;
+}
+
+/* ln of the density of a new target's position and velocity: birth_density
+ * per m², velocities uniform in the disc of max_speed_mps. */
+static double s_birth_ll (const trk_tracker_t *self)
+{
+    double v = self->p.max_speed_mps;
+    return log (self->p.birth_density) - log (S_PI * v * v);
+}
+
+/* Forget the tracks deleted too long before t_s to be continued (a deleted
+ * track's estimate is of the scan that deleted it). */
+static void s_lost_expire (trk_tracker_t *self, double t_s)
+{
+    for (size_t i = 0; i < self->lost_count;) {
+        if (!(t_s - self->lost[i].est.t_s <= self->p.continue_window_s))
+            self->lost[i] = self->lost[--self->lost_count];
+        else
+            i++;
+    }
+}
+
+/* A track just confirmed: the deleted track its target probably is. */
+static void s_continue_new (trk_tracker_t *self, trk_track_t *t, trk_scan_out_t *out)
+{
+    s_lost_expire (self, t->est.t_s);
+    double birth = s_birth_ll (self), best = -INFINITY, sum = 0;
+    size_t bi = SIZE_MAX;
+    for (size_t i = 0; i < self->lost_count; i++) {
+        double ll = s_same_target (self, &self->lost[i], t);
+        if (ll > best) {
+            best = ll;
+            bi = i;
+        }
+    }
+    if (bi == SIZE_MAX || !isfinite (best))
+        return;
+    double top = fmax (best, birth);
+    for (size_t i = 0; i < self->lost_count; i++) {
+        double ll = s_same_target (self, &self->lost[i], t);
+        if (isfinite (ll))
+            sum += exp (ll - top);
+    }
+    double pb = exp (best - top) / (sum + exp (birth - top));
+    if (pb < self->p.continue_probability)
+        return;
+    t->continues = self->lost[bi].id;
+    t->continues_p = pb;
+    if (t->friendly == false && self->lost[bi].friendly) { // BCIS said who it is
+        t->friendly = true;
+        t->friendly_id = self->lost[bi].friendly_id;
+        t->friendly_s = self->lost[bi].friendly_s;
+    }
+    self->lost[bi] = self->lost[--self->lost_count]; // one successor each
+    out->continued++;
+}
+
+/* A confirmed track just deleted: a confirmed track born after its last
+ * hit that is probably its target continues it; else it waits in the lost
+ * list for one. */
+static void s_continue_old (trk_tracker_t *self, const trk_track_t *old, trk_scan_out_t *out)
+{
+    double birth = s_birth_ll (self), best = -INFINITY, sum = 0;
+    trk_track_t *bt = NULL;
+    for (size_t i = 0; i < self->count; i++) {
+        trk_track_t *y = &self->tracks[i];
+        if (y->status == TRK_TENTATIVE || y->continues != 0 || y->history_count == 0 ||
+            y->history_count < y->hits || !(y->history[0].t_s > old->last_hit_s))
+            continue; // only a whole history shows when it began
+        double ll = s_same_target (self, old, y);
+        if (!isfinite (ll))
+            continue;
+        if (ll > best) {
+            best = ll;
+            bt = y;
+        }
+        sum += exp (ll - birth);
+    }
+    if (bt) {
+        double pb = exp (best - birth) / (sum + 1);
+        if (pb >= self->p.continue_probability) {
+            bt->continues = old->id;
+            bt->continues_p = pb;
+            out->continued++;
+            return;
+        }
+    }
+    if (s_grow ((void **)&self->lost, &self->lost_cap, self->lost_count + 1, sizeof *self->lost) ==
+        0)
+        self->lost[self->lost_count++] = *old;
 }
 
 /* One scan's outcome for a track: hit h (or NULL). Returns false when the
@@ -691,6 +1195,8 @@ static bool s_upkeep (trk_tracker_t *self, trk_track_t *t, const s_hit_t *h, con
                       trk_scan_out_t *out)
 {
     const trk_params_t *p = &self->p;
+    if (p->filter.mode == TRK_FILTER_IMM)
+        return s_upkeep_imm (self, t, h, scan, out);
     if (!h) {
         double mid = (scan->start_s + scan->end_s) / 2;
         double e = t->est.x[0] + t->est.x[2] * (mid - t->est.t_s);
@@ -716,20 +1222,7 @@ static bool s_upkeep (trk_tracker_t *self, trk_track_t *t, const s_hit_t *h, con
             }
         }
     }
-    if (h) {
-        t->hits++;
-        t->misses = 0;
-        t->last_hit_s = h->h.t_s;
-        t->last_scan = scan->scan_number;
-        t->up_m = h->h.up_m;
-        s_history_add (self, t, &h->h, scan->scan_number);
-        out->updated++;
-    } else {
-        t->misses++;
-    }
-    t->window = (t->window << 1) | (h ? 1u : 0u);
-    uint32_t nmask = p->confirm_n >= 32 ? UINT32_MAX : (1u << p->confirm_n) - 1;
-    int got = s_popcount (t->window & nmask);
+    int got = s_count (self, t, h, scan, out);
     if (t->status == TRK_TENTATIVE) {
         if (got >= p->confirm_m) {
             t->status = TRK_CONFIRMED;
@@ -776,6 +1269,7 @@ static void s_new_track (trk_tracker_t *self, const s_hit_t *h, uint32_t uav, ui
     t->scans = 1;
     t->last_hit_s = h->h.t_s;
     t->last_scan = scan;
+    t->existence = 0.5;
     s_history_add (self, t, &h->h, scan);
 }
 
@@ -815,6 +1309,20 @@ int trk_tracker_scan (trk_tracker_t *self, const trk_scan_t *scan, const trk_hit
                       trk_scan_out_t *ret)
 {
     trk_scan_out_t out = {0};
+    self->radar = s_radar (scan);
+    {
+        // The false alarm density: the radar's count over the ground it
+        // swept (the range window, the sector).
+        const trk_pd_params_t *d = &self->p.detection;
+        double frac = scan->full_revolution || !(scan->sector_width_deg < 360)
+                          ? 1
+                          : fmax (scan->sector_width_deg, 1e-3) / 360;
+        double area =
+            S_PI * (d->max_range_m * d->max_range_m - d->min_range_m * d->min_range_m) * frac;
+        double fa = scan->expected_false_alarms > 0 ? scan->expected_false_alarms
+                                                    : self->p.false_alarms_per_scan;
+        self->clutter_ln = log (fa / area);
+    }
     self->turn_count = 0;
     self->dead_count = 0;
     self->pair_count = 0;
@@ -862,8 +1370,12 @@ int trk_tracker_scan (trk_tracker_t *self, const trk_scan_t *scan, const trk_hit
     for (size_t ti = nt; ti-- > 0;) { // backwards: a death moves the last track into its slot
         size_t idx = self->act[ti];
         const s_hit_t *h = self->assigned[ti] == SIZE_MAX ? NULL : &self->hits[self->assigned[ti]];
-        if (!s_upkeep (self, &self->tracks[idx], h, scan, &out))
+        if (!s_upkeep (self, &self->tracks[idx], h, scan, &out)) {
+            bool was_confirmed = self->tracks[idx].status != TRK_TENTATIVE;
             s_kill (self, idx, &out);
+            if (was_confirmed && self->p.filter.mode == TRK_FILTER_IMM)
+                s_continue_old (self, &self->dead[self->dead_count - 1], &out);
+        }
     }
     for (size_t i = 0; i < self->count;) {
         const trk_track_t *t = &self->tracks[i];
@@ -973,7 +1485,7 @@ size_t trk_tracker_age_identity (trk_tracker_t *self, double t_s)
 /* ---- checkpoint ---------------------------------------------------------------------- */
 
 #define S_MAGIC   "MSCGSTRK"
-#define S_VERSION 1u
+#define S_VERSION 2u // 2: the IMM's models, existence and continuation
 
 typedef struct {
     uint8_t *buf;
@@ -1083,9 +1595,23 @@ static void s_put_track (s_writer_t *w, const trk_track_t *t)
         s_put_u32 (w, h->scan_number);
         s_put_u32 (w, h->hit_id);
     }
+    for (int j = 0; j < TRK_IMM_MODELS; j++) {
+        const trk_estimate_t *e = &t->imm.m[j];
+        for (int i = 0; i < 4; i++)
+            s_put_f64 (w, e->x[i]);
+        for (int i = 0; i < 16; i++)
+            s_put_f64 (w, e->P[i]);
+        s_put_f64 (w, e->t_s);
+        s_put_f64 (w, t->imm.mu[j]);
+    }
+    s_put_f64 (w, t->existence);
+    s_put_f64 (w, t->pd);
+    s_put_u32 (w, t->reconfirm);
+    s_put_u32 (w, t->continues);
+    s_put_f64 (w, t->continues_p);
 }
 
-static bool s_get_track (s_reader_t *r, trk_track_t *t)
+static bool s_get_track (s_reader_t *r, trk_track_t *t, uint32_t version)
 {
     memset (t, 0, sizeof *t);
     t->id = s_get_u32 (r);
@@ -1136,6 +1662,38 @@ static bool s_get_track (s_reader_t *r, trk_track_t *t)
         h->scan_number = s_get_u32 (r);
         h->hit_id = s_get_u32 (r);
     }
+    if (version < 2) { // before the IMM: every model from the one estimate
+        const double mu0[TRK_IMM_MODELS] = {1, 0, 0};
+        trk_imm_init (&t->imm, &t->est, mu0);
+        t->existence = t->status == TRK_TENTATIVE ? 0.5 : 0.99;
+        return !r->fail;
+    }
+    double mu_sum = 0;
+    for (int j = 0; j < TRK_IMM_MODELS; j++) {
+        trk_estimate_t *e = &t->imm.m[j];
+        for (int i = 0; i < 4; i++)
+            e->x[i] = s_get_f64 (r);
+        for (int i = 0; i < 16; i++)
+            e->P[i] = s_get_f64 (r);
+        e->t_s = s_get_f64 (r);
+        t->imm.mu[j] = s_get_f64 (r);
+        if (!(t->imm.mu[j] >= 0 && t->imm.mu[j] <= 1))
+            return false;
+        mu_sum += t->imm.mu[j];
+        for (int i = 0; i < 4; i++)
+            if (!(e->P[i * 5] >= 0))
+                return false;
+    }
+    t->existence = s_get_f64 (r);
+    t->pd = s_get_f64 (r);
+    uint32_t reconfirm = s_get_u32 (r);
+    t->continues = s_get_u32 (r);
+    t->continues_p = s_get_f64 (r);
+    if (reconfirm > 1 || !(t->existence >= 0 && t->existence <= 1) || !(t->pd >= 0 && t->pd <= 1) ||
+        !(t->continues_p >= 0 && t->continues_p <= 1) ||
+        (mu_sum != 0 && fabs (mu_sum - 1) > 1e-6)) // 0: no models (the paper's filter, one hit)
+        return false;
+    t->reconfirm = reconfirm;
     return !r->fail;
 }
 
@@ -1173,8 +1731,8 @@ int trk_tracker_restore (trk_tracker_t *self, const uint8_t *buf, size_t len, ch
     }
     r.off = 8;
     uint32_t version = s_get_u32 (&r), next_id = s_get_u32 (&r), count = s_get_u32 (&r);
-    if (version != S_VERSION) {
-        snprintf (err, errlen, "a trackerd checkpoint of version %u (this is %u)", version,
+    if (version != S_VERSION && version != 1) {
+        snprintf (err, errlen, "a trackerd checkpoint of version %u (this reads 1 and %u)", version,
                   S_VERSION);
         return -EPROTO;
     }
@@ -1193,7 +1751,7 @@ int trk_tracker_restore (trk_tracker_t *self, const uint8_t *buf, size_t len, ch
     }
     int rc = 0;
     for (uint32_t i = 0; i < count && rc == 0; i++) {
-        if (!s_get_track (&r, &tracks[i])) {
+        if (!s_get_track (&r, &tracks[i], version)) {
             snprintf (err, errlen, "track %u of %u in the checkpoint is damaged", i + 1, count);
             rc = -EPROTO;
         } else {
@@ -1249,7 +1807,7 @@ int trk_tracker_checkpoint_next_id (const uint8_t *buf, size_t len, uint32_t *re
         return -EPROTO;
     s_reader_t r = {.buf = buf, .len = len, .off = 8};
     uint32_t version = s_get_u32 (&r), next_id = s_get_u32 (&r);
-    if (version != S_VERSION || next_id == 0)
+    if ((version != S_VERSION && version != 1) || next_id == 0)
         return -EPROTO;
     *ret_id = next_id;
     return 0;

@@ -19,6 +19,7 @@
 
 #include "cgs_geo.h"
 #include "trk_filter.h"
+#include "trk_imm.h"
 #include "trk_params.h"
 
 #include <stdbool.h>
@@ -65,7 +66,11 @@ typedef struct {
     bool full_revolution;     // else a sector:
     double sector_center_deg; // clockwise from north
     double sector_width_deg;
-    double platform[2]; // the radar's ground position (east, north) during the scan
+    double platform[2];           // the radar's ground position (east, north) during the scan
+    double platform_up_m;         // its height (0 when unknown)
+    double platform_velocity[2];  // its ground velocity over the scan (east, north)
+    double expected_false_alarms; // the radar's design count of false alarms over the scan (0:
+                                  // unknown: the [detection] parameter)
 } trk_scan_t;
 
 /* One past hit of a track. */
@@ -103,6 +108,13 @@ typedef struct {
     double uv_before[2]; // unit velocity before the turn began
     double v_before[2];  // velocity before the turn began, m/s
     uint32_t turn_scan;  // scan the turn was flagged in
+    // The IMM tracker (mode = imm); est is then the models' combination.
+    trk_imm_t imm;      // every model's estimate at est.t_s, and the mode probabilities
+    double existence;   // probability that the target exists
+    double pd;          // detection probability the radar had of it in the latest scan
+    bool reconfirm;     // its first hit after a coast: confirmed at the next
+    uint32_t continues; // the deleted track whose target this one probably is (0: none)
+    double continues_p; // that probability
 } trk_track_t;
 
 /* A turn (paper, equation 8): flagged when dot falls below τ, complete when
@@ -128,6 +140,7 @@ typedef struct {
     size_t updated, missed, born, confirmed, deleted;
     size_t unused_hits; // in a confirmed track's gate but not assigned: start nothing
     size_t time_reset;  // tracks deleted because the scan came before their time
+    size_t continued;   // tracks found to continue a deleted one
     const trk_turn_t *turns;
     size_t turn_count;
     const trk_track_t *deleted_tracks; // copies, status TRK_DELETED

@@ -137,7 +137,10 @@ int main (int argc, char **argv)
     }
     printf ("bench_trackerd: one scan of N targets (+10%% false alarms), %s filter, median of %d "
             "scans on one core\n",
-            p.filter.mode == TRK_FILTER_KALMAN ? "Kalman" : "paper's", runs);
+            p.filter.mode == TRK_FILTER_IMM      ? "IMM (three models)"
+            : p.filter.mode == TRK_FILTER_KALMAN ? "Kalman"
+                                                 : "paper's",
+            runs);
     const size_t ns[] = {1000, 2000, 5000, 10000};
     double per_track[2][4];
     const char *dens[] = {"density", "area"};

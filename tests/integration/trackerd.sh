@@ -179,11 +179,11 @@ line=$(grep -n '^confirm_m' "$TMP/bad.ini" | cut -d: -f1)
 "$TRACKERD" --exercise "$EX" --params "$TMP/bad.ini" --check >"$TMP/bad.log" 2>&1
 is "$?" 1 "trackerd --check refuses confirm_m above confirm_n"
 check "naming the file, line and key" grep -q "bad.ini:$line: \[association\] confirm_m" "$TMP/bad.log"
-sed 's/^mode = paper$/mode = fast/' "$TMP/tracker.ini" >"$TMP/bad2.ini"
+sed 's/^mode = imm$/mode = fast/' "$TMP/tracker.ini" >"$TMP/bad2.ini"
 "$TRACKERD" --exercise "$EX" --params "$TMP/bad2.ini" --check >"$TMP/bad2.log" 2>&1
 is "$?" 1 "trackerd --check refuses mode = fast"
 line=$(grep -n '^mode' "$TMP/bad2.ini" | cut -d: -f1)
 check "naming the file, line and what it expected" \
-    grep -q "bad2.ini:$line: \[filter\] mode: expected one of 'paper', 'kalman', got 'fast'" "$TMP/bad2.log"
+    grep -q "bad2.ini:$line: \[filter\] mode: expected one of 'paper', 'kalman', 'imm', got 'fast'" "$TMP/bad2.log"
 
 finish

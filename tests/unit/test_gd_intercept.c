@@ -1633,6 +1633,33 @@ static gd_track_t s_confirming_update (gd_v2_t off)
  * at once: the UAV reports 5 m/s (slower than the 10 m/s target: no
  * waypoint), so the intercept shows the reason and plans again on the next
  * UAV update at its real speed. */
+/* Hand-over by the tracker's word: after track 7 is deleted, a track that
+ * `continues` another track (8) does not take over even right on the
+ * prediction (it follows another vehicle); one that continues track 7 does,
+ * even 3 km from the prediction, where the geometric rule would refuse it. */
+static void test_handover_continues (void **state)
+{
+    (void)state;
+    gd_params_t p = s_params ();
+    gd_intercept_t *ic = s_orphaned (&p);
+    gd_track_t other = s_on_line (30, 120, 3);
+    other.continues = 8;
+    other.continues_p = 0.9;
+    gd_intercept_track (ic, &other);
+    assert_int_equal (s_status (ic).track_id, 7);
+    gd_track_t far = s_track (31, 1, 130, -2700 + 3000, 11400, 10, 0);
+    gd_intercept_track (ic, &far); // no word from the tracker, too far: no
+    assert_int_equal (s_status (ic).track_id, 7);
+    far.continues = 7;
+    far.continues_p = 0.8;
+    gd_intercept_track (ic, &far);
+    gd_status_t st = s_status (ic);
+    assert_int_equal (st.track_id, 31);
+    assert_has (st.reason, "track 7 was deleted");
+    assert_int_equal (st.designation_number, 1);
+    gd_intercept_destroy (&ic);
+}
+
 static void test_overflight_refuted_no_plan (void **state)
 {
     (void)state;
@@ -2084,6 +2111,7 @@ int main (void)
         cmocka_unit_test (test_overflight_done),
         cmocka_unit_test (test_deleted_handover),
         cmocka_unit_test (test_handover_born_after),
+        cmocka_unit_test (test_handover_continues),
         cmocka_unit_test (test_overflight_confirm),
         cmocka_unit_test (test_overflight_refuted_no_plan),
         cmocka_unit_test (test_overflight_waiting),

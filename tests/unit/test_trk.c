@@ -53,13 +53,24 @@ static bool s_params_equal (const trk_params_t *a, const trk_params_t *b)
            a->identity_timeout_s == b->identity_timeout_s &&
            a->turn_threshold_deg == b->turn_threshold_deg &&
            a->turn_min_speed_mps == b->turn_min_speed_mps &&
-           a->turn_settle_updates == b->turn_settle_updates;
+           a->turn_settle_updates == b->turn_settle_updates &&
+           memcmp (&a->imm, &b->imm, sizeof a->imm) == 0 && a->radial_update == b->radial_update &&
+           memcmp (&a->detection, &b->detection, sizeof a->detection) == 0 &&
+           a->existence_hit_ratio == b->existence_hit_ratio &&
+           a->delete_existence == b->delete_existence && a->lifetime_s == b->lifetime_s &&
+           a->stopped_lifetime_s == b->stopped_lifetime_s && a->max_sigma_m == b->max_sigma_m &&
+           a->continue_window_s == b->continue_window_s &&
+           a->continue_probability == b->continue_probability &&
+           a->birth_density == b->birth_density;
 }
 
+/* The defaults with the paper's filter: what these tests check (the IMM
+ * tracker, the default, has its own in test_trk_imm.c). */
 static trk_params_t s_defaults (void)
 {
     trk_params_t p;
     trk_params_defaults (&p);
+    p.filter.mode = TRK_FILTER_PAPER;
     return p;
 }
 
@@ -815,9 +826,20 @@ static void test_params (void **state)
     char path[4096], err[512];
     const char *root = getenv ("CGS_ROOT");
     snprintf (path, sizeof path, "%s/deploy/params/tracker.ini", root ? root : ".");
-    trk_params_t d = s_defaults (), f = s_defaults ();
+    trk_params_t d, f;
+    trk_params_defaults (&d);
+    trk_params_defaults (&f);
     // The file names every key, each with its default: change every field and read it back.
     f.filter.mode = TRK_FILTER_KALMAN;
+    f.imm.sigma_mps2[1] = f.imm.stopped_sigma_mps = 7;
+    for (int j = 0; j < TRK_IMM_MODELS; j++)
+        f.imm.sojourn_s[j] = 7;
+    f.radial_update = false;
+    f.detection.pd = f.detection.mdv_along_mps = f.detection.mdv_across_mps = 0.7;
+    f.detection.width_mps = f.detection.min_range_m = f.detection.max_range_m = 7;
+    f.existence_hit_ratio = f.lifetime_s = f.stopped_lifetime_s = f.max_sigma_m = 7;
+    f.delete_existence = f.continue_probability = f.birth_density = 0.7;
+    f.continue_window_s = 7;
     f.measurement_noise = TRK_NOISE_HIT;
     for (size_t off = offsetof (trk_params_t, filter.sigma_meas_m);
          off < offsetof (trk_params_t, measurement_noise); off += sizeof (double))
@@ -829,7 +851,9 @@ static void test_params (void **state)
     f.bcis_sigma_m = f.identity_timeout_s = f.turn_threshold_deg = f.turn_min_speed_mps = 1;
     assert_int_equal (trk_params_load (path, &f, err, sizeof err), 0);
     assert_true (s_params_equal (&f, &d));
+    assert_int_equal (d.filter.mode, TRK_FILTER_IMM); // the default tracker
     assert_near (trk_params_gate (&d), 13.815510558, 1e-6);
+    d = s_defaults ();
     trk_params_t p = s_defaults ();
     assert_int_equal (trk_params_load_string ("t.ini",
                                               "[filter]\nmode = kalman\n"

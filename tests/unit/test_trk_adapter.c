@@ -703,17 +703,26 @@ static void test_deleted_published_once (void **state)
     assert_int_equal (trk_tracker_count (trk_adapter_tracker (f->a)), 0);
 }
 
-/* A target that turns 90 degrees left gives `track.turn`: flagged, then
- * complete with about -90 degrees, at the scan's end time, with the hit's
- * height. */
+/* A target that turns 90 degrees left (on an arc of 30 s) gives
+ * `track.turn`: flagged, then complete with about -90 degrees, at the
+ * scan's end time, with the hit's height. */
 static void test_turn_published (void **state)
 {
     s_fix_t *f = *state;
-    // East at 15 m/s from (-6000, 3000) until t = 91, then north.
+    // East at 15 m/s from (-6000, 3000) until t = 91, then a left turn on
+    // an arc of 30 s (radius 286 m), then north.
+    const double r = 15 * 30 / (S_PI / 2), e1 = -6000 + 15 * 91.0;
     for (uint32_t k = 0; k < 16; k++) {
-        double t = 10.0 * k + 1;
-        s_hit_t h = k <= 9 ? s_target (k + 1, t, -6000, 3000, 15, 0)
-                           : (s_hit_t){k + 1, t, -6000 + 15 * 91.0, 3000 + 15 * (t - 91), 0, 0, 15};
+        double t = 10.0 * k + 1, a = fmin ((t - 91) / 30, 1) * S_PI / 2;
+        s_hit_t h = k <= 9    ? s_target (k + 1, t, -6000, 3000, 15, 0)
+                    : t < 121 ? (s_hit_t){k + 1,
+                                          t,
+                                          e1 + r * sin (a),
+                                          3000 + r * (1 - cos (a)),
+                                          0,
+                                          15 * cos (a),
+                                          15 * sin (a)}
+                              : (s_hit_t){k + 1, t, e1 + r, 3000 + r + 15 * (t - 121), 0, 0, 15};
         h.up_m = 120;
         s_mti (f, 1, k, t, &h, 1);
         s_marker (f, 1, k, 10.0 * k, 10.0 * k + 10);
@@ -721,6 +730,15 @@ static void test_turn_published (void **state)
     const Cgs__Track *t = s_track_of_hit (s_last_batch (f), 16);
     assert_non_null (t);
     assert_int_equal (t->status, CGS__TRACK_STATUS__TRACK_STATUS_CONFIRMED);
+    // The IMM tracker's word on it: its models, existence and the Pd the
+    // radar had of it (clear of the notch: about pd), and no continuation.
+    assert_int_equal (t->n_mode_probabilities, 3);
+    assert_true (fabs (t->mode_probabilities[0] + t->mode_probabilities[1] +
+                       t->mode_probabilities[2] - 1) < 1e-9);
+    assert_true (t->mode_probabilities[2] < 0.1); // not stopped
+    assert_true (t->existence_probability > 0.9 && t->existence_probability <= 1);
+    assert_true (t->detection_probability > 0.8 && t->detection_probability < 0.9);
+    assert_int_equal (t->continues, 0);
     size_t turns = 0, flagged = 0, complete = 0;
     for (size_t i = 0; i < f->npubs; i++) {
         if (strcmp (f->pubs[i].topic, "track.turn") != 0)
