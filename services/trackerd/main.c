@@ -8,6 +8,7 @@
  * this file wires the adapter to the bus and keeps the checkpoint file. */
 #include "cgs_lifecycle.h"
 #include "cgs_log.h"
+#include "cgs_scenario.h"
 #include "cgs_service.h"
 #include "cgs_util.h"
 #include "cgs_state.h"
@@ -34,6 +35,11 @@ typedef struct {
     bool fresh;             // --fresh: ignore the checkpoint
     char checkpoint[4200];
     bool unsaved; // tracks changed since the last checkpoint written
+    // The exercise's scenario and its terrain, when it names one: the IMM
+    // tracker expects nothing of a target the terrain hides.
+    cgs_geo_t *frame;
+    cgs_scenario_t *scenario;
+    cgs_terrain_t *terrain;
 } s_app_t;
 
 /* A message of one of the adapter's topics. */
@@ -310,6 +316,26 @@ static int s_setup (s_app_t *app, char *err, size_t errlen)
         snprintf (err, errlen, "out of memory");
         return -ENOMEM;
     }
+    if (app->params.filter.mode == TRK_FILTER_IMM && *app->svc.scenario) {
+        cgs_geodetic_t o = cgs_exercise_origin (app->svc.exercise);
+        app->frame = cgs_geo_new (o.lat_deg, o.lon_deg, o.height_m);
+        if (!app->frame) {
+            snprintf (err, errlen, "bad exercise origin");
+            return -EINVAL;
+        }
+        int rc =
+            cgs_scenario_load (app->svc.scenario, app->frame, cgs_exercise_seed (app->svc.exercise),
+                               &app->scenario, err, errlen);
+        if (rc == 0)
+            rc = cgs_scenario_terrain (app->scenario, app->frame, &app->terrain, err, errlen);
+        if (rc < 0)
+            return rc;
+        trk_tracker_set_terrain (trk_adapter_tracker (app->adapter), app->terrain);
+        cgs_log (LOG_INFO, "terrain of %s: a target it hides from a radar is not expected seen",
+                 app->svc.scenario);
+    } else if (app->params.filter.mode == TRK_FILTER_IMM) {
+        cgs_log (LOG_INFO, "no scenario named: no terrain in the expected detection probability");
+    }
     if (cgs_state_path (app->checkpoint, sizeof app->checkpoint, app->svc.state_dir,
                         app->svc.instance_name) < 0 ||
         strlen (app->checkpoint) + 8 > sizeof app->checkpoint) {
@@ -389,6 +415,9 @@ int main (int argc, char **argv)
              (unsigned long long)st->turns, (unsigned long long)st->bcis_marks);
 done:
     trk_adapter_destroy (&app.adapter);
+    cgs_terrain_destroy (&app.terrain);
+    cgs_scenario_destroy (&app.scenario);
+    cgs_geo_destroy (&app.frame);
     cgs_service_fini (&app.svc);
     return exit_code;
 }

@@ -32,6 +32,12 @@ double trk_pd_of (const trk_pd_params_t *p, const trk_pd_radar_t *r, const doubl
     if (!(ground >= p->min_range_m && ground <= p->max_range_m) || !(slant > 0) ||
         !trk_pd_covered (r, x[0], x[1]))
         return 0;
+    if (r->terrain) {
+        cgs_enu_t a = {r->position[0], r->position[1], r->position[2]};
+        cgs_enu_t b = {x[0], x[1], cgs_terrain_height_clamped (r->terrain, x[0], x[1]) + 2};
+        if (!cgs_terrain_los (r->terrain, a, b))
+            return 0; // behind the hill
+    }
     // Radial velocity over the ground: the target's velocity along the unit
     // line of sight (its ground part, ground / slant long).
     double ue = de / slant, un = dn / slant;

@@ -18,10 +18,14 @@
  * swept, Pd is zero. The defaults are measured on mtid's chain at its
  * default parameters, the UAV 1200 m up and the target 8 km away: 50%
  * points 1.0 m/s along and 1.8 m/s across, an edge of about 0.3 m/s, 0.87
- * clear of the notch. Terrain and foliage masking are not modelled here.
- * Pure: no logging, no globals. */
+ * clear of the notch. Where the radar's terrain is known, a target the
+ * terrain hides (the line from the antenna to 2 m above the ground at the
+ * target cut, as mtid models it) has Pd zero; foliage is not modelled (it
+ * does not hide targets from mtid either). Pure: no logging, no globals. */
 #ifndef TRK_PD_H
 #define TRK_PD_H
+
+#include "cgs_terrain.h"
 
 #include <stdbool.h>
 
@@ -42,6 +46,7 @@ typedef struct {
     bool full_revolution;
     double sector_center_deg; // clockwise from north (sector scans)
     double sector_width_deg;
+    const cgs_terrain_t *terrain; // the ground the radar looks over (borrowed; NULL: none)
 } trk_pd_radar_t;
 
 /* The MDV at angle alpha_rad between the platform's velocity and the line

@@ -104,8 +104,9 @@ struct trk_tracker {
     // IMM: confirmed tracks deleted lately, which a new track may continue.
     trk_track_t *lost;
     size_t lost_count, lost_cap;
-    trk_pd_radar_t radar; // the radar during the scan being processed
-    double clutter_ln;    // ln of its false alarm density per m² (IMM costs)
+    trk_pd_radar_t radar;         // the radar during the scan being processed
+    const cgs_terrain_t *terrain; // borrowed: what the radars look over (NULL: none)
+    double clutter_ln;            // ln of its false alarm density per m² (IMM costs)
 };
 
 static int s_grow (void **p, size_t *cap, size_t need, size_t size)
@@ -858,9 +859,10 @@ static int s_popcount (uint32_t v)
 }
 
 /* The radar during a scan, as trk_pd sees it. */
-static trk_pd_radar_t s_radar (const trk_scan_t *scan)
+static trk_pd_radar_t s_radar (const trk_scan_t *scan, const cgs_terrain_t *terrain)
 {
     return (trk_pd_radar_t){
+        .terrain = terrain,
         .position = {scan->platform[0], scan->platform[1], scan->platform_up_m},
         .velocity = {scan->platform_velocity[0], scan->platform_velocity[1]},
         .full_revolution = scan->full_revolution,
@@ -872,7 +874,7 @@ static trk_pd_radar_t s_radar (const trk_scan_t *scan)
 /* Whether a sector scan covered a position. */
 static bool s_covered (const trk_scan_t *scan, double e, double n)
 {
-    trk_pd_radar_t r = s_radar (scan);
+    trk_pd_radar_t r = s_radar (scan, NULL);
     return trk_pd_covered (&r, e, n);
 }
 
@@ -928,7 +930,7 @@ static bool s_upkeep_imm (trk_tracker_t *self, trk_track_t *t, const s_hit_t *h,
                           const trk_scan_t *scan, trk_scan_out_t *out)
 {
     const trk_params_t *p = &self->p;
-    trk_pd_radar_t radar = s_radar (scan);
+    trk_pd_radar_t radar = s_radar (scan, self->terrain);
     double mid = (scan->start_s + scan->end_s) / 2;
     if (!h) {
         trk_estimate_t pe;
@@ -1305,11 +1307,16 @@ static int s_reserve (trk_tracker_t *self, size_t nh)
     return 0;
 }
 
+void trk_tracker_set_terrain (trk_tracker_t *self, const cgs_terrain_t *terrain)
+{
+    self->terrain = terrain;
+}
+
 int trk_tracker_scan (trk_tracker_t *self, const trk_scan_t *scan, const trk_hit_t *hits, size_t n,
                       trk_scan_out_t *ret)
 {
     trk_scan_out_t out = {0};
-    self->radar = s_radar (scan);
+    self->radar = s_radar (scan, self->terrain);
     {
         // The false alarm density: the radar's count over the ground it
         // swept (the range window, the sector).

@@ -18,6 +18,7 @@
 #define TRK_TRACKER_H
 
 #include "cgs_geo.h"
+#include "cgs_terrain.h"
 #include "trk_filter.h"
 #include "trk_imm.h"
 #include "trk_params.h"
@@ -157,6 +158,11 @@ void trk_tracker_destroy (trk_tracker_t **self_p);
 const trk_params_t *trk_tracker_params (const trk_tracker_t *self);
 /* The paper's gains per axis, computed once from the parameters. */
 const trk_gains_t *trk_tracker_gains (const trk_tracker_t *self);
+
+/* The ground the radars look over (borrowed, may be NULL: none), for the
+ * IMM tracker's expected detection probability: a target the terrain hides
+ * from the radar is not expected to be seen. */
+void trk_tracker_set_terrain (trk_tracker_t *self, const cgs_terrain_t *terrain);
 
 /* Process one scan of one radar and its hits (a hit with a non-finite field
  * is skipped and counted as not a hit). 0, or -ENOMEM (the tracks are as

@@ -1,6 +1,7 @@
 /* The default tracker (trackerd's `mode = imm`) against theory and worked
  * cases: the expected detection probability in and out of the clutter
- * notch, against the closed form and against mtid's own chain; the IMM's
+ * notch, against the closed form and against mtid's own chain, and behind
+ * a ridge; the IMM's
  * mixing against a case worked by hand; the mode probabilities switching to
  * "stopped" within two scans of a halt, and the track surviving the halt;
  * a target crossing the radar's line of sight (in the notch) coasting
@@ -160,6 +161,34 @@ static void test_pd_notch_closed_form (void **state)
     assert_true (trk_pd_of (d, &r, x, away, 0) == 0);
     r.sector_center_deg = 10;
     assert_near (trk_pd_of (d, &r, x, away, 0), d->pd, 1e-6);
+}
+
+/* Terrain: a ridge 1 km high across the line of sight, 4 km north of the
+ * radar, hides a target 8 km north (Pd zero); the same target 8 km east,
+ * clear of the ridge, keeps its Pd; without the terrain the ridge is not
+ * known. */
+static void test_pd_terrain_masking (void **state)
+{
+    (void)state;
+    trk_params_t p = s_defaults ();
+    enum { C = 101, R = 101 };
+    static float h[C * R];
+    for (int r = 0; r < R; r++)
+        for (int c = 0; c < C; c++) {
+            double n = -10000 + 200.0 * r, e = -10000 + 200.0 * c;
+            h[r * C + c] = (float)((fabs (n - 4000) < 300 && e > -2000 && e < 2000) ? 1000 : 0);
+        }
+    cgs_terrain_t *ter = cgs_terrain_new_grid (C, R, -10000, -10000, 200, h);
+    assert_non_null (ter);
+    trk_pd_radar_t r = s_pd_radar ();
+    double north[3] = {0, 8000, 0}, east[3] = {8000, 0, 0};
+    double away_n[2] = {0, 12}, away_e[2] = {12, 0};
+    assert_near (trk_pd_of (&p.detection, &r, north, away_n, 0), p.detection.pd, 1e-6);
+    r.terrain = ter;
+    assert_true (trk_pd_of (&p.detection, &r, north, away_n, 0) == 0);
+    double pd_e = trk_pd_of (&p.detection, &r, east, away_e, 0);
+    assert_true (pd_e > 0.8 * p.detection.pd);
+    cgs_terrain_destroy (&ter);
 }
 
 /* The tracker's expectation against mtid's chain itself (the default radar,
@@ -681,6 +710,7 @@ int main (void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test (test_pd_notch_closed_form),
+        cmocka_unit_test (test_pd_terrain_masking),
         cmocka_unit_test (test_pd_against_mtid_chain),
         cmocka_unit_test (test_imm_mixing_worked_example),
         cmocka_unit_test (test_imm_update),

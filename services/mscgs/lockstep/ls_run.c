@@ -205,6 +205,7 @@ static int s_build (s_run_t *r, char *err, size_t errlen)
             cgs_port_t port = ls_bus_port (ls_bus_source (r->bus, in->name));
             if (!(r->trk = trk_adapter_new (&p, &port)))
                 return -ENOMEM;
+            trk_tracker_set_terrain (trk_adapter_tracker (r->trk), uavsim_world_terrain (r->world));
             if ((rc = s_subscribe (r, trk_adapter_topics, s_to_trk, r->trk)) < 0)
                 return rc;
         } else if (strcmp (in->program, "guidanced") == 0 && !r->gd) {
