@@ -318,6 +318,7 @@ static void s_publish_tracks (trk_adapter_t *self, const trk_scan_t *scan,
         m.scan_number = scan->scan_number;
         m.batch_index = (uint32_t)b;
         m.batch_count = (uint32_t)batches;
+        m.links_continuation = trk_tracker_params (self->trk)->filter.mode == TRK_FILTER_IMM;
         size_t lo = b * TRK_ADAPTER_BATCH_TRACKS;
         m.n_tracks = n - lo < TRK_ADAPTER_BATCH_TRACKS ? n - lo : TRK_ADAPTER_BATCH_TRACKS;
         m.tracks = n ? &self->tptr[lo] : NULL;

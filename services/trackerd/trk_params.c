@@ -44,7 +44,9 @@ void trk_params_defaults (trk_params_t *p)
         .radial_update = true,
         .detection =
             {
-                .pd = 0.87,
+                .pd = 0.995,
+                .half_range_m = 11800,
+                .range_exponent = 4.9,
                 .mdv_along_mps = 1.0,
                 .mdv_across_mps = 1.8,
                 .width_mps = 0.3,
@@ -53,7 +55,7 @@ void trk_params_defaults (trk_params_t *p)
                 .max_range_m = 20000,
             },
         .false_alarms_per_scan = 5,
-        .existence_hit_ratio = 20,
+        .hypotheses = 16,
         .delete_existence = 0.1,
         .lifetime_s = 3600,
         .stopped_lifetime_s = 120,
@@ -85,13 +87,14 @@ static const cgs_config_real_t s_reals[] = {
     S_R ("filter", "maneuver_sojourn_s", imm.sojourn_s[1], 0.1, 1e6),
     S_R ("filter", "stopped_sojourn_s", imm.sojourn_s[2], 0.1, 1e6),
     S_R ("detection", "pd", detection.pd, 0.01, 1),
+    S_R ("detection", "half_range_m", detection.half_range_m, 1, 1e7),
+    S_R ("detection", "range_exponent", detection.range_exponent, 0.1, 40),
     S_R ("detection", "mdv_along_mps", detection.mdv_along_mps, 0, 1000),
     S_R ("detection", "mdv_across_mps", detection.mdv_across_mps, 0, 1000),
     S_R ("detection", "mdv_width_mps", detection.width_mps, 0.001, 1000),
     S_R ("detection", "min_range_m", detection.min_range_m, 0, 1e7),
     S_R ("detection", "max_range_m", detection.max_range_m, 1, 1e7),
     S_R ("detection", "false_alarms_per_scan", false_alarms_per_scan, 1e-6, 1e7),
-    S_R ("association", "existence_hit_ratio", existence_hit_ratio, 1, 1e9),
     S_R ("association", "delete_existence", delete_existence, 1e-6, 0.9),
     S_R ("association", "lifetime_s", lifetime_s, 1, 1e9),
     S_R ("association", "stopped_lifetime_s", stopped_lifetime_s, 1, 1e9),
@@ -111,6 +114,7 @@ static const cgs_config_int_t s_ints[] = {
     {"association", "confirm_n", offsetof (trk_params_t, confirm_n), 1, 32},
     {"association", "delete_misses", offsetof (trk_params_t, delete_misses), 1, 1000},
     {"association", "history_scans", offsetof (trk_params_t, history_scans), 1, TRK_HISTORY_MAX},
+    {"association", "hypotheses", offsetof (trk_params_t, hypotheses), 1, 1000},
     {"turn", "settle_updates", offsetof (trk_params_t, turn_settle_updates), 0, 1000},
 };
 

@@ -47,7 +47,7 @@ typedef struct {
     bool radial_update;           // the filter takes the hits' radial velocity too
     trk_pd_params_t detection;    // what the radar can see ([detection]; span: radial_span_mps)
     double false_alarms_per_scan; // when the radar does not say (clutter density of the costs)
-    double existence_hit_ratio;   // a hit in the gate: this much likelier the target's than clutter
+    int hypotheses;               // joint association hypotheses weighed per cluster (k best)
     double delete_existence;      // a confirmed track whose existence falls below this is deleted
     double lifetime_s;            // mean time a moving target stays in the scene
     double stopped_lifetime_s;    // ... a stopped one, unseen, is believed to

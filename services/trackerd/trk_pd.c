@@ -11,6 +11,13 @@ double trk_pd_mdv (const trk_pd_params_t *p, double alpha_rad)
     return sqrt (a * a + (c * c - a * a) * s * s);
 }
 
+double trk_pd_at_range (const trk_pd_params_t *p, double r_m)
+{
+    if (!(p->half_range_m > 0))
+        return p->pd;
+    return p->pd / (1 + pow (fmax (r_m, 0.0) / p->half_range_m, p->range_exponent));
+}
+
 bool trk_pd_covered (const trk_pd_radar_t *r, double e, double n)
 {
     if (r->full_revolution || !(r->sector_width_deg < 360))
@@ -51,5 +58,5 @@ double trk_pd_of (const trk_pd_params_t *p, const trk_pd_radar_t *r, const doubl
     }
     double w = sqrt (p->width_mps * p->width_mps + sigma_vr * sigma_vr);
     double z = (fabs (vr) - trk_pd_mdv (p, alpha)) / w;
-    return p->pd * 0.5 * erfc (-z / sqrt (2.0));
+    return trk_pd_at_range (p, slant) * 0.5 * erfc (-z / sqrt (2.0));
 }

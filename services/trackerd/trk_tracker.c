@@ -21,6 +21,7 @@
  *     history trimmed to the last scans. */
 #include "trk_tracker.h"
 #include "trk_assign.h"
+#include "trk_kbest.h"
 
 #include <errno.h>
 #include <math.h>
@@ -37,6 +38,7 @@
 #define S_SHARE_MIN    0.01  // IMM: least share of a hit's likelihood a track may take it with
 #define S_CLOSE_GATE2  9.2103 // IMM: χ²₂ at 0.99: a hit this close to a confirmed track starts none
 #define S_CLOSE_GATE3  11.345 // χ²₃ at 0.99, with the radial velocity
+#define S_KBEST_TRACKS 12     // IMM: a cluster of more tracks weighs its best hypothesis alone
 
 /* A hit of the scan being processed. */
 typedef struct {
@@ -71,6 +73,7 @@ struct trk_tracker {
     size_t count, cap;
     uint32_t next_id;
     trk_assign_t *assign;
+    trk_kbest_t *kbest; // IMM: the k best hypotheses of a cluster
     // Scan workspace, reused.
     s_hit_t *hits;
     size_t hit_cap;
@@ -87,6 +90,10 @@ struct trk_tracker {
     size_t uf_cap;
     size_t *assigned; // per track: assigned hit, or SIZE_MAX
     size_t assigned_cap;
+    double *miss_beta; // IMM, per track: the probability it had no hit this scan
+    size_t miss_beta_cap;
+    double *beta; // one cluster's association probabilities
+    size_t beta_cap;
     size_t *act; // indices of the scanned radar's tracks
     size_t act_cap;
     double *cost; // one cluster's matrix
@@ -145,7 +152,8 @@ trk_tracker_t *trk_tracker_new (const trk_params_t *p)
     self->tau = cos (p->turn_threshold_deg * S_PI / 180);
     self->next_id = 1;
     self->assign = trk_assign_new ();
-    if (!self->assign)
+    self->kbest = trk_kbest_new ();
+    if (!self->assign || !self->kbest)
         goto fail;
     return self;
 fail:
@@ -159,6 +167,9 @@ void trk_tracker_destroy (trk_tracker_t **self_p)
         return;
     trk_tracker_t *self = *self_p;
     trk_assign_destroy (&self->assign);
+    trk_kbest_destroy (&self->kbest);
+    free (self->miss_beta);
+    free (self->beta);
     free (self->tracks);
     free (self->hits);
     free (self->cell_keys);
@@ -402,11 +413,12 @@ static void s_model_pd (const trk_tracker_t *self, const trk_pd_radar_t *r, cons
  * velocity are gated together, with their covariance, and nothing is added
  * for manoeuvres: the manoeuvre model is there for them. The costs are
  * likelihood ratios against the radar's false alarm density λ (Bar-Shalom's
- * assignment costs): −2 ln(Σ_j c_j pd_j N(ν_j; S_j) / λ) for the pair,
- * −2 ln(1 − Pd) for leaving the track without a hit, Pd = Σ_j c_j pd_j its
- * detection probability; so a model the radar could not have seen (stopped,
- * in the notch) takes no hit it could not have made, and a track the radar
- * could hardly see is better left without a hit than given a stranger's. */
+ * assignment costs, with the track's existence probability r as in JIPDA):
+ * −2 ln(r Σ_j c_j pd_j N(ν_j; S_j) / λ) for the pair, −2 ln(1 − r Pd) for
+ * leaving the track without a hit, Pd = Σ_j c_j pd_j its detection
+ * probability; so a model the radar could not have seen (stopped, in the
+ * notch) takes no hit it could not have made, and a track the radar could
+ * hardly see is better left without a hit than given a stranger's. */
 static void s_try_pair_imm (trk_tracker_t *self, size_t ti, size_t hi)
 {
     const trk_track_t *t = &self->tracks[self->act[ti]];
@@ -414,8 +426,12 @@ static void s_try_pair_imm (trk_tracker_t *self, size_t ti, size_t hi)
     const trk_params_t *p = &self->p;
     trk_meas_t m;
     s_meas (self, h, p->radial_velocity, &m);
-    double gate = m.has_radial ? self->gate3 : self->gate, pd0 = p->detection.pd;
-    double d2, ld, cost, miss;
+    const double *ra = self->radar.position;
+    double pd0 = trk_pd_at_range (&p->detection,
+                                  sqrt (pow (h->h.z[0] - ra[0], 2) + pow (h->h.z[1] - ra[1], 2) +
+                                        pow (h->h.up_m - ra[2], 2)));
+    double gate = m.has_radial ? self->gate3 : self->gate;
+    double d2, ld, cost, miss, r = fmin (fmax (t->existence, 1e-6), 0.999);
     bool close = false;
     trk_estimate_t pr;
     double ln_lambda = self->clutter_ln + (m.has_radial ? -log (s_radial_span (self)) : 0);
@@ -425,8 +441,8 @@ static void s_try_pair_imm (trk_tracker_t *self, size_t ti, size_t hi)
         d2 = trk_meas_distance (&pr, &m, &ld);
         if (d2 < 0 || d2 > gate)
             return;
-        cost = d2 + ld + k_ln_2pi - 2 * log (pd0) + 2 * ln_lambda;
-        miss = -2 * log (1 - fmin (pd0, 0.999));
+        cost = d2 + ld + k_ln_2pi - 2 * log (r * pd0) + 2 * ln_lambda;
+        miss = -2 * log (1 - r * pd0);
     } else {
         trk_imm_t mp;
         s_imm_predict (self, t, h->h.t_s, &mp);
@@ -459,8 +475,8 @@ static void s_try_pair_imm (trk_tracker_t *self, size_t ti, size_t hi)
         for (int j = 0; j < TRK_IMM_MODELS; j++)
             if (isfinite (lj[j]))
                 sum += mp.mu[j] * pd[j] * exp (-0.5 * (lj[j] - best));
-        cost = best + k_ln_2pi - 2 * log (fmax (sum, 1e-300)) + 2 * ln_lambda;
-        miss = -2 * log (1 - fmin (pd_all, 0.999));
+        cost = best + k_ln_2pi - 2 * log (fmax (r * sum, 1e-300)) + 2 * ln_lambda;
+        miss = -2 * log (1 - r * pd_all);
     }
     s_pair_t *pp = &self->pairs[self->pair_count++];
     pp->track = ti;
@@ -615,11 +631,38 @@ static int s_cmp_pair (const void *a, const void *b)
     return x->hit < y->hit ? -1 : x->hit > y->hit;
 }
 
+/* The IMM tracker's cluster (matrix c of its k tracks, m hits and k "no
+ * hit" columns): its best hypothesis is the assignment; the k best,
+ * weighed, give each track the probability that it had no hit. */
+static int s_solve_cluster_imm (trk_tracker_t *self, const double *c, size_t k, size_t m)
+{
+    size_t cols = m + k;
+    size_t want = k <= S_KBEST_TRACKS ? (size_t)self->p.hypotheses : 1;
+    int n = trk_kbest_solve (self->kbest, c, k, cols, want, S_FORBIDDEN);
+    if (n < 0)
+        return n;
+    if (n == 0)
+        return 0; // cannot happen: every track may go without a hit
+    if (s_grow ((void **)&self->beta, &self->beta_cap, k * cols, sizeof *self->beta) < 0)
+        return -ENOMEM;
+    trk_kbest_marginals (self->kbest, (size_t)n, k, cols, self->beta);
+    for (size_t r = 0; r < k; r++) {
+        self->miss_beta[self->ctracks[r]] = self->beta[r * cols + m + r];
+        size_t j = trk_kbest_column (self->kbest, 0, r);
+        if (j >= m)
+            continue; // left without a hit
+        self->assigned[self->ctracks[r]] = self->chits[j];
+        self->hits[self->chits[j]].track = self->ctracks[r];
+    }
+    return 0;
+}
+
 /* Solve one cluster: work[lo..hi). */
 static int s_solve_cluster (trk_tracker_t *self, size_t lo, size_t hi, trk_scan_out_t *out)
 {
     size_t np = hi - lo;
-    if (np == 1) { // one track, one hit
+    bool imm = self->p.filter.mode == TRK_FILTER_IMM;
+    if (np == 1 && !imm) { // one track, one hit
         const s_pair_t *pp = &self->work[lo];
         if (isfinite (pp->miss) && !(pp->cost < pp->miss))
             return 0; // better left without it
@@ -670,6 +713,8 @@ static int s_solve_cluster (trk_tracker_t *self, size_t lo, size_t hi, trk_scan_
         if (*slot == S_FORBIDDEN || miss > *slot)
             *slot = miss;
     }
+    if (imm)
+        return s_solve_cluster_imm (self, c, k, m);
     int rc = trk_assign_solve (self->assign, c, k, cols, self->col, NULL);
     if (rc < 0)
         return rc;
@@ -751,7 +796,9 @@ static int s_associate (trk_tracker_t *self, size_t nt, size_t nh, trk_scan_out_
         self->pair_count = kept;
     }
     int rc = s_pass (self, nt, nh, false, out);
-    return rc < 0 ? rc : s_pass (self, nt, nh, true, out);
+    if (rc < 0 || self->p.filter.mode == TRK_FILTER_IMM)
+        return rc; // IMM: one pass (its pairs carry no allowance)
+    return s_pass (self, nt, nh, true, out);
 }
 
 /* ---- track upkeep ----------------------------------------------------------------- */
@@ -924,10 +971,11 @@ static double s_sigma_max (const trk_estimate_t *e)
     return sqrt (s_lambda_max (e->P[0], e->P[1], e->P[5]));
 }
 
-/* One scan's outcome for a track of the IMM tracker: hit h (or NULL).
- * Returns false when the track is to be deleted. */
+/* One scan's outcome for a track of the IMM tracker: hit h (or NULL), the
+ * best hypothesis's; miss_beta, the probability over the weighed hypotheses
+ * that it had none. Returns false when the track is to be deleted. */
 static bool s_upkeep_imm (trk_tracker_t *self, trk_track_t *t, const s_hit_t *h,
-                          const trk_scan_t *scan, trk_scan_out_t *out)
+                          double miss_beta, const trk_scan_t *scan, trk_scan_out_t *out)
 {
     const trk_params_t *p = &self->p;
     trk_pd_radar_t radar = s_radar (scan, self->terrain);
@@ -972,6 +1020,7 @@ static bool s_upkeep_imm (trk_tracker_t *self, trk_track_t *t, const s_hit_t *h,
             s_meas (self, h, p->radial_velocity && p->radial_update, &m);
             if (trk_imm_update (&pr, &m, pd, NULL) < 0) {
                 h = NULL; // a covariance gone bad: a miss, not a hit
+                miss_beta = 1;
             } else {
                 // No ground vehicle is faster than max_speed_mps: a model's
                 // velocity beyond it is projected back onto that bound (the
@@ -986,20 +1035,18 @@ static bool s_upkeep_imm (trk_tracker_t *self, trk_track_t *t, const s_hit_t *h,
                 t->imm = pr;
                 trk_imm_combine (&t->imm, &t->est);
                 t->updates++;
-                // A hit where the radar expected none still shows the target
-                // is there: its detection probability counts as at least half
-                // the radar's.
-                double q = fmax (pd_all, p->detection.pd / 2) * p->existence_hit_ratio;
-                e = e * q / (e * q + 1 - e);
             }
         }
         if (!h) {
             trk_imm_miss (&pr, pd);
             t->imm = pr;
             trk_imm_combine (&t->imm, &t->est);
-            e = e * (1 - pd_all) / (1 - e * pd_all);
             out->missed++;
         }
+        // Existence (JIPDA): certain in the hypotheses that give the track a
+        // hit; in those that give it none, what a miss leaves of it.
+        double beta0 = fmin (fmax (miss_beta, 0.0), 1.0);
+        e = (1 - beta0) + beta0 * e * (1 - pd_all) / (1 - e * pd_all);
         t->existence = fmin (0.999, e);
     }
     int got = s_count (self, t, h, scan, out);
@@ -1191,14 +1238,15 @@ static void s_continue_old (trk_tracker_t *self, const trk_track_t *old, trk_sca
         self->lost[self->lost_count++] = *old;
 }
 
-/* One scan's outcome for a track: hit h (or NULL). Returns false when the
- * track is to be deleted. */
-static bool s_upkeep (trk_tracker_t *self, trk_track_t *t, const s_hit_t *h, const trk_scan_t *scan,
-                      trk_scan_out_t *out)
+/* One scan's outcome for a track: hit h (or NULL); miss_beta, the
+ * probability that it had no hit (IMM). Returns false when the track is to
+ * be deleted. */
+static bool s_upkeep (trk_tracker_t *self, trk_track_t *t, const s_hit_t *h, double miss_beta,
+                      const trk_scan_t *scan, trk_scan_out_t *out)
 {
     const trk_params_t *p = &self->p;
     if (p->filter.mode == TRK_FILTER_IMM)
-        return s_upkeep_imm (self, t, h, scan, out);
+        return s_upkeep_imm (self, t, h, miss_beta, scan, out);
     if (!h) {
         double mid = (scan->start_s + scan->end_s) / 2;
         double e = t->est.x[0] + t->est.x[2] * (mid - t->est.t_s);
@@ -1298,7 +1346,8 @@ static int s_reserve (trk_tracker_t *self, size_t nh)
     if (s_grow ((void **)&self->hits, &self->hit_cap, nh, sizeof *self->hits) < 0 ||
         s_grow ((void **)&self->hit_next, &self->hit_next_cap, nh, sizeof *self->hit_next) < 0 ||
         s_grow ((void **)&self->act, &self->act_cap, nt + 1, sizeof *self->act) < 0 ||
-        s_grow ((void **)&self->assigned, &self->assigned_cap, nt + 1, sizeof *self->assigned) < 0)
+        s_grow ((void **)&self->assigned, &self->assigned_cap, nt + 1, sizeof *self->assigned) < 0 ||
+        s_grow ((void **)&self->miss_beta, &self->miss_beta_cap, nt + 1, sizeof *self->miss_beta) < 0)
         return -ENOMEM;
     if (s_grow ((void **)&self->tracks, &self->cap, nt + nh, sizeof *self->tracks) < 0 ||
         s_grow ((void **)&self->turns, &self->turn_cap, nt + 1, sizeof *self->turns) < 0 ||
@@ -1364,8 +1413,10 @@ int trk_tracker_scan (trk_tracker_t *self, const trk_scan_t *scan, const trk_hit
         if (t->uav_id == scan->uav_id && !(t->est.t_s > scan_end + S_TIME_SLACK_S))
             self->act[nt++] = i;
     }
-    for (size_t i = 0; i < nt; i++)
+    for (size_t i = 0; i < nt; i++) {
         self->assigned[i] = SIZE_MAX;
+        self->miss_beta[i] = 1; // no hit in its gate
+    }
     s_grid_build (self, nh);
     if ((rc = s_gate (self, nt, nh, t_lo, t_hi, r_max)) < 0)
         goto nomem;
@@ -1377,7 +1428,7 @@ int trk_tracker_scan (trk_tracker_t *self, const trk_scan_t *scan, const trk_hit
     for (size_t ti = nt; ti-- > 0;) { // backwards: a death moves the last track into its slot
         size_t idx = self->act[ti];
         const s_hit_t *h = self->assigned[ti] == SIZE_MAX ? NULL : &self->hits[self->assigned[ti]];
-        if (!s_upkeep (self, &self->tracks[idx], h, scan, &out)) {
+        if (!s_upkeep (self, &self->tracks[idx], h, self->miss_beta[ti], scan, &out)) {
             bool was_confirmed = self->tracks[idx].status != TRK_TENTATIVE;
             s_kill (self, idx, &out);
             if (was_confirmed && self->p.filter.mode == TRK_FILTER_IMM)

@@ -56,7 +56,7 @@ static bool s_params_equal (const trk_params_t *a, const trk_params_t *b)
            a->turn_settle_updates == b->turn_settle_updates &&
            memcmp (&a->imm, &b->imm, sizeof a->imm) == 0 && a->radial_update == b->radial_update &&
            memcmp (&a->detection, &b->detection, sizeof a->detection) == 0 &&
-           a->existence_hit_ratio == b->existence_hit_ratio &&
+           a->hypotheses == b->hypotheses &&
            a->delete_existence == b->delete_existence && a->lifetime_s == b->lifetime_s &&
            a->stopped_lifetime_s == b->stopped_lifetime_s && a->max_sigma_m == b->max_sigma_m &&
            a->continue_window_s == b->continue_window_s &&
@@ -837,7 +837,9 @@ static void test_params (void **state)
     f.radial_update = false;
     f.detection.pd = f.detection.mdv_along_mps = f.detection.mdv_across_mps = 0.7;
     f.detection.width_mps = f.detection.min_range_m = f.detection.max_range_m = 7;
-    f.existence_hit_ratio = f.lifetime_s = f.stopped_lifetime_s = f.max_sigma_m = 7;
+    f.detection.half_range_m = f.detection.range_exponent = 7;
+    f.hypotheses = 7;
+    f.lifetime_s = f.stopped_lifetime_s = f.max_sigma_m = 7;
     f.delete_existence = f.continue_probability = f.birth_density = 0.7;
     f.continue_window_s = 7;
     f.measurement_noise = TRK_NOISE_HIT;

@@ -731,13 +731,14 @@ static void test_turn_published (void **state)
     assert_non_null (t);
     assert_int_equal (t->status, CGS__TRACK_STATUS__TRACK_STATUS_CONFIRMED);
     // The IMM tracker's word on it: its models, existence and the Pd the
-    // radar had of it (clear of the notch: about pd), and no continuation.
+    // radar had of it (clear of the notch, a few km away: near pd), and no
+    // continuation.
     assert_int_equal (t->n_mode_probabilities, 3);
     assert_true (fabs (t->mode_probabilities[0] + t->mode_probabilities[1] +
                        t->mode_probabilities[2] - 1) < 1e-9);
     assert_true (t->mode_probabilities[2] < 0.1); // not stopped
     assert_true (t->existence_probability > 0.9 && t->existence_probability <= 1);
-    assert_true (t->detection_probability > 0.8 && t->detection_probability < 0.9);
+    assert_true (t->detection_probability > 0.8 && t->detection_probability < 1);
     assert_int_equal (t->continues, 0);
     size_t turns = 0, flagged = 0, complete = 0;
     for (size_t i = 0; i < f->npubs; i++) {

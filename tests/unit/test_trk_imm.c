@@ -8,7 +8,8 @@
  * through instead of dying; the filter's consistency (NEES and NIS of
  * straight-line targets inside their 95% chi-square bands, Monte Carlo);
  * identity carried to a new track after a deletion; two crossing targets;
- * the checkpoint of the models. */
+ * the checkpoint of the models; the existence of two tracks that share one
+ * hit, weighed over the k best joint hypotheses (JIPDA). */
 #include "mti_radar.h"
 #include "trk_imm.h"
 #include "trk_params.h"
@@ -105,15 +106,21 @@ static trk_pd_radar_t s_pd_radar (void)
                             .full_revolution = true};
 }
 
-/* Pd of a target at ground range 8 km in direction az_deg, radial velocity
- * vr (over the ground, along the slant line of sight), sigma_vr 0. */
-static double s_pd_at (const trk_params_t *p, double az_deg, double vr)
+/* Pd of a target at ground range g (8 km unless said) in direction az_deg,
+ * radial velocity vr (over the ground, along the slant line of sight),
+ * sigma_vr 0. */
+static double s_pd_at_range (const trk_params_t *p, double az_deg, double vr, double g)
 {
     trk_pd_radar_t r = s_pd_radar ();
-    double az = az_deg * S_PI / 180, g = 8000, slant = hypot (g, 1200);
+    double az = az_deg * S_PI / 180, slant = hypot (g, 1200);
     double x[3] = {g * sin (az), g * cos (az), 0};
     double v[2] = {vr * slant / g * sin (az), vr * slant / g * cos (az)};
     return trk_pd_of (&p->detection, &r, x, v, 0);
+}
+
+static double s_pd_at (const trk_params_t *p, double az_deg, double vr)
+{
+    return s_pd_at_range (p, az_deg, vr, 8000);
 }
 
 static void test_pd_notch_closed_form (void **state)
@@ -121,6 +128,16 @@ static void test_pd_notch_closed_form (void **state)
     (void)state;
     trk_params_t p = s_defaults ();
     const trk_pd_params_t *d = &p.detection;
+    // Clear of the notch, by slant range: pd near, half of it at
+    // half_range, pd / (1 + 2^k) at twice that.
+    assert_near (trk_pd_at_range (d, 0), d->pd, 1e-12);
+    assert_near (trk_pd_at_range (d, d->half_range_m), d->pd / 2, 1e-12);
+    assert_near (trk_pd_at_range (d, 2 * d->half_range_m), d->pd / (1 + pow (2, d->range_exponent)),
+                 1e-12);
+    // The targets below are 8 km from the radar along the ground, 1200 m
+    // under it: pd8 clear of the notch.
+    const double pd8 = trk_pd_at_range (d, hypot (8000, 1200));
+    assert_true (pd8 > 0.8 && pd8 < 0.9);
     // The MDV across the platform's motion and along it.
     assert_near (trk_pd_mdv (d, S_PI / 2), d->mdv_across_mps, 1e-12);
     assert_near (trk_pd_mdv (d, 0), d->mdv_along_mps, 1e-12);
@@ -131,26 +148,26 @@ static void test_pd_notch_closed_form (void **state)
     // North of the radar (across its motion): half of pd at the MDV, none
     // at rest, all of pd well clear, none at the blind speed.
     assert_true (s_pd_at (&p, 0, 0) < 1e-6);
-    assert_near (s_pd_at (&p, 0, d->mdv_across_mps), d->pd / 2, 1e-9);
-    assert_near (s_pd_at (&p, 0, -d->mdv_across_mps), d->pd / 2, 1e-9);
-    assert_near (s_pd_at (&p, 0, 8), d->pd, 1e-6);
+    assert_near (s_pd_at (&p, 0, d->mdv_across_mps), pd8 / 2, 1e-9);
+    assert_near (s_pd_at (&p, 0, -d->mdv_across_mps), pd8 / 2, 1e-9);
+    assert_near (s_pd_at (&p, 0, 8), pd8, 1e-6);
     assert_true (s_pd_at (&p, 0, d->span_mps) < 1e-6);
-    assert_near (s_pd_at (&p, 0, d->span_mps + 8), d->pd, 1e-6);
+    assert_near (s_pd_at (&p, 0, d->span_mps + 8), pd8, 1e-6);
     // One standard deviation of the edge above the MDV: pd Φ(1).
-    assert_near (s_pd_at (&p, 0, d->mdv_across_mps + d->width_mps), d->pd * 0.841344746068543,
+    assert_near (s_pd_at (&p, 0, d->mdv_across_mps + d->width_mps), pd8 * 0.841344746068543,
                  1e-9);
     // East of it (along its motion): the narrower notch.
-    assert_near (s_pd_at (&p, 90, d->mdv_along_mps), d->pd / 2, 1e-9);
-    assert_true (s_pd_at (&p, 90, 2.2) > 0.85 * d->pd);
+    assert_near (s_pd_at (&p, 90, d->mdv_along_mps), pd8 / 2, 1e-9);
+    assert_true (s_pd_at (&p, 90, 2.2) > 0.85 * pd8);
     // A vehicle driving across the line of sight is in the notch.
     trk_pd_radar_t r = s_pd_radar ();
     double x[3] = {0, 8000, 0}, across[2] = {12, 0}, away[2] = {0, 12};
     assert_true (trk_pd_of (d, &r, x, across, 0) < 1e-6);
-    assert_near (trk_pd_of (d, &r, x, away, 0), d->pd, 1e-6);
+    assert_near (trk_pd_of (d, &r, x, away, 0), pd8, 1e-6);
     // An uncertain radial velocity at the edge: the same half, a wider edge.
     assert_near (
         trk_pd_of (d, &r, x, (double[2]){0, d->mdv_across_mps * hypot (8000, 1200) / 8000}, 1.0),
-        d->pd / 2, 1e-9);
+        pd8 / 2, 1e-9);
     // Outside the range window, and outside the sector swept: nothing.
     double far[3] = {0, 25000, 0}, near[3] = {0, 300, 0};
     assert_true (trk_pd_of (d, &r, far, away, 0) == 0);
@@ -160,7 +177,7 @@ static void test_pd_notch_closed_form (void **state)
     r.sector_width_deg = 90;
     assert_true (trk_pd_of (d, &r, x, away, 0) == 0);
     r.sector_center_deg = 10;
-    assert_near (trk_pd_of (d, &r, x, away, 0), d->pd, 1e-6);
+    assert_near (trk_pd_of (d, &r, x, away, 0), pd8, 1e-6);
 }
 
 /* Terrain: a ridge 1 km high across the line of sight, 4 km north of the
@@ -183,16 +200,18 @@ static void test_pd_terrain_masking (void **state)
     trk_pd_radar_t r = s_pd_radar ();
     double north[3] = {0, 8000, 0}, east[3] = {8000, 0, 0};
     double away_n[2] = {0, 12}, away_e[2] = {12, 0};
-    assert_near (trk_pd_of (&p.detection, &r, north, away_n, 0), p.detection.pd, 1e-6);
+    double pd8 = trk_pd_at_range (&p.detection, hypot (8000, 1200));
+    assert_near (trk_pd_of (&p.detection, &r, north, away_n, 0), pd8, 1e-6);
     r.terrain = ter;
     assert_true (trk_pd_of (&p.detection, &r, north, away_n, 0) == 0);
     double pd_e = trk_pd_of (&p.detection, &r, east, away_e, 0);
-    assert_true (pd_e > 0.8 * p.detection.pd);
+    assert_true (pd_e > 0.8 * pd8);
     cgs_terrain_destroy (&ter);
 }
 
 /* The tracker's expectation against mtid's chain itself (the default radar,
- * flat ground): the dwell detection rate of a target at several radial
+ * flat ground): the dwell detection rate of a target at several ranges
+ * (4 to 14 km, clear of the notch) and, at 8 km, at several radial
  * velocities, across and along the platform's motion. */
 static void test_pd_against_mtid_chain (void **state)
 {
@@ -205,10 +224,12 @@ static void test_pd_against_mtid_chain (void **state)
     uint32_t D = mti_radar_dwells_per_scan (radar);
     double worst = 0;
     const struct {
-        double az_deg, vr;
-    } cases[] = {{20, 0.5}, {20, 2.2}, {20, 4}, {20, 10}, {70, 0.5}, {70, 1.5}, {70, 6}};
+        double az_deg, vr, R;
+    } cases[] = {{20, 0.5, 8000},  {20, 2.2, 8000},   {20, 4, 8000},     {20, 10, 8000},
+                 {70, 0.5, 8000},  {70, 1.5, 8000},   {70, 6, 8000},     {20, 10, 4000},
+                 {20, 10, 10000},  {20, 10, 12000},   {20, 10, 14000}};
     for (size_t c = 0; c < sizeof cases / sizeof cases[0]; c++) {
-        double az = cases[c].az_deg * S_PI / 180, R = 8000, vr = cases[c].vr;
+        double az = cases[c].az_deg * S_PI / 180, R = cases[c].R, vr = cases[c].vr;
         int seen = 0, det = 0;
         for (int s = 0; s < 120; s++)
             for (uint32_t k = 0; k < D; k++) {
@@ -229,9 +250,10 @@ static void test_pd_against_mtid_chain (void **state)
                 }
             }
         assert_true (seen >= 100);
-        double measured = (double)det / seen, expected = s_pd_at (&p, cases[c].az_deg, vr);
-        print_message ("az %2.0f deg, v_r %4.1f m/s: mtid %.3f (%d dwells), tracker expects %.3f\n",
-                       cases[c].az_deg, vr, measured, seen, expected);
+        double measured = (double)det / seen, expected = s_pd_at_range (&p, cases[c].az_deg, vr, R);
+        print_message ("az %2.0f deg, v_r %4.1f m/s, %2.0f km: mtid %.3f (%d dwells), tracker "
+                       "expects %.3f\n",
+                       cases[c].az_deg, vr, R / 1000, measured, seen, expected);
         worst = fmax (worst, fabs (measured - expected));
     }
     assert_true (worst <= 0.15);
@@ -483,8 +505,10 @@ static void test_nees_nis_straight (void **state)
     trk_params_t p = s_defaults ();
     // The truth's velocity is a random walk (σ_mod over 400 s takes it past
     // any ground vehicle's speed now and then): the speed bound, which is
-    // not the model, stays out of the way.
-    p.max_speed_mps = 1000;
+    // not the model, stays out of the way (100 m/s, beyond seven standard
+    // deviations of the walk; it also sizes a one-hit track's gate, which at 1000 m/s
+    // would hold so much ground that a second hit in it is no evidence).
+    p.max_speed_mps = 100;
     enum { RUNS = 100, SCANS = 40, SKIP = 8 };
     double nees[SCANS] = {0}, nis[SCANS] = {0}, nis_mix[SCANS] = {0};
     uint64_t rng = 21;
@@ -706,6 +730,57 @@ static void test_crossing_keeps_ids (void **state)
     assert_int_equal (swaps, 0);
 }
 
+/* JIPDA on two tracks and one hit between them: two vehicles side by side
+ * (80 m apart, 10 m/s north), both seen for eight scans, then unseen for
+ * four (their existence falls), then one hit midway. With the best
+ * hypothesis alone (hypotheses = 1) one track takes the hit and is certain
+ * again, the other counts a miss; weighing the k best, each track had the
+ * hit with probability about one half, and both end between those two
+ * values, close to each other (the noise makes them not quite symmetric). */
+static void s_shared_hit (int hypotheses, double ex[2])
+{
+    trk_params_t p = s_defaults ();
+    p.hypotheses = hypotheses;
+    trk_tracker_t *t = trk_tracker_new (&p);
+    uint64_t rng = 5;
+    uint32_t k = 0;
+    for (; k < 12; k++) {
+        double tk = 10.0 * k + 5, n = 6000 + 10 * tk;
+        trk_hit_t h[2] = {s_hit (2 * k + 1, tk, 3000, n, 0, 10, 10, &rng),
+                          s_hit (2 * k + 2, tk + 0.1, 3080, n, 0, 10, 10, &rng)};
+        s_run (t, k, h, k < 8 ? 2 : 0);
+    }
+    assert_int_equal (trk_tracker_count (t), 2);
+    double tk = 10.0 * k + 5;
+    trk_hit_t mid = s_hit (99, tk, 3040, 6000 + 10 * tk, 0, 10, 0, &rng);
+    s_run (t, k, &mid, 1);
+    assert_int_equal (trk_tracker_count (t), 2);
+    for (int i = 0; i < 2; i++)
+        ex[i] = trk_tracker_at (t, (size_t)i)->existence;
+    if (ex[0] > ex[1]) {
+        double x = ex[0];
+        ex[0] = ex[1];
+        ex[1] = x;
+    }
+    trk_tracker_destroy (&t);
+}
+
+static void test_shared_hit_existence (void **state)
+{
+    (void)state;
+    double hard[2], soft[2];
+    s_shared_hit (1, hard);
+    s_shared_hit (16, soft);
+    print_message ("# existence after a shared hit: best hypothesis %.3f and %.3f, "
+                   "16 best %.3f and %.3f\n",
+                   hard[0], hard[1], soft[0], soft[1]);
+    assert_true (hard[1] >= 0.99);
+    assert_true (hard[0] < 0.7);
+    for (int i = 0; i < 2; i++)
+        assert_true (soft[i] > hard[0] + 0.1 && soft[i] < hard[1] - 0.1);
+    assert_true (soft[1] - soft[0] < 0.1);
+}
+
 int main (void)
 {
     const struct CMUnitTest tests[] = {
@@ -719,6 +794,7 @@ int main (void)
         cmocka_unit_test (test_nees_nis_straight),
         cmocka_unit_test (test_continuation),
         cmocka_unit_test (test_crossing_keeps_ids),
+        cmocka_unit_test (test_shared_hit_existence),
     };
     return cmocka_run_group_tests (tests, NULL, NULL);
 }
