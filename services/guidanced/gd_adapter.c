@@ -266,6 +266,19 @@ static bool s_track_from_msg (const Cgs__Track *m, double t_s, gd_track_t *ret)
     ret->last_hit_s = isfinite (m->last_hit_time_s) ? m->last_hit_time_s : NAN;
     ret->continues = m->continues;
     ret->continues_p = isfinite (m->continues_probability) ? m->continues_probability : 0;
+    // Covariance: 4 × 4 row-major over (east, north, v_east, v_north).
+    const double *P = m->covariance;
+    ret->has_cov = m->n_covariance == 16 && isfinite (P[0]) && isfinite (P[1]) &&
+                   isfinite (P[5]) && isfinite (P[10]) && isfinite (P[11]) && isfinite (P[15]) &&
+                   P[0] >= 0 && P[5] >= 0 && P[10] >= 0 && P[15] >= 0;
+    if (ret->has_cov) {
+        ret->pos_cov[0] = P[0];
+        ret->pos_cov[1] = P[1];
+        ret->pos_cov[2] = P[5];
+        ret->vel_cov[0] = P[10];
+        ret->vel_cov[1] = P[11];
+        ret->vel_cov[2] = P[15];
+    }
     size_t n = m->n_history, skip = n > GD_HISTORY_MAX ? n - GD_HISTORY_MAX : 0;
     ret->history_count = 0;
     for (size_t k = skip; k < n; k++) {
@@ -350,6 +363,7 @@ static void s_on_track (gd_adapter_t *self, const Cgs__TrackBatch *b, const Cgs_
             cgs_port_bad_input (&self->port, "a track without an id, a valid position or velocity");
             continue;
         }
+        tr.linked = b->links_continuation;
         for (size_t k = 0; k < self->uav_count; k++)
             gd_intercept_track (self->uavs[k].core, &tr);
         if (tr.status == 3) {

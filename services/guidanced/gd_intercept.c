@@ -159,6 +159,40 @@ static bool s_target_dir (const gd_intercept_t *self, gd_v2_t vel, gd_v2_t *ret)
     return true;
 }
 
+/* The variance of a covariance c (east², east·north, north²) along unit u. */
+static double s_var_along (const double c[3], gd_v2_t u)
+{
+    return fmax (0.0, u.e * u.e * c[0] + 2 * u.e * u.n * c[1] + u.n * u.n * c[2]);
+}
+
+/* The standard deviation of t's direction of motion, degrees (0 when its
+ * covariance is unknown): its velocity's spread across the velocity,
+ * over the speed. */
+static double s_dir_sigma_deg (const gd_track_t *t)
+{
+    double v = gd_norm (t->vel);
+    if (!t->has_cov || !(v > 0))
+        return 0;
+    gd_v2_t across = gd_v2 (-t->vel.n / v, t->vel.e / v);
+    return fmin (180.0, sqrt (s_var_along (t->vel_cov, across)) / v / S_DEG);
+}
+
+/* Is a change of the target's direction by turned degrees, or of its
+ * distance off the planned line by off metres, one to re-plan on: beyond
+ * the threshold and beyond `significance` standard deviations of t? */
+static bool s_turned (const gd_intercept_t *self, const gd_track_t *t, double turned)
+{
+    return turned > self->p.threshold_deg && turned > self->p.significance * s_dir_sigma_deg (t);
+}
+
+static bool s_left_line (const gd_intercept_t *self, const gd_track_t *t, double off)
+{
+    double sigma = 0;
+    if (t->has_cov)
+        sigma = sqrt (s_var_along (t->pos_cov, gd_v2 (self->wp.dir.n, -self->wp.dir.e)));
+    return off > self->p.offset_m && off > self->p.significance * sigma;
+}
+
 /* Angle between two unit vectors, degrees. */
 static double s_angle (gd_v2_t a, gd_v2_t b)
 {
@@ -515,7 +549,13 @@ static bool s_near_prediction (const gd_intercept_t *self, const gd_track_t *ref
     return gd_norm (gd_sub (p, at)) <= self->p.handover_m + self->p.handover_growth_mps * age;
 }
 
-/* A new track of the designated target after its own was deleted: a
+/* A new track of the designated target after its own was deleted: the one
+ * the tracker says continues it. A tracker that links successors itself
+ * (the IMM tracker: `links_continuation`) has weighed every new track
+ * against the deleted one with its motion models; one it did not link is
+ * another vehicle as far as it can tell, and nearness alone (a column's
+ * next vehicle is near) does not make it the target. From a tracker that
+ * does not link: a
  * confirmed or coasting one with a credible velocity, not older than the
  * loss, whose first hit or present position is where the target could be
  * (s_near_prediction of the trusted estimate, or of a held one). Its age
@@ -535,6 +575,8 @@ static bool s_takes_over (const gd_intercept_t *self, const gd_track_t *t)
         return true; // the tracker says it is the same target
     if (t->continues != 0)
         return false; // the tracker says it continues another track: another vehicle
+    if (t->linked)
+        return false; // the tracker, which links successors, names none: another vehicle
     const gd_track_t *refs[2] = {&self->track, self->holding ? &self->held : NULL};
     bool whole = t->hits > 0 && t->hits <= t->history_count;
     if (t->hits > 0 && isfinite (self->track.last_hit_s) &&
@@ -691,7 +733,7 @@ void gd_intercept_track (gd_intercept_t *self, const gd_track_t *t)
     gd_v2_t target = s_target_at (self, self->have_uav ? self->uav.t_s : t->t_s);
     double turned = moving ? s_angle (self->wp.dir, dir) : 0;
     char why[128];
-    if (turned > self->p.threshold_deg) {
+    if (s_turned (self, t, turned)) {
         snprintf (why, sizeof why, "the target's direction changed by %.0f°", turned);
         s_replan (self, why);
         return;
@@ -718,7 +760,7 @@ void gd_intercept_track (gd_intercept_t *self, const gd_track_t *t)
         return;
     double x, y;
     gd_to_target_frame (self->wp.meet, self->wp.dir, target, &x, &y);
-    if (fabs (x) > self->p.offset_m) {
+    if (s_left_line (self, t, fabs (x))) {
         snprintf (why, sizeof why, "the target left the planned line by %.0f m", fabs (x));
         s_replan (self, why);
         return;
@@ -743,7 +785,9 @@ void gd_intercept_turn (gd_intercept_t *self, uint32_t track_id, double t_s, gd_
     if (!s_target_dir (self, vel_after, &dir) || gd_norm (vel_after) > self->p.max_target_speed_mps)
         return;
     double turned = s_angle (self->wp.dir, dir);
-    if (turned <= self->p.threshold_deg)
+    gd_track_t after = self->track;
+    after.vel = vel_after;
+    if (!s_turned (self, &after, turned))
         return;
     // The filter's velocity after the turn, from the latest position.
     self->track.pos = s_target_at (self, t_s);

@@ -89,6 +89,10 @@ typedef struct {
     double last_hit_s;  // time of its newest hit (NaN: unknown)
     uint32_t continues; // the deleted track whose target the tracker says this one is (0: none)
     double continues_p; // with this probability
+    bool linked;        // its tracker links successors itself: no continues, no successor
+    bool has_cov;       // the covariances below are known
+    double pos_cov[3];  // position covariance: east², east·north, north² (m²)
+    double vel_cov[3];  // velocity covariance, the same ((m/s)²)
 } gd_track_t;
 
 typedef enum {

@@ -28,6 +28,7 @@ typedef struct {
     // [replan]
     double threshold_deg; // re-plan when the target's direction changed by more
     double offset_m;      // re-plan when the target left the planned line by more
+    double significance;  // ... and by more than this many of the track's standard deviations
     // [approach]
     double align_deg;           // on final approach: heading within this of the target's reverse
     double lost_after_s;        // no update of the designated track for this long: lost

@@ -607,6 +607,61 @@ static void test_route_timing (void **state)
 
 /* ---- re-planning --------------------------------------------------------------------------- */
 
+/* Re-planning weighs the track's own uncertainty (`significance`, 2
+ * standard deviations): a 30° change of direction from a track whose
+ * direction is uncertain by 20° (velocity σ across it 3.64 m/s at 10 m/s:
+ * 10·tan 20°) is noise and changes nothing; the same change from a track
+ * sure of its direction (σ 0.1 m/s: 0.6°) re-plans. Likewise 200 m off the
+ * planned line with a position σ across it of 150 m does not; with 20 m
+ * it does. significance = 0 re-plans on any change beyond the thresholds. */
+static void test_replan_significance (void **state)
+{
+    (void)state;
+    gd_params_t p = s_params ();
+    assert_true (p.significance == 2);
+    const double vague = pow (10 * tan (20 * DEG), 2), sure = 0.01;
+    gd_v2_t v30 = s_vel (10, 120);
+    for (int k = 0; k < 3; k++) {
+        gd_params_t q = p;
+        if (k == 2)
+            q.significance = 0;
+        gd_intercept_t *ic = s_crossing (&q, 7);
+        gd_track_t t = s_track (7, 1, 102, -2980, 11400, v30.e, v30.n);
+        t.has_cov = true;
+        double var = k == 1 ? sure : vague;
+        t.vel_cov[0] = t.vel_cov[2] = var;
+        t.pos_cov[0] = t.pos_cov[2] = 400;
+        gd_intercept_track (ic, &t);
+        gd_status_t st = s_status (ic);
+        if (k == 0) {
+            assert_int_equal (st.replans, 0);
+            assert_int_equal (gd_intercept_task (ic)->number, 1);
+        } else {
+            assert_int_equal (st.replans, 1);
+            assert_has (st.reason, "direction changed by 30");
+        }
+        gd_intercept_destroy (&ic);
+    }
+    // Off the line: the plan's direction is east (s_crossing), so 200 m
+    // north of where the target should be at 101 s is 200 m across it.
+    for (int k = 0; k < 2; k++) {
+        gd_intercept_t *ic = s_crossing (&p, 7);
+        gd_track_t t = s_track (7, 1, 101, -2990, 11600, 10, 0);
+        t.has_cov = true;
+        t.vel_cov[0] = t.vel_cov[2] = sure;
+        t.pos_cov[0] = t.pos_cov[2] = k == 0 ? 150 * 150 : 20 * 20;
+        gd_intercept_track (ic, &t);
+        gd_status_t st = s_status (ic);
+        if (k == 0) {
+            assert_int_equal (st.replans, 0);
+        } else {
+            assert_int_equal (st.replans, 1);
+            assert_has (st.reason, "left the planned line");
+        }
+        gd_intercept_destroy (&ic);
+    }
+}
+
 /* On the crossing geometry (plan direction east, 90°): a track update at
  * 10° (heading 100°) keeps the plan; one at 30° (120°) makes a new plan whose
  * waypoint lies 1200 m along the new direction from P_T + V_T·t_pred; a turn
@@ -1635,14 +1690,28 @@ static gd_track_t s_confirming_update (gd_v2_t off)
  * UAV update at its real speed. */
 /* Hand-over by the tracker's word: after track 7 is deleted, a track that
  * `continues` another track (8) does not take over even right on the
- * prediction (it follows another vehicle); one that continues track 7 does,
- * even 3 km from the prediction, where the geometric rule would refuse it. */
+ * prediction (it follows another vehicle); nor does one right there that
+ * names no track from a tracker that links successors itself (the IMM
+ * tracker's `links_continuation`), though the same track from a tracker
+ * that does not link takes over by nearness; one that continues track 7
+ * does, even 3 km from the prediction, where the geometric rule would
+ * refuse it. */
 static void test_handover_continues (void **state)
 {
     (void)state;
     gd_params_t p = s_params ();
     gd_intercept_t *ic = s_orphaned (&p);
+    gd_track_t near = s_on_line (32, 120, 3);
+    near.linked = true;
+    gd_intercept_track (ic, &near);
+    assert_int_equal (s_status (ic).track_id, 7);
+    gd_intercept_t *ic2 = s_orphaned (&p);
+    near.linked = false;
+    gd_intercept_track (ic2, &near);
+    assert_int_equal (s_status (ic2).track_id, 32);
+    gd_intercept_destroy (&ic2);
     gd_track_t other = s_on_line (30, 120, 3);
+    other.linked = true;
     other.continues = 8;
     other.continues_p = 0.9;
     gd_intercept_track (ic, &other);
@@ -1652,6 +1721,7 @@ static void test_handover_continues (void **state)
     assert_int_equal (s_status (ic).track_id, 7);
     far.continues = 7;
     far.continues_p = 0.8;
+    far.linked = true;
     gd_intercept_track (ic, &far);
     gd_status_t st = s_status (ic);
     assert_int_equal (st.track_id, 31);
@@ -2099,6 +2169,7 @@ int main (void)
         cmocka_unit_test (test_standing_target),
         cmocka_unit_test (test_route_timing),
         cmocka_unit_test (test_replan_on_direction_change),
+        cmocka_unit_test (test_replan_significance),
         cmocka_unit_test (test_hold_after_coast),
         cmocka_unit_test (test_hold_replaced),
         cmocka_unit_test (test_hold_not_without_coast),

@@ -29,6 +29,7 @@ static const char *const s_keys[][2] = {
     {"plan", "max_target_speed_mps"},
     {"replan", "threshold_deg"},
     {"replan", "offset_m"},
+    {"replan", "significance"},
     {"approach", "align_deg"},
     {"approach", "lost_after_s"},
     {"approach", "handover_m"},
@@ -55,6 +56,7 @@ static void s_assert_equal (const gd_params_t *a, const gd_params_t *b)
     S_SAME (max_target_speed_mps);
     S_SAME (threshold_deg);
     S_SAME (offset_m);
+    S_SAME (significance);
     S_SAME (align_deg);
     S_SAME (lost_after_s);
     S_SAME (handover_m);
@@ -104,6 +106,7 @@ static void test_defaults (void **state)
     assert_true (p.max_target_speed_mps == 30);
     assert_true (p.threshold_deg == 20);
     assert_true (p.offset_m == 150);
+    assert_true (p.significance == 2);
     assert_true (p.align_deg == 20);
     assert_true (p.lost_after_s == 300);
     assert_true (p.handover_m == 400);
@@ -163,6 +166,7 @@ static void test_values (void **state)
             "[replan]\n"
             "threshold_deg = 30\n"
             "offset_m = 100\n"
+            "significance = 0.5\n"
             "[approach]\n"
             "align_deg = 10\n"
             "lost_after_s = 120\n"
@@ -185,6 +189,7 @@ static void test_values (void **state)
         .max_target_speed_mps = 40,
         .threshold_deg = 30,
         .offset_m = 100,
+        .significance = 0.5,
         .align_deg = 10,
         .lost_after_s = 120,
         .handover_m = 250,

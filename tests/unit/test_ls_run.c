@@ -43,11 +43,16 @@ static int s_setup (void **state)
     FILE *f = fopen (scenario, "w");
     if (!f)
         return -1;
+    // The target drives east until after the UAV's second pass (about
+    // 1000 s): the head-on plan made at designation, a tail chase of 10 km,
+    // passes beside it the first time and images it the second; a target
+    // that halts at its route's end as the UAV comes round is the stop-go
+    // family's case, not this test's.
     fprintf (f, "[terrain]\nsize_m = 24000\nresolution_m = 60\nrelief_m = 0\nbase_height_m = 100\n"
                 "[uav uav1]\nposition = -6000 -1800\naltitude_agl_m = 1200\nairspeed_mps = 38\n"
                 "heading_deg = 90\nloiter_center = -6000 0\nloiter_radius_m = 1800\n"
                 "[vehicle target]\nforce = unknown\nkind = wheeled\nspeed_mps = 10\n"
-                "point = 0 2000\npoint = 9000 2000\n"
+                "point = 0 2000\npoint = 11000 2000\n"
                 "[vehicle friend]\nforce = friendly\nkind = wheeled\nbcis_transponder = yes\n"
                 "speed_mps = 8\npoint = 0 -4000\npoint = -3000 -7000\n"
                 "[operator]\ndesignate = unknown nearest 600 2000 at 60\n");
