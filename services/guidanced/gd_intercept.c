@@ -552,10 +552,10 @@ static bool s_near_prediction (const gd_intercept_t *self, const gd_track_t *ref
 /* A new track of the designated target after its own was deleted: the one
  * the tracker says continues it. A tracker that links successors itself
  * (the IMM tracker: `links_continuation`) has weighed every new track
- * against the deleted one with its motion models; one it did not link is
- * another vehicle as far as it can tell, and nearness alone (a column's
- * next vehicle is near) does not make it the target. From a tracker that
- * does not link: a
+ * against the deleted one with its motion models; with `handover = links`
+ * one it did not link is another vehicle as far as it can tell, and
+ * nearness alone (a column's next vehicle is near) does not make it the
+ * target. Otherwise (the default, and from a tracker that does not link): a
  * confirmed or coasting one with a credible velocity, not older than the
  * loss, whose first hit or present position is where the target could be
  * (s_near_prediction of the trusted estimate, or of a held one). Its age
@@ -575,7 +575,7 @@ static bool s_takes_over (const gd_intercept_t *self, const gd_track_t *t)
         return true; // the tracker says it is the same target
     if (t->continues != 0)
         return false; // the tracker says it continues another track: another vehicle
-    if (t->linked)
+    if (t->linked && self->p.handover == GD_HANDOVER_LINKS)
         return false; // the tracker, which links successors, names none: another vehicle
     const gd_track_t *refs[2] = {&self->track, self->holding ? &self->held : NULL};
     bool whole = t->hits > 0 && t->hits <= t->history_count;

@@ -24,6 +24,7 @@ void gd_params_defaults (gd_params_t *p)
         .lost_after_s = 300,
         .handover_m = 400,
         .handover_growth_mps = 20,
+        .handover = GD_HANDOVER_LINKS,
         .confirm_margin_m = 0,
         .pick_radius_m = 2000,
         .max_range_m = 20000,
@@ -66,6 +67,11 @@ int gd_params_check (const gd_params_t *p, char *err, size_t errlen)
         key = "timing";
         snprintf (msg, sizeof msg, "expected route or arc, got %d", (int)p->timing);
     }
+    if (!key && p->handover != GD_HANDOVER_NEAR && p->handover != GD_HANDOVER_LINKS) {
+        sec = "approach";
+        key = "handover";
+        snprintf (msg, sizeof msg, "expected near or links, got %d", (int)p->handover);
+    }
     return key ? cgs_config_value_error (NULL, sec, key, msg, err, errlen) : 0;
 }
 
@@ -80,6 +86,12 @@ static int s_read (cgs_config_t *cfg, void *arg, char *err, size_t errlen)
     if (rc == 0)
         rc = cgs_config_get_enum (cfg, "plan", "timing", timings, timing, &timing, err, errlen);
     p.timing = (gd_timing_t)timing;
+    static const char *const handovers[] = {"near", "links", NULL};
+    int handover = (int)p.handover;
+    if (rc == 0)
+        rc = cgs_config_get_enum (cfg, "approach", "handover", handovers, handover, &handover, err,
+                                  errlen);
+    p.handover = (gd_handover_t)handover;
     if (rc == 0)
         rc = cgs_config_check_unused (cfg, err, errlen);
     if (rc < 0)

@@ -15,6 +15,13 @@ typedef enum {
     GD_TIMING_ARC = 1,   // the paper's equation 1: the arc straight to the target
 } gd_timing_t;
 
+/* Who may take over a deleted designated track from a tracker that links
+ * successors itself (TrackBatch.links_continuation). */
+typedef enum {
+    GD_HANDOVER_NEAR,  // its links first, then a new track near the prediction
+    GD_HANDOVER_LINKS, // its links alone
+} gd_handover_t;
+
 typedef struct {
     // [plan]
     gd_timing_t timing;
@@ -34,6 +41,7 @@ typedef struct {
     double lost_after_s;        // no update of the designated track for this long: lost
     double handover_m;          // a deleted track's target is taken up by a new track this near
     double handover_growth_mps; // ... plus this much per second since its last update
+    gd_handover_t handover;     // near: nearness hands over too; links: a linking tracker's word alone
     double confirm_margin_m;    // an overflight counts when the target's hit, carried back to
                                 // it, lies within this of the footprint
     // [designation]

@@ -1690,26 +1690,29 @@ static gd_track_t s_confirming_update (gd_v2_t off)
  * UAV update at its real speed. */
 /* Hand-over by the tracker's word: after track 7 is deleted, a track that
  * `continues` another track (8) does not take over even right on the
- * prediction (it follows another vehicle); nor does one right there that
- * names no track from a tracker that links successors itself (the IMM
- * tracker's `links_continuation`), though the same track from a tracker
- * that does not link takes over by nearness; one that continues track 7
- * does, even 3 km from the prediction, where the geometric rule would
- * refuse it. */
+ * prediction (it follows another vehicle); with `handover = links` nor does
+ * one right there that names no track from a tracker that links successors
+ * itself (the IMM tracker's `links_continuation`; the default), though the
+ * same track takes over by nearness with `handover = near` or from a
+ * tracker that does not link; one that continues track 7 does, even 3 km
+ * from the prediction, where the geometric rule would refuse it. */
 static void test_handover_continues (void **state)
 {
     (void)state;
     gd_params_t p = s_params ();
-    gd_intercept_t *ic = s_orphaned (&p);
+    assert_int_equal (p.handover, GD_HANDOVER_LINKS);
     gd_track_t near = s_on_line (32, 120, 3);
-    near.linked = true;
-    gd_intercept_track (ic, &near);
-    assert_int_equal (s_status (ic).track_id, 7);
-    gd_intercept_t *ic2 = s_orphaned (&p);
-    near.linked = false;
-    gd_intercept_track (ic2, &near);
-    assert_int_equal (s_status (ic2).track_id, 32);
-    gd_intercept_destroy (&ic2);
+    for (int k = 0; k < 3; k++) {
+        gd_params_t q = p;
+        q.handover = k == 0 ? GD_HANDOVER_NEAR : GD_HANDOVER_LINKS;
+        gd_intercept_t *ic2 = s_orphaned (&q);
+        near.linked = k != 2;
+        gd_intercept_track (ic2, &near);
+        assert_int_equal (s_status (ic2).track_id, k == 1 ? 7 : 32);
+        gd_intercept_destroy (&ic2);
+    }
+    p.handover = GD_HANDOVER_LINKS;
+    gd_intercept_t *ic = s_orphaned (&p);
     gd_track_t other = s_on_line (30, 120, 3);
     other.linked = true;
     other.continues = 8;

@@ -34,6 +34,7 @@ static const char *const s_keys[][2] = {
     {"approach", "lost_after_s"},
     {"approach", "handover_m"},
     {"approach", "handover_growth_mps"},
+    {"approach", "handover"},
     {"approach", "confirm_margin_m"},
     {"designation", "pick_radius_m"},
     {"footprint", "max_range_m"},
@@ -61,6 +62,7 @@ static void s_assert_equal (const gd_params_t *a, const gd_params_t *b)
     S_SAME (lost_after_s);
     S_SAME (handover_m);
     S_SAME (handover_growth_mps);
+    S_SAME (handover);
     S_SAME (confirm_margin_m);
     S_SAME (pick_radius_m);
     S_SAME (max_range_m);
@@ -111,6 +113,7 @@ static void test_defaults (void **state)
     assert_true (p.lost_after_s == 300);
     assert_true (p.handover_m == 400);
     assert_true (p.handover_growth_mps == 20);
+    assert_int_equal (p.handover, GD_HANDOVER_LINKS);
     assert_true (p.confirm_margin_m == 0);
     assert_true (p.pick_radius_m == 2000);
     assert_true (p.max_range_m == 20000);
@@ -172,6 +175,7 @@ static void test_values (void **state)
             "lost_after_s = 120\n"
             "handover_m = 250\n"
             "handover_growth_mps = 12.5\n"
+            "handover = near\n"
             "confirm_margin_m = 30\n"
             "[designation]\n"
             "pick_radius_m = 800\n"
@@ -194,6 +198,7 @@ static void test_values (void **state)
         .lost_after_s = 120,
         .handover_m = 250,
         .handover_growth_mps = 12.5,
+        .handover = GD_HANDOVER_NEAR,
         .confirm_margin_m = 30,
         .pick_radius_m = 800,
         .max_range_m = 9000,
