@@ -81,6 +81,7 @@ publish = ipc://$TMP/trackerd.pub
 [service guidanced]
 publish = ipc://$TMP/guidanced.pub
 command = ipc://$TMP/guidanced.cmd
+params = guidance.ini
 
 [service imagerd.uav1]
 publish = ipc://$TMP/imagerd.pub
@@ -162,6 +163,13 @@ EOF
     printf '[network]\nport = %d\nmode = unicast\npeer = 127.0.0.1:%d\nbind = 127.0.0.1\n' \
         "$gwport" "$((gwport + 2))" >"$TMP/gateway.ini"
     printf '[http]\nport = %d\n' "$HTTP_PORT" >"$TMP/station.ini"
+    # The hand-over by nearness as well as by the tracker's links: the
+    # tracker still ends the track of a vehicle that halts and turns back at
+    # its road's end and links no successor, and these tests judge the
+    # services' recovery, not that (the default, links alone, is measured
+    # by make montecarlo).
+    sed -e 's/^handover = links$/handover = near/' "$CGS_ROOT/deploy/params/guidance.ini" >"$TMP/guidance.ini"
+    grep -q '^handover = near$' "$TMP/guidance.ini" || echo "fault: guidance.ini has no 'handover = links' line to change" >&2
 }
 
 # svc_start INSTANCE TAG: start it (log INSTANCE-TAG.log), its pid in PID.
