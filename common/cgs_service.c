@@ -519,6 +519,41 @@ static void s_port_error (void *arg, const char *why)
     cgs_health_set_error (svc->health, why);
 }
 
+int cgs_service_load_scene (const cgs_service_t *svc, cgs_geo_t **ret_frame,
+                            cgs_scenario_t **ret_scenario, cgs_terrain_t **ret_terrain, char *err,
+                            size_t errlen)
+{
+    *ret_frame = NULL;
+    *ret_scenario = NULL;
+    *ret_terrain = NULL;
+    if (!*svc->scenario) {
+        snprintf (err, errlen, "no scenario: give --scenario FILE or `scenario =` in %s",
+                  svc->exercise_path);
+        return -EINVAL;
+    }
+    cgs_geodetic_t o = cgs_exercise_origin (svc->exercise);
+    cgs_geo_t *frame = cgs_geo_new (o.lat_deg, o.lon_deg, o.height_m);
+    if (!frame) {
+        snprintf (err, errlen, "%s: the exercise origin is not usable", svc->exercise_path);
+        return -EINVAL;
+    }
+    cgs_scenario_t *sc = NULL;
+    cgs_terrain_t *ter = NULL;
+    int rc = cgs_scenario_load (svc->scenario, frame, cgs_exercise_seed (svc->exercise), &sc, err,
+                                errlen);
+    if (rc == 0)
+        rc = cgs_scenario_terrain (sc, frame, &ter, err, errlen);
+    if (rc < 0) {
+        cgs_scenario_destroy (&sc);
+        cgs_geo_destroy (&frame);
+        return rc;
+    }
+    *ret_frame = frame;
+    *ret_scenario = sc;
+    *ret_terrain = ter;
+    return 0;
+}
+
 cgs_port_t cgs_service_port (cgs_service_t *svc)
 {
     return (cgs_port_t){

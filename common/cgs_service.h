@@ -24,6 +24,7 @@
 #include "cgs_health.h"
 #include "cgs_loop.h"
 #include "cgs_port.h"
+#include "cgs_scenario.h"
 
 #include <stdbool.h>
 
@@ -119,6 +120,15 @@ int cgs_service_publish (cgs_service_t *svc, const char *topic, ProtobufCMessage
  * to cgs_log, bad_input to cgs_service_bad_input, error to the health's
  * last error. Valid while svc lives. */
 cgs_port_t cgs_service_port (cgs_service_t *svc);
+/* The exercise's scene: the local frame about its origin, the scenario it
+ * names (svc->scenario, seeded by the exercise) and that scenario's
+ * terrain. 0 with all three set (the caller destroys them:
+ * cgs_terrain_destroy, cgs_scenario_destroy, cgs_geo_destroy); -EINVAL when
+ * no scenario is named or the origin is unusable, or the scenario's own
+ * error, with err filled. */
+int cgs_service_load_scene (const cgs_service_t *svc, cgs_geo_t **ret_frame,
+                            cgs_scenario_t **ret_scenario, cgs_terrain_t **ret_terrain, char *err,
+                            size_t errlen);
 /* Run the loop until stopped: READY to systemd, health at 1 Hz, the watchdog
  * from the loop. Returns the process exit code. */
 int cgs_service_run (cgs_service_t *svc);

@@ -216,24 +216,9 @@ static int s_setup (s_app_t *app, char *err, size_t errlen)
     } else {
         cgs_log (LOG_INFO, "guidance parameters: the built-in defaults (no parameter file named)");
     }
-    if (!*app->svc.scenario) {
-        snprintf (err, errlen,
-                  "no scenario (its UAVs and terrain are needed): give --scenario FILE "
-                  "or `scenario =` in %s",
-                  app->svc.exercise_path);
-        return -EINVAL;
-    }
-    cgs_geodetic_t o = cgs_exercise_origin (app->svc.exercise);
-    app->frame = cgs_geo_new (o.lat_deg, o.lon_deg, o.height_m);
-    if (!app->frame) {
-        snprintf (err, errlen, "bad exercise origin");
-        return -EINVAL;
-    }
-    int rc = cgs_scenario_load (app->svc.scenario, app->frame,
-                                cgs_exercise_seed (app->svc.exercise), &app->scenario, err, errlen);
+    int rc =
+        cgs_service_load_scene (&app->svc, &app->frame, &app->scenario, &app->terrain, err, errlen);
     if (rc < 0)
-        return rc;
-    if ((rc = cgs_scenario_terrain (app->scenario, app->frame, &app->terrain, err, errlen)) < 0)
         return rc;
     cgs_port_t port = cgs_service_port (&app->svc);
     bool too_many = false;

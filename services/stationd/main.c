@@ -566,19 +566,17 @@ static int s_setup (s_app_t *app, char *err, size_t errlen)
     }
     if (app->port_override >= 0)
         app->p.port = (int)app->port_override;
-    cgs_geodetic_t o = cgs_exercise_origin (app->svc.exercise);
-    if (!(app->frame = cgs_geo_new (o.lat_deg, o.lon_deg, o.height_m))) {
-        snprintf (err, errlen, "the exercise origin is not usable");
-        return -EINVAL;
-    }
     if (*app->svc.scenario) {
-        int rc =
-            cgs_scenario_load (app->svc.scenario, app->frame, cgs_exercise_seed (app->svc.exercise),
-                               &app->scenario, err, errlen);
+        int rc = cgs_service_load_scene (&app->svc, &app->frame, &app->scenario, &app->terrain, err,
+                                         errlen);
         if (rc < 0)
             return rc;
-        if ((rc = cgs_scenario_terrain (app->scenario, app->frame, &app->terrain, err, errlen)) < 0)
-            return rc;
+    } else {
+        cgs_geodetic_t o = cgs_exercise_origin (app->svc.exercise);
+        if (!(app->frame = cgs_geo_new (o.lat_deg, o.lon_deg, o.height_m))) {
+            snprintf (err, errlen, "the exercise origin is not usable");
+            return -EINVAL;
+        }
     }
     app->guidanced = s_commanded (app->svc.exercise, "guidanced");
     app->uavsim = s_commanded (app->svc.exercise, "uavsim");

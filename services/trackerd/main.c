@@ -8,7 +8,6 @@
  * this file wires the adapter to the bus and keeps the checkpoint file. */
 #include "cgs_lifecycle.h"
 #include "cgs_log.h"
-#include "cgs_scenario.h"
 #include "cgs_service.h"
 #include "cgs_util.h"
 #include "cgs_state.h"
@@ -317,17 +316,8 @@ static int s_setup (s_app_t *app, char *err, size_t errlen)
         return -ENOMEM;
     }
     if (app->params.filter.mode == TRK_FILTER_IMM && *app->svc.scenario) {
-        cgs_geodetic_t o = cgs_exercise_origin (app->svc.exercise);
-        app->frame = cgs_geo_new (o.lat_deg, o.lon_deg, o.height_m);
-        if (!app->frame) {
-            snprintf (err, errlen, "bad exercise origin");
-            return -EINVAL;
-        }
-        int rc =
-            cgs_scenario_load (app->svc.scenario, app->frame, cgs_exercise_seed (app->svc.exercise),
-                               &app->scenario, err, errlen);
-        if (rc == 0)
-            rc = cgs_scenario_terrain (app->scenario, app->frame, &app->terrain, err, errlen);
+        int rc = cgs_service_load_scene (&app->svc, &app->frame, &app->scenario, &app->terrain, err,
+                                         errlen);
         if (rc < 0)
             return rc;
         trk_tracker_set_terrain (trk_adapter_tracker (app->adapter), app->terrain);
@@ -348,12 +338,12 @@ static int s_setup (s_app_t *app, char *err, size_t errlen)
     if (p->filter.mode == TRK_FILTER_IMM) {
         cgs_log (LOG_INFO,
                  "filter imm: sigma_meas %g/%g m, models CV %g m/s2, manoeuvre %g m/s2, stopped; "
-                 "pd %g, JIPDA over %d hypotheses; gate %.3f (%.1f), M/N %d/%d, delete below "
-                 "existence %g, turn threshold %g deg",
+                 "pd %g (half at %g m), JIPDA over %d hypotheses; gate %.3f (%.1f), M/N %d/%d, "
+                 "delete below existence %g, turn threshold %g deg",
                  p->filter.sigma_meas_m[0], p->filter.sigma_meas_m[1], p->imm.sigma_mps2[0],
-                 p->imm.sigma_mps2[1], p->detection.pd, p->hypotheses, p->gate_probability,
-                 trk_params_gate3 (p), p->confirm_m, p->confirm_n, p->delete_existence,
-                 p->turn_threshold_deg);
+                 p->imm.sigma_mps2[1], p->detection.pd, p->detection.half_range_m, p->hypotheses,
+                 p->gate_probability, trk_params_gate3 (p), p->confirm_m, p->confirm_n,
+                 p->delete_existence, p->turn_threshold_deg);
         return 0;
     }
     const trk_gains_t *g = trk_tracker_gains (s_trk (app));
@@ -364,8 +354,8 @@ static int s_setup (s_app_t *app, char *err, size_t errlen)
              trk_params_mode_name (p->filter.mode), p->filter.sigma_meas_m[0],
              p->filter.sigma_meas_m[1], p->filter.sigma_mod_mps2[0], p->filter.sigma_mod_mps2[1],
              p->filter.dt_s, g[0].r, g[1].r, g[0].g, g[1].g, g[0].gd_hz, g[1].gd_hz,
-             p->gate_probability, trk_params_gate (p), p->confirm_m, p->confirm_n,
-             p->delete_misses, p->turn_threshold_deg);
+             p->gate_probability, trk_params_gate (p), p->confirm_m, p->confirm_n, p->delete_misses,
+             p->turn_threshold_deg);
     return 0;
 }
 

@@ -6,7 +6,7 @@
  * The node of least total is taken as the next solution and split: for the
  * i-th row not yet forced, a child forbids that row's column and forces the
  * rows split before it to their columns. Nodes live in flat arrays reused
- * from one solve to the next. */
+ * from one solve to the next (grown, never shrunk, whatever the shape). */
 #include "trk_kbest.h"
 #include "trk_assign.h"
 
@@ -25,12 +25,13 @@ struct trk_kbest {
     size_t *sol;
     bool *forced;
     double *total;
-    bool *open; // still to be taken
-    size_t nodes, cap;
+    bool *open;        // still to be taken
+    size_t nodes, cap; // nodes in use; nodes the arrays hold at this shape
+    size_t mat_cap, sol_cap, forced_cap, total_cap, open_cap; // elements each array holds
     // the solutions, in order
     size_t *found_sol;
     double *found_total;
-    size_t found, found_cap;
+    size_t found, found_total_cap, found_sol_cap;
     size_t *col; // one solve's columns
     size_t col_cap;
 };
@@ -66,16 +67,23 @@ void trk_kbest_destroy (trk_kbest_t **self_p)
     *self_p = NULL;
 }
 
-static int s_grow (void **p, size_t need_bytes)
+/* *p holds at least need elements of size bytes (*cap counts them). */
+static int s_grow (void **p, size_t *cap, size_t need, size_t size)
 {
-    void *q = realloc (*p, need_bytes ? need_bytes : 1);
+    if (need <= *cap)
+        return 0;
+    size_t n = *cap ? *cap : 16;
+    while (n < need)
+        n *= 2;
+    void *q = realloc (*p, n * size);
     if (!q)
         return -ENOMEM;
     *p = q;
+    *cap = n;
     return 0;
 }
 
-/* Room for node index n (capacity in nodes, for the current size). */
+/* Room for node index n at the present shape. */
 static int s_node_reserve (trk_kbest_t *self, size_t n)
 {
     if (n < self->cap)
@@ -84,11 +92,11 @@ static int s_node_reserve (trk_kbest_t *self, size_t n)
     while (cap <= n)
         cap *= 2;
     size_t rc = self->rows * self->cols, r = self->rows;
-    if (s_grow ((void **)&self->mat, cap * rc * sizeof (double)) < 0 ||
-        s_grow ((void **)&self->sol, cap * r * sizeof (size_t)) < 0 ||
-        s_grow ((void **)&self->forced, cap * r * sizeof (bool)) < 0 ||
-        s_grow ((void **)&self->total, cap * sizeof (double)) < 0 ||
-        s_grow ((void **)&self->open, cap * sizeof (bool)) < 0)
+    if (s_grow ((void **)&self->mat, &self->mat_cap, cap * rc, sizeof (double)) < 0 ||
+        s_grow ((void **)&self->sol, &self->sol_cap, cap * r, sizeof (size_t)) < 0 ||
+        s_grow ((void **)&self->forced, &self->forced_cap, cap * r, sizeof (bool)) < 0 ||
+        s_grow ((void **)&self->total, &self->total_cap, cap, sizeof (double)) < 0 ||
+        s_grow ((void **)&self->open, &self->open_cap, cap, sizeof (bool)) < 0)
         return -ENOMEM;
     self->cap = cap;
     return 0;
@@ -125,20 +133,17 @@ int trk_kbest_solve (trk_kbest_t *self, const double *cost, size_t rows, size_t 
             return -EINVAL;
     if (k == 0)
         return 0;
-    // A change of shape invalidates the node arrays' strides.
+    // A change of shape changes the node arrays' strides: their count of
+    // nodes starts again (the memory stays).
     if (rows != self->rows || cols != self->cols) {
         self->rows = rows;
         self->cols = cols;
         self->cap = 0;
     }
-    if (s_grow ((void **)&self->col, (rows + 1) * sizeof (size_t)) < 0)
-        return -ENOMEM;
-    if (self->found_cap < k) {
-        if (s_grow ((void **)&self->found_total, k * sizeof (double)) < 0)
-            return -ENOMEM;
-        self->found_cap = k;
-    }
-    if (s_grow ((void **)&self->found_sol, k * (rows + 1) * sizeof (size_t)) < 0)
+    if (s_grow ((void **)&self->col, &self->col_cap, rows + 1, sizeof (size_t)) < 0 ||
+        s_grow ((void **)&self->found_total, &self->found_total_cap, k, sizeof (double)) < 0 ||
+        s_grow ((void **)&self->found_sol, &self->found_sol_cap, k * (rows + 1), sizeof (size_t)) <
+            0)
         return -ENOMEM;
     size_t rc = rows * cols;
     int e = s_node_reserve (self, 0);
@@ -158,7 +163,8 @@ int trk_kbest_solve (trk_kbest_t *self, const double *cost, size_t rows, size_t 
         if (best == SIZE_MAX)
             break;
         self->open[best] = false;
-        memcpy (self->found_sol + self->found * rows, self->sol + best * rows, rows * sizeof (size_t));
+        memcpy (self->found_sol + self->found * rows, self->sol + best * rows,
+                rows * sizeof (size_t));
         self->found_total[self->found++] = self->total[best];
         if (self->found == k)
             break;

@@ -21,9 +21,9 @@
  * swept, Pd is zero. The defaults are measured on mtid's chain at its
  * default parameters (a 10 m² vehicle, the UAV 1200 m up): 50% points of
  * the notch 1.0 m/s along and 1.8 m/s across at 8 km, an edge of about
- * 0.3 m/s; clear of the notch 0.995 at 4 km, 0.96 at 6, 0.86 at 8, 0.72 at
- * 10, 0.48 at 12 and 0.23 at 14 km, which pd 0.995, half_range 11 800 m
- * and exponent 4.9 follow within 0.08 (test_trk_imm). Where the radar's terrain is known, a target the
+ * 0.3 m/s; clear of the notch, over 120 dwells each, 1.00 at 4 km, 0.875 at
+ * 8, 0.65 at 10, 0.38 at 12 and 0.23 at 14 km, which pd 0.995, half_range
+ * 11 800 m and exponent 4.9 follow within 0.09 (test_trk_imm). Where the radar's terrain is known, a target the
  * terrain hides (the line from the antenna to 2 m above the ground at the
  * target cut, as mtid models it) has Pd zero; foliage is not modelled (it
  * does not hide targets from mtid either). Pure: no logging, no globals. */

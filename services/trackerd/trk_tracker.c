@@ -427,9 +427,8 @@ static void s_try_pair_imm (trk_tracker_t *self, size_t ti, size_t hi)
     trk_meas_t m;
     s_meas (self, h, p->radial_velocity, &m);
     const double *ra = self->radar.position;
-    double pd0 = trk_pd_at_range (&p->detection,
-                                  sqrt (pow (h->h.z[0] - ra[0], 2) + pow (h->h.z[1] - ra[1], 2) +
-                                        pow (h->h.up_m - ra[2], 2)));
+    double pd0 = trk_pd_at_range (
+        &p->detection, hypot (hypot (h->h.z[0] - ra[0], h->h.z[1] - ra[1]), h->h.up_m - ra[2]));
     double gate = m.has_radial ? self->gate3 : self->gate;
     double d2, ld, cost, miss, r = fmin (fmax (t->existence, 1e-6), 0.999);
     bool close = false;
@@ -974,8 +973,8 @@ static double s_sigma_max (const trk_estimate_t *e)
 /* One scan's outcome for a track of the IMM tracker: hit h (or NULL), the
  * best hypothesis's; miss_beta, the probability over the weighed hypotheses
  * that it had none. Returns false when the track is to be deleted. */
-static bool s_upkeep_imm (trk_tracker_t *self, trk_track_t *t, const s_hit_t *h,
-                          double miss_beta, const trk_scan_t *scan, trk_scan_out_t *out)
+static bool s_upkeep_imm (trk_tracker_t *self, trk_track_t *t, const s_hit_t *h, double miss_beta,
+                          const trk_scan_t *scan, trk_scan_out_t *out)
 {
     const trk_params_t *p = &self->p;
     trk_pd_radar_t radar = s_radar (scan, self->terrain);
@@ -1346,8 +1345,10 @@ static int s_reserve (trk_tracker_t *self, size_t nh)
     if (s_grow ((void **)&self->hits, &self->hit_cap, nh, sizeof *self->hits) < 0 ||
         s_grow ((void **)&self->hit_next, &self->hit_next_cap, nh, sizeof *self->hit_next) < 0 ||
         s_grow ((void **)&self->act, &self->act_cap, nt + 1, sizeof *self->act) < 0 ||
-        s_grow ((void **)&self->assigned, &self->assigned_cap, nt + 1, sizeof *self->assigned) < 0 ||
-        s_grow ((void **)&self->miss_beta, &self->miss_beta_cap, nt + 1, sizeof *self->miss_beta) < 0)
+        s_grow ((void **)&self->assigned, &self->assigned_cap, nt + 1, sizeof *self->assigned) <
+            0 ||
+        s_grow ((void **)&self->miss_beta, &self->miss_beta_cap, nt + 1, sizeof *self->miss_beta) <
+            0)
         return -ENOMEM;
     if (s_grow ((void **)&self->tracks, &self->cap, nt + nh, sizeof *self->tracks) < 0 ||
         s_grow ((void **)&self->turns, &self->turn_cap, nt + 1, sizeof *self->turns) < 0 ||

@@ -100,7 +100,7 @@ EOF
     } | sed "s/^time_scale = 1$/time_scale = $SCALE/" >"$EX"
     # Flat ground; the UAV circles the origin; hostile movers go to and fro
     # on four 14 km roads 6 to 7 km out (never more than 10 km from the UAV's
-    # orbit, where the radar sees a vehicle in three scans of four: a target
+    # orbit, where the radar sees a vehicle in two scans of three: a target
     # 13 km out is seen in one of three, its track is ended and re-started,
     # and the intercept is lost for the tracking, not for the fault); a
     # friendly truck crosses the middle.
@@ -169,7 +169,8 @@ EOF
     # services' recovery, not that (the default, links alone, is measured
     # by make montecarlo).
     sed -e 's/^handover = links$/handover = near/' "$CGS_ROOT/deploy/params/guidance.ini" >"$TMP/guidance.ini"
-    grep -q '^handover = near$' "$TMP/guidance.ini" || echo "fault: guidance.ini has no 'handover = links' line to change" >&2
+    grep -q '^handover = near$' "$TMP/guidance.ini" ||
+        bail "deploy/params/guidance.ini has no 'handover = links' line for the fault tests to change"
 }
 
 # svc_start INSTANCE TAG: start it (log INSTANCE-TAG.log), its pid in PID.
