@@ -18,7 +18,7 @@ void trk_params_defaults (trk_params_t *p)
                 .sigma_mod_mps2 = {0.2, 0.2},
                 .dt_s = 10,
             },
-        .measurement_noise = TRK_NOISE_PARAMETERS,
+        .measurement_noise = TRK_NOISE_HIT,
         .gate_probability = 0.999,
         .max_speed_mps = 30,
         .maneuver_accel_mps2 = 3,
@@ -167,6 +167,10 @@ static int s_read (cgs_config_t *cfg, void *arg, char *err, size_t errlen)
     int mode = p.filter.mode, noise = p.measurement_noise;
     if (rc == 0)
         rc = cgs_config_get_enum (cfg, "filter", "mode", s_mode_names, mode, &mode, err, errlen);
+    // A file that names the mode but not the noise gets the mode's own: each
+    // hit's covariance for imm, the paper's constant one for paper and kalman.
+    if (rc == 0 && cgs_config_has (cfg, "filter", "mode"))
+        noise = mode == TRK_FILTER_IMM ? TRK_NOISE_HIT : TRK_NOISE_PARAMETERS;
     if (rc == 0)
         rc = cgs_config_get_enum (cfg, "filter", "measurement_noise", s_noise_names, noise, &noise,
                                   err, errlen);

@@ -56,10 +56,9 @@ static bool s_params_equal (const trk_params_t *a, const trk_params_t *b)
            a->turn_settle_updates == b->turn_settle_updates &&
            memcmp (&a->imm, &b->imm, sizeof a->imm) == 0 && a->radial_update == b->radial_update &&
            memcmp (&a->detection, &b->detection, sizeof a->detection) == 0 &&
-           a->hypotheses == b->hypotheses &&
-           a->delete_existence == b->delete_existence && a->lifetime_s == b->lifetime_s &&
-           a->stopped_lifetime_s == b->stopped_lifetime_s && a->max_sigma_m == b->max_sigma_m &&
-           a->continue_window_s == b->continue_window_s &&
+           a->hypotheses == b->hypotheses && a->delete_existence == b->delete_existence &&
+           a->lifetime_s == b->lifetime_s && a->stopped_lifetime_s == b->stopped_lifetime_s &&
+           a->max_sigma_m == b->max_sigma_m && a->continue_window_s == b->continue_window_s &&
            a->continue_probability == b->continue_probability &&
            a->birth_density == b->birth_density;
 }
@@ -71,6 +70,7 @@ static trk_params_t s_defaults (void)
     trk_params_t p;
     trk_params_defaults (&p);
     p.filter.mode = TRK_FILTER_PAPER;
+    p.measurement_noise = TRK_NOISE_PARAMETERS; // the paper's, as a file naming the mode gets
     return p;
 }
 
@@ -842,7 +842,7 @@ static void test_params (void **state)
     f.lifetime_s = f.stopped_lifetime_s = f.max_sigma_m = 7;
     f.delete_existence = f.continue_probability = f.birth_density = 0.7;
     f.continue_window_s = 7;
-    f.measurement_noise = TRK_NOISE_HIT;
+    f.measurement_noise = TRK_NOISE_PARAMETERS;
     for (size_t off = offsetof (trk_params_t, filter.sigma_meas_m);
          off < offsetof (trk_params_t, measurement_noise); off += sizeof (double))
         *(double *)((char *)&f + off) *= 3;
@@ -866,6 +866,20 @@ static void test_params (void **state)
     assert_int_equal (p.filter.mode, TRK_FILTER_KALMAN);
     assert_int_equal (p.measurement_noise, TRK_NOISE_HIT);
     assert_near (p.filter.sigma_meas_m[0], 40, 0);
+    // The noise follows the mode a file names, unless the file names it too.
+    trk_params_defaults (&p);
+    assert_int_equal (p.measurement_noise, TRK_NOISE_HIT);
+    p = s_defaults ();
+    assert_int_equal (
+        trk_params_load_string ("t.ini", "[filter]\nmode = paper\n", &p, err, sizeof err), 0);
+    assert_int_equal (p.measurement_noise, TRK_NOISE_PARAMETERS);
+    assert_int_equal (
+        trk_params_load_string ("t.ini", "[filter]\nmode = imm\n", &p, err, sizeof err), 0);
+    assert_int_equal (p.measurement_noise, TRK_NOISE_HIT);
+    assert_int_equal (
+        trk_params_load_string ("t.ini", "[filter]\nsigma_meas_x_m = 30\n", &p, err, sizeof err),
+        0);
+    assert_int_equal (p.measurement_noise, TRK_NOISE_HIT); // no mode named: kept
     assert_near (p.filter.sigma_meas_m[1], 25, 0);
     p = s_defaults ();
     assert_int_equal (trk_params_load_string ("t.ini", "[filter]\n\nsigma_mod_x_mps2 = -1\n", &p,
