@@ -52,10 +52,13 @@ static double s_seg_dist (cgs_v2_t p, cgs_v2_t a, cgs_v2_t b)
 
 double cgs_footprint_distance (const cgs_footprint_t *f, cgs_v2_t p)
 {
-    if (cgs_footprint_contains (f, p))
-        return 0;
+    return fmax (0.0, cgs_footprint_signed_distance (f, p));
+}
+
+double cgs_footprint_signed_distance (const cgs_footprint_t *f, cgs_v2_t p)
+{
     double d = INFINITY;
     for (int i = 0; i < 4; i++)
         d = fmin (d, s_seg_dist (p, f->corner[i], f->corner[(i + 1) % 4]));
-    return d;
+    return cgs_footprint_contains (f, p) ? -d : d;
 }

@@ -27,5 +27,7 @@ void cgs_footprint_scale (const cgs_footprint_t *f, double k, cgs_footprint_t *r
 bool cgs_footprint_contains (const cgs_footprint_t *f, cgs_v2_t p);
 /* Distance from p to the quadrilateral (0 inside). */
 double cgs_footprint_distance (const cgs_footprint_t *f, cgs_v2_t p);
+/* Distance from p to the quadrilateral's edge, negative inside. */
+double cgs_footprint_signed_distance (const cgs_footprint_t *f, cgs_v2_t p);
 
 #endif

@@ -595,12 +595,13 @@ static bool s_takes_over (const gd_intercept_t *self, const gd_track_t *t)
 /* The overflight's confirmation: the track's hit nearest in time to the
  * overflight (one after the target was predicted to enter the footprint),
  * carried along the track's velocity to each recorded moment of the
- * overflight, against the footprint of that moment. -1 when the track has
- * no such hit yet; else the smallest distance outside (0: inside). */
+ * overflight, against the footprint of that moment. NAN when the track has
+ * no such hit yet; else the smallest signed distance to the footprint's
+ * edge (negative inside). */
 static double s_confirm_distance (const gd_intercept_t *self, const gd_track_t *t)
 {
     if (self->n_samples == 0)
-        return -1;
+        return NAN;
     double t_in = self->samples[0].t_s, t_best = self->samples[1].t_s;
     gd_v2_t hit = gd_v2 (0, 0);
     double t_hit = NAN;
@@ -612,14 +613,14 @@ static double s_confirm_distance (const gd_intercept_t *self, const gd_track_t *
         }
     if (!isfinite (t_hit)) {
         if (t->history_count > 0 || t->status != 1 || !(t->t_s > t_in))
-            return -1;
+            return NAN;
         hit = t->pos; // no history: its filtered position at a hit
         t_hit = t->t_s;
     }
     double best = INFINITY;
     for (size_t k = 0; k < self->n_samples; k++) {
         gd_v2_t p = gd_add (hit, gd_scale (t->vel, self->samples[k].t_s - t_hit));
-        best = fmin (best, cgs_footprint_distance (&self->samples[k].fp, p));
+        best = fmin (best, cgs_footprint_signed_distance (&self->samples[k].fp, p));
     }
     return best;
 }
@@ -630,7 +631,7 @@ static void s_try_confirm (gd_intercept_t *self)
     if (self->phase != GD_OVERFLIGHT || !self->confirming)
         return;
     double d = s_confirm_distance (self, &self->track);
-    if (d < 0)
+    if (isnan (d))
         return;
     self->confirming = false;
     if (d <= self->p.confirm_margin_m) {
@@ -640,10 +641,14 @@ static void s_try_confirm (gd_intercept_t *self)
         return;
     }
     char why[128];
-    snprintf (why, sizeof why,
-              "its hits show the target passed %.0f m outside the footprint: "
-              "another pass",
-              d);
+    if (d > 0)
+        snprintf (why, sizeof why,
+                  "its hits show the target passed %.0f m outside the footprint: another pass", d);
+    else
+        snprintf (why, sizeof why,
+                  "its hits show the target passed only %.0f m inside the footprint's edge: "
+                  "another pass",
+                  -d);
     self->was_inside = false;
     self->overflight_s = NAN;
     self->n_samples = 0;

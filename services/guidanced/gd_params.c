@@ -25,7 +25,7 @@ void gd_params_defaults (gd_params_t *p)
         .handover_m = 400,
         .handover_growth_mps = 20,
         .handover = GD_HANDOVER_LINKS,
-        .confirm_margin_m = 0,
+        .confirm_margin_m = -25,
         .pick_radius_m = 2000,
         .max_range_m = 20000,
     };
@@ -50,7 +50,7 @@ static const cgs_config_real_t s_reals[] = {
     S_R ("approach", "lost_after_s", lost_after_s, 1.0, 86400.0),
     S_R ("approach", "handover_m", handover_m, 0.0, 1e5),
     S_R ("approach", "handover_growth_mps", handover_growth_mps, 0.0, 100.0),
-    S_R ("approach", "confirm_margin_m", confirm_margin_m, 0.0, 1e4),
+    S_R ("approach", "confirm_margin_m", confirm_margin_m, -1e3, 1e4),
     S_R ("designation", "pick_radius_m", pick_radius_m, 1.0, 1e6),
     S_R ("footprint", "max_range_m", max_range_m, 100.0, 1e6),
 };

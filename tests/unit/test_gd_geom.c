@@ -1393,7 +1393,23 @@ static void test_footprint_contains_distance_scale (void **state)
         assert_false (cgs_footprint_contains (&f, gd_add (mid, gd_scale (out, 1e-5))));
         assert_near (cgs_footprint_distance (&f, gd_add (mid, gd_scale (out, 30))), 30.0, 1e-9);
         assert_near (cgs_footprint_distance (&f, gd_add (mid, gd_scale (out, -5))), 0.0, 0);
+        // Signed: outside as above, inside minus the distance to the nearest edge
+        // (5 m in from the middle of an edge at least 60 m from the others).
+        assert_near (cgs_footprint_signed_distance (&f, gd_add (mid, gd_scale (out, 30))), 30.0,
+                     1e-9);
+        assert_near (cgs_footprint_signed_distance (&f, gd_add (mid, gd_scale (out, -5))), -5.0,
+                     1e-9);
     }
+    // The centre, inside, is minus its distance to the nearest edge line
+    // (the feet of its perpendiculars all lie on the edges): 123.02 m to the
+    // near edge, 140.28 m to the far one, and to each side.
+    double dmin = INFINITY;
+    for (int i = 0; i < 4; i++) {
+        gd_v2_t a = f.corner[i], ab = gd_sub (f.corner[(i + 1) % 4], a), ap = gd_sub (f.center, a);
+        dmin = fmin (dmin, fabs (ab.e * ap.n - ab.n * ap.e) / gd_norm (ab));
+    }
+    assert_true (dmin <= 1000 - 876.9765 + 1e-3);
+    assert_near (cgs_footprint_signed_distance (&f, f.center), -dmin, 1e-9);
     // The outward normals are what the comment says: near edge south, far north.
     double far_n = 1140.2815, near_n = 876.9765;
     assert_false (cgs_footprint_contains (&f, gd_v2 (0, far_n + 0.01)));

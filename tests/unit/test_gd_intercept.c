@@ -1813,6 +1813,29 @@ static void test_overflight_confirm (void **state)
     gd_intercept_track (ic, &out);
     assert_has (s_status (ic).reason, "another pass");
     gd_intercept_destroy (&ic);
+
+    // 140 m east: inside at every moment, deepest at 198 s (1296 m ahead),
+    // 14.39 m from the right edge (the far edge is 72 m away): with the
+    // default margin (-25: at least 25 m inside) another pass; with -10, done.
+    double in = s_seg_dist (gd_v2 (140, 1296), nr, fr);
+    assert_near (in, 14.385, 0.001);
+    assert_true (s_seg_dist (gd_v2 (140, 1200), nr, fr) < in);
+    p = s_params ();
+    assert_near (p.confirm_margin_m, -25, 0);
+    snprintf (want, sizeof want, "only %.0f m inside", in);
+    gd_track_t edge = s_confirming_update (gd_v2 (140, 0));
+    ic = s_overflown (&p, &n);
+    gd_intercept_track (ic, &edge);
+    st = s_status (ic);
+    assert_has (st.reason, "another pass");
+    assert_has (st.reason, want);
+    assert_int_equal (st.replans, 1);
+    gd_intercept_destroy (&ic);
+    p.confirm_margin_m = -10;
+    ic = s_overflown (&p, &n);
+    gd_intercept_track (ic, &edge);
+    assert_int_equal (s_status (ic).phase, GD_DONE);
+    gd_intercept_destroy (&ic);
 }
 
 /* No hit after the entry yet: it keeps waiting in OVERFLIGHT, the task

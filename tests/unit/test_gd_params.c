@@ -114,7 +114,7 @@ static void test_defaults (void **state)
     assert_true (p.handover_m == 400);
     assert_true (p.handover_growth_mps == 20);
     assert_int_equal (p.handover, GD_HANDOVER_LINKS);
-    assert_true (p.confirm_margin_m == 0);
+    assert_true (p.confirm_margin_m == -25);
     assert_true (p.pick_radius_m == 2000);
     assert_true (p.max_range_m == 20000);
     char err[256] = "";
@@ -218,8 +218,9 @@ static void test_errors (void **state)
              "g.ini:3: [plan] turn_radius_factor: expected a number in [1, 10], got '0.5'");
     s_fails ("[plan]\nlead_in_m = abc\n",
              "g.ini:2: [plan] lead_in_m: expected a number in [0, 100000], got 'abc'");
-    s_fails ("[approach]\nconfirm_margin_m = -1\n",
-             "g.ini:2: [approach] confirm_margin_m: expected a number in [0, 10000], got '-1'");
+    s_fails ("[approach]\nconfirm_margin_m = -1001\n",
+             "g.ini:2: [approach] confirm_margin_m: expected a number in [-1000, 10000], got "
+             "'-1001'");
     s_fails ("[plan]\nfoo = 1\n", "g.ini:2: [plan] unknown key 'foo'");
     s_fails ("[bogus]\nx = 1\n", "g.ini:1: unknown section [bogus]");
     s_fails ("[plan]\ntiming = arc\ntiming = route\n",
