@@ -25,9 +25,16 @@ exercise () {
         "$root/deploy/exercises/default.ini" >"$2"
 }
 
-echo "lockstep: $n runs of the default exercise, seeds 1..$n"
+# Both sides get the same time: the live runs stop at duration s, the
+# lockstep ones limit s after the last designation of the scenario's
+# operator script (120 s in the default scenario).
+duration=2400
+at=$(sed -n 's/^designate = .* at \([0-9]*\).*/\1/p' "$root/deploy/scenarios/default.ini" | tail -1)
+limit=$((duration - ${at:-0}))
+echo "lockstep: $n runs of the default exercise, seeds 1..$n, ${limit} s after the designation"
 exercise 1 "$tmp/ls.ini"
 "$mscgs" montecarlo --exercise "$tmp/ls.ini" --seeds-only --seed 1 --runs "$n" --jobs 2 --quiet \
+    --limit "$limit" \
     --csv "$tmp/lockstep.csv" >"$tmp/lockstep.out" 2>&1 || { cat "$tmp/lockstep.out"; exit 1; }
 
 echo "live: $n runs of the default exercise at ${scale}x"
@@ -36,7 +43,7 @@ for s in $(seq 1 "$n"); do
     exercise "$s" "$tmp/live-$s.ini"
     out=$tmp/live-$s
     "$mscgs" run --exercise "$tmp/live-$s.ini" --speed "$scale" --stop-after-intercept 5 \
-        --duration 2400 --out "$out" >"$out.log" 2>&1
+        --duration "$duration" --out "$out" >"$out.log" 2>&1
     imaged=$(grep -c '"imaged": true' "$out/summary.json" 2>/dev/null)
     state=$(sed -n 's/.*"final_state": "\([A-Z_]*\)".*/\1/p' "$out/summary.json" 2>/dev/null)
     echo "$s,${imaged:-0},${state:-NONE}" >>"$tmp/live.csv"
