@@ -56,3 +56,23 @@ uint32_t cgs_crc32 (const void *data, size_t n)
     }
     return (uint32_t)crc;
 }
+
+int cgs_grow (void **p, size_t *cap, size_t need, size_t size)
+{
+    if (need <= *cap)
+        return 0;
+    size_t n = *cap ? *cap : 16;
+    while (n < need) {
+        if (n > SIZE_MAX / 2)
+            return -ENOMEM;
+        n *= 2;
+    }
+    if (size && n > SIZE_MAX / size)
+        return -ENOMEM;
+    void *q = realloc (*p, n * size);
+    if (!q)
+        return -ENOMEM;
+    *p = q;
+    *cap = n;
+    return 0;
+}

@@ -18,6 +18,10 @@ int cgs_parse_u64 (const char *text, uint64_t max, uint64_t *ret);
 uint64_t cgs_splitmix64 (uint64_t *state);
 /* A uniform number in the open interval (0, 1) from splitmix64. */
 double cgs_uniform01 (uint64_t *state);
+/* Make the array *p (*cap elements of size bytes) hold at least need: its
+ * capacity doubles from 16 until it does. 0, or -ENOMEM with *p and *cap
+ * untouched (also when the size overflows). */
+int cgs_grow (void **p, size_t *cap, size_t need, size_t size);
 /* CRC-32 (IEEE 802.3, as zlib and PNG compute it) of n bytes. */
 uint32_t cgs_crc32 (const void *data, size_t n);
 

@@ -1,5 +1,6 @@
 /* bcis_interrogator — the scanning interrogator (see bcis_interrogator.h). */
 #include "bcis_interrogator.h"
+#include "cgs_util.h"
 
 #include <assert.h>
 #include <errno.h>
@@ -121,21 +122,6 @@ bool bcis_interrogator_geometry (const bcis_interrogator_t *self, cgs_enu_t uav,
     return open;
 }
 
-static int s_grow (void **arr, size_t *cap, size_t need, size_t size)
-{
-    if (need <= *cap)
-        return 0;
-    size_t n = *cap ? *cap * 2 : 64;
-    while (n < need)
-        n *= 2;
-    void *a = realloc (*arr, n * size);
-    if (!a)
-        return -ENOMEM;
-    *arr = a;
-    *cap = n;
-    return 0;
-}
-
 int bcis_interrogator_dwell (bcis_interrogator_t *self, const cgs_dwell_t *d, cgs_enu_t uav,
                              const bcis_entity_t *entities, size_t n, bcis_dwell_out_t *ret)
 {
@@ -158,10 +144,10 @@ int bcis_interrogator_dwell (bcis_interrogator_t *self, const cgs_dwell_t *d, cg
         in_beam++;
         if (!e->transponder || e->force != CGS_FORCE_FRIENDLY)
             continue; // only friendly transponders answer
-        if (s_grow ((void **)&self->truth, &self->truth_cap, self->truth_count + 1,
-                    sizeof *self->truth) < 0 ||
-            s_grow ((void **)&self->replies, &self->reply_cap, self->reply_count + 1,
-                    sizeof *self->replies) < 0)
+        if (cgs_grow ((void **)&self->truth, &self->truth_cap, self->truth_count + 1,
+                      sizeof *self->truth) < 0 ||
+            cgs_grow ((void **)&self->replies, &self->reply_cap, self->reply_count + 1,
+                      sizeof *self->replies) < 0)
             return -ENOMEM;
         bcis_truth_t *t = &self->truth[self->truth_count++];
         *t = (bcis_truth_t){.entity_id = e->id};

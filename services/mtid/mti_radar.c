@@ -1,6 +1,7 @@
 /* mti_radar — scan, geometry, radar equation, hits and false alarms of one
  * MTI radar (see mti_radar.h). */
 #include "mti_radar.h"
+#include "cgs_util.h"
 #include "mti_dsp.h"
 #include "mti_theory.h"
 
@@ -229,24 +230,9 @@ double mti_radar_clutter_sigma_hz (const mti_radar_t *self, double v_mps, double
     return sqrt (s_int * s_int + s_pm * s_pm + s_scan * s_scan);
 }
 
-static int s_grow (void **arr, size_t *cap, size_t need, size_t elem)
-{
-    if (need <= *cap)
-        return 0;
-    size_t c = *cap ? *cap * 2 : 16;
-    while (c < need)
-        c *= 2;
-    void *a = realloc (*arr, c * elem);
-    if (!a)
-        return -ENOMEM;
-    *arr = a;
-    *cap = c;
-    return 0;
-}
-
 static int s_add_hit (mti_radar_t *self, mti_hit_t *h)
 {
-    if (s_grow ((void **)&self->hits, &self->hit_cap, self->hit_count + 1, sizeof *h) < 0)
+    if (cgs_grow ((void **)&self->hits, &self->hit_cap, self->hit_count + 1, sizeof *h) < 0)
         return -ENOMEM;
     h->hit_id = self->next_hit_id++;
     if (self->next_hit_id == 0)
@@ -292,8 +278,8 @@ static int s_target (mti_radar_t *self, const mti_dwell_t *d, const mti_platform
     double off = atan2 (-du, g) / S_DEG - p->beam_depression_deg;
     if (fabs (off) > p->elevation_beamwidth_deg)
         return 0;
-    if (s_grow ((void **)&self->truth, &self->truth_cap, self->truth_count + 1,
-                sizeof (mti_truth_t)) < 0)
+    if (cgs_grow ((void **)&self->truth, &self->truth_cap, self->truth_count + 1,
+                  sizeof (mti_truth_t)) < 0)
         return -ENOMEM;
     mti_truth_t *tr = &self->truth[self->truth_count++];
     double vr = (tg->velocity.e_m * de + tg->velocity.n_m * dn + tg->velocity.u_m * du) / r;

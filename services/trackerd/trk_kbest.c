@@ -8,6 +8,7 @@
  * rows split before it to their columns. Nodes live in flat arrays reused
  * from one solve to the next (grown, never shrunk, whatever the shape). */
 #include "trk_kbest.h"
+#include "cgs_util.h"
 #include "trk_assign.h"
 
 #include <errno.h>
@@ -67,22 +68,6 @@ void trk_kbest_destroy (trk_kbest_t **self_p)
     *self_p = NULL;
 }
 
-/* *p holds at least need elements of size bytes (*cap counts them). */
-static int s_grow (void **p, size_t *cap, size_t need, size_t size)
-{
-    if (need <= *cap)
-        return 0;
-    size_t n = *cap ? *cap : 16;
-    while (n < need)
-        n *= 2;
-    void *q = realloc (*p, n * size);
-    if (!q)
-        return -ENOMEM;
-    *p = q;
-    *cap = n;
-    return 0;
-}
-
 /* Room for node index n at the present shape. */
 static int s_node_reserve (trk_kbest_t *self, size_t n)
 {
@@ -92,11 +77,11 @@ static int s_node_reserve (trk_kbest_t *self, size_t n)
     while (cap <= n)
         cap *= 2;
     size_t rc = self->rows * self->cols, r = self->rows;
-    if (s_grow ((void **)&self->mat, &self->mat_cap, cap * rc, sizeof (double)) < 0 ||
-        s_grow ((void **)&self->sol, &self->sol_cap, cap * r, sizeof (size_t)) < 0 ||
-        s_grow ((void **)&self->forced, &self->forced_cap, cap * r, sizeof (bool)) < 0 ||
-        s_grow ((void **)&self->total, &self->total_cap, cap, sizeof (double)) < 0 ||
-        s_grow ((void **)&self->open, &self->open_cap, cap, sizeof (bool)) < 0)
+    if (cgs_grow ((void **)&self->mat, &self->mat_cap, cap * rc, sizeof (double)) < 0 ||
+        cgs_grow ((void **)&self->sol, &self->sol_cap, cap * r, sizeof (size_t)) < 0 ||
+        cgs_grow ((void **)&self->forced, &self->forced_cap, cap * r, sizeof (bool)) < 0 ||
+        cgs_grow ((void **)&self->total, &self->total_cap, cap, sizeof (double)) < 0 ||
+        cgs_grow ((void **)&self->open, &self->open_cap, cap, sizeof (bool)) < 0)
         return -ENOMEM;
     self->cap = cap;
     return 0;
@@ -140,10 +125,10 @@ int trk_kbest_solve (trk_kbest_t *self, const double *cost, size_t rows, size_t 
         self->cols = cols;
         self->cap = 0;
     }
-    if (s_grow ((void **)&self->col, &self->col_cap, rows + 1, sizeof (size_t)) < 0 ||
-        s_grow ((void **)&self->found_total, &self->found_total_cap, k, sizeof (double)) < 0 ||
-        s_grow ((void **)&self->found_sol, &self->found_sol_cap, k * (rows + 1), sizeof (size_t)) <
-            0)
+    if (cgs_grow ((void **)&self->col, &self->col_cap, rows + 1, sizeof (size_t)) < 0 ||
+        cgs_grow ((void **)&self->found_total, &self->found_total_cap, k, sizeof (double)) < 0 ||
+        cgs_grow ((void **)&self->found_sol, &self->found_sol_cap, k * (rows + 1),
+                  sizeof (size_t)) < 0)
         return -ENOMEM;
     size_t rc = rows * cols;
     int e = s_node_reserve (self, 0);

@@ -20,6 +20,7 @@
  *  6. M of N, coasting and deletion; turn detection; identity ageing;
  *     history trimmed to the last scans. */
 #include "trk_tracker.h"
+#include "cgs_util.h"
 #include "trk_assign.h"
 #include "trk_kbest.h"
 
@@ -115,21 +116,6 @@ struct trk_tracker {
     const cgs_terrain_t *terrain; // borrowed: what the radars look over (NULL: none)
     double clutter_ln;            // ln of its false alarm density per m² (IMM costs)
 };
-
-static int s_grow (void **p, size_t *cap, size_t need, size_t size)
-{
-    if (need <= *cap)
-        return 0;
-    size_t n = *cap ? *cap : 16;
-    while (n < need)
-        n *= 2;
-    void *q = realloc (*p, n * size);
-    if (!q)
-        return -ENOMEM;
-    *p = q;
-    *cap = n;
-    return 0;
-}
 
 trk_tracker_t *trk_tracker_new (const trk_params_t *p)
 {
@@ -592,8 +578,8 @@ static int s_gate (trk_tracker_t *self, size_t nt, size_t nh, double t_lo, doubl
         double ce = t->est.x[0] + t->est.x[2] * (t_mid - t->est.t_s);
         double cn = t->est.x[1] + t->est.x[3] * (t_mid - t->est.t_s);
         // Pairs: at most one per hit for this track.
-        if (s_grow ((void **)&self->pairs, &self->pair_cap, self->pair_count + nh,
-                    sizeof *self->pairs) < 0)
+        if (cgs_grow ((void **)&self->pairs, &self->pair_cap, self->pair_count + nh,
+                      sizeof *self->pairs) < 0)
             return -ENOMEM;
         double span_cells = 2 * reach / S_CELL_M + 2;
         if (!isfinite (reach) || !isfinite (ce) || !isfinite (cn) ||
@@ -642,7 +628,7 @@ static int s_solve_cluster_imm (trk_tracker_t *self, const double *c, size_t k, 
         return n;
     if (n == 0)
         return 0; // cannot happen: every track may go without a hit
-    if (s_grow ((void **)&self->beta, &self->beta_cap, k * cols, sizeof *self->beta) < 0)
+    if (cgs_grow ((void **)&self->beta, &self->beta_cap, k * cols, sizeof *self->beta) < 0)
         return -ENOMEM;
     trk_kbest_marginals (self->kbest, (size_t)n, k, cols, self->beta);
     for (size_t r = 0; r < k; r++) {
@@ -672,9 +658,9 @@ static int s_solve_cluster (trk_tracker_t *self, size_t lo, size_t hi, trk_scan_
         return 0;
     }
     // The cluster's tracks (pairs come sorted by track) and hits, numbered locally.
-    if (s_grow ((void **)&self->ctracks, &self->ctracks_cap, np, sizeof (size_t)) < 0 ||
-        s_grow ((void **)&self->chits, &self->chits_cap, np, sizeof (size_t)) < 0 ||
-        s_grow ((void **)&self->col, &self->col_cap, np, sizeof (size_t)) < 0)
+    if (cgs_grow ((void **)&self->ctracks, &self->ctracks_cap, np, sizeof (size_t)) < 0 ||
+        cgs_grow ((void **)&self->chits, &self->chits_cap, np, sizeof (size_t)) < 0 ||
+        cgs_grow ((void **)&self->col, &self->col_cap, np, sizeof (size_t)) < 0)
         return -ENOMEM;
     size_t k = 0, m = 0;
     for (size_t q = lo; q < hi; q++) {
@@ -691,7 +677,7 @@ static int s_solve_cluster (trk_tracker_t *self, size_t lo, size_t hi, trk_scan_
         out->largest_cluster = k;
     // k rows; columns: the m hits, then one "no hit" column per track.
     size_t cols = m + k, ncost = k * cols;
-    if (s_grow ((void **)&self->cost, &self->cost_cap, ncost, sizeof *self->cost) < 0)
+    if (cgs_grow ((void **)&self->cost, &self->cost_cap, ncost, sizeof *self->cost) < 0)
         return -ENOMEM;
     double *c = self->cost;
     for (size_t i = 0; i < ncost; i++)
@@ -732,7 +718,7 @@ static int s_solve_cluster (trk_tracker_t *self, size_t lo, size_t hi, trk_scan_
 static int s_pass (trk_tracker_t *self, size_t nt, size_t nh, bool wide, trk_scan_out_t *out)
 {
     self->work_count = 0;
-    if (s_grow ((void **)&self->work, &self->work_cap, self->pair_count, sizeof *self->work) < 0)
+    if (cgs_grow ((void **)&self->work, &self->work_cap, self->pair_count, sizeof *self->work) < 0)
         return -ENOMEM;
     for (size_t q = 0; q < self->pair_count; q++) {
         s_pair_t pp = self->pairs[q];
@@ -747,7 +733,7 @@ static int s_pass (trk_tracker_t *self, size_t nt, size_t nh, bool wide, trk_sca
     if (self->work_count == 0)
         return 0;
     size_t nodes = nt + nh;
-    if (s_grow ((void **)&self->uf, &self->uf_cap, nodes, sizeof *self->uf) < 0)
+    if (cgs_grow ((void **)&self->uf, &self->uf_cap, nodes, sizeof *self->uf) < 0)
         return -ENOMEM;
     for (size_t i = 0; i < nodes; i++)
         self->uf[i] = i;
@@ -1232,8 +1218,8 @@ static void s_continue_old (trk_tracker_t *self, const trk_track_t *old, trk_sca
             return;
         }
     }
-    if (s_grow ((void **)&self->lost, &self->lost_cap, self->lost_count + 1, sizeof *self->lost) ==
-        0)
+    if (cgs_grow ((void **)&self->lost, &self->lost_cap, self->lost_count + 1,
+                  sizeof *self->lost) == 0)
         self->lost[self->lost_count++] = *old;
 }
 
@@ -1342,17 +1328,17 @@ static int s_reserve (trk_tracker_t *self, size_t nh)
             return -ENOMEM;
         self->grid_cap = grid;
     }
-    if (s_grow ((void **)&self->hits, &self->hit_cap, nh, sizeof *self->hits) < 0 ||
-        s_grow ((void **)&self->hit_next, &self->hit_next_cap, nh, sizeof *self->hit_next) < 0 ||
-        s_grow ((void **)&self->act, &self->act_cap, nt + 1, sizeof *self->act) < 0 ||
-        s_grow ((void **)&self->assigned, &self->assigned_cap, nt + 1, sizeof *self->assigned) <
+    if (cgs_grow ((void **)&self->hits, &self->hit_cap, nh, sizeof *self->hits) < 0 ||
+        cgs_grow ((void **)&self->hit_next, &self->hit_next_cap, nh, sizeof *self->hit_next) < 0 ||
+        cgs_grow ((void **)&self->act, &self->act_cap, nt + 1, sizeof *self->act) < 0 ||
+        cgs_grow ((void **)&self->assigned, &self->assigned_cap, nt + 1, sizeof *self->assigned) <
             0 ||
-        s_grow ((void **)&self->miss_beta, &self->miss_beta_cap, nt + 1, sizeof *self->miss_beta) <
-            0)
+        cgs_grow ((void **)&self->miss_beta, &self->miss_beta_cap, nt + 1,
+                  sizeof *self->miss_beta) < 0)
         return -ENOMEM;
-    if (s_grow ((void **)&self->tracks, &self->cap, nt + nh, sizeof *self->tracks) < 0 ||
-        s_grow ((void **)&self->turns, &self->turn_cap, nt + 1, sizeof *self->turns) < 0 ||
-        s_grow ((void **)&self->dead, &self->dead_cap, nt + 1, sizeof *self->dead) < 0)
+    if (cgs_grow ((void **)&self->tracks, &self->cap, nt + nh, sizeof *self->tracks) < 0 ||
+        cgs_grow ((void **)&self->turns, &self->turn_cap, nt + 1, sizeof *self->turns) < 0 ||
+        cgs_grow ((void **)&self->dead, &self->dead_cap, nt + 1, sizeof *self->dead) < 0)
         return -ENOMEM;
     return 0;
 }
@@ -1845,7 +1831,7 @@ int trk_tracker_restore (trk_tracker_t *self, const uint8_t *buf, size_t len, ch
         }
     }
     if (rc == 0 && count > self->cap &&
-        s_grow ((void **)&self->tracks, &self->cap, count, sizeof *self->tracks) < 0) {
+        cgs_grow ((void **)&self->tracks, &self->cap, count, sizeof *self->tracks) < 0) {
         snprintf (err, errlen, "out of memory for %u tracks", count);
         rc = -ENOMEM;
     }

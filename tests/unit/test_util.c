@@ -7,6 +7,7 @@
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>
+#include <stdlib.h>
 
 #include <cmocka.h>
 
@@ -52,11 +53,40 @@ static void test_splitmix64 (void **state)
     assert_true (sum / 100000 > 0.5 - 0.004 && sum / 100000 < 0.5 + 0.004);
 }
 
+/* cgs_grow: 16 to start, doubled until the need fits, kept when it does;
+ * the elements already there survive; a size that would overflow is
+ * refused with the array untouched. */
+static void test_grow (void **state)
+{
+    (void)state;
+    int *a = NULL;
+    size_t cap = 0;
+    assert_int_equal (cgs_grow ((void **)&a, &cap, 1, sizeof *a), 0);
+    assert_non_null (a);
+    assert_int_equal (cap, 16);
+    for (int i = 0; i < 16; i++)
+        a[i] = i;
+    assert_int_equal (cgs_grow ((void **)&a, &cap, 100, sizeof *a), 0);
+    assert_int_equal (cap, 128);
+    for (int i = 0; i < 16; i++)
+        assert_int_equal (a[i], i);
+    int *before = a;
+    assert_int_equal (cgs_grow ((void **)&a, &cap, 128, sizeof *a), 0);
+    assert_ptr_equal (a, before);
+    assert_int_equal (cap, 128);
+    assert_int_equal (cgs_grow ((void **)&a, &cap, SIZE_MAX / 2, sizeof *a), -ENOMEM);
+    assert_int_equal (cgs_grow ((void **)&a, &cap, SIZE_MAX, 1), -ENOMEM);
+    assert_ptr_equal (a, before);
+    assert_int_equal (cap, 128);
+    free (a);
+}
+
 int main (void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test (test_parse_u64),
         cmocka_unit_test (test_splitmix64),
+        cmocka_unit_test (test_grow),
     };
     return cmocka_run_group_tests (tests, NULL, NULL);
 }
