@@ -141,7 +141,8 @@ int gd_waypoint (const gd_engage_t *in, gd_waypoint_t *ret)
     if (!(s > vt) || !isfinite (s) || !(in->turn_radius_m > 0) || !isfinite (in->turn_radius_m) ||
         !(in->agl_m > 0) || !isfinite (in->agl_m) ||
         !(in->depression_deg > 0 && in->depression_deg < 90) || !(in->secondary_scale >= 0) ||
-        !isfinite (in->secondary_scale) || !(in->lead_in_m >= 0) || !isfinite (in->lead_in_m))
+        !isfinite (in->secondary_scale) || !(in->lead_in_m >= 0) || !isfinite (in->lead_in_m) ||
+        !(in->settle_m >= 0) || !isfinite (in->settle_m))
         return -EINVAL;
     gd_waypoint_t w = {0};
     w.lookahead_m = in->agl_m / tan (in->depression_deg * S_DEG);
@@ -181,6 +182,10 @@ int gd_waypoint (const gd_engage_t *in, gd_waypoint_t *ret)
         gd_v2_t right = gd_v2 (w.dir.n, -w.dir.e);
         w.second = gd_add (w.waypoint, gd_add (gd_scale (right, w.x_u_m), gd_scale (w.dir, y2)));
     }
+    // The straight run into the waypoint: at most half the way from P_2 (or
+    // from a UAV ahead of the waypoint) to it, so the last turn has room.
+    double room = w.secondary ? gd_norm (gd_sub (w.second, w.waypoint)) : w.y_u_m;
+    w.settle_m = fmax (0.0, fmin (isfinite (in->settle_m) ? in->settle_m : 0.0, 0.5 * room));
     *ret = w;
     return 0;
 }
@@ -208,9 +213,14 @@ double gd_route_length (const gd_engage_t *in, const gd_waypoint_t *w)
         from = w->second;
         h = h2;
     }
-    if (gd_dubins (from, h, w->waypoint, hf, in->turn_radius_m, &d) < 0)
+    if (gd_dubins (from, h, gd_waypoint_settle_point (w), hf, in->turn_radius_m, &d) < 0)
         return NAN;
-    return len + gd_dubins_length (&d);
+    return len + gd_dubins_length (&d) + w->settle_m;
+}
+
+gd_v2_t gd_waypoint_settle_point (const gd_waypoint_t *w)
+{
+    return gd_add (w->waypoint, gd_scale (w->dir, w->settle_m));
 }
 
 int gd_waypoint_flyable (const gd_engage_t *in, gd_waypoint_t *ret)

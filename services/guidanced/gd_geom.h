@@ -80,6 +80,7 @@ typedef struct {
                             // D_T is taken from the target towards the UAV
     double secondary_scale; // k of Δ (1: the paper's mirror)
     double lead_in_m;       // least distance of P_2 ahead of the waypoint
+    double settle_m;        // straight run into the waypoint after the last turn (0: none)
     double min_t_pred_s;    // t_pred at least this (0: equation 1's alone)
 } gd_engage_t;
 
@@ -91,10 +92,11 @@ typedef struct {
     gd_v2_t waypoint; // P_waypt
     double x_u_m;     // the UAV in the target's frame about the waypoint (eq. 2)
     double y_u_m;
-    bool secondary; // y'_u ≤ 0: go through P_2 first
-    gd_v2_t second; // P_2 (when secondary)
-    gd_v2_t meet;   // P_T + V_T·t_pred: where the target should be at the waypoint time
-    double route_m; // gd_waypoint_flyable: the flyable route's length (else 0)
+    bool secondary;  // y'_u ≤ 0: go through P_2 first
+    gd_v2_t second;  // P_2 (when secondary)
+    gd_v2_t meet;    // P_T + V_T·t_pred: where the target should be at the waypoint time
+    double settle_m; // the route's straight run into the waypoint along −D_T (≤ settle_m asked)
+    double route_m;  // gd_waypoint_flyable: the flyable route's length (else 0)
 } gd_waypoint_t;
 
 /* Equations 1–3. 0, or -EINVAL (bad input; a target not slower than the UAV;
@@ -105,10 +107,14 @@ int gd_waypoint (const gd_engage_t *in, gd_waypoint_t *ret);
  * waypoint (−D_T), degrees. */
 void gd_waypoint_headings (const gd_waypoint_t *w, double *ret_second_deg, double *ret_final_deg);
 
+/* Where the route's last turn ends: w->settle_m before the waypoint on the
+ * line along −D_T (the waypoint itself when settle_m is 0). */
+gd_v2_t gd_waypoint_settle_point (const gd_waypoint_t *w);
+
 /* Length of the flyable route of plan w: Dubins paths of radius
  * in->turn_radius_m from the UAV through P_2 (when w has one, arriving with
- * the heading towards the waypoint) into the waypoint heading −D_T. NaN
- * when a leg cannot be built. */
+ * the heading towards the waypoint) into the settle point heading −D_T, then
+ * straight on to the waypoint. NaN when a leg cannot be built. */
 double gd_route_length (const gd_engage_t *in, const gd_waypoint_t *w);
 
 /* Equations 1–3 with t_pred lengthened, where it is too short, to the time

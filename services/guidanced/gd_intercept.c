@@ -281,6 +281,7 @@ static void s_plan (gd_intercept_t *self)
         .target_vel = moving ? self->track.vel : gd_v2 (0, 0),
         .secondary_scale = self->p.secondary_scale,
         .lead_in_m = fmax (self->p.lead_in_m, 4 * r),
+        .settle_m = self->p.settle_m,
     };
     gd_waypoint_t wp;
     int rc =
@@ -308,7 +309,12 @@ static void s_plan (gd_intercept_t *self)
         cur = wp.second;
         cur_h = h2;
     }
-    ok = ok && s_push_dubins (self, tk, cur, cur_h, wp.waypoint, h_final, r);
+    if (wp.settle_m > 0) {
+        ok = ok && s_push_dubins (self, tk, cur, cur_h, gd_waypoint_settle_point (&wp), h_final, r);
+        ok = ok && s_push (tk, wp.waypoint);
+    } else {
+        ok = ok && s_push_dubins (self, tk, cur, cur_h, wp.waypoint, h_final, r);
+    }
     size_t i_waypoint = tk->count ? tk->count - 1 : 0;
     self->wp = wp; // the trail needs it
     if (ok && self->method == GD_MTI_HITS && self->track.history_count >= 2)
@@ -508,8 +514,16 @@ void gd_intercept_uav (gd_intercept_t *self, const gd_uav_t *u)
         gd_v2_t h = gd_heading_unit (u->heading_deg), g = s_uav_ground (self);
         double near = fmin (gd_dot (gd_sub (self->fp.corner[0], g), h),
                             gd_dot (gd_sub (self->fp.corner[3], g), h));
-        if (gd_dot (gd_sub (target, g), h) < near - S_MISS_M)
-            s_replan (self, "the target passed outside the footprint: another pass");
+        if (gd_dot (gd_sub (target, g), h) < near - S_MISS_M) {
+            // How far to the side of the footprint's centre line it went by.
+            gd_v2_t right = gd_v2 (h.n, -h.e);
+            double side = gd_dot (gd_sub (target, self->fp.center), right);
+            char why[96];
+            snprintf (why, sizeof why,
+                      "the target went by %.0f m %s of the footprint's centre: another pass",
+                      fabs (side), side < 0 ? "left" : "right");
+            s_replan (self, why);
+        }
     }
     s_update_time_to_go (self, target);
 }
@@ -750,13 +764,20 @@ void gd_intercept_track (gd_intercept_t *self, const gd_track_t *t)
         // Equation 9, on the target's present line.
         self->p_close = gd_precision_step (self->p_close, target, dir, s_uav_speed (self), dt);
         self->close_s = t->t_s;
+        // The UAV joins that line two planning turn radii ahead of P_close, or
+        // of itself when it is farther on: P_close is where the UAV was at the
+        // track's time, behind it by the time the task arrives, and steering
+        // to a point abeam or behind turns the UAV away from the target.
+        gd_v2_t g = self->have_uav ? s_uav_ground (self) : self->p_close;
+        double along =
+            fmin (gd_dot (gd_sub (self->p_close, target), dir), gd_dot (gd_sub (g, target), dir));
+        gd_v2_t join = gd_add (target, gd_scale (dir, along - 2 * gd_intercept_turn_radius (self)));
         gd_task_t *tk = &self->task;
         tk->number++;
         tk->kind = GD_TASK_ROUTE;
         tk->count = 0;
-        s_push (tk, self->p_close);
-        s_push (tk,
-                gd_sub (self->p_close, gd_scale (dir, self->wp.lookahead_m + self->p.runout_m)));
+        s_push (tk, join);
+        s_push (tk, gd_sub (join, gd_scale (dir, self->wp.lookahead_m + self->p.runout_m)));
         self->progress = 0;
         self->i_waypoint = 0;
         return;

@@ -28,6 +28,7 @@ typedef struct {
     double turn_radius_factor;   // planning radius = this × the UAV's smallest turn radius
     double secondary_scale;      // k of Δ in equation 3 (1: the paper's mirror)
     double lead_in_m;            // least distance of P_2 ahead of the waypoint
+    double settle_m;             // straight run into the waypoint after the last turn, metres
     double runout_m;             // route goes on this far past the target's meeting point
     double arc_step_deg;         // turns are sent as route points this many degrees apart
     double min_target_speed_mps; // slower targets are taken as standing still
@@ -41,9 +42,9 @@ typedef struct {
     double lost_after_s;        // no update of the designated track for this long: lost
     double handover_m;          // a deleted track's target is taken up by a new track this near
     double handover_growth_mps; // ... plus this much per second since its last update
-    gd_handover_t handover;     // near: nearness hands over too; links: a linking tracker's word alone
-    double confirm_margin_m;    // an overflight counts when the target's hit, carried back to
-                                // it, lies within this of the footprint
+    gd_handover_t handover;  // near: nearness hands over too; links: a linking tracker's word alone
+    double confirm_margin_m; // an overflight counts when the target's hit, carried back to
+                             // it, lies within this of the footprint
     // [designation]
     double pick_radius_m; // a designation by point takes a track whose newest hit is this near
     // [footprint]

@@ -502,6 +502,11 @@ static void test_waypoint_rejects_bad_input (void **state)
     in = good;
     in.uav.e = NAN;
     assert_int_equal (gd_waypoint (&in, &w), -EINVAL);
+    in = good;
+    in.settle_m = -1;
+    assert_int_equal (gd_waypoint (&in, &w), -EINVAL);
+    in.settle_m = NAN;
+    assert_int_equal (gd_waypoint (&in, &w), -EINVAL);
     assert_int_equal (gd_waypoint (NULL, &w), -EINVAL);
     assert_int_equal (gd_waypoint (&good, NULL), -EINVAL);
     assert_memory_equal (&w, &before, sizeof w);
@@ -614,6 +619,72 @@ static void test_flyable_behind (void **state)
     assert_int_equal (gd_waypoint (&in, &again), 0);
     assert_v2_near (again.waypoint, w.waypoint, 0);
     assert_v2_near (again.second, w.second, 0);
+}
+
+/* The straight run into the waypoint (settle_m). Head-on and ahead, as in
+ * test_flyable_straight: waypoint (5200, 0), y'_u = 5200; a settle of 800 m
+ * (less than half of 5200) ends the last turn at (4400, 0), and the route,
+ * straight throughout, is still 5200 m. The target 2500 m ahead instead:
+ * t_pred = 2500/50 = 50 s, meeting point (2000, 0), waypoint (800, 0),
+ * y'_u = 800: the settle is cut to half of it, 400 m, the settle point
+ * (400, 0). Behind and across, as test_flyable_behind with the target
+ * 3000 m north: P_2 keeps the cross-track offset, 2000 m ahead of the
+ * waypoint (k = 0), and the settle is 800 m (less than half of
+ * |P_2 − waypoint|); the route is the Dubins path to P_2, the Dubins path
+ * from P_2 into the settle point heading −D_T, and the 800 m straight, and
+ * it is no shorter than the route that turns in at the waypoint itself. */
+static void test_settle (void **state)
+{
+    (void)state;
+    gd_engage_t in = s_engage ();
+    in.target = gd_v2 (8000, 0);
+    in.target_vel = gd_v2 (-10, 0);
+    in.settle_m = 800;
+    gd_waypoint_t w;
+    assert_int_equal (gd_waypoint (&in, &w), 0);
+    assert_false (w.secondary);
+    assert_near (w.settle_m, 800, 0);
+    assert_v2_near (gd_waypoint_settle_point (&w), gd_v2 (4400, 0), 2e-3);
+    assert_near (gd_route_length (&in, &w), 5200, 2e-3);
+
+    in.target = gd_v2 (2500, 0);
+    assert_int_equal (gd_waypoint (&in, &w), 0);
+    assert_false (w.secondary);
+    assert_near (w.t_pred_s, 50, 1e-4);
+    assert_near (w.y_u_m, 800, 1e-3);
+    assert_near (w.settle_m, 0.5 * w.y_u_m, 1e-12);
+    assert_v2_near (gd_waypoint_settle_point (&w), gd_v2 (0.5 * w.waypoint.e, 0), 1e-9);
+
+    in = s_engage ();
+    in.uav_heading_deg = 270;
+    in.target = gd_v2 (8000, 3000);
+    in.target_vel = gd_v2 (10, 0);
+    in.secondary_scale = 0;
+    in.lead_in_m = 2000;
+    in.settle_m = 800;
+    assert_int_equal (gd_waypoint (&in, &w), 0);
+    assert_true (w.secondary);
+    assert_near (gd_norm (gd_sub (w.second, w.waypoint)), hypot (w.x_u_m, 2000), 1e-9);
+    assert_near (w.settle_m, 800, 0);
+    gd_v2_t settle = gd_waypoint_settle_point (&w);
+    assert_v2_near (settle, gd_v2 (w.waypoint.e + 800, w.waypoint.n), 1e-9);
+    double h2, hf;
+    gd_waypoint_headings (&w, &h2, &hf);
+    assert_near (hf, 270, 1e-9);
+    gd_dubins_t a, b, c;
+    assert_int_equal (gd_dubins (in.uav, in.uav_heading_deg, w.second, h2, 500, &a), 0);
+    assert_int_equal (gd_dubins (w.second, h2, settle, hf, 500, &b), 0);
+    assert_int_equal (gd_dubins (w.second, h2, w.waypoint, hf, 500, &c), 0);
+    double len = gd_route_length (&in, &w);
+    assert_near (len, gd_dubins_length (&a) + gd_dubins_length (&b) + 800, 1e-9);
+    assert_true (len >= gd_dubins_length (&a) + gd_dubins_length (&c) - 1e-9);
+    // Without a settle, the route turns in at the waypoint.
+    in.settle_m = 0;
+    gd_waypoint_t w0;
+    assert_int_equal (gd_waypoint (&in, &w0), 0);
+    assert_near (w0.settle_m, 0, 0);
+    assert_v2_near (gd_waypoint_settle_point (&w0), w0.waypoint, 0);
+    assert_near (gd_route_length (&in, &w0), gd_dubins_length (&a) + gd_dubins_length (&c), 1e-9);
 }
 
 /* Bad input: gd_waypoint_flyable refuses what gd_waypoint refuses and
@@ -1453,6 +1524,7 @@ int main (void)
         cmocka_unit_test (test_waypoint_min_t_pred),
         cmocka_unit_test (test_flyable_straight),
         cmocka_unit_test (test_flyable_behind),
+        cmocka_unit_test (test_settle),
         cmocka_unit_test (test_flyable_rejects_bad_input),
         cmocka_unit_test (test_target_frame),
         cmocka_unit_test (test_precision_step),

@@ -1267,8 +1267,9 @@ static void test_save_restore (void **state)
  * 20 000 m > 0.8·look-ahead in front of the target, PRECISION with P_close the
  * UAV's projection on the target's line, (0, 0). A track update 10 s later
  * with the same velocity: equation 9, P_close ← P_close − s_ug·dt·D_T =
- * (0, 0) − 380·(0, −1) = (0, 380); the task: P_close, then 2700 m on along
- * −D_T, (0, 3080). */
+ * (0, 0) − 380·(0, −1) = (0, 380); the task joins the target's line two
+ * planning turn radii 2r ahead of P_close (the UAV, still at (0, 0), is not
+ * farther on), (0, 380 + 2r), then 2700 m on along −D_T. */
 static void test_precision_eq9 (void **state)
 {
     (void)state;
@@ -1301,8 +1302,9 @@ static void test_precision_eq9 (void **state)
     assert_int_equal (tk->count, 2);
     gd_v2_t want = gd_precision_step (gd_v2 (0, 0), gd_v2 (0, 20000), gd_v2 (0, -1), 38, 10);
     assert_v2_near (want, gd_v2 (0, 380), 1e-9);
-    assert_v2_near (tk->points[0], gd_v2 (0, 380), 1e-9);
-    assert_v2_near (tk->points[1], gd_v2 (0, 380 + LOOKAHEAD + p.runout_m), 1e-9);
+    double lead = 2 * s_radius (&p);
+    assert_v2_near (tk->points[0], gd_v2 (0, 380 + lead), 1e-9);
+    assert_v2_near (tk->points[1], gd_v2 (0, 380 + lead + LOOKAHEAD + p.runout_m), 1e-9);
     st = s_status (ic);
     assert_int_equal (st.phase, GD_PRECISION);
     assert_int_equal (st.replans, 0);
@@ -1310,7 +1312,7 @@ static void test_precision_eq9 (void **state)
 
     // The UAV flew there; the next update 10 s on finds the target's line 30
     // m further east (within offset and threshold): P_close goes onto the new
-    // line, then 380 m on: (30, 760).
+    // line, then 380 m on: (30, 760); the task joins the line at (30, 760 + 2r).
     u = s_uav (110, 0, 380, 0);
     gd_intercept_uav (ic, &u);
     assert_int_equal (s_status (ic).phase, GD_PRECISION);
@@ -1323,16 +1325,30 @@ static void test_precision_eq9 (void **state)
     assert_int_equal (tk->count, 2);
     want = gd_precision_step (gd_v2 (0, 380), gd_v2 (30, 19900), gd_v2 (0, -1), 38, 10);
     assert_v2_near (want, gd_v2 (30, 760), 1e-9);
-    assert_v2_near (tk->points[0], gd_v2 (30, 760), 1e-9);
-    assert_v2_near (tk->points[1], gd_v2 (30, 760 + LOOKAHEAD + p.runout_m), 1e-9);
+    assert_v2_near (tk->points[0], gd_v2 (30, 760 + lead), 1e-9);
+    assert_v2_near (tk->points[1], gd_v2 (30, 760 + lead + LOOKAHEAD + p.runout_m), 1e-9);
+
+    // The UAV farther on than P_close (the track's time lags the UAV's): at
+    // 125 s it is at (0, 1500); the update of 130 s moves P_close to
+    // (30, 1140), behind it, and a task to a point behind the UAV would turn
+    // it away. The task joins the line 2r ahead of the UAV: (30, 1500 + 2r).
+    u = s_uav (125, 0, 1500, 0);
+    gd_intercept_uav (ic, &u);
+    t = s_track (5, 1, 130, 30, 19700, 0, -10);
+    gd_intercept_track (ic, &t);
+    tk = gd_intercept_task (ic);
+    assert_int_equal (tk->number, 4);
+    assert_int_equal (s_status (ic).phase, GD_PRECISION);
+    assert_v2_near (tk->points[0], gd_v2 (30, 1500 + lead), 1e-9);
+    assert_v2_near (tk->points[1], gd_v2 (30, 1500 + lead + LOOKAHEAD + p.runout_m), 1e-9);
 
     // A 30° turn of the target during the approach: a new plan (the UAV must turn).
     gd_v2_t v = s_vel (10, 210);
-    t = s_track (5, 1, 125, 30 + v.e * 5, 19750 + v.n * 5, v.e, v.n);
+    t = s_track (5, 1, 135, 30 + v.e * 5, 19650 + v.n * 5, v.e, v.n);
     gd_intercept_track (ic, &t);
     st = s_status (ic);
     assert_int_equal (st.replans, 1);
-    assert_int_equal (gd_intercept_task (ic)->number, 4);
+    assert_int_equal (gd_intercept_task (ic)->number, 5);
     assert_true (st.phase == GD_TO_WAYPOINT || st.phase == GD_TO_SECONDARY);
     gd_intercept_destroy (&ic);
 }

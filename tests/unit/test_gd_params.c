@@ -23,6 +23,7 @@ static const char *const s_keys[][2] = {
     {"plan", "turn_radius_factor"},
     {"plan", "secondary_scale"},
     {"plan", "lead_in_m"},
+    {"plan", "settle_m"},
     {"plan", "runout_m"},
     {"plan", "arc_step_deg"},
     {"plan", "min_target_speed_mps"},
@@ -51,6 +52,7 @@ static void s_assert_equal (const gd_params_t *a, const gd_params_t *b)
     S_SAME (turn_radius_factor);
     S_SAME (secondary_scale);
     S_SAME (lead_in_m);
+    S_SAME (settle_m);
     S_SAME (runout_m);
     S_SAME (arc_step_deg);
     S_SAME (min_target_speed_mps);
@@ -102,6 +104,7 @@ static void test_defaults (void **state)
     assert_true (p.turn_radius_factor == 1.5);
     assert_true (p.secondary_scale == 0.25);
     assert_true (p.lead_in_m == 2000);
+    assert_true (p.settle_m == 800);
     assert_true (p.runout_m == 1500);
     assert_true (p.arc_step_deg == 15);
     assert_true (p.min_target_speed_mps == 1);
@@ -162,6 +165,7 @@ static void test_values (void **state)
             "turn_radius_factor = 2\n"
             "secondary_scale = 1\n"
             "lead_in_m = 3000\n"
+            "settle_m = 400\n"
             "runout_m = 500\n"
             "arc_step_deg = 5\n"
             "min_target_speed_mps = 0.5\n"
@@ -187,6 +191,7 @@ static void test_values (void **state)
         .turn_radius_factor = 2,
         .secondary_scale = 1,
         .lead_in_m = 3000,
+        .settle_m = 400,
         .runout_m = 500,
         .arc_step_deg = 5,
         .min_target_speed_mps = 0.5,
@@ -218,6 +223,8 @@ static void test_errors (void **state)
              "g.ini:3: [plan] turn_radius_factor: expected a number in [1, 10], got '0.5'");
     s_fails ("[plan]\nlead_in_m = abc\n",
              "g.ini:2: [plan] lead_in_m: expected a number in [0, 100000], got 'abc'");
+    s_fails ("[plan]\nsettle_m = -1\n",
+             "g.ini:2: [plan] settle_m: expected a number in [0, 10000], got '-1'");
     s_fails ("[approach]\nconfirm_margin_m = -1001\n",
              "g.ini:2: [approach] confirm_margin_m: expected a number in [-1000, 10000], got "
              "'-1001'");
