@@ -185,7 +185,7 @@ int gd_waypoint (const gd_engage_t *in, gd_waypoint_t *ret)
     // The straight run into the waypoint: at most half the way from P_2 (or
     // from a UAV ahead of the waypoint) to it, so the last turn has room.
     double room = w.secondary ? gd_norm (gd_sub (w.second, w.waypoint)) : w.y_u_m;
-    w.settle_m = fmax (0.0, fmin (isfinite (in->settle_m) ? in->settle_m : 0.0, 0.5 * room));
+    w.settle_m = fmax (0.0, fmin (in->settle_m, 0.5 * room));
     *ret = w;
     return 0;
 }
