@@ -406,6 +406,7 @@ static int s_uav (s_ctx_t *c, const char *sec, cgs_scenario_uav_t *u)
             0 ||
         (rc = cgs_config_get_enum (c->cfg, sec, "loiter_direction", directions, 0, &dir, c->err,
                                    c->errlen)) < 0 ||
+        (rc = s_get_double (c, sec, "standoff_m", 1000, 0, 1e5, &u->standoff_m)) < 0 ||
         (rc = s_get_double (c, sec, "bank_limit_deg", 30, 5, 60, &u->bank_limit_deg)) < 0 ||
         (rc = s_get_double (c, sec, "climb_rate_mps", 5, 0.5, 30, &u->climb_rate_mps)) < 0 ||
         (rc = s_get_double (c, sec, "airspeed_min_mps", fmin (20, u->airspeed_mps), 10, 120,
@@ -730,6 +731,64 @@ static int s_settings (s_ctx_t *c)
                                 "allows at most %.15g Hz)",
                                 rates[i], s->step_s, 1 / s->step_s);
     return 0;
+}
+
+// --- stand-off ---------------------------------------------------------------------
+
+/* The least distance between the circle (centre o, radius r) and the segment
+ * a-b: |p − o| along the segment is convex, from its least value (the point
+ * nearest o) to its largest (an end); the circle's radius inside that range
+ * means the segment crosses it. */
+static double s_circle_segment (cgs_enu_t o, double r, cgs_enu_t a, cgs_enu_t b)
+{
+    double ax = a.e_m - o.e_m, ay = a.n_m - o.n_m, dx = b.e_m - a.e_m, dy = b.n_m - a.n_m;
+    double len2 = dx * dx + dy * dy;
+    double t = len2 > 0 ? fmin (1, fmax (0, -(ax * dx + ay * dy) / len2)) : 0;
+    double near = hypot (ax + t * dx, ay + t * dy);
+    double far = fmax (hypot (ax, ay), hypot (ax + dx, ay + dy));
+    if (r >= near && r <= far)
+        return 0;
+    return r < near ? near - r : r - far;
+}
+
+size_t cgs_scenario_standoff (const cgs_scenario_t *self, cgs_standoff_t *ret, size_t max)
+{
+    size_t n = 0;
+    for (size_t i = 0; self && i < self->uav_count; i++) {
+        const cgs_scenario_uav_t *u = &self->uavs[i];
+        if (!(u->standoff_m > 0))
+            continue;
+        for (size_t j = 0; j < self->vehicle_count; j++) {
+            const cgs_scenario_vehicle_t *v = &self->vehicles[j];
+            cgs_standoff_t best = {i, j, 0, INFINITY};
+            for (size_t k = 0; k + 1 < v->point_count; k++) {
+                double d = s_circle_segment (u->loiter_center, u->loiter_radius_m,
+                                             v->points[k].position, v->points[k + 1].position);
+                if (d < best.distance_m) {
+                    best.leg = k;
+                    best.distance_m = d;
+                }
+            }
+            if (best.distance_m < u->standoff_m) {
+                if (n < max && ret)
+                    ret[n] = best;
+                n++;
+            }
+        }
+    }
+    return n;
+}
+
+void cgs_scenario_standoff_text (const cgs_scenario_t *self, const cgs_standoff_t *s, char *buf,
+                                 size_t len)
+{
+    const cgs_scenario_uav_t *u = &self->uavs[s->uav];
+    const cgs_scenario_vehicle_t *v = &self->vehicles[s->vehicle];
+    snprintf (buf, len,
+              "%s:%d: [uav %s] loiter orbit comes within %.0f m of vehicle %s's route (leg from "
+              "line %d to line %d); stand-off is %.0f m",
+              self->path ? self->path : "scenario", u->line, u->name, s->distance_m, v->name,
+              v->points[s->leg].line, v->points[s->leg + 1].line, u->standoff_m);
 }
 
 // --- load -------------------------------------------------------------------------

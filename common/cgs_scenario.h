@@ -123,6 +123,8 @@ typedef struct {
     cgs_enu_t loiter_center;              // default: the start position
     double loiter_radius_m;               // (default 1500)
     bool loiter_clockwise;   // loiter_direction = clockwise|anticlockwise (default clockwise)
+    double standoff_m;       // least distance of the loiter orbit to any route (default 1000;
+                             // 0: not checked): cgs_scenario_standoff warns below it
     double bank_limit_deg;   // (default 30)
     double climb_rate_mps;   // largest climb or descent rate (default 5)
     double airspeed_min_mps; // slowest commanded airspeed (default 20, or the start's if slower)
@@ -214,6 +216,27 @@ int cgs_scenario_terrain (const cgs_scenario_t *self, const cgs_geo_t *frame, cg
 uint64_t cgs_scenario_vehicle_seed (uint64_t exercise_seed, uint32_t id);
 /* The vehicle or UAV of that name, or NULL. */
 const cgs_scenario_vehicle_t *cgs_scenario_vehicle (const cgs_scenario_t *self, const char *name);
+
+/* A UAV's loiter orbit closer to a vehicle's route than its standoff_m. */
+typedef struct {
+    size_t uav, vehicle; // indices in the scenario
+    size_t leg;          // the route's leg (points leg and leg + 1) that comes closest
+    double distance_m;   // the least distance between the orbit (the circle) and that leg
+} cgs_standoff_t;
+
+/* The stand-off check: for each UAV with standoff_m > 0 and each vehicle,
+ * the least horizontal distance between the loiter orbit and the route's
+ * legs (zero where a leg crosses the orbit); the pairs nearer than the
+ * UAV's standoff_m are written to ret (at most max) in file order. Returns
+ * how many pairs there are in all. A scenario may be flown so (a warning,
+ * not an error): the orbit is where the UAV waits and watches, and a route
+ * under it puts a target beneath the radar, in its near-range blind zone
+ * and inside the UAV's turns. */
+size_t cgs_scenario_standoff (const cgs_scenario_t *self, cgs_standoff_t *ret, size_t max);
+/* One of them as text: "FILE:LINE: [uav U] loiter orbit comes within D m of
+ * vehicle V's route (leg from line A to line B); stand-off is S m". */
+void cgs_scenario_standoff_text (const cgs_scenario_t *self, const cgs_standoff_t *s, char *buf,
+                                 size_t len);
 const cgs_scenario_uav_t *cgs_scenario_uav (const cgs_scenario_t *self, const char *name);
 
 #endif

@@ -256,6 +256,19 @@ int main (int argc, char **argv)
              cgs_terrain_cols (uavsim_world_terrain (app.world)),
              cgs_terrain_rows (uavsim_world_terrain (app.world)),
              cgs_terrain_resolution (uavsim_world_terrain (app.world)));
+    // Stand-off: a warning, at start and with --check.
+    cgs_standoff_t near[16];
+    size_t n_near = cgs_scenario_standoff (scn, near, 16);
+    for (size_t i = 0; i < n_near && i < 16; i++) {
+        char w[512];
+        cgs_scenario_standoff_text (scn, &near[i], w, sizeof w);
+        cgs_log (LOG_WARNING, "%s", w);
+        if (app.svc.check_only)
+            printf ("%s: warning: %s\n", app.svc.instance_name, w);
+    }
+    if (n_near > 16)
+        cgs_log (LOG_WARNING, "%zu more loiter orbits within their stand-off of a route",
+                 n_near - 16);
     if (app.svc.check_only) {
         printf ("%s: scenario %s is good\n", app.svc.instance_name, app.svc.scenario);
         exit_code = 0;

@@ -671,6 +671,61 @@ static void test_no_frame (void **state)
     cgs_scenario_destroy (&sc);
 }
 
+/* The stand-off check, worked by hand: the orbit about (0, 0), radius 1500,
+ * stand-off 1000 (the default). Vehicle a: a leg along n = 3000 from
+ * (−5000, 3000) to (5000, 3000): nearest the centre at (0, 3000), 3000 m,
+ * so 1500 m from the orbit: no warning. Vehicle b: along n = 2000: 500 m
+ * from the orbit: warned, leg 0. Vehicle c: its second leg runs from
+ * (4000, 0) to (0, 0), through the centre: |p| goes from 0 to 4000 and
+ * crosses 1500: distance 0, leg 1. Vehicle d: a leg wholly inside the
+ * orbit, from (−300, 400) to (300, 400): |p| from 400 to 500, 1000 m
+ * inside the orbit: 1000 is not below 1000: no warning. With standoff_m =
+ * 0 nothing is checked. */
+static void test_standoff (void **state)
+{
+    (void)state;
+    const char *text = "[uav u]\nposition = 0 0\nloiter_radius_m = 1500\n%s"
+                       "[vehicle a]\nforce = hostile\npoint = -5000 3000\npoint = 5000 3000\n"
+                       "[vehicle b]\nforce = hostile\npoint = -5000 2000\npoint = 5000 2000\n"
+                       "[vehicle c]\nforce = hostile\npoint = 4000 9000\npoint = 4000 0\n"
+                       "point = 0 0\n"
+                       "[vehicle d]\nforce = hostile\npoint = -300 400\npoint = 300 400\n";
+    char buf[1024], err[512] = "";
+    snprintf (buf, sizeof buf, text, "");
+    cgs_scenario_t *sc = NULL;
+    assert_int_equal (cgs_scenario_load_string ("s.ini", buf, NULL, 1, &sc, err, sizeof err), 0);
+    assert_true (sc->uavs[0].standoff_m == 1000);
+    cgs_standoff_t near[4];
+    assert_int_equal (cgs_scenario_standoff (sc, near, 4), 2);
+    assert_int_equal (near[0].vehicle, 1);
+    assert_int_equal (near[0].leg, 0);
+    assert_true (fabs (near[0].distance_m - 500) < 1e-9);
+    assert_int_equal (near[1].vehicle, 2);
+    assert_int_equal (near[1].leg, 1);
+    assert_true (near[1].distance_m == 0);
+    char w[512];
+    cgs_scenario_standoff_text (sc, &near[0], w, sizeof w);
+    assert_string_equal (w, "s.ini:1: [uav u] loiter orbit comes within 500 m of vehicle b's "
+                            "route (leg from line 10 to line 11); stand-off is 1000 m");
+    assert_int_equal (cgs_scenario_standoff (sc, near, 1), 2); // counts all, writes one
+    cgs_scenario_destroy (&sc);
+    // A larger stand-off takes in a (1500 m) and d (1000 m) too.
+    snprintf (buf, sizeof buf, text, "standoff_m = 1600\n");
+    assert_int_equal (cgs_scenario_load_string ("s.ini", buf, NULL, 1, &sc, err, sizeof err), 0);
+    assert_int_equal (cgs_scenario_standoff (sc, near, 4), 4);
+    assert_true (fabs (near[0].distance_m - 1500) < 1e-9);
+    assert_true (fabs (near[3].distance_m - 1000) < 1e-9);
+    cgs_scenario_destroy (&sc);
+    snprintf (buf, sizeof buf, text, "standoff_m = 0\n");
+    assert_int_equal (cgs_scenario_load_string ("s.ini", buf, NULL, 1, &sc, err, sizeof err), 0);
+    assert_int_equal (cgs_scenario_standoff (sc, near, 4), 0);
+    cgs_scenario_destroy (&sc);
+    snprintf (buf, sizeof buf, text, "standoff_m = -1\n");
+    assert_int_equal (cgs_scenario_load_string ("s.ini", buf, NULL, 1, &sc, err, sizeof err),
+                      -EINVAL);
+    assert_non_null (strstr (err, "s.ini:4: [uav u] standoff_m"));
+}
+
 /* Woods in [terrain]: read, grown over the terrain at the cover asked;
  * bad values refused with file and line. */
 static void test_vegetation (void **state)
@@ -845,6 +900,7 @@ int main (void)
         cmocka_unit_test_setup_teardown (test_errors, s_setup, s_teardown),
         cmocka_unit_test_setup_teardown (test_dem_errors, s_setup, s_teardown),
         cmocka_unit_test (test_no_frame),
+        cmocka_unit_test (test_standoff),
         cmocka_unit_test_setup_teardown (test_vegetation, s_setup, s_teardown),
         cmocka_unit_test_setup_teardown (test_halts, s_setup, s_teardown),
         cmocka_unit_test_setup_teardown (test_halt_errors, s_setup, s_teardown),
