@@ -16,6 +16,7 @@
 #include <syslog.h>
 
 #define S_STATE_MAGIC "guidanced 1"
+#define S_TIME_BACK_S 1.0 // simulation time this far behind the latest heard: it went back
 
 const char *const gd_adapter_topics[] = {"uav", "track", "track.turn", NULL};
 
@@ -415,6 +416,17 @@ static void s_on_uav (gd_adapter_t *self, const Cgs__Uav *m, const Cgs__Header *
         return;
     }
     double t = hdr->sim_time_s;
+    if (t < self->sim_time_s - S_TIME_BACK_S) {
+        // uavsim resumed from its saved state: the intercepts forget what
+        // they heard of the time that did not happen.
+        cgs_port_log (&self->port, LOG_NOTICE,
+                      "simulation time went back from %.2f to %.2f s: the intercepts take back "
+                      "what they heard since",
+                      self->sim_time_s, t);
+        for (size_t k = 0; k < self->uav_count; k++)
+            gd_intercept_time_back (self->uavs[k].core, t);
+        self->sim_time_s = t;
+    }
     if (t > self->sim_time_s)
         self->sim_time_s = t;
     gd_uav_t g = {
@@ -426,6 +438,9 @@ static void s_on_uav (gd_adapter_t *self, const Cgs__Uav *m, const Cgs__Header *
         .ground_speed_mps = m->ground_speed_mps,
         .airspeed_mps = m->commanded_airspeed_mps > 0 ? m->commanded_airspeed_mps : m->airspeed_mps,
         .agl_m = m->altitude_agl_m > 1 ? m->altitude_agl_m : 1,
+        .commanded_agl_m = m->commanded_altitude_agl_m > 1 && isfinite (m->commanded_altitude_agl_m)
+                               ? m->commanded_altitude_agl_m
+                               : 0,
         .bank_limit_deg = m->bank_limit_deg,
         .depression_deg = sn->depression_deg,
         .hfov_deg = sn->hfov_deg,

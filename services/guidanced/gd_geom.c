@@ -131,6 +131,18 @@ void gd_to_target_frame (gd_v2_t o, gd_v2_t dir, gd_v2_t q, double *ret_x, doubl
     *ret_y = dir.e * d.e + dir.n * d.n;
 }
 
+gd_v2_t gd_secondary_point (const gd_engage_t *in, gd_v2_t waypoint, gd_v2_t dir)
+{
+    double x, y;
+    gd_to_target_frame (waypoint, dir, in->uav, &x, &y);
+    gd_v2_t right = gd_v2 (dir.n, -dir.e);
+    if (in->secondary_paper) // Δ = Rᵀ diag(1, 0) R: the cross-track projection
+        return gd_add (waypoint, gd_scale (right, x));
+    // Δ = Rᵀ diag(1, −k) R, at least the lead-in ahead
+    double y2 = fmax (in->secondary_scale * -y, in->lead_in_m);
+    return gd_add (waypoint, gd_add (gd_scale (right, x), gd_scale (dir, y2)));
+}
+
 int gd_waypoint (const gd_engage_t *in, gd_waypoint_t *ret)
 {
     if (!in || !ret || !s_finite2 (in->uav) || !s_finite2 (in->target) ||
@@ -142,7 +154,7 @@ int gd_waypoint (const gd_engage_t *in, gd_waypoint_t *ret)
         !(in->agl_m > 0) || !isfinite (in->agl_m) ||
         !(in->depression_deg > 0 && in->depression_deg < 90) || !(in->secondary_scale >= 0) ||
         !isfinite (in->secondary_scale) || !(in->lead_in_m >= 0) || !isfinite (in->lead_in_m) ||
-        !(in->settle_m >= 0) || !isfinite (in->settle_m))
+        !(in->settle_m >= 0) || !isfinite (in->settle_m) || !(in->horizon_s >= 0))
         return -EINVAL;
     gd_waypoint_t w = {0};
     w.lookahead_m = in->agl_m / tan (in->depression_deg * S_DEG);
@@ -169,19 +181,20 @@ int gd_waypoint (const gd_engage_t *in, gd_waypoint_t *ret)
         t = fmax (t, prev); // oscillating about a jump of the arc (a side switch): the later
     if (isfinite (in->min_t_pred_s) && t < in->min_t_pred_s)
         t = in->min_t_pred_s;
+    bool limited = in->horizon_s > 0 && t > in->horizon_s;
+    if (limited)
+        t = in->horizon_s;
     if (!isfinite (t))
         return -EINVAL;
     w.t_pred_s = t;
+    w.limited = limited;
     w.iterations = k > S_ITER_MAX ? S_ITER_MAX : k;
     w.meet = gd_add (in->target, gd_scale (in->target_vel, t));
     w.waypoint = gd_add (w.meet, gd_scale (w.dir, w.lookahead_m));       // equation 1
     gd_to_target_frame (w.waypoint, w.dir, in->uav, &w.x_u_m, &w.y_u_m); // equation 2
     w.secondary = !(w.y_u_m > 0);
-    if (w.secondary) { // equation 3, Δ = Rᵀ diag(1, −k) R
-        double y2 = fmax (in->secondary_scale * -w.y_u_m, in->lead_in_m);
-        gd_v2_t right = gd_v2 (w.dir.n, -w.dir.e);
-        w.second = gd_add (w.waypoint, gd_add (gd_scale (right, w.x_u_m), gd_scale (w.dir, y2)));
-    }
+    if (w.secondary)
+        w.second = gd_secondary_point (in, w.waypoint, w.dir);
     // The straight run into the waypoint: at most half the way from P_2 (or
     // from a UAV ahead of the waypoint) to it, so the last turn has room.
     double room = w.secondary ? gd_norm (gd_sub (w.second, w.waypoint)) : w.y_u_m;
@@ -245,7 +258,7 @@ int gd_waypoint_flyable (const gd_engage_t *in, gd_waypoint_t *ret)
         if (t > S_ROUTE_T_MAX_S || gd_waypoint (&e, &w) < 0)
             break;
         len = gd_route_length (&e, &w);
-        settled = !isfinite (len);
+        settled = !isfinite (len) || w.limited; // the horizon: no later waypoint
     }
     if (!settled || !isfinite (len)) { // no fixed point: equation 1's plan
         w = w0;

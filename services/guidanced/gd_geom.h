@@ -20,11 +20,15 @@
  *   direction and y' along it: x' = D_n·dx − D_e·dn, y' = D_e·dx + D_n·dn for
  *   d = P_ug − P_waypt. y'_u > 0 (the UAV ahead of the waypoint): fly to the
  *   waypoint, then along −D_T. y'_u ≤ 0: first through the secondary
- *   waypoint P_2 = Δ(P_ug − P_waypt) + P_waypt, with Δ the mirror in the
- *   target's frame, Δ = Rᵀ·diag(1, −k)·R: the UAV's cross-track offset is
- *   kept and its along-track distance behind the waypoint becomes k times
- *   that distance ahead of it (k = secondary_scale, 1 in the paper's mirror),
- *   never less than the lead-in distance (room to turn in).
+ *   waypoint P_2 = Δ(P_ug − P_waypt) + P_waypt. The paper's Δ, for D_T =
+ *   (d_x, d_y), is [[d_y², −d_x·d_y], [−d_x·d_y, d_x²]] = Rᵀ·diag(1, 0)·R,
+ *   the projection onto the cross-track axis: P_2 lies abeam the waypoint at
+ *   the UAV's cross-track offset (secondary_paper). The extension (the
+ *   default) takes Δ = Rᵀ·diag(1, −k)·R: the cross-track offset is kept and
+ *   the UAV's along-track distance behind the waypoint becomes k times that
+ *   distance ahead of it (k = secondary_scale; k = 1 reflects the UAV across
+ *   the waypoint's cross-track line, which is not the paper's), never less
+ *   than the lead-in distance (room to turn in).
  * Equation 9 (precision approach): P_close^(n+1) = P_close^(n) − s_ug·dt·UV_n^p,
  *   UV_n^p the target's unit velocity predicted at scan n.
  */
@@ -78,10 +82,12 @@ typedef struct {
     gd_v2_t target;         // P_T
     gd_v2_t target_vel;     // V_T (m/s); zero: a target standing still, for which
                             // D_T is taken from the target towards the UAV
-    double secondary_scale; // k of Δ (1: the paper's mirror)
-    double lead_in_m;       // least distance of P_2 ahead of the waypoint
+    bool secondary_paper;   // equation 3 as the paper has it (no k, no lead-in)
+    double secondary_scale; // else: k of Δ = Rᵀ·diag(1, −k)·R
+    double lead_in_m;       // else: least distance of P_2 ahead of the waypoint
     double settle_m;        // straight run into the waypoint after the last turn (0: none)
     double min_t_pred_s;    // t_pred at least this (0: equation 1's alone)
+    double horizon_s;       // t_pred at most this (0: no bound); beats min_t_pred_s
 } gd_engage_t;
 
 typedef struct {
@@ -97,8 +103,13 @@ typedef struct {
     gd_v2_t meet;    // P_T + V_T·t_pred: where the target should be at the waypoint time
     double settle_m; // the route's straight run into the waypoint along −D_T (≤ settle_m asked)
     double route_m;  // gd_waypoint_flyable: the flyable route's length (else 0)
+    bool limited;    // t_pred cut to the horizon: the UAV cannot meet the target sooner
 } gd_waypoint_t;
 
+/* Equation 3's secondary waypoint P_2 for a UAV (in->uav) behind the
+ * waypoint of a target moving along the unit vector dir: the paper's
+ * projection when in->secondary_paper, else the extension (above). */
+gd_v2_t gd_secondary_point (const gd_engage_t *in, gd_v2_t waypoint, gd_v2_t dir);
 /* Equations 1–3. 0, or -EINVAL (bad input; a target not slower than the UAV;
  * no convergence). *ret written only on success. */
 int gd_waypoint (const gd_engage_t *in, gd_waypoint_t *ret);

@@ -52,8 +52,9 @@ struct gd_intercept {
     bool has_plan;
     gd_waypoint_t wp;
     double plan_s;
-    size_t i_second, i_waypoint; // their indices in the task's points
-    size_t progress;             // the route point the UAV flies to next
+    double plan_airspeed_mps, plan_agl_m; // the commanded airspeed and height it was made for
+    size_t i_second, i_waypoint;          // their indices in the task's points
+    size_t progress;                      // the route point the UAV flies to next
     // Precision approach and overflight.
     gd_v2_t p_close;
     double close_s;
@@ -66,7 +67,7 @@ struct gd_intercept {
     double best_d;                 // predicted target to the footprint's centre at samples[1]
     uint32_t replans;
     double time_to_go_s;
-    char reason[160];
+    char reason[256];
     gd_task_t task;
 };
 
@@ -84,6 +85,20 @@ static void s_reason (gd_intercept_t *self, const char *fmt, ...)
     va_start (ap, fmt);
     vsnprintf (self->reason, sizeof self->reason, fmt, ap);
     va_end (ap);
+}
+
+/* After a plan's reason: say when the horizon cut the plan short, so the
+ * operator knows the waypoint is where the target will be then, not where
+ * the UAV can meet it. */
+static void s_note_horizon (gd_intercept_t *self)
+{
+    if (!self->has_plan || !self->wp.limited)
+        return;
+    size_t n = strlen (self->reason);
+    snprintf (self->reason + n, sizeof self->reason - n,
+              "; the waypoint is at the %.0f s prediction horizon: no sooner meeting is "
+              "possible",
+              self->p.horizon_s);
 }
 
 const char *gd_phase_name (gd_phase_t p)
@@ -132,6 +147,21 @@ static gd_v2_t s_uav_ground (const gd_intercept_t *self)
 static double s_uav_speed (const gd_intercept_t *self)
 {
     return fmax (self->uav.ground_speed_mps, 1.0);
+}
+
+/* The speed a plan is made for: the commanded airspeed when known (the UAV
+ * reaches it at 1 m/s² within seconds; no wind in the simulation), else the
+ * present ground speed. */
+static double s_plan_speed (const gd_intercept_t *self)
+{
+    return self->uav.airspeed_mps > 1 ? self->uav.airspeed_mps : s_uav_speed (self);
+}
+
+/* The height the UAV flies at: the commanded one when known (it climbs or
+ * descends to it within a minute, long before the waypoint). */
+static double s_uav_agl (const gd_uav_t *u)
+{
+    return u->commanded_agl_m > 0 ? u->commanded_agl_m : u->agl_m;
 }
 
 double gd_intercept_turn_radius (const gd_intercept_t *self)
@@ -273,15 +303,17 @@ static void s_plan (gd_intercept_t *self)
     gd_engage_t in = {
         .uav = s_uav_ground (self),
         .uav_heading_deg = self->uav.heading_deg,
-        .uav_speed_mps = s_uav_speed (self),
+        .uav_speed_mps = s_plan_speed (self),
         .turn_radius_m = r,
-        .agl_m = self->uav.agl_m,
+        .agl_m = s_uav_agl (&self->uav),
         .depression_deg = self->uav.depression_deg,
         .target = s_target_at (self, t),
         .target_vel = moving ? self->track.vel : gd_v2 (0, 0),
+        .secondary_paper = self->p.secondary == GD_SECONDARY_PAPER,
         .secondary_scale = self->p.secondary_scale,
         .lead_in_m = fmax (self->p.lead_in_m, 4 * r),
         .settle_m = self->p.settle_m,
+        .horizon_s = self->p.horizon_s,
     };
     gd_waypoint_t wp;
     int rc =
@@ -331,6 +363,8 @@ static void s_plan (gd_intercept_t *self)
     tk->kind = GD_TASK_ROUTE;
     self->has_plan = true;
     self->plan_s = t;
+    self->plan_airspeed_mps = self->uav.airspeed_mps;
+    self->plan_agl_m = s_uav_agl (&self->uav);
     self->i_second = i_second;
     self->i_waypoint = i_waypoint;
     self->progress = 0;
@@ -347,8 +381,10 @@ static void s_replan (gd_intercept_t *self, const char *why)
     snprintf (keep, sizeof keep, "%s", why);
     self->replans++;
     s_plan (self);
-    if (self->has_plan && !self->need_plan)
+    if (self->has_plan && !self->need_plan) {
         s_reason (self, "re-planned (%s)", keep);
+        s_note_horizon (self);
+    }
 }
 
 /* ---- phases ----------------------------------------------------------------------------- */
@@ -432,6 +468,36 @@ static void s_update_time_to_go (gd_intercept_t *self, gd_v2_t target)
     }
 }
 
+/* The operator changed the UAV's airspeed or height since the plan was
+ * made: its look-ahead z_u·cot ε and its timing no longer hold, so it is made
+ * again (before the final approach; a pass under way keeps its geometry
+ * and the next plan takes the new values). A plan restored from a
+ * checkpoint, which does not keep them, takes the present ones. */
+static void s_commanded_changed (gd_intercept_t *self)
+{
+    double v = self->uav.airspeed_mps, z = s_uav_agl (&self->uav);
+    if (self->need_plan)
+        return; // a plan is being made anyway, with these values
+    if (!(self->plan_airspeed_mps > 0) || !(self->plan_agl_m > 0)) {
+        self->plan_airspeed_mps = v;
+        self->plan_agl_m = z;
+        return;
+    }
+    if (self->phase != GD_TO_SECONDARY && self->phase != GD_TO_WAYPOINT &&
+        self->phase != GD_APPROACH)
+        return;
+    char why[128];
+    if (fabs (v - self->plan_airspeed_mps) >= 0.5)
+        snprintf (why, sizeof why, "the airspeed was changed from %.0f to %.0f m/s",
+                  self->plan_airspeed_mps, v);
+    else if (fabs (z - self->plan_agl_m) >= 5)
+        snprintf (why, sizeof why, "the altitude was changed from %.0f to %.0f m above ground",
+                  self->plan_agl_m, z);
+    else
+        return;
+    s_replan (self, why);
+}
+
 void gd_intercept_uav (gd_intercept_t *self, const gd_uav_t *u)
 {
     if (!u || !isfinite (u->t_s) || !isfinite (u->position.e_m) || !isfinite (u->position.n_m) ||
@@ -454,6 +520,7 @@ void gd_intercept_uav (gd_intercept_t *self, const gd_uav_t *u)
         s_plan (self);
     if (!s_active (self->phase) || !self->has_plan)
         return;
+    s_commanded_changed (self);
     const gd_task_t *t = &self->task;
     while (t->kind == GD_TASK_ROUTE && self->progress < t->count &&
            s_reached (self, self->progress))
@@ -838,6 +905,33 @@ void gd_intercept_tick (gd_intercept_t *self, double t_s)
     }
 }
 
+void gd_intercept_time_back (gd_intercept_t *self, double t_s)
+{
+    if (!isfinite (t_s))
+        return;
+    self->track.last_hit_s = fmin (self->track.last_hit_s, t_s);
+    self->held.last_hit_s = fmin (self->held.last_hit_s, t_s);
+    self->heard_hit_s = fmin (self->heard_hit_s, t_s);
+    self->heard_s = fmin (self->heard_s, t_s);
+    if (!s_active (self->phase) ||
+        !(self->plan_s > t_s || self->close_s > t_s || self->overflight_s > t_s))
+        return;
+    // The UAV is back where it was at t_s: the route, the pass and its
+    // samples were of a time that did not happen.
+    self->phase = GD_TO_WAYPOINT;
+    self->need_plan = true;
+    self->confirming = false;
+    self->was_inside = false;
+    self->inside = false;
+    self->overflight_s = NAN;
+    self->n_samples = 0;
+    self->close_s = NAN;
+    s_reason (self,
+              "the simulation went back to %.1f s (a service resumed from its saved state): "
+              "planning again",
+              t_s);
+}
+
 /* ---- commands ----------------------------------------------------------------------------- */
 
 int gd_intercept_designate (gd_intercept_t *self, const gd_track_t *t, double t_s, char *why,
@@ -886,6 +980,7 @@ int gd_intercept_designate (gd_intercept_t *self, const gd_track_t *t, double t_
         s_reason (self, "designated track %u (pre-empts track %u)", t->id, before);
     else
         s_reason (self, "designated track %u", t->id);
+    s_note_horizon (self);
     return 0;
 }
 

@@ -69,6 +69,7 @@ typedef struct {
     double ground_speed_mps;
     double airspeed_mps;       // commanded airspeed when known, else present
     double agl_m;              // height above the terrain under it
+    double commanded_agl_m;    // the height commanded (0: unknown, taken as agl_m)
     double bank_limit_deg;     // for the smallest turn radius
     double depression_deg;     // imaging sensor: ε
     double hfov_deg, vfov_deg; // γ, β
@@ -165,6 +166,13 @@ void gd_intercept_turn (gd_intercept_t *self, uint32_t track_id, double t_s, gd_
                         double angle_deg);
 /* Time has come to t_s: a designated track silent for lost_after_s is lost. */
 void gd_intercept_tick (gd_intercept_t *self, double t_s);
+/* Simulation time went back to t_s (uavsim resumed from its saved state):
+ * what the intercept heard after t_s did not happen. Its hits and updates
+ * are taken as heard at t_s at the latest (so that a new track of the
+ * target, whose hits now come after t_s, can take over from a track the
+ * tracker deleted for being from later times), and a plan made after t_s
+ * (for a UAV that is now elsewhere) is made again on the next UAV update. */
+void gd_intercept_time_back (gd_intercept_t *self, double t_s);
 
 /* The lateral task wanted now (kind NONE until the first). */
 const gd_task_t *gd_intercept_task (const gd_intercept_t *self);

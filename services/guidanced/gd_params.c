@@ -11,9 +11,11 @@ void gd_params_defaults (gd_params_t *p)
     *p = (gd_params_t){
         .timing = GD_TIMING_ROUTE,
         .turn_radius_factor = 1.5,
+        .secondary = GD_SECONDARY_EXTENDED,
         .secondary_scale = 0.25,
         .lead_in_m = 2000,
         .settle_m = 800,
+        .horizon_s = 900,
         .runout_m = 1500,
         .arc_step_deg = 15,
         .min_target_speed_mps = 1.0,
@@ -41,6 +43,7 @@ static const cgs_config_real_t s_reals[] = {
     S_R ("plan", "secondary_scale", secondary_scale, 0.0, 10.0),
     S_R ("plan", "lead_in_m", lead_in_m, 0.0, 1e5),
     S_R ("plan", "settle_m", settle_m, 0.0, 1e4),
+    S_R ("plan", "horizon_s", horizon_s, 10.0, 86400.0),
     S_R ("plan", "runout_m", runout_m, 0.0, 1e5),
     S_R ("plan", "arc_step_deg", arc_step_deg, 1.0, 90.0),
     S_R ("plan", "min_target_speed_mps", min_target_speed_mps, 0.01, 100.0),
@@ -69,6 +72,11 @@ int gd_params_check (const gd_params_t *p, char *err, size_t errlen)
         key = "timing";
         snprintf (msg, sizeof msg, "expected route or arc, got %d", (int)p->timing);
     }
+    if (!key && p->secondary != GD_SECONDARY_EXTENDED && p->secondary != GD_SECONDARY_PAPER) {
+        sec = "plan";
+        key = "secondary";
+        snprintf (msg, sizeof msg, "expected extended or paper, got %d", (int)p->secondary);
+    }
     if (!key && p->handover != GD_HANDOVER_NEAR && p->handover != GD_HANDOVER_LINKS) {
         sec = "approach";
         key = "handover";
@@ -88,6 +96,12 @@ static int s_read (cgs_config_t *cfg, void *arg, char *err, size_t errlen)
     if (rc == 0)
         rc = cgs_config_get_enum (cfg, "plan", "timing", timings, timing, &timing, err, errlen);
     p.timing = (gd_timing_t)timing;
+    static const char *const secondaries[] = {"extended", "paper", NULL};
+    int secondary = (int)p.secondary;
+    if (rc == 0)
+        rc = cgs_config_get_enum (cfg, "plan", "secondary", secondaries, secondary, &secondary, err,
+                                  errlen);
+    p.secondary = (gd_secondary_t)secondary;
     static const char *const handovers[] = {"near", "links", NULL};
     int handover = (int)p.handover;
     if (rc == 0)

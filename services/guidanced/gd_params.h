@@ -15,6 +15,12 @@ typedef enum {
     GD_TIMING_ARC = 1,   // the paper's equation 1: the arc straight to the target
 } gd_timing_t;
 
+/* Where equation 3 puts the secondary waypoint P_2 (gd_geom.h). */
+typedef enum {
+    GD_SECONDARY_EXTENDED = 0, // the UAV's offset kept, k·|y'_u| (at least lead_in_m) ahead
+    GD_SECONDARY_PAPER = 1,    // the paper's projection: abeam the waypoint, no lead-in
+} gd_secondary_t;
+
 /* Who may take over a deleted designated track from a tracker that links
  * successors itself (TrackBatch.links_continuation). */
 typedef enum {
@@ -26,9 +32,11 @@ typedef struct {
     // [plan]
     gd_timing_t timing;
     double turn_radius_factor;   // planning radius = this × the UAV's smallest turn radius
-    double secondary_scale;      // k of Δ in equation 3 (1: the paper's mirror)
-    double lead_in_m;            // least distance of P_2 ahead of the waypoint
+    gd_secondary_t secondary;    // equation 3 as the paper has it, or extended
+    double secondary_scale;      // extended: k of Δ = Rᵀ·diag(1, −k)·R
+    double lead_in_m;            // extended: least distance of P_2 ahead of the waypoint
     double settle_m;             // straight run into the waypoint after the last turn, metres
+    double horizon_s;            // t_pred at most this: the prediction horizon, seconds
     double runout_m;             // route goes on this far past the target's meeting point
     double arc_step_deg;         // turns are sent as route points this many degrees apart
     double min_target_speed_mps; // slower targets are taken as standing still

@@ -18,9 +18,11 @@
  *     t_pred to R(t_pred)/s within 0.5 s; bad input; a geometry with no
  *     fixed point (-EINVAL or a route that fits) and a NULL result (both
  *     fail at present: see the cases);
- *   - equations 2–3: the target frame on hand examples, the secondary
- *     waypoint as the mirror of the UAV (k = 1), its lead-in clamp, its scale
- *     k, and the matrix form Δ = Rᵀ·diag(1, −k)·R for a general direction;
+ *   - equations 2–3: the target frame on hand examples; the paper's
+ *     equation 3 (Δ the projection onto the cross-track axis) worked by
+ *     hand; the extension's secondary waypoint as the reflection of the UAV
+ *     (k = 1), its lead-in clamp, its scale k, and the matrix form
+ *     Δ = Rᵀ·diag(1, −k)·R for a general direction;
  *   - equation 9 (gd_precision_step): the step, the projection onto the
  *     target's line, n steps;
  *   - Dubins paths: a semicircle, the U-turn in place (7πr/3), the same
@@ -433,6 +435,112 @@ static void test_waypoint_general_direction (void **state)
     assert_int_equal (gd_waypoint (&in, &w), 0);
     s_assert_fixed_point (&in, &w);
     assert_true (w.meet.n > 0);
+}
+
+/* Equation 3 as the paper writes it, worked by hand. D_T = (d_x, d_y) =
+ * (0.6, 0.8) (east, north); Δ = [[d_y², −d_x·d_y], [−d_x·d_y, d_x²]] =
+ * [[0.64, −0.48], [−0.48, 0.36]]. Waypoint (1000, 2000), UAV (−3000, 500):
+ * P_ug − P_waypt = (−4000, −1500); Δ·(−4000, −1500) = (0.64·−4000 +
+ * 0.48·1500, 0.48·4000 − 0.36·1500) = (−2560 + 720, 1920 − 540) =
+ * (−1840, 1380); P_2 = (1000 − 1840, 2000 + 1380) = (−840, 3380). Δ is the
+ * projection onto the cross-track axis (0.8, −0.6): the UAV's cross-track
+ * offset x' = 0.8·−4000 − 0.6·−1500 = −2300, P_2 = P_waypt − 2300·(0.8, −0.6),
+ * abeam the waypoint (no along-track part: no lead-in, no k), and Δ² = Δ.
+ * The extension on the same numbers (k = 0.25, lead-in 2000): y' = 0.6·−4000
+ * + 0.8·−1500 = −3600, ahead max(0.25·3600, 2000) = 2000: P_2 = (−840, 3380)
+ * + 2000·(0.6, 0.8) = (360, 4980). And on the crossing case of
+ * test_waypoint_crossing_target (waypoint (8000, 1200), D_T north, UAV at
+ * the origin): the paper's P_2 = (0, 1200), beside the waypoint. */
+static void test_equation3_paper (void **state)
+{
+    (void)state;
+    gd_engage_t in = s_engage ();
+    in.secondary_paper = true;
+    in.secondary_scale = 0.25; // ignored by the paper's
+    in.lead_in_m = 2000;       // ignored by the paper's
+    in.uav = gd_v2 (-3000, 500);
+    gd_v2_t wp = gd_v2 (1000, 2000), dir = gd_v2 (0.6, 0.8);
+    gd_v2_t p2 = gd_secondary_point (&in, wp, dir);
+    assert_v2_near (p2, gd_v2 (-840, 3380), 1e-9);
+    // Δ as the paper's matrix, applied by hand.
+    double dx = 0.6, dy = 0.8, ve = -4000, vn = -1500;
+    gd_v2_t m = gd_v2 (dy * dy * ve - dx * dy * vn, -dx * dy * ve + dx * dx * vn);
+    assert_v2_near (p2, gd_add (wp, m), 1e-9);
+    // Abeam: no along-track part; a projection: the UAV put at P_2 maps to P_2.
+    assert_near (gd_dot (gd_sub (p2, wp), dir), 0.0, 1e-9);
+    in.uav = p2;
+    assert_v2_near (gd_secondary_point (&in, wp, dir), p2, 1e-9);
+    // The extension on the same numbers.
+    in.uav = gd_v2 (-3000, 500);
+    in.secondary_paper = false;
+    assert_v2_near (gd_secondary_point (&in, wp, dir), gd_v2 (360, 4980), 1e-9);
+    // Through gd_waypoint, on the crossing case (t_pred 200 s, waypoint
+    // (8000, 1200)): P_2 = (0, 1200).
+    in = s_engage ();
+    in.secondary_paper = true;
+    in.lead_in_m = 2000;
+    in.target = gd_v2 (8000, -2000);
+    in.target_vel = gd_v2 (0, 10);
+    gd_waypoint_t w;
+    assert_int_equal (gd_waypoint (&in, &w), 0);
+    assert_true (w.secondary);
+    assert_v2_near (w.waypoint, gd_v2 (8000, 1200), 2e-3);
+    assert_v2_near (w.second, gd_v2 (0, w.waypoint.n), 1e-9);
+    // The straight run into the waypoint fits in half the way from P_2.
+    in.settle_m = 800;
+    assert_int_equal (gd_waypoint (&in, &w), 0);
+    assert_near (w.settle_m, 800, 1e-9);
+    in.settle_m = 5000;
+    assert_int_equal (gd_waypoint (&in, &w), 0);
+    assert_near (w.settle_m, 0.5 * gd_norm (gd_sub (w.second, w.waypoint)), 1e-9);
+}
+
+/* The prediction horizon: the crossing case (t_pred 200 s) with a horizon of
+ * 150 s meets the target where it is at 150 s, (8000, −500), the waypoint
+ * 1200 m on along D_T, (8000, 700), and says it is limited; a horizon of
+ * 250 s or none (0) leaves t_pred at 200 s. The flyable route into the
+ * waypoint of a receding target takes longer than equation 1's t_pred
+ * (the UAV must go past it and turn back): a horizon below both cuts the
+ * route timing too. */
+static void test_horizon (void **state)
+{
+    (void)state;
+    gd_engage_t in = s_engage ();
+    in.target = gd_v2 (8000, -2000);
+    in.target_vel = gd_v2 (0, 10);
+    gd_waypoint_t w;
+    in.horizon_s = 150;
+    assert_int_equal (gd_waypoint (&in, &w), 0);
+    assert_true (w.limited);
+    assert_near (w.t_pred_s, 150, 1e-12);
+    assert_v2_near (w.meet, gd_v2 (8000, -500), 1e-9);
+    assert_v2_near (w.waypoint, gd_v2 (8000, 700), 1e-9);
+    in.horizon_s = 250;
+    assert_int_equal (gd_waypoint (&in, &w), 0);
+    assert_false (w.limited);
+    assert_near (w.t_pred_s, 200, 1e-6 * 201);
+    in.horizon_s = 0;
+    assert_int_equal (gd_waypoint (&in, &w), 0);
+    assert_false (w.limited);
+    in.horizon_s = NAN;
+    assert_int_equal (gd_waypoint (&in, &w), -EINVAL);
+    in.horizon_s = -1;
+    assert_int_equal (gd_waypoint (&in, &w), -EINVAL);
+    // Receding: 8000 m ahead at 10 m/s, equation 1's t_pred 266.7 s, the
+    // flyable route's longer; a horizon of 300 s cuts the route's.
+    in = s_engage ();
+    in.target = gd_v2 (8000, 0);
+    in.target_vel = gd_v2 (10, 0);
+    in.lead_in_m = 2000;
+    assert_int_equal (gd_waypoint_flyable (&in, &w), 0);
+    assert_false (w.limited);
+    double free_t = w.t_pred_s;
+    assert_true (free_t > 300);
+    in.horizon_s = 300;
+    assert_int_equal (gd_waypoint_flyable (&in, &w), 0);
+    assert_true (w.limited);
+    assert_near (w.t_pred_s, 300, 1e-12);
+    assert_v2_near (w.meet, gd_v2 (11000, 0), 1e-9);
 }
 
 /* A target standing still (V_T = 0): D_T is taken from the target towards
@@ -1519,6 +1627,8 @@ int main (void)
         cmocka_unit_test (test_waypoint_target_head_on),
         cmocka_unit_test (test_waypoint_crossing_target),
         cmocka_unit_test (test_waypoint_general_direction),
+        cmocka_unit_test (test_equation3_paper),
+        cmocka_unit_test (test_horizon),
         cmocka_unit_test (test_waypoint_target_standing),
         cmocka_unit_test (test_waypoint_rejects_bad_input),
         cmocka_unit_test (test_waypoint_min_t_pred),

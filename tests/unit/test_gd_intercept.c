@@ -357,6 +357,147 @@ static void test_designate_plan_eq1 (void **state)
  * t_pred = 19 950 / 48 = 415.625 s, meet = (0, 15 793.75), waypoint =
  * meet + 1200·(0, −1) = (0, 14 593.75); y'_u = D_T·(P_ug − P_waypt) =
  * 14 593.75 > 0: straight to the waypoint, no secondary. */
+/* The same designation with a prediction horizon of 200 s, shorter than
+ * equation 1's 300 s: the waypoint is where the target will be at 200 s
+ * (equation 1 at t_pred = 200), and the reason on the map says the plan is
+ * limited, and says it again when it re-plans. With the default horizon
+ * (900 s) nothing is said. */
+static void test_horizon_said (void **state)
+{
+    (void)state;
+    gd_params_t p = s_params ();
+    p.timing = GD_TIMING_ARC;
+    p.horizon_s = 200;
+    gd_intercept_t *ic = s_crossing (&p, 7);
+    gd_track_t t = s_crossing_track (7);
+    gd_status_t st = s_status (ic);
+    assert_near (st.t_pred_s, 200.0, 1e-9);
+    assert_v2_near (st.waypoint, s_eq1 (&t, 100, 200), 1e-6);
+    assert_has (st.reason, "designated track 7");
+    assert_has (st.reason, "200 s prediction horizon");
+    // A re-plan says it again (a turn of 30°).
+    gd_track_t moved = t;
+    moved.t_s = 110;
+    moved.pos = gd_add (t.pos, gd_scale (t.vel, 12));
+    moved.vel = s_vel (10, 60);
+    gd_intercept_track (ic, &moved);
+    st = s_status (ic);
+    assert_has (st.reason, "re-planned");
+    assert_has (st.reason, "prediction horizon");
+    gd_intercept_destroy (&ic);
+
+    p.horizon_s = 900;
+    ic = s_crossing (&p, 7);
+    st = s_status (ic);
+    assert_near (st.t_pred_s, 300.0, 1e-3);
+    assert_null (strstr (st.reason, "horizon"));
+    gd_intercept_destroy (&ic);
+}
+
+/* The operator changes the airspeed, then the altitude, on the way to the
+ * waypoint: each re-plans at once (the look-ahead z_u·cot ε and the timing
+ * change with them), with the reason on the map; the new plan is made for
+ * the commanded values (a look-ahead of 1500 m at 45° for 1500 m commanded,
+ * while the UAV still flies at 1200 m). A UAV update with the same commands
+ * re-plans nothing. */
+static void test_replan_on_command (void **state)
+{
+    (void)state;
+    gd_params_t p = s_params ();
+    p.timing = GD_TIMING_ARC;
+    gd_intercept_t *ic = s_crossing (&p, 7);
+    gd_uav_t u = s_uav (100, 0, 0, 0);
+    gd_track_t t = s_crossing_track (7);
+    gd_status_t st = s_status (ic);
+    assert_int_equal (st.replans, 0);
+    double t_pred0 = st.t_pred_s;
+    u.t_s = 101;
+    gd_intercept_uav (ic, &u);
+    assert_int_equal (s_status (ic).replans, 0);
+    u.t_s = 102;
+    u.airspeed_mps = 30; // commanded; the ground speed has not changed yet
+    gd_intercept_uav (ic, &u);
+    st = s_status (ic);
+    assert_int_equal (st.replans, 1);
+    assert_has (st.reason, "the airspeed was changed from 38 to 30 m/s");
+    assert_true (st.t_pred_s > t_pred0 + 10); // a slower UAV meets it later
+    u.t_s = 103;
+    gd_intercept_uav (ic, &u);
+    assert_int_equal (s_status (ic).replans, 1);
+    u.t_s = 104;
+    u.commanded_agl_m = 1500;
+    gd_intercept_uav (ic, &u);
+    st = s_status (ic);
+    assert_int_equal (st.replans, 2);
+    assert_has (st.reason, "the altitude was changed from 1200 to 1500 m above ground");
+    // The look-ahead of the commanded height: the waypoint 1500 m on from
+    // where the target will be, along its direction (east).
+    double t2 = st.t_pred_s;
+    assert_v2_near (st.waypoint, gd_v2 (t.pos.e + 10 * (104 + t2 - t.t_s) + 1500, t.pos.n), 1e-6);
+    gd_intercept_destroy (&ic);
+}
+
+/* uavsim resumed from its saved state: time went back from 160 s to 120 s.
+ * The tracker deleted the designated track (its updates were of later
+ * times); the target's new track has hits from 121 s on, before the deleted
+ * track's last hit (150 s) in the time that did not happen. Without taking
+ * that time back the new track looks like another vehicle (its first hit
+ * is older than the target's last), and the intercept would be lost; taken
+ * back, it takes over. A plan made after the time it went back to (here
+ * at 100 s, the time going back to 90 s) is made again, and says why. */
+static void test_time_back (void **state)
+{
+    (void)state;
+    for (int back = 0; back < 2; back++) {
+        gd_params_t p = s_params ();
+        p.handover = GD_HANDOVER_NEAR;
+        gd_intercept_t *ic = s_crossing (&p, 7);
+        for (double t = 110; t <= 150; t += 10) {
+            gd_track_t u = s_track (7, 1, t, -3020 + 10 * (t - 98), 11400, 10, 0);
+            gd_intercept_track (ic, &u);
+        }
+        gd_uav_t uav = s_uav (140, 1500, 300, 0);
+        gd_intercept_uav (ic, &uav);
+        gd_track_t del = s_track (7, 3, 160, -3020 + 10 * 62, 11400, 10, 0);
+        gd_intercept_track (ic, &del);
+        assert_has (s_status (ic).reason, "track 7 was deleted");
+        if (back) {
+            gd_intercept_time_back (ic, 120);
+            uav = s_uav (120, 800, 100, 0);
+            gd_intercept_uav (ic, &uav);
+        }
+        gd_track_t young = s_track (12, 1, 125, -3020 + 10 * 27, 11400, 10, 0);
+        young.hits = 3;
+        young.history_count = 3;
+        for (int k = 0; k < 3; k++) {
+            young.history_t_s[k] = 121 + 2 * k;
+            young.history[k] = gd_v2 (-3020 + 10 * (23 + 2 * k), 11400);
+        }
+        gd_intercept_track (ic, &young);
+        gd_status_t st = s_status (ic);
+        if (back) {
+            assert_int_equal (st.track_id, 12);
+            assert_has (st.reason, "its target goes on as track 12");
+            assert_true (st.has_plan);
+        } else {
+            assert_int_equal (st.track_id, 7); // another vehicle, as far as it can tell
+        }
+        gd_intercept_destroy (&ic);
+    }
+    gd_params_t p = s_params ();
+    gd_intercept_t *ic = s_crossing (&p, 7);
+    uint64_t n0 = s_task_number (ic);
+    gd_intercept_time_back (ic, 90);
+    assert_has (s_status (ic).reason, "the simulation went back to 90.0 s");
+    gd_uav_t uav = s_uav (90, -300, -200, 0);
+    gd_intercept_uav (ic, &uav);
+    gd_status_t st = s_status (ic);
+    assert_true (st.has_plan);
+    assert_true (st.phase == GD_TO_SECONDARY || st.phase == GD_TO_WAYPOINT);
+    assert_true (s_task_number (ic) > n0); // a new route for the UAV where it is now
+    gd_intercept_destroy (&ic);
+}
+
 static void test_uav_ahead_no_secondary (void **state)
 {
     (void)state;
@@ -2206,6 +2347,9 @@ int main (void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test (test_designate_plan_eq1),
+        cmocka_unit_test (test_horizon_said),
+        cmocka_unit_test (test_replan_on_command),
+        cmocka_unit_test (test_time_back),
         cmocka_unit_test (test_uav_ahead_no_secondary),
         cmocka_unit_test (test_uav_behind_secondary),
         cmocka_unit_test (test_standing_target),

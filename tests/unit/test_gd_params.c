@@ -21,9 +21,11 @@
 static const char *const s_keys[][2] = {
     {"plan", "timing"},
     {"plan", "turn_radius_factor"},
+    {"plan", "secondary"},
     {"plan", "secondary_scale"},
     {"plan", "lead_in_m"},
     {"plan", "settle_m"},
+    {"plan", "horizon_s"},
     {"plan", "runout_m"},
     {"plan", "arc_step_deg"},
     {"plan", "min_target_speed_mps"},
@@ -50,9 +52,11 @@ static void s_assert_equal (const gd_params_t *a, const gd_params_t *b)
     } while (0)
     S_SAME (timing);
     S_SAME (turn_radius_factor);
+    S_SAME (secondary);
     S_SAME (secondary_scale);
     S_SAME (lead_in_m);
     S_SAME (settle_m);
+    S_SAME (horizon_s);
     S_SAME (runout_m);
     S_SAME (arc_step_deg);
     S_SAME (min_target_speed_mps);
@@ -102,9 +106,11 @@ static void test_defaults (void **state)
     gd_params_defaults (&p);
     assert_int_equal (p.timing, GD_TIMING_ROUTE);
     assert_true (p.turn_radius_factor == 1.5);
+    assert_int_equal (p.secondary, GD_SECONDARY_EXTENDED);
     assert_true (p.secondary_scale == 0.25);
     assert_true (p.lead_in_m == 2000);
     assert_true (p.settle_m == 800);
+    assert_true (p.horizon_s == 900);
     assert_true (p.runout_m == 1500);
     assert_true (p.arc_step_deg == 15);
     assert_true (p.min_target_speed_mps == 1);
@@ -163,9 +169,11 @@ static void test_values (void **state)
     s_load ("[plan]\n"
             "timing = ARC\n"
             "turn_radius_factor = 2\n"
+            "secondary = paper\n"
             "secondary_scale = 1\n"
             "lead_in_m = 3000\n"
             "settle_m = 400\n"
+            "horizon_s = 1200\n"
             "runout_m = 500\n"
             "arc_step_deg = 5\n"
             "min_target_speed_mps = 0.5\n"
@@ -189,9 +197,11 @@ static void test_values (void **state)
     gd_params_t want = {
         .timing = GD_TIMING_ARC,
         .turn_radius_factor = 2,
+        .secondary = GD_SECONDARY_PAPER,
         .secondary_scale = 1,
         .lead_in_m = 3000,
         .settle_m = 400,
+        .horizon_s = 1200,
         .runout_m = 500,
         .arc_step_deg = 5,
         .min_target_speed_mps = 0.5,
@@ -219,10 +229,14 @@ static void test_errors (void **state)
     (void)state;
     s_fails ("[plan]\ntiming = sideways\n",
              "g.ini:2: [plan] timing: expected one of 'route', 'arc', got 'sideways'");
+    s_fails ("[plan]\nsecondary = mirror\n",
+             "g.ini:2: [plan] secondary: expected one of 'extended', 'paper', got 'mirror'");
     s_fails ("[plan]\n\nturn_radius_factor = 0.5\n",
              "g.ini:3: [plan] turn_radius_factor: expected a number in [1, 10], got '0.5'");
     s_fails ("[plan]\nlead_in_m = abc\n",
              "g.ini:2: [plan] lead_in_m: expected a number in [0, 100000], got 'abc'");
+    s_fails ("[plan]\nhorizon_s = 5\n",
+             "g.ini:2: [plan] horizon_s: expected a number in [10, 86400], got '5'");
     s_fails ("[plan]\nsettle_m = -1\n",
              "g.ini:2: [plan] settle_m: expected a number in [0, 10000], got '-1'");
     s_fails ("[approach]\nconfirm_margin_m = -1001\n",
@@ -250,6 +264,10 @@ static void test_check (void **state)
     p.timing = (gd_timing_t)7;
     assert_int_equal (gd_params_check (&p, err, sizeof err), -EINVAL);
     assert_string_equal (err, "[plan] timing: expected route or arc, got 7");
+    gd_params_defaults (&p);
+    p.secondary = (gd_secondary_t)3;
+    assert_int_equal (gd_params_check (&p, err, sizeof err), -EINVAL);
+    assert_string_equal (err, "[plan] secondary: expected extended or paper, got 3");
     gd_params_defaults (&p);
     p.handover_growth_mps = 101;
     assert_int_equal (gd_params_check (&p, err, sizeof err), -EINVAL);
