@@ -210,6 +210,7 @@ typedef struct {
     uint64_t gaps, drops, malformed, commands;
     char last_error[256];
     char counters[512]; // the service's own counts, "name=value ..."
+    uint64_t http_port; // stationd's map port as it reports it (0: not reported)
 } s_row_t;
 
 typedef struct {
@@ -266,6 +267,9 @@ static void s_on_health (void *arg, const char *topic, const ProtobufCMessage *m
     snprintf (r->last_error, sizeof r->last_error, "%s", h->last_error);
     size_t used = 0;
     r->counters[0] = '\0';
+    for (size_t i = 0; i < h->n_counters; i++)
+        if (strcmp (h->counters[i]->name, "http_port") == 0)
+            r->http_port = h->counters[i]->value;
     for (size_t i = 0; i < h->n_counters && used < sizeof r->counters; i++) {
         int n = snprintf (r->counters + used, sizeof r->counters - used, "%s%s=%llu", i ? " " : "",
                           h->counters[i]->name, (unsigned long long)h->counters[i]->value);
@@ -562,21 +566,32 @@ static int s_cmd_ping (int argc, char **argv)
 
 /* ---- uavsim's task and clock commands ------------------------------------------------ */
 
-/* Where a stationd instance serves the tactical map, from its parameters. */
-static void s_print_map_address (const cgs_instance_t *in)
+/* Where a stationd instance serves the tactical map, from its parameters,
+ * on port (its parameters' when 0). Returns false, having said so, when the
+ * parameters leave the port to the system (port = 0): the address is known
+ * once stationd reports the port it was given (its http_port counter). */
+static bool s_print_map_address (const cgs_instance_t *in, int port)
 {
     st_params_t p;
     char err[512];
     st_params_defaults (&p);
     if (*in->params && st_params_load (in->params, &p, err, sizeof err) < 0)
-        return; // stationd itself reports the error in its log
+        return true; // stationd itself reports the error in its log
+    if (port == 0 && p.port == 0) {
+        printf ("mscgs run: tactical map (%s) on a free port the system chooses: its address "
+                "follows when %s reports it\n",
+                in->name, in->name);
+        return false;
+    }
     const char *host =
         strcmp (p.listen_address, "0.0.0.0") == 0 || strcmp (p.listen_address, "::") == 0
             ? in->host
             : p.listen_address;
     bool v6 = strchr (host, ':') != NULL;
     printf ("mscgs run: tactical map (%s) at http://%s%s%s:%d/%s\n", in->name, v6 ? "[" : "", host,
-            v6 ? "]" : "", p.port, p.token[0] ? "?token=... (the configured token)" : "");
+            v6 ? "]" : "", port ? port : p.port,
+            p.token[0] ? "?token=... (the configured token)" : "");
+    return true;
 }
 
 /* Where a gateway instance sends DIS, from its parameters, and whether that
@@ -1261,6 +1276,8 @@ typedef struct {
     int quick_failures; // exits within 10 s of starting, in a row
     bool given_up;
     int last_status;
+    bool map_auto;     // a stationd whose map port the system chooses (port = 0)
+    uint64_t map_told; // ... the port last printed for it (0: none yet)
 } s_child_t;
 
 typedef struct {
@@ -1375,6 +1392,29 @@ static void s_reap (s_run_t *run)
             ch->next_start = now + delay;
             fprintf (stderr, "mscgs run: %s %s; restarting in %.0f s (restart %d, log %s/%s.log)\n",
                      ch->instance->name, how, delay, ch->restarts, run->logs, ch->instance->name);
+        }
+    }
+}
+
+/* The address of a map on a port the system chose, once its stationd has
+ * reported the port, and again when a restarted one reports another (on its
+ * own line, even between progress lines). */
+static void s_tell_map_ports (s_run_t *run)
+{
+    for (size_t i = 0; i < run->nchildren; i++) {
+        s_child_t *ch = &run->children[i];
+        if (!ch->map_auto)
+            continue;
+        for (size_t j = 0; j < run->table.nrows; j++) {
+            const s_row_t *r = &run->table.rows[j];
+            if (strcmp (r->instance, ch->instance->name) != 0 || r->http_port == 0 ||
+                r->http_port > 65535 || r->http_port == ch->map_told)
+                continue;
+            if (run->tty)
+                fputs ("\r\033[K", stdout);
+            s_print_map_address (ch->instance, (int)r->http_port);
+            fflush (stdout);
+            ch->map_told = r->http_port;
         }
     }
 }
@@ -1649,7 +1689,7 @@ static int s_cmd_run (int argc, char **argv)
                 s_exe_dir);
     for (size_t i = 0; i < run.nchildren; i++)
         if (strcmp (run.children[i].instance->program, "stationd") == 0)
-            s_print_map_address (run.children[i].instance);
+            run.children[i].map_auto = !s_print_map_address (run.children[i].instance, 0);
         else if (strcmp (run.children[i].instance->program, "gateway") == 0)
             s_print_dis_destination (run.children[i].instance);
 
@@ -1682,6 +1722,7 @@ static int s_cmd_run (int argc, char **argv)
         }
         cgs_sub_poll (run.sub, 100);
         s_reap (&run);
+        s_tell_map_ports (&run);
         double now = cgs_loop_now ();
         for (size_t i = 0; i < run.nchildren; i++) {
             s_child_t *ch = &run.children[i];

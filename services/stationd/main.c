@@ -180,6 +180,7 @@ static void s_on_push (void *arg)
         snprintf (app->web_error, sizeof app->web_error, "%s", err);
     }
     cgs_health_t *h = app->svc.health;
+    cgs_health_set_counter (h, "http_port", (uint64_t)st_web_port (app->web));
     cgs_health_set_counter (h, "pages", ws.pages);
     cgs_health_set_counter (h, "pages_total", ws.pages_total);
     cgs_health_set_counter (h, "pushes", ws.pushes);

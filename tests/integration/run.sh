@@ -4,7 +4,9 @@
 # with the exercise, reports health, is restarted after kill -9 (a restart
 # counted in the summary), and everything stops at --duration with logs and
 # a summary in the output folder; `mscgs status` sees the service up while it
-# runs. TAP on stdout.
+# runs. Then the real stationd with `port = 0`: mscgs run says the system
+# chooses the map's port and prints the address once stationd reports it,
+# and the page is served there. TAP on stdout.
 # shellcheck source=tests/integration/lib.sh
 . "$(dirname "$0")/lib.sh"
 
@@ -79,5 +81,33 @@ check "the summary counts one restart" grep -qE 'uavsim +.*1 restart' "$OUT/summ
 check "the service's log is in the output folder" grep -q "exercise" "$OUT/logs/uavsim.log"
 check "its state folder is in the output folder" [ -d "$OUT/state" ]
 check "the service stopped cleanly on SIGTERM (no sanitizer report)" clean_log out/logs/uavsim
+
+# The map on a port the system chooses.
+STATIOND=$CGS_BUILD/bin/stationd
+[ -x "$STATIOND" ] || bail "no stationd at $STATIOND"
+command -v curl >/dev/null || bail "no curl"
+EX2=$TMP/exercise-map.ini
+cat >"$EX2" <<INI
+[exercise]
+id = 8
+origin = geo 35.96 -121.23 0
+state_dir = $TMP/state-map
+
+[service stationd]
+publish = ipc://$TMP/stationd.pub
+params = $TMP/station-any.ini
+INI
+printf '[http]\nlisten = 127.0.0.1\nport = 0\n' >"$TMP/station-any.ini"
+start RUN2 run-map "$MSCGS" run --exercise "$EX2" --duration 12 --out "$TMP/out-map"
+check "mscgs run says the system chooses the map's port" \
+    wait_for 10 grep -q "tactical map (stationd) on a free port the system chooses" "$TMP/run-map.log"
+map_url () { sed -n 's|^mscgs run: tactical map (stationd) at \(http://127\.0\.0\.1:[1-9][0-9]*/\)$|\1|p' "$TMP/run-map.log" | head -1; }
+has_map_url () { [ -n "$(map_url)" ]; }
+check "and then the address with the port stationd was given" wait_for 10 has_map_url
+URL=$(map_url)
+diag "the map: ${URL:-none}"
+check "the page is served at that address" bash -c "curl -sf '${URL:-http://127.0.0.1:1/}' | grep -qi '<html'"
+check "mscgs run stops at --duration" wait_exit "$RUN2" 40
+is "$EXIT_CODE" 0 "mscgs run exits 0"
 
 finish
