@@ -266,12 +266,14 @@ static bool s_track_from_msg (const Cgs__Track *m, double t_s, gd_track_t *ret)
     ret->hits = m->hit_count;
     ret->last_hit_s = isfinite (m->last_hit_time_s) ? m->last_hit_time_s : NAN;
     ret->continues = m->continues;
+    ret->radar_id = m->uav_id;
+    ret->last_scan = m->last_scan_number;
     ret->continues_p = isfinite (m->continues_probability) ? m->continues_probability : 0;
     // Covariance: 4 × 4 row-major over (east, north, v_east, v_north).
     const double *P = m->covariance;
-    ret->has_cov = m->n_covariance == 16 && isfinite (P[0]) && isfinite (P[1]) &&
-                   isfinite (P[5]) && isfinite (P[10]) && isfinite (P[11]) && isfinite (P[15]) &&
-                   P[0] >= 0 && P[5] >= 0 && P[10] >= 0 && P[15] >= 0;
+    ret->has_cov = m->n_covariance == 16 && isfinite (P[0]) && isfinite (P[1]) && isfinite (P[5]) &&
+                   isfinite (P[10]) && isfinite (P[11]) && isfinite (P[15]) && P[0] >= 0 &&
+                   P[5] >= 0 && P[10] >= 0 && P[15] >= 0;
     if (ret->has_cov) {
         ret->pos_cov[0] = P[0];
         ret->pos_cov[1] = P[1];
@@ -287,6 +289,8 @@ static bool s_track_from_msg (const Cgs__Track *m, double t_s, gd_track_t *ret)
         if (!h->position || !isfinite (h->position->east_m) || !isfinite (h->position->north_m))
             continue;
         ret->history[ret->history_count] = gd_v2 (h->position->east_m, h->position->north_m);
+        ret->history_hit_id[ret->history_count] = h->hit_id;
+        ret->history_scan[ret->history_count] = h->scan_number;
         ret->history_t_s[ret->history_count++] = h->sim_time_s;
     }
     return true;
@@ -514,8 +518,36 @@ static void s_designate (gd_adapter_t *self, const Cgs__Designate *d, Cgs__Reply
                              "track %u, %.0f m away",
                              self->params.pick_radius_m, p.e, p.n, self->tracks[i].id, dist);
         t = &self->tracks[i];
+    } else if (d->target_case == CGS__DESIGNATE__TARGET_HIT && d->hit && d->hit->hit_id) {
+        // The clicked hit: exactly the track that took it, or a refusal.
+        uint32_t id = d->hit->hit_id, radar = d->hit->radar_uav_id;
+        size_t k = 0;
+        for (size_t i = 0; i < self->track_count && !t; i++)
+            if (radar == 0 || self->tracks[i].radar_id == radar)
+                for (k = 0; k < self->tracks[i].history_count; k++)
+                    if (self->tracks[i].history_hit_id[k] == id) {
+                        t = &self->tracks[i];
+                        break;
+                    }
+        if (!t)
+            return s_refuse (self, reply,
+                             "hit %u is in no track: a false alarm, or a hit no track has taken",
+                             id);
+        if (t->friendly)
+            return s_refuse (self, reply, "hit %u is track %u's, which BCIS says is friendly", id,
+                             t->id);
+        if (t->status == 0)
+            return s_refuse (self, reply,
+                             "hit %u is track %u's, which is tentative (not yet "
+                             "confirmed)",
+                             id, t->id);
+        if (t->last_scan > t->history_scan[k] + 1)
+            return s_refuse (self, reply,
+                             "hit %u is track %u's of scan %u, %u scans before its newest: click "
+                             "its current (yellow) hit",
+                             id, t->id, t->history_scan[k], t->last_scan - t->history_scan[k]);
     } else {
-        return s_refuse (self, reply, "designate needs a track id or a point");
+        return s_refuse (self, reply, "designate needs a track id, a point or a hit");
     }
     char why[256];
     if (gd_intercept_designate (u->core, t, self->sim_time_s, why, sizeof why) < 0)

@@ -85,7 +85,11 @@ typedef struct {
     gd_v2_t vel;
     gd_v2_t history[GD_HISTORY_MAX]; // past hits, oldest first
     double history_t_s[GD_HISTORY_MAX];
+    uint32_t history_hit_id[GD_HISTORY_MAX]; // their MTI hit ids (0: unknown)
+    uint32_t history_scan[GD_HISTORY_MAX];   // and scans
     size_t history_count;
+    uint32_t radar_id;  // the radar that feeds it (its UAV's entity id; 0: unknown)
+    uint32_t last_scan; // the radar's latest scan it has seen
     uint32_t hits;      // hits it has taken in all (0: unknown)
     double last_hit_s;  // time of its newest hit (NaN: unknown)
     uint32_t continues; // the deleted track whose target the tracker says this one is (0: none)

@@ -18,6 +18,7 @@
 #include <json-c/json.h>
 #include <limits.h>
 #include <math.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -377,6 +378,7 @@ static void s_on_request (void *arg, st_web_conn_t *conn, const char *text, size
     Cgs__Command cmd = CGS__COMMAND__INIT;
     Cgs__Designate d = CGS__DESIGNATE__INIT;
     Cgs__Enu point = CGS__ENU__INIT;
+    Cgs__HitRef hit = CGS__HIT_REF__INIT;
     Cgs__Cancel c = CGS__CANCEL__INIT;
     Cgs__SetAltitude alt = CGS__SET_ALTITUDE__INIT;
     Cgs__SetSpeed spd = CGS__SET_SPEED__INIT;
@@ -388,8 +390,24 @@ static void s_on_request (void *arg, st_web_conn_t *conn, const char *text, size
     if (uav < 0) {
         why = "uav_id must be a whole number >= 0";
     } else if (strcmp (op, "designate") == 0) {
-        if (!s_number (req, "e", &e) || !s_number (req, "n", &no)) {
-            why = "designate needs numbers e and n (the clicked hit)";
+        double hit_id = 0, radar = 0;
+        if (s_number (req, "hit", &hit_id)) {
+            // The clicked hit: guidanced designates the track that took it.
+            if (!(hit_id >= 1 && hit_id <= UINT32_MAX && hit_id == floor (hit_id)) ||
+                (s_number (req, "radar", &radar) &&
+                 !(radar >= 0 && radar <= UINT32_MAX && radar == floor (radar)))) {
+                why = "designate: hit and radar must be whole numbers (a hit id >= 1)";
+            } else {
+                hit.hit_id = (uint32_t)hit_id;
+                hit.radar_uav_id = (uint32_t)radar;
+                d.uav_id = uav_id;
+                d.target_case = CGS__DESIGNATE__TARGET_HIT;
+                d.hit = &hit;
+                cmd.body_case = CGS__COMMAND__BODY_DESIGNATE;
+                cmd.designate = &d;
+            }
+        } else if (!s_number (req, "e", &e) || !s_number (req, "n", &no)) {
+            why = "designate needs the clicked hit (hit, radar) or a point (e, n)";
         } else {
             point.east_m = e;
             point.north_m = no;

@@ -21,11 +21,17 @@ typedef struct {
     double e, n;
 } s_xy_t;
 
+/* One MTI hit: where, and its id (unique within the radar's epoch). */
+typedef struct {
+    double e, n;
+    uint32_t id;
+} s_hit_t;
+
 /* One scan of one radar's hits. */
 typedef struct {
     uint32_t number;
     bool complete; // mti.scan said it ended
-    s_xy_t *hits;
+    s_hit_t *hits;
     size_t count, cap;
 } s_scan_t;
 
@@ -52,6 +58,7 @@ typedef struct {
     uint32_t hits, friendly_id;
     bool has_last_hit;
     s_xy_t last_hit; // the track's newest hit
+    uint32_t last_hit_id;
     double updated_s;
     uint64_t epoch; // trackerd's
 } s_track_t;
@@ -417,14 +424,15 @@ int st_state_take_mti (st_state_t *self, const Cgs__Mti *m, const Cgs__Header *h
         size_t cap = s->cap ? s->cap : 64;
         while (cap < s->count + m->n_hits)
             cap *= 2;
-        s_xy_t *h = realloc (s->hits, cap * sizeof *h);
+        s_hit_t *h = realloc (s->hits, cap * sizeof *h);
         if (!h)
             return -ENOMEM;
         s->hits = h;
         s->cap = cap;
     }
     for (size_t i = 0; i < m->n_hits; i++)
-        s->hits[s->count++] = (s_xy_t){m->hits[i]->position->east_m, m->hits[i]->position->north_m};
+        s->hits[s->count++] = (s_hit_t){m->hits[i]->position->east_m, m->hits[i]->position->north_m,
+                                        m->hits[i]->hit_id};
     s_trim (self, r);
     return 0;
 }
@@ -552,6 +560,7 @@ int st_state_take_tracks (st_state_t *self, const Cgs__TrackBatch *m, const Cgs_
             if (h && s_enu_ok (h->position)) {
                 k->has_last_hit = true;
                 k->last_hit = (s_xy_t){h->position->east_m, h->position->north_m};
+                k->last_hit_id = h->hit_id;
                 break;
             }
         }
@@ -767,25 +776,30 @@ static json_object *s_json_hits (const st_state_t *self)
     json_object *a = json_object_new_array ();
     for (size_t i = 0; i < self->radar_count; i++) {
         const s_radar_t *r = &self->radars[i];
-        // Current: the scans after the newest complete one, and that one.
-        size_t first_current = 0;
-        for (size_t j = r->count; j-- > 0;)
-            if (r->scans[j].complete) {
-                first_current = j;
-                break;
-            }
-        for (size_t j = 0; j < r->count; j++) {
+        // As the paper's display: the current scan yellow, the ones before
+        // it grey. The current scan is the newest that has ended (its end
+        // marker came, or a later scan began: the marker was lost); a scan
+        // still in progress is drawn when it ends, so that each vehicle has
+        // one yellow hit.
+        size_t shown = r->count;
+        if (shown > 0 && !r->scans[shown - 1].complete)
+            shown--;
+        for (size_t j = 0; j < shown; j++) {
             const s_scan_t *s = &r->scans[j];
             json_object *o = json_object_new_object ();
             s_add (o, "uav_id", json_object_new_int64 (r->uav_id));
             s_add (o, "scan", json_object_new_int64 (s->number));
-            s_add (o, "current", json_object_new_boolean (j >= first_current));
+            s_add (o, "current", json_object_new_boolean (j + 1 == shown));
             json_object *xy = json_object_new_array_ext ((int)(2 * s->count));
             for (size_t k = 0; k < s->count; k++) {
                 json_object_array_add (xy, s_m (s->hits[k].e));
                 json_object_array_add (xy, s_m (s->hits[k].n));
             }
             s_add (o, "xy", xy);
+            json_object *ids = json_object_new_array_ext ((int)s->count);
+            for (size_t k = 0; k < s->count; k++)
+                json_object_array_add (ids, json_object_new_int64 (s->hits[k].id));
+            s_add (o, "ids", ids);
             json_object_array_add (a, o);
         }
     }
@@ -828,6 +842,7 @@ static json_object *s_json_tracks (const st_state_t *self)
         s_add (o, "speed_mps", s_num (t->speed_mps, 1));
         s_add (o, "hits", json_object_new_int64 (t->hits));
         s_add (o, "last_hit", t->has_last_hit ? s_xy (t->last_hit) : NULL);
+        s_add (o, "last_hit_id", t->has_last_hit ? json_object_new_int64 (t->last_hit_id) : NULL);
         s_add (o, "friendly_id", json_object_new_int64 (t->friendly_id));
         json_object_array_add (a, o);
     }

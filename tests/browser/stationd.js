@@ -212,7 +212,7 @@ async function trackHit(page, identity) {
       }
       const uav = st.uavs[0];
       const fromUav = uav ? Math.hypot(uav.e - e, uav.n - n) : 0;
-      if (sep > 1500 && fromUav > 3000 && (!best || sep > best.sep)) best = { id: t.id, last_hit: t.last_hit, sep, px, seq: st.seq };
+      if (sep > 1500 && fromUav > 3000 && (!best || sep > best.sep)) best = { id: t.id, last_hit: t.last_hit, hit_id: t.last_hit_id, sep, px, seq: st.seq };
     }
     return best;
   }, identity);
@@ -345,6 +345,15 @@ async function steps(browser) {
   // 3. Click the newest hit of an unknown confirmed track (one whose last
   // hit is a current hit, well apart from the other confirmed tracks); a
   // click that missed because the scan moved on is tried again.
+  // What the page sends, as the server receives it.
+  await p.evaluate(() => {
+    const send = WebSocket.prototype.send;
+    window.cgsSent = [];
+    WebSocket.prototype.send = function (d) {
+      try { window.cgsSent.push(JSON.parse(d)); } catch (err) { /* not JSON */ }
+      return send.call(this, d);
+    };
+  });
   let pick = null;
   for (let attempt = 0; attempt < 3 && !pick; attempt++) {
     pick = await poll(() => trackHit(p, 'unknown'), 10000);
@@ -376,6 +385,22 @@ async function steps(browser) {
     icpt = await p.evaluate(() => window.cgs.state.intercepts[0] || null);
   }
   check(icpt && icpt.track_id === pick.id, 'the intercept follows the clicked track (' + pick.id + '; intercept track ' + (icpt && icpt.track_id) + ', state ' + (icpt && icpt.state) + ')');
+  const sent = await p.evaluate(() => window.cgsSent.filter((m) => m.op === 'designate').pop() || null);
+  check(sent && sent.hit === pick.hit_id && Number.isInteger(sent.radar) && sent.e === undefined,
+    'the click sends the clicked hit by its id (hit ' + pick.hit_id + ', track ' + pick.id + '\'s newest), not a point', sent);
+  // Refused with the reason: a hit no track took, and a friendly track's.
+  const none = await rawCommand(p, '', { op: 'designate', req: 905, uav_id: 1, hit: 4000000000, radar: 1 });
+  check(none.reply && none.reply.ok === false && /hit 4000000000 is in no track/.test(none.reply.error || ''),
+    'a hit no track took is refused, with the reason', none.reply);
+  if (friendly && friendly.last_hit_id) {
+    const fr = await rawCommand(p, '', { op: 'designate', req: 906, uav_id: 1, hit: friendly.last_hit_id, radar: 1 });
+    check(fr.reply && fr.reply.ok === false && /BCIS says is friendly/.test(fr.reply.error || ''),
+      'a friendly track\'s hit is refused, with the reason', fr.reply);
+  } else {
+    check(false, 'a friendly track with a newest hit to click', friendly);
+  }
+  const still = await p.evaluate(() => (window.cgs.state.intercepts[0] || {}).track_id);
+  check(still === pick.id, 'the refusals leave the intercept on the clicked track', still);
   check(icpt && Array.isArray(icpt.route) && icpt.route.length >= 4, 'the intercept has a route (' + (icpt && icpt.route ? icpt.route.length / 2 : 0) + ' points)');
   // The route layer draws it: purple along its longest segment, on screen.
   let drawn = { n: 0, of: 0 };
@@ -460,16 +485,24 @@ async function steps(browser) {
   const grey = await poll(async () => ((await layerOf('hits-old')) || {}).features > 0, 20000);
   check(grey, 'the grey history of earlier scans is drawn', await layerOf('hits-old'));
   await p.uncheck('#sensor-mti');
-  const mtiOff = [await layerOf('hits-current'), await layerOf('hits-old')];
+  const mtiOff = [await layerOf('hits-current'), await layerOf('hits-old'), await layerOf('tracks'),
+    await layerOf('target')];
   await p.uncheck('#sensor-bcis');
   const bcisOff = await layerOf('bcis');
   await screenshot(p, 'sensors-off');
   check(mtiOff.every((l) => l && l.visible === false) && bcisOff && bcisOff.visible === false,
-    'unticking MTI and BCIS in the Sensors menu hides their layers', { mtiOff, bcisOff });
+    'unticking MTI and BCIS in the Sensors menu hides their layers (MTI: hits, tracks and the target marker)', { mtiOff, bcisOff });
   await p.check('#sensor-mti');
   await p.check('#sensor-bcis');
-  const back = [await layerOf('hits-current'), await layerOf('bcis')];
+  const back = [await layerOf('hits-current'), await layerOf('bcis'), await layerOf('tracks')];
   check(back.every((l) => l && l.visible === true), 'ticking them again shows them');
+  await p.uncheck('#show-tracks');
+  const tracksOff = [await layerOf('tracks'), await layerOf('target'), await layerOf('hits-current')];
+  await p.check('#show-tracks');
+  const tracksBack = await layerOf('tracks');
+  check(tracksOff[0] && tracksOff[0].visible === false && tracksOff[1] && tracksOff[1].visible === false &&
+    tracksOff[2] && tracksOff[2].visible === true && tracksBack && tracksBack.visible === true,
+  'Map Features: Show Tracks hides and shows the tracks and the target marker alone', tracksOff);
   const truthOff = await layerOf('truth');
   await p.check('#truth');
   const truthOn = await poll(async () => {

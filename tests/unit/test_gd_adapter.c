@@ -267,14 +267,18 @@ typedef struct {
     double e, n, ve, vn;
 } s_trk_t;
 
-/* A `track` batch at time t (t NaN: a header without a time). */
-static void s_tracks (s_fx_t *fx, double t, const s_trk_t *tr, size_t count)
+/* A `track` batch at time t (t NaN: a header without a time), of radar 1.
+ * With hid, each track i has a history of two hits: ids hid[i] (scan
+ * last − 3, 30 s before) and hid[i] + 1000 (scan last, its newest). */
+static void s_tracks_hits (s_fx_t *fx, double t, const s_trk_t *tr, size_t count,
+                           const uint32_t *hid, uint32_t last)
 {
     Cgs__Header hdr = CGS__HEADER__INIT;
     hdr.sim_time_s = t;
     Cgs__Track m[8], *mp[8];
-    Cgs__Enu pos[8];
+    Cgs__Enu pos[8], hp[8][2];
     Cgs__EnuVelocity vel[8];
+    Cgs__TrackHistoryPoint h[8][2], *hpp[8][2];
     assert_true (count <= 8);
     for (size_t i = 0; i < count; i++) {
         cgs__track__init (&m[i]);
@@ -295,6 +299,22 @@ static void s_tracks (s_fx_t *fx, double t, const s_trk_t *tr, size_t count)
         m[i].hit_count = 10;
         m[i].last_hit_time_s = t;
         mp[i] = &m[i];
+        if (!hid)
+            continue;
+        m[i].last_scan_number = last;
+        for (int k = 0; k < 2; k++) {
+            cgs__track_history_point__init (&h[i][k]);
+            cgs__enu__init (&hp[i][k]);
+            hp[i][k].east_m = tr[i].e - (k ? 0 : 30 * tr[i].ve);
+            hp[i][k].north_m = tr[i].n - (k ? 0 : 30 * tr[i].vn);
+            h[i][k].position = &hp[i][k];
+            h[i][k].sim_time_s = t - (k ? 0 : 30);
+            h[i][k].scan_number = k ? last : last - 3;
+            h[i][k].hit_id = k ? hid[i] + 1000 : hid[i];
+            hpp[i][k] = &h[i][k];
+        }
+        m[i].n_history = 2;
+        m[i].history = hpp[i];
     }
     Cgs__TrackBatch b = CGS__TRACK_BATCH__INIT;
     b.uav_id = 1;
@@ -302,6 +322,11 @@ static void s_tracks (s_fx_t *fx, double t, const s_trk_t *tr, size_t count)
     b.tracks = mp;
     b.batch_count = 1;
     gd_adapter_on_message (fx->gd, "track", &b.base, &hdr);
+}
+
+static void s_tracks (s_fx_t *fx, double t, const s_trk_t *tr, size_t count)
+{
+    s_tracks_hits (fx, t, tr, count, NULL, 0);
 }
 
 #define S_CONFIRMED CGS__TRACK_STATUS__TRACK_STATUS_CONFIRMED
@@ -468,16 +493,89 @@ static void test_designate (void **state)
     cmd.body_case = CGS__COMMAND__BODY_DESIGNATE;
     cmd.designate = &d;
     assert_int_equal (s_command (fx, &cmd, &r), 0);
-    s_assert_refused (&r, "designate needs a track id or a point");
+    s_assert_refused (&r, "designate needs a track id, a point or a hit");
     Cgs__Enu far = CGS__ENU__INIT;
     far.east_m = NAN;
     d.target_case = CGS__DESIGNATE__TARGET_POINT;
     d.point = &far;
     assert_int_equal (s_command (fx, &cmd, &r), 0);
-    s_assert_refused (&r, "designate needs a track id or a point");
+    s_assert_refused (&r, "designate needs a track id, a point or a hit");
     assert_int_equal (s_status (fx, 0).track_id, 7);
     assert_int_equal (s_status (fx, 0).designation_number, 3);
     assert_false (gd_adapter_take_dirty (fx->gd)); // refusals changed nothing
+    s_fx_free (&fx);
+}
+
+static int s_designate_hit (s_fx_t *fx, uint32_t radar, uint32_t hit, Cgs__Reply *reply)
+{
+    Cgs__HitRef h = CGS__HIT_REF__INIT;
+    h.radar_uav_id = radar;
+    h.hit_id = hit;
+    Cgs__Designate d = CGS__DESIGNATE__INIT;
+    d.uav_id = 1;
+    d.target_case = CGS__DESIGNATE__TARGET_HIT;
+    d.hit = &h;
+    Cgs__Command cmd = CGS__COMMAND__INIT;
+    cmd.body_case = CGS__COMMAND__BODY_DESIGNATE;
+    cmd.designate = &d;
+    return s_command (fx, &cmd, reply);
+}
+
+/* The map's click: the track that took the clicked hit, exactly, even with
+ * another track's newest hit nearer the click (tracks 7 and 9 are 400 m
+ * apart, as in a column); refused, with the reason, for a hit no track took
+ * (a false alarm), a friendly track's, a tentative track's, a stale hit (3
+ * scans before the track's newest) and another radar's. */
+static void test_designate_by_hit (void **state)
+{
+    (void)state;
+    s_fx_t *fx = s_fx_new (s_one);
+    s_uav_msg (fx, 1, 10, 0, 0, 45);
+    const s_trk_t tent = {11, CGS__TRACK_STATUS__TRACK_STATUS_TENTATIVE, false, 0, 6000, 5, 0};
+    const s_trk_t tr[4] = {s_t7, s_t8, s_t9, tent};
+    const uint32_t hid[4] = {70, 80, 90, 110};
+    s_tracks_hits (fx, 10, tr, 4, hid, 20);
+    Cgs__Reply r;
+    assert_int_equal (s_designate_hit (fx, 1, 1070, &r), 0);
+    s_assert_ok (&r, "uav1: designated track 7; TO_");
+    assert_int_equal (s_status (fx, 0).track_id, 7);
+    assert_int_equal (s_designate_hit (fx, 0, 1080, &r), 0); // any radar
+    s_assert_ok (&r, "uav1: designated track 8 (pre-empts track 7)");
+    assert_int_equal (s_designate_hit (fx, 1, 4242, &r), 0);
+    s_assert_refused (&r, "hit 4242 is in no track: a false alarm, or a hit no track has taken");
+    assert_int_equal (s_designate_hit (fx, 1, 1090, &r), 0);
+    s_assert_refused (&r, "hit 1090 is track 9's, which BCIS says is friendly");
+    assert_int_equal (s_designate_hit (fx, 1, 1110, &r), 0);
+    s_assert_refused (&r, "hit 1110 is track 11's, which is tentative (not yet confirmed)");
+    assert_int_equal (s_designate_hit (fx, 1, 70, &r), 0);
+    s_assert_refused (&r, "hit 70 is track 7's of scan 17, 3 scans before its newest: click its "
+                          "current (yellow) hit");
+    assert_int_equal (s_designate_hit (fx, 2, 1070, &r), 0);
+    s_assert_refused (&r, "hit 1070 is in no track: a false alarm, or a hit no track has taken");
+    assert_int_equal (s_status (fx, 0).track_id, 8); // the refusals changed nothing
+    s_fx_free (&fx);
+}
+
+/* uavsim resumes from its saved state: a UAV update more than a second
+ * older than the latest heard is time going back, said once, and the
+ * intercepts take back what they heard since (gd_intercept_time_back:
+ * test_gd_intercept); the ordinary jitter of a few tenths is not. */
+static void test_time_back (void **state)
+{
+    (void)state;
+    s_fx_t *fx = s_fx_new (s_one);
+    s_scene (fx, 100);
+    Cgs__Reply r;
+    assert_int_equal (s_designate_track (fx, 1, 7, &r), 0);
+    s_uav_msg (fx, 1, 99.5, 0, 0, 45);
+    assert_int_equal (s_logged (&fx->seen, LOG_NOTICE, "went back"), 0);
+    s_uav_msg (fx, 1, 60, 0, 0, 45);
+    assert_logged (&fx->seen, LOG_NOTICE,
+                   "simulation time went back from 100.00 to 60.00 s: the intercepts take back "
+                   "what they heard since");
+    assert_true (s_status (fx, 0).has_plan); // made again for the UAV where it is now
+    s_uav_msg (fx, 1, 60.5, 0, 0, 45);
+    assert_int_equal (s_logged (&fx->seen, LOG_NOTICE, "went back"), 1); // once
     s_fx_free (&fx);
 }
 
@@ -1139,6 +1237,8 @@ int main (void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test (test_designate),
+        cmocka_unit_test (test_designate_by_hit),
+        cmocka_unit_test (test_time_back),
         cmocka_unit_test (test_designate_no_tracks),
         cmocka_unit_test (test_settings),
         cmocka_unit_test (test_tasks),

@@ -1,13 +1,13 @@
 /* test_st_state — the tactical map's picture, read back from the JSON it
- * pushes: hits of the scan in progress and the last complete scan are
- * current, exactly history_scans complete scans before them are grey, older
- * ones go, late hits of a dropped scan are ignored and a restarted radar
- * starts afresh; BCIS replies live bcis_timeout_s of simulation time, to the
- * boundary; tracks are updated in place, removed when deleted, stale or
- * superseded by a restarted tracker, and carry their newest hit; the
- * footprint is drawn scaled about its centre (area k² times the true one)
- * and the range is the ground distance UAV to track; ground truth leaves out
- * the UAVs; bad messages are refused whole. */
+ * pushes: the hits of the last complete scan are current (yellow, the
+ * paper's current scan: one hit a vehicle), exactly history_scans complete
+ * scans before it are grey, older ones go, a scan in progress is drawn when
+ * it ends (or when a later scan begins: its end marker was lost), late hits of a dropped scan are
+ * ignored and a restarted radar starts afresh; BCIS replies live bcis_timeout_s of simulation time,
+ * to the boundary; tracks are updated in place, removed when deleted, stale or superseded by a
+ * restarted tracker, and carry their newest hit; the footprint is drawn scaled about its centre
+ * (area k² times the true one) and the range is the ground distance UAV to track; ground truth
+ * leaves out the UAVs; bad messages are refused whole. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -70,6 +70,7 @@ static int s_hits (st_state_t *st, uint32_t scan, int n, uint64_t epoch)
         pos[i].east_m = scan * 100.0 + i;
         pos[i].north_m = -(double)scan;
         hits[i].position = &pos[i];
+        hits[i].hit_id = scan * 100 + (uint32_t)i + 1;
         ptrs[i] = &hits[i];
     }
     m.n_hits = (size_t)n;
@@ -98,8 +99,16 @@ static void s_scans (st_state_t *st, int *ret_cur, int *ret_grey, int *ret_hits,
     for (size_t i = 0; i < json_object_array_length (hits); i++) {
         json_object *s = json_object_array_get_idx (hits, i);
         uint32_t number = (uint32_t)s_num (s, "scan");
-        int k = (int)json_object_array_length (s_get (s, "xy"));
+        json_object *xy = s_get (s, "xy"), *ids = s_get (s, "ids");
+        int k = (int)json_object_array_length (xy);
         assert_int_equal (k % 2, 0);
+        // Each hit's id beside its position, as the page sends it back.
+        assert_int_equal ((int)json_object_array_length (ids), k / 2);
+        for (int j = 0; j < k / 2; j++) {
+            double e = json_object_get_double (json_object_array_get_idx (xy, 2 * j));
+            uint32_t id = (uint32_t)json_object_get_int64 (json_object_array_get_idx (ids, j));
+            assert_int_equal (id, number * 100 + (uint32_t)lround (e - number * 100.0) + 1);
+        }
         n += k / 2;
         if (number < oldest)
             oldest = number;
@@ -137,13 +146,14 @@ static void test_history_of_scans (void **state)
     assert_int_equal (oldest, 10);
     assert_int_equal (hits, 21 * 3);
     assert_int_equal (st_state_hit_count (st), 21 * 3);
-    // Scan 31 in progress: 31 and 30 are current, 10..29 still grey.
+    // Scan 31 in progress: not drawn yet; 30 is current, 10..29 grey.
     assert_int_equal (s_hits (st, 31, 2, 9), 0);
     s_scans (st, &cur, &grey, &hits, c, &oldest);
-    assert_int_equal (cur, 2);
-    assert_true ((c[0] == 30 && c[1] == 31) || (c[0] == 31 && c[1] == 30));
+    assert_int_equal (cur, 1);
+    assert_int_equal (c[0], 30);
     assert_int_equal (grey, 20);
     assert_int_equal (oldest, 10);
+    assert_int_equal (hits, 21 * 3);
     // Scan 31 ends: 31 current; 11..30 grey; scan 10 is gone.
     s_scan_end (st, 31, 9);
     s_scans (st, &cur, &grey, &hits, c, &oldest);
@@ -158,10 +168,18 @@ static void test_history_of_scans (void **state)
     // More hits of scan 31 join it.
     assert_int_equal (s_hits (st, 31, 4, 9), 0);
     assert_int_equal (st_state_hit_count (st), 20 * 3 + 6);
-    // The radar restarts (new epoch): its old scans are forgotten.
+    // The radar restarts (new epoch): its old scans are forgotten, and its
+    // first scan is drawn when it ends.
     assert_int_equal (s_hits (st, 1, 5, 10), 0);
     s_scans (st, &cur, &grey, &hits, c, &oldest);
+    assert_int_equal (cur, 0);
+    assert_int_equal (grey, 0);
+    assert_int_equal (hits, 0);
+    // Its end marker is lost: the next scan's first hits draw it.
+    assert_int_equal (s_hits (st, 2, 4, 10), 0);
+    s_scans (st, &cur, &grey, &hits, c, &oldest);
     assert_int_equal (cur, 1);
+    assert_int_equal (c[0], 1);
     assert_int_equal (grey, 0);
     assert_int_equal (hits, 5);
     st_state_destroy (&st);

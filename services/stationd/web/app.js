@@ -563,6 +563,7 @@
     sensorMti: $('sensor-mti'),
     sensorBcis: $('sensor-bcis'),
     showRoute: $('show-route'),
+    showTracks: $('show-tracks'),
     truth: $('truth'),
   };
   const OPERATOR_CONTROLS = [ui.cancel, ui.altInput, ui.altSet, ui.speedInput, ui.speedSet, ui.fpScale, ui.method];
@@ -1336,7 +1337,9 @@
   }
 
   // ---------------------------------------------------------------------------
-  // Designation: nearest current (yellow) hit within PICK_PX of the click.
+  // Designation: the nearest current (yellow) hit within PICK_PX of the
+  // click, sent by its id: guidanced designates the track that took it, or
+  // says why not (a false alarm, a tentative or friendly track, a stale hit).
 
   function nearestCurrentHit(coord) {
     const st = cgs.state;
@@ -1350,13 +1353,14 @@
       if (h.current !== true) continue;
       const xy = h.xy;
       if (!Array.isArray(xy)) continue;
+      const ids = Array.isArray(h.ids) ? h.ids : [];
       for (let k = 0; k + 1 < xy.length; k += 2) {
         const dx = xy[k] - coord[0];
         const dy = xy[k + 1] - coord[1];
         const d2 = dx * dx + dy * dy;
         if (d2 <= best) {
           best = d2;
-          hit = [xy[k], xy[k + 1]];
+          hit = { xy: [xy[k], xy[k + 1]], id: ids[k / 2], radar: h.uav_id };
         }
       }
     }
@@ -1366,10 +1370,11 @@
   map.on('singleclick', (ev) => {
     const hit = nearestCurrentHit(ev.coordinate);
     if (!hit) {
-      showResult('click a yellow (newest) MTI hit to designate its track', 'info');
+      showResult('click a yellow MTI hit (the current scan\'s) to designate its track', 'info');
       return;
     }
-    command('designate', { e: hit[0], n: hit[1] });
+    if (Number.isInteger(hit.id) && hit.id > 0) command('designate', { hit: hit.id, radar: hit.radar });
+    else command('designate', { e: hit.xy[0], n: hit.xy[1] });
   });
 
   map.on('pointermove', (ev) => {
@@ -1416,7 +1421,19 @@
     box.addEventListener('change', apply);
     apply();
   }
-  bindLayerToggle(ui.sensorMti, [L.hitsOld, L.hitsCurrent]);
+  // MTI in the Sensors menu hides every symbol the radar's hits give: the
+  // hits, the tracks and the designated target's marker; Show Tracks hides
+  // the tracks and the marker alone.
+  const applyMtiLayers = () => {
+    const mti = ui.sensorMti.checked;
+    L.hitsOld.setVisible(mti);
+    L.hitsCurrent.setVisible(mti);
+    L.tracks.setVisible(mti && ui.showTracks.checked);
+    L.target.setVisible(mti && ui.showTracks.checked);
+  };
+  ui.sensorMti.addEventListener('change', applyMtiLayers);
+  ui.showTracks.addEventListener('change', applyMtiLayers);
+  applyMtiLayers();
   bindLayerToggle(ui.sensorBcis, [L.bcis]);
   bindLayerToggle(ui.showRoute, [L.route]);
   bindLayerToggle(ui.truth, [L.truth], () => {
