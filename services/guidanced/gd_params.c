@@ -11,7 +11,7 @@ void gd_params_defaults (gd_params_t *p)
     *p = (gd_params_t){
         .timing = GD_TIMING_ROUTE,
         .turn_radius_factor = 1.5,
-        .secondary = GD_SECONDARY_EXTENDED,
+        .secondary = GD_SECONDARY_PAPER,
         .secondary_scale = 0.25,
         .lead_in_m = 2000,
         .settle_m = 800,

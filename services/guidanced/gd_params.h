@@ -18,7 +18,7 @@ typedef enum {
 /* Where equation 3 puts the secondary waypoint P_2 (gd_geom.h). */
 typedef enum {
     GD_SECONDARY_EXTENDED = 0, // the UAV's offset kept, k·|y'_u| (at least lead_in_m) ahead
-    GD_SECONDARY_PAPER = 1,    // the paper's projection: abeam the waypoint, no lead-in
+    GD_SECONDARY_PAPER = 1,    // the paper's projection: abeam the waypoint, no lead-in (default)
 } gd_secondary_t;
 
 /* Who may take over a deleted designated track from a tracker that links

@@ -317,11 +317,12 @@ static void test_designate_plan_eq1 (void **state)
     assert_v2_near (st.waypoint, gd_v2 (1200, 11400), 0.01);
     assert_v2_near (st.waypoint, s_eq1 (&t, 100, st.t_pred_s), 1e-6);
     s_assert_fixed_point (&t, &u, s_radius (&p), st.t_pred_s);
-    // Equations 2–3.
+    // Equations 2–3: the paper's P_2 (the default) abeam the waypoint
+    // (1200, 11400) at the UAV's cross-track offset: (1200, 0).
     assert_near (st.y_u_m, -1200, 0.01);
     assert_true (st.has_secondary);
-    double y2 = fmax (p.secondary_scale * 1200, fmax (p.lead_in_m, 4 * s_radius (&p)));
-    assert_v2_near (st.secondary, gd_v2 (1200 + y2, 0), 0.01);
+    assert_int_equal (p.secondary, GD_SECONDARY_PAPER);
+    assert_v2_near (st.secondary, gd_v2 (1200, 0), 0.01);
 
     // The task: a route; the waypoint is the point before the end (head-on
     // routes are: Dubins to P_2, Dubins to the waypoint, the end point).
@@ -564,6 +565,7 @@ static void test_uav_behind_secondary (void **state)
     (void)state;
     gd_params_t p = s_params ();
     p.timing = GD_TIMING_ARC;
+    p.secondary = GD_SECONDARY_EXTENDED; // the extension's P_2 (the paper's: test_equation3_paper)
     double r = s_radius (&p), k = p.secondary_scale;
     // The regimes below rely on the defaults' k = 0.25, lead-in 2000 > 4 r.
     assert_true (p.lead_in_m > 4 * r);
@@ -653,6 +655,7 @@ static void test_route_timing (void **state)
     (void)state;
     gd_params_t p = s_params ();
     assert_int_equal (p.timing, GD_TIMING_ROUTE); // the default
+    p.secondary = GD_SECONDARY_EXTENDED;          // the closed form is the extension's route
     double r = s_radius (&p);
     gd_uav_t u = s_uav (100, 0, 0, 180);
     gd_track_t t = s_track (4, 1, 100, 0, 5000, 0, 10);

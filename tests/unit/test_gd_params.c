@@ -106,7 +106,7 @@ static void test_defaults (void **state)
     gd_params_defaults (&p);
     assert_int_equal (p.timing, GD_TIMING_ROUTE);
     assert_true (p.turn_radius_factor == 1.5);
-    assert_int_equal (p.secondary, GD_SECONDARY_EXTENDED);
+    assert_int_equal (p.secondary, GD_SECONDARY_PAPER);
     assert_true (p.secondary_scale == 0.25);
     assert_true (p.lead_in_m == 2000);
     assert_true (p.settle_m == 800);
@@ -169,7 +169,7 @@ static void test_values (void **state)
     s_load ("[plan]\n"
             "timing = ARC\n"
             "turn_radius_factor = 2\n"
-            "secondary = paper\n"
+            "secondary = extended\n"
             "secondary_scale = 1\n"
             "lead_in_m = 3000\n"
             "settle_m = 400\n"
@@ -197,7 +197,7 @@ static void test_values (void **state)
     gd_params_t want = {
         .timing = GD_TIMING_ARC,
         .turn_radius_factor = 2,
-        .secondary = GD_SECONDARY_PAPER,
+        .secondary = GD_SECONDARY_EXTENDED,
         .secondary_scale = 1,
         .lead_in_m = 3000,
         .settle_m = 400,

@@ -45,7 +45,8 @@ static int s_setup (void **state)
         return -1;
     // The target drives east for 1100 s: the head-on plan made at
     // designation, a tail chase of 10 km, images it on the first pass (at
-    // about 770 s; a guidance that passed beside it first ended at 1000 s);
+    // about 580 s with the paper's secondary waypoint, 770 s with the
+    // extended one; a guidance that passed beside it first ended at 1000 s);
     // a target that halts at its route's end as the UAV comes round is the
     // stop-go family's case, not this test's.
     fprintf (f, "[terrain]\nsize_m = 24000\nresolution_m = 60\nrelief_m = 0\nbase_height_m = 100\n"
