@@ -364,7 +364,7 @@ static void s_plan (gd_intercept_t *self)
     self->has_plan = true;
     self->plan_s = t;
     self->plan_airspeed_mps = self->uav.airspeed_mps;
-    self->plan_agl_m = s_uav_agl (&self->uav);
+    self->plan_agl_m = self->uav.commanded_agl_m;
     self->i_second = i_second;
     self->i_waypoint = i_waypoint;
     self->progress = 0;
@@ -475,22 +475,24 @@ static void s_update_time_to_go (gd_intercept_t *self, gd_v2_t target)
  * checkpoint, which does not keep them, takes the present ones. */
 static void s_commanded_changed (gd_intercept_t *self)
 {
-    double v = self->uav.airspeed_mps, z = s_uav_agl (&self->uav);
+    // The commanded height only: the present one follows the terrain, and
+    // its changes are not the operator's (0: no command known).
+    double v = self->uav.airspeed_mps, z = self->uav.commanded_agl_m;
     if (self->need_plan)
         return; // a plan is being made anyway, with these values
-    if (!(self->plan_airspeed_mps > 0) || !(self->plan_agl_m > 0)) {
+    bool v_known = self->plan_airspeed_mps > 0, z_known = self->plan_agl_m > 0 && z > 0;
+    if (!v_known)
         self->plan_airspeed_mps = v;
+    if (!z_known)
         self->plan_agl_m = z;
-        return;
-    }
     if (self->phase != GD_TO_SECONDARY && self->phase != GD_TO_WAYPOINT &&
         self->phase != GD_APPROACH)
         return;
     char why[128];
-    if (fabs (v - self->plan_airspeed_mps) >= 0.5)
+    if (v_known && fabs (v - self->plan_airspeed_mps) >= 0.5)
         snprintf (why, sizeof why, "the airspeed was changed from %.0f to %.0f m/s",
                   self->plan_airspeed_mps, v);
-    else if (fabs (z - self->plan_agl_m) >= 5)
+    else if (z_known && fabs (z - self->plan_agl_m) >= 5)
         snprintf (why, sizeof why, "the altitude was changed from %.0f to %.0f m above ground",
                   self->plan_agl_m, z);
     else
@@ -905,14 +907,21 @@ void gd_intercept_tick (gd_intercept_t *self, double t_s)
     }
 }
 
+/* *t at most t_s; unknown (NaN) or −∞ stay so (fmin would make NaN t_s). */
+static void s_not_after (double *t, double t_s)
+{
+    if (*t > t_s)
+        *t = t_s;
+}
+
 void gd_intercept_time_back (gd_intercept_t *self, double t_s)
 {
     if (!isfinite (t_s))
         return;
-    self->track.last_hit_s = fmin (self->track.last_hit_s, t_s);
-    self->held.last_hit_s = fmin (self->held.last_hit_s, t_s);
-    self->heard_hit_s = fmin (self->heard_hit_s, t_s);
-    self->heard_s = fmin (self->heard_s, t_s);
+    s_not_after (&self->track.last_hit_s, t_s);
+    s_not_after (&self->held.last_hit_s, t_s);
+    s_not_after (&self->heard_hit_s, t_s);
+    s_not_after (&self->heard_s, t_s);
     if (!s_active (self->phase) ||
         !(self->plan_s > t_s || self->close_s > t_s || self->overflight_s > t_s))
         return;

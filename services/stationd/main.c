@@ -393,9 +393,11 @@ static void s_on_request (void *arg, st_web_conn_t *conn, const char *text, size
         double hit_id = 0, radar = 0;
         if (s_number (req, "hit", &hit_id)) {
             // The clicked hit: guidanced designates the track that took it.
+            // A radar given must be a whole number (absent: any radar).
+            bool radar_given = json_object_object_get_ex (req, "radar", NULL);
             if (!(hit_id >= 1 && hit_id <= UINT32_MAX && hit_id == floor (hit_id)) ||
-                (s_number (req, "radar", &radar) &&
-                 !(radar >= 0 && radar <= UINT32_MAX && radar == floor (radar)))) {
+                (radar_given && !(s_number (req, "radar", &radar) && radar >= 0 &&
+                                  radar <= UINT32_MAX && radar == floor (radar)))) {
                 why = "designate: hit and radar must be whole numbers (a hit id >= 1)";
             } else {
                 hit.hit_id = (uint32_t)hit_id;

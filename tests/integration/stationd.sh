@@ -175,11 +175,13 @@ probe "$WS?token=$TOKEN" --send 'not json' --send '[1,2]' --send '{"op":"fly-awa
     --send '{"op":"intercept_mode","req":7,"value":"sideways"}' --send '{"op":"altitude","req":8,"value":-50}' \
     --send '{"op":"designate","req":9,"uav_id":-1,"e":0,"n":0}' --send '{"op":"cancel","req":10,"uav_id":"1"}' \
     --send '{"op":"designate","req":11,"hit":2.5,"radar":1}' \
-    --send-size 5000 --replies 11 >"$TMP/bad.jsonl"
+    --send '{"op":"designate","req":12,"hit":5,"radar":"uav1"}' \
+    --send-size 5000 --replies 12 >"$TMP/bad.jsonl"
 check "malformed JSON gets an error" bash -c "[ \$(grep -c '\"type\":\"error\",\"error\":\"expected a JSON object' '$TMP/bad.jsonl') -eq 2 ]"
 check "an unknown op gets an error naming it" grep -q 'unknown op \\"fly-away\\"' "$TMP/bad.jsonl"
 check "designate without numbers is refused with the reason" grep -q '"req":5,.*"error":"designate needs the clicked hit (hit, radar) or a point (e, n)' "$TMP/bad.jsonl"
 check "designate of a hit id that is not whole is refused" grep -q '"req":11,.*"error":"designate: hit and radar must be whole numbers' "$TMP/bad.jsonl"
+check "so is a radar that is not a number (never taken as any radar)" grep -q '"req":12,.*"error":"designate: hit and radar must be whole numbers' "$TMP/bad.jsonl"
 check "a footprint scale that is not whole is refused" grep -q '"req":6,.*"ok":false' "$TMP/bad.jsonl"
 check "an unknown intercept method is refused" grep -q '"req":7,.*"error":"intercept_mode needs the value' "$TMP/bad.jsonl"
 check "uavsim's own reason comes back for a bad altitude" \

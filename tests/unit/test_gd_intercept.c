@@ -400,7 +400,8 @@ static void test_horizon_said (void **state)
  * change with them), with the reason on the map; the new plan is made for
  * the commanded values (a look-ahead of 1500 m at 45° for 1500 m commanded,
  * while the UAV still flies at 1200 m). A UAV update with the same commands
- * re-plans nothing. */
+ * re-plans nothing, nor does the present height's change as the UAV follows
+ * the terrain. */
 static void test_replan_on_command (void **state)
 {
     (void)state;
@@ -413,6 +414,7 @@ static void test_replan_on_command (void **state)
     assert_int_equal (st.replans, 0);
     double t_pred0 = st.t_pred_s;
     u.t_s = 101;
+    u.commanded_agl_m = 1200; // uavsim's commanded height, first heard: no change
     gd_intercept_uav (ic, &u);
     assert_int_equal (s_status (ic).replans, 0);
     u.t_s = 102;
@@ -423,6 +425,7 @@ static void test_replan_on_command (void **state)
     assert_has (st.reason, "the airspeed was changed from 38 to 30 m/s");
     assert_true (st.t_pred_s > t_pred0 + 10); // a slower UAV meets it later
     u.t_s = 103;
+    u.agl_m = 1170; // following the terrain: not the operator's change
     gd_intercept_uav (ic, &u);
     assert_int_equal (s_status (ic).replans, 1);
     u.t_s = 104;

@@ -1373,8 +1373,12 @@
       showResult('click a yellow MTI hit (the current scan\'s) to designate its track', 'info');
       return;
     }
-    if (Number.isInteger(hit.id) && hit.id > 0) command('designate', { hit: hit.id, radar: hit.radar });
-    else command('designate', { e: hit.xy[0], n: hit.xy[1] });
+    // Never a point instead: that would designate whatever track is nearest.
+    if (!Number.isInteger(hit.id) || hit.id <= 0) {
+      showResult('this hit has no id to designate by (stationd sent none)', 'err');
+      return;
+    }
+    command('designate', { hit: hit.id, radar: hit.radar });
   });
 
   map.on('pointermove', (ev) => {
