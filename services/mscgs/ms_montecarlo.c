@@ -23,7 +23,7 @@ static void s_usage (FILE *f)
     fprintf (f,
              "usage: mscgs montecarlo [--scenario F] [--exercise F] [--runs N] [--seed S]\n"
              "                        [--jobs J] [--spread S] [--limit S] [--json F] [--csv F]\n"
-             "                        [--trace RUN] [--seeds-only] [--quiet]\n"
+             "                        [--trace RUN [--timeline F]] [--seeds-only] [--quiet]\n"
              "Runs N whole exercises (default 100) in lockstep, in this process and J-1\n"
              "others: the adapters of uavsim, mtid, bcisd, trackerd and guidanced over an\n"
              "in-process bus, every vehicle, the terrain, the BCIS and the scenario's\n"
@@ -35,7 +35,9 @@ static void s_usage (FILE *f)
              "images when the designated vehicle (the one the designated track followed\n"
              "first) is inside the true footprint at least once, as `mscgs run` judges it.\n"
              "Prints each run that did not image, with the command that replays it\n"
-             "(--trace RUN: that run alone, with every service's log lines), then one JSON\n"
+             "(--trace RUN: that run alone, with every service's log lines; --timeline F\n"
+             "writes its vehicles, radar truth, tracks and intercept states to F as CSV,\n"
+             "to see why it missed), then one JSON\n"
              "object: runs, imaged, imaged_pct and its 95%% interval, wrong_vehicle, lost,\n"
              "miss and time-to-image quantiles, GOSPA and SIAP figures. --json and --csv\n"
              "write every run. Exit code 0, 1 when a run reported bad input or an error\n"
@@ -216,17 +218,25 @@ int ms_montecarlo_main (int argc, char **argv)
         .spread_s = 30,
         .jobs = 1,
     };
-    const char *json = NULL, *csv = NULL;
+    const char *json = NULL, *csv = NULL, *timeline = NULL;
     long trace = -1;
     bool quiet = false;
     static const struct option opts[] = {
-        {"scenario", required_argument, NULL, 's'}, {"exercise", required_argument, NULL, 'e'},
-        {"runs", required_argument, NULL, 'n'},     {"seed", required_argument, NULL, 'S'},
-        {"jobs", required_argument, NULL, 'j'},     {"spread", required_argument, NULL, 'p'},
-        {"limit", required_argument, NULL, 'l'},    {"json", required_argument, NULL, 'J'},
-        {"csv", required_argument, NULL, 'C'},      {"trace", required_argument, NULL, 't'},
-        {"quiet", no_argument, NULL, 'q'},          {"help", no_argument, NULL, 'h'},
-        {"seeds-only", no_argument, NULL, 'O'},     {NULL, 0, NULL, 0},
+        {"scenario", required_argument, NULL, 's'},
+        {"exercise", required_argument, NULL, 'e'},
+        {"runs", required_argument, NULL, 'n'},
+        {"seed", required_argument, NULL, 'S'},
+        {"jobs", required_argument, NULL, 'j'},
+        {"spread", required_argument, NULL, 'p'},
+        {"limit", required_argument, NULL, 'l'},
+        {"json", required_argument, NULL, 'J'},
+        {"csv", required_argument, NULL, 'C'},
+        {"trace", required_argument, NULL, 't'},
+        {"quiet", no_argument, NULL, 'q'},
+        {"help", no_argument, NULL, 'h'},
+        {"seeds-only", no_argument, NULL, 'O'},
+        {"timeline", required_argument, NULL, 'T'},
+        {NULL, 0, NULL, 0},
     };
     int o;
     uint64_t u;
@@ -275,6 +285,9 @@ int ms_montecarlo_main (int argc, char **argv)
                 return 2;
             trace = (long)u;
             break;
+        case 'T':
+            timeline = optarg;
+            break;
         case 'q':
             quiet = true;
             break;
@@ -293,10 +306,22 @@ int ms_montecarlo_main (int argc, char **argv)
         fprintf (stderr, "mscgs montecarlo: unexpected argument '%s' (see --help)\n", argv[optind]);
         return 2;
     }
+    if (timeline && trace < 0) {
+        fprintf (stderr, "mscgs montecarlo: --timeline needs --trace RUN\n");
+        return 2;
+    }
     char err[1024] = "";
     if (trace >= 0) {
         ls_mc_run_t run;
+        if (timeline && !(c.timeline = fopen (timeline, "w"))) {
+            fprintf (stderr, "mscgs montecarlo: %s: %s\n", timeline, strerror (errno));
+            return 1;
+        }
         int rc = ls_mc_one (&c, (size_t)trace, stdout, &run, err, sizeof err);
+        if (c.timeline && fclose (c.timeline) != 0 && rc >= 0) {
+            fprintf (stderr, "mscgs montecarlo: %s: %s\n", timeline, strerror (errno));
+            return 1;
+        }
         if (rc < 0) {
             fprintf (stderr, "mscgs montecarlo: %s\n", err);
             return 1;

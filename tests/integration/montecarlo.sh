@@ -46,6 +46,22 @@ outcome=$(node -e 'const r = JSON.parse(require("fs").readFileSync(process.argv[
 check "with the outcome it had in the set ($outcome)" grep -q "^run 1 (.*): $outcome," "$TMP/trace.out"
 check "and the services' log lines" grep -q '\] guidanced: operator script line' "$TMP/trace.out"
 
+# Its timeline: vehicles, radar truth, tracks and intercept states as CSV.
+"$MSCGS" montecarlo --exercise "$EX" --seed 2 --trace 1 --timeline "$TMP/tl.csv" >/dev/null 2>&1
+is "$?" 0 "--trace 1 --timeline F writes the run's timeline"
+is "$(head -1 "$TMP/tl.csv")" \
+    "kind,t,id,e,n,ve,vn,status,hits,misses,continues,cont_p,existence,pd,sd,p_stopped,note" \
+    "with its header"
+for kind in entity truth track intercept; do
+    check "and $kind rows" grep -q "^$kind," "$TMP/tl.csv"
+done
+is "$(awk -F, 'NR > 1 && NF != 17' "$TMP/tl.csv" | wc -l)" 0 "every row has the header's 17 columns"
+desig=$(awk -F, '$1 == "intercept" && $3 != 0 { print $3; exit }' "$TMP/tl.csv")
+check "the designated track ($desig) has rows of its own" grep -q "^track,[0-9.]*,$desig," "$TMP/tl.csv"
+"$MSCGS" montecarlo --exercise "$EX" --timeline "$TMP/x.csv" >/dev/null 2>"$TMP/bad.err"
+is "$?" 2 "--timeline without --trace is refused"
+check "saying so" grep -q -- "--timeline needs --trace RUN" "$TMP/bad.err"
+
 "$MSCGS" montecarlo --runs 0 >/dev/null 2>"$TMP/bad.err"
 is "$?" 2 "--runs 0 is refused"
 check "with the reason" grep -q -- "--runs: expected a whole number 1..1000000, got '0'" "$TMP/bad.err"

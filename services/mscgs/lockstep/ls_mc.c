@@ -43,13 +43,73 @@ void ls_mc_variation (const ls_mc_config_t *c, size_t i, uint64_t *ret_seed, dou
 typedef struct {
     ms_icpt_t *ic;
     ms_metrics_t *metrics;
+    FILE *timeline;      // c->timeline: every run's vehicles, radar truth, tracks, intercepts
+    double entity_due_s; // the next entity row (one a second)
 } s_watch_t;
+
+/* The timeline: one CSV row per entity a second, per radar truth
+ * item, per track and per intercept message, with the columns of
+ * LS_MC_TIMELINE_HEADER. */
+static void s_timeline (s_watch_t *w, const char *topic, const ProtobufCMessage *msg,
+                        const Cgs__Header *hdr)
+{
+    FILE *f = w->timeline;
+    double t = hdr ? hdr->sim_time_s : 0;
+    if (strcmp (topic, "entity") == 0) {
+        if (t + 1e-9 < w->entity_due_s)
+            return;
+        w->entity_due_s = floor (t) + 1;
+        const Cgs__EntityBatch *b = (const Cgs__EntityBatch *)msg;
+        for (size_t i = 0; i < b->n_entities; i++) {
+            const Cgs__Entity *e = b->entities[i];
+            if (!e->position || !e->velocity)
+                continue;
+            fprintf (f, "entity,%.2f,%u,%.1f,%.1f,%.2f,%.2f,,,,,,,,,,\n", t, e->entity_id,
+                     e->position->east_m, e->position->north_m, e->velocity->east_mps,
+                     e->velocity->north_mps);
+        }
+    } else if (strcmp (topic, "mti.truth") == 0) {
+        const Cgs__MtiTruth *m = (const Cgs__MtiTruth *)msg;
+        for (size_t i = 0; i < m->n_items; i++) {
+            const Cgs__MtiTruthItem *it = m->items[i];
+            if (!it->in_beam)
+                continue;
+            fprintf (f, "truth,%.2f,%u,,,%.2f,,%s,%u,,,,,%.3f,,,%s\n", t, it->entity_id,
+                     it->radial_velocity_mps, it->detected ? "detected" : "missed", it->hit_id,
+                     it->pd, it->visible ? "" : "masked");
+        }
+    } else if (strcmp (topic, "track") == 0) {
+        const Cgs__TrackBatch *b = (const Cgs__TrackBatch *)msg;
+        for (size_t i = 0; i < b->n_tracks; i++) {
+            const Cgs__Track *k = b->tracks[i];
+            if (!k->position || !k->velocity)
+                continue;
+            double sd =
+                k->n_covariance >= 16 ? sqrt (fmax (0, k->covariance[0] + k->covariance[5])) : NAN;
+            double ps = k->n_mode_probabilities >= 3 ? k->mode_probabilities[2] : NAN;
+            fprintf (f, "track,%.2f,%u,%.1f,%.1f,%.2f,%.2f,%s,%u,%u,%u,%.2f,%.3f,%.3f,%.1f,%.3f,\n",
+                     t, k->track_id, k->position->east_m, k->position->north_m,
+                     k->velocity->east_mps, k->velocity->north_mps,
+                     k->status == CGS__TRACK_STATUS__TRACK_STATUS_CONFIRMED  ? "confirmed"
+                     : k->status == CGS__TRACK_STATUS__TRACK_STATUS_COASTING ? "coasting"
+                     : k->status == CGS__TRACK_STATUS__TRACK_STATUS_DELETED  ? "deleted"
+                                                                             : "tentative",
+                     k->hit_count, k->miss_count, k->continues, k->continues_probability,
+                     k->existence_probability, k->detection_probability, sd, ps);
+        }
+    } else if (strcmp (topic, "intercept") == 0) {
+        const Cgs__Intercept *m = (const Cgs__Intercept *)msg;
+        fprintf (f, "intercept,%.2f,%u,,,,,%d,,,,,,,,,\n", t, m->track_id, (int)m->state);
+    }
+}
 
 /* The metrics see every message after the observer (the run's own, fed first). */
 static void s_watch (void *arg, const char *topic, const ProtobufCMessage *msg,
                      const Cgs__Header *hdr)
 {
     s_watch_t *w = arg;
+    if (w->timeline)
+        s_timeline (w, topic, msg, hdr);
     if (!w->metrics)
         return;
     if (strcmp (topic, "entity") == 0)
@@ -68,7 +128,9 @@ int ls_mc_one (const ls_mc_config_t *c, size_t i, FILE *log, ls_mc_run_t *ret, c
     ls_run_result_t *res = calloc (1, sizeof *res);
     if (!res)
         return -ENOMEM;
-    s_watch_t w = {.ic = &res->icpt};
+    s_watch_t w = {.ic = &res->icpt, .timeline = c->timeline};
+    if (w.timeline)
+        fputs (LS_MC_TIMELINE_HEADER "\n", w.timeline);
     ls_run_config_t rc = {
         .exercise_path = c->exercise_path,
         .scenario_path = c->scenario_path,

@@ -27,7 +27,19 @@ typedef struct {
     int jobs;                  // processes (1: this one)
     bool seeds_only;           // run i is the scene as it stands with exercise seed seed + i
                                // (no shift, no start point drawn): as `mscgs run` runs it
+    FILE *timeline;            // ls_mc_one: CSV rows of the run (LS_MC_TIMELINE_HEADER), or NULL
 } ls_mc_config_t;
+
+/* The columns of a run's timeline: kind is entity (a vehicle or a UAV, once
+ * a second), truth (the radar's truth of a vehicle in its beam: radial
+ * velocity in ve, detected or missed in status, its hit id in hits, the
+ * model's Pd in pd, "masked" in note when terrain hid it), track (one per
+ * track of a batch: continues and its probability, existence, the Pd the
+ * tracker expected, position standard deviation sd, the stopped mode's
+ * probability) or intercept (the designated track in id, the state
+ * number of InterceptState in status). */
+#define LS_MC_TIMELINE_HEADER                                                                      \
+    "kind,t,id,e,n,ve,vn,status,hits,misses,continues,cont_p,existence,pd,sd,p_stopped,note"
 
 /* Why a run did not image the designated vehicle. */
 typedef enum {
