@@ -74,12 +74,15 @@ static int s_monte_carlo (int argc, char **argv)
         case 'M':
             break;
         case 's':
-            if (strcmp (optarg, "0") && strcmp (optarg, "1") && strcmp (optarg, "2")) {
-                fprintf (stderr, "mtid: --swerling: expected 0 (constant), 1 or 2, got '%s'\n",
+            if (strcmp (optarg, "2-pulse") == 0)
+                c.swerling = MTI_SWERLING_2_PULSE;
+            else if (strcmp (optarg, "0") && strcmp (optarg, "1") && strcmp (optarg, "2")) {
+                fprintf (stderr,
+                         "mtid: --swerling: expected 0 (constant), 1, 2 or 2-pulse, got '%s'\n",
                          optarg);
                 return 2;
-            }
-            c.swerling = (mti_swerling_t)atoi (optarg);
+            } else
+                c.swerling = (mti_swerling_t)atoi (optarg);
             break;
         case 'r':
             if (s_parse_double ("snr-db", optarg, &c.snr_db) < 0)
@@ -115,15 +118,18 @@ static int s_monte_carlo (int argc, char **argv)
             c.seed = (uint64_t)fabs (v);
             break;
         case 'h':
-            printf ("usage: mtid --monte-carlo [--swerling 0|1|2] [--snr-db X] [--trials N]\n"
-                    "            [--ref-cells N] [--pfa P] [--fft-size N] [--seed S]\n"
-                    "Runs coherent intervals through the radar's processing chain (noise\n"
-                    "only, target on a Doppler bin centre) and prints, as JSON, the measured\n"
-                    "detection and false-alarm probabilities of the CA-CFAR detector with their\n"
-                    "99%% intervals and the closed-form values. --snr-db is the SNR in the\n"
-                    "Doppler cell of a coherently integrating target (default 10); a Swerling\n"
-                    "II target gets the per-pulse SNR only (cell_snr_db). Defaults: Swerling 1,\n"
-                    "10000 trials, 16 reference cells, Pfa 1e-4, FFT 64, seed 1.\n");
+            printf (
+                "usage: mtid --monte-carlo [--swerling 0|1|2|2-pulse] [--snr-db X] [--trials N]\n"
+                "            [--ref-cells N] [--pfa P] [--fft-size N] [--seed S]\n"
+                "Runs coherent intervals through the radar's processing chain (noise\n"
+                "only, target on a Doppler bin centre) and prints, as JSON, the measured\n"
+                "detection and false-alarm probabilities of the CA-CFAR detector with their\n"
+                "99%% intervals and the closed-form values. --snr-db is the SNR in the\n"
+                "Doppler cell of a coherently integrating target (default 10); in one\n"
+                "interval Swerling 2 (a new draw each interval) is Swerling 1; a target\n"
+                "fluctuating pulse to pulse (2-pulse) gets the per-pulse SNR only\n"
+                "(cell_snr_db). Defaults: Swerling 1,\n"
+                "10000 trials, 16 reference cells, Pfa 1e-4, FFT 64, seed 1.\n");
             return 0;
         default:
             return 2;
@@ -146,14 +152,18 @@ static int s_monte_carlo (int argc, char **argv)
         snprintf (pd_int, sizeof pd_int, "[%.5f,%.5f]", r.pd_lo, r.pd_hi);
     if (r.fa_interval_ok)
         snprintf (fa_int, sizeof fa_int, "[%lu,%lu]", r.fa_lo, r.fa_hi);
-    printf ("{\"swerling\":%d,\"snr_db\":%g,\"cell_snr_db\":%.4f,\"trials\":%lu,"
+    printf ("{\"swerling\":\"%s\",\"snr_db\":%g,\"cell_snr_db\":%.4f,\"trials\":%lu,"
             "\"reference_cells\":%d,\"fft_size\":%d,\"pfa_design\":%g,\"threshold_t\":%.6f,"
             "\"pd_measured\":%.5f,\"pd_interval_99\":%s,\"pd_theory\":%.5f,"
             "\"false_alarm_cells\":%lu,\"false_alarms\":%lu,\"pfa_measured\":%.6g,"
             "\"false_alarms_interval_99\":%s,\"seed\":%llu}\n",
-            (int)c.swerling, c.snr_db, r.cell_snr_db, c.trials, c.ref_cells, c.fft_size, c.pfa,
-            r.threshold, r.pd, pd_int, r.pd_theory, r.fa_cells, r.false_alarms, r.pfa_measured,
-            fa_int, (unsigned long long)c.seed);
+            c.swerling == MTI_SWERLING_2_PULSE ? "2-pulse"
+            : c.swerling == MTI_SWERLING_2     ? "2"
+            : c.swerling == MTI_SWERLING_1     ? "1"
+                                               : "0",
+            c.snr_db, r.cell_snr_db, c.trials, c.ref_cells, c.fft_size, c.pfa, r.threshold, r.pd,
+            pd_int, r.pd_theory, r.fa_cells, r.false_alarms, r.pfa_measured, fa_int,
+            (unsigned long long)c.seed);
     return 0;
 }
 

@@ -190,9 +190,9 @@ mti_dsp_target_t mti_dsp_draw_target (mti_dsp_t *self, mti_swerling_t model, dou
                                       double doppler_hz)
 {
     mti_dsp_target_t t = {.amplitude = sqrt (snr > 0 ? snr : 0), .doppler_hz = doppler_hz};
-    if (model == MTI_SWERLING_1)
+    if (model == MTI_SWERLING_1 || model == MTI_SWERLING_2)
         t.amplitude = sqrt (gsl_ran_exponential (self->rng, snr > 0 ? snr : 0));
-    else if (model == MTI_SWERLING_2)
+    else if (model == MTI_SWERLING_2_PULSE)
         t.pulse_to_pulse = true;
     return t;
 }
@@ -313,6 +313,10 @@ int mti_dsp_dwell (mti_dsp_t *self, const mti_dsp_input_t *in, mti_dsp_result_t 
         tgt = mti_dsp_draw_target (self, in->swerling, in->snr, in->doppler_hz);
     int n = self->fft_size;
     for (int c = 0; c < self->n_cpi; c++) {
+        // Swerling II in the interval sense: the frequency hop between
+        // coherent intervals gives each its own draw.
+        if (have_tgt && c > 0 && in->swerling == MTI_SWERLING_2)
+            tgt = mti_dsp_draw_target (self, in->swerling, in->snr, in->doppler_hz);
         mti_dsp_cpi (self, in->cnr, have_tgt ? &tgt : NULL, self->x_bins, self->z_bins);
         bool crossed = false;
         for (int k = 0; k < n; k++) {

@@ -40,8 +40,9 @@ typedef struct mti_dsp mti_dsp_t;
 
 /* A target as one CPI sees it. */
 typedef struct {
-    double amplitude;    // sqrt of per-pulse SNR (constant, or this dwell's Swerling I draw)
-    bool pulse_to_pulse; // Swerling II: each pulse complex Gaussian of power amplitude^2
+    double amplitude;    // sqrt of per-pulse SNR (constant, or this dwell's or CPI's draw)
+    bool pulse_to_pulse; // Swerling II pulse to pulse: each pulse complex Gaussian of power
+                         // amplitude^2
     double doppler_hz;   // relative to the clutter centre
 } mti_dsp_target_t;
 
@@ -80,8 +81,10 @@ double mti_dsp_bin_hz (const mti_dsp_t *self, int bin);
 /* Bin whose centre is nearest to the (aliased) frequency f. */
 int mti_dsp_bin_of (const mti_dsp_t *self, double f_hz);
 
-/* Draw a dwell's target per its model: constant (amplitude sqrt(snr)),
- * Swerling I (|a|^2 exponential of mean snr), Swerling II (pulse to pulse). */
+/* Draw a target per its model: constant (amplitude sqrt(snr)), Swerling I
+ * and II (|a|^2 exponential of mean snr: drawn once a dwell for I, once
+ * a coherent interval for II, mti_dsp_dwell redrawing), Swerling II pulse
+ * to pulse (each pulse its own draw). */
 mti_dsp_target_t mti_dsp_draw_target (mti_dsp_t *self, mti_swerling_t model, double snr,
                                       double doppler_hz);
 /* Use a clutter spectrum of standard deviation sigma_hz from now on (the

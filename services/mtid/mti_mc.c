@@ -66,8 +66,10 @@ int mti_mc_run (const mti_mc_config_t *c, mti_mc_result_t *ret, char *err, size_
         for (int k = 0; k < c->fft_size; k++)
             r.false_alarms += x[k] > r.threshold * z[k];
     }
-    // What the target has in its cell: a Swerling II target gets no coherent gain.
-    double eff = c->swerling == MTI_SWERLING_2 ? pulse_snr : cell_snr;
+    // What the target has in its cell: a target fluctuating pulse to pulse
+    // gets no coherent gain (one that changes between intervals does: this
+    // is one interval).
+    double eff = c->swerling == MTI_SWERLING_2_PULSE ? pulse_snr : cell_snr;
     r.cell_snr_db = 10.0 * log10 (eff);
     r.pd = (double)r.detections / c->trials;
     r.pd_interval_ok =

@@ -107,9 +107,9 @@ static const int s_window_values[] = {MTI_WINDOW_RECT, MTI_WINDOW_HANN, MTI_WIND
 static const char *const s_canceller_names[] = {"none", "two-pulse", "three-pulse", NULL};
 static const int s_canceller_values[] = {MTI_CANCELLER_NONE, MTI_CANCELLER_TWO,
                                          MTI_CANCELLER_THREE};
-static const char *const s_swerling_names[] = {"0", "1", "2", "constant", NULL};
+static const char *const s_swerling_names[] = {"0", "1", "2", "constant", "2-pulse", NULL};
 static const int s_swerling_values[] = {MTI_SWERLING_0, MTI_SWERLING_1, MTI_SWERLING_2,
-                                        MTI_SWERLING_0};
+                                        MTI_SWERLING_0, MTI_SWERLING_2_PULSE};
 
 // --- errors -------------------------------------------------------------------
 
@@ -298,7 +298,7 @@ static int s_target (s_ctx_t *c, const char *section, const char *name, mti_para
         return cgs_config_error (c->cfg, section, NULL, 0, c->err, c->errlen,
                                  "expected [target NAME] with NAME " S_NAME_RULE ", got '%s'",
                                  name);
-    mti_class_t cls = {.rcs_m2 = 0, .swerling = MTI_SWERLING_1};
+    mti_class_t cls = {.rcs_m2 = 0, .swerling = MTI_SWERLING_2};
     size_t i = 0;
     while (i < p->class_count && strcmp (p->classes[i].name, name) != 0)
         i++;
@@ -390,9 +390,9 @@ static int s_check_classes (const s_ctx_t *c, const mti_params_t *p)
             return s_fail (c, (const s_key_t[]){{section, s_rcs.key}, {NULL, NULL}},
                            "expected a number in %s, got %.15g",
                            s_interval (&s_rcs, range, sizeof range), k->rcs_m2);
-        if (k->swerling < MTI_SWERLING_0 || k->swerling > MTI_SWERLING_2)
+        if (k->swerling < MTI_SWERLING_0 || k->swerling > MTI_SWERLING_2_PULSE)
             return s_fail (c, (const s_key_t[]){{section, "swerling"}, {NULL, NULL}},
-                           "expected 0, 1 or 2, got %d", (int)k->swerling);
+                           "expected 0, 1, 2 or 2-pulse, got %d", (int)k->swerling);
     }
     return 0;
 }
@@ -499,9 +499,9 @@ void mti_params_defaults (mti_params_t *p)
 {
     assert (p);
     static const mti_class_t classes[] = {
-        {"vehicle", 10, MTI_SWERLING_1}, {"tank", 20, MTI_SWERLING_1},
-        {"truck", 15, MTI_SWERLING_1},   {"person", 1, MTI_SWERLING_1},
-        {"car", 5, MTI_SWERLING_1},      {"reflector", 10, MTI_SWERLING_0},
+        {"vehicle", 10, MTI_SWERLING_2}, {"tank", 20, MTI_SWERLING_2},
+        {"truck", 15, MTI_SWERLING_2},   {"person", 1, MTI_SWERLING_2},
+        {"car", 5, MTI_SWERLING_2},      {"reflector", 10, MTI_SWERLING_0},
     };
     *p = (mti_params_t){
         .frequency_hz = 16e9,

@@ -29,9 +29,13 @@
 
 /* Target fluctuation model. */
 typedef enum {
-    MTI_SWERLING_0 = 0, // constant (nonfluctuating, Marcum)
-    MTI_SWERLING_1 = 1, // Rayleigh amplitude, constant over a dwell, independent scan to scan
-    MTI_SWERLING_2 = 2, // Rayleigh amplitude, independent pulse to pulse
+    MTI_SWERLING_0 = 0,       // constant (nonfluctuating, Marcum)
+    MTI_SWERLING_1 = 1,       // Rayleigh amplitude, constant over a dwell, independent scan to scan
+    MTI_SWERLING_2 = 2,       // Rayleigh amplitude, constant within a coherent interval and
+                              // independent from one interval to the next: the radar hops its
+                              // frequency between intervals (Swerling II in the interval sense)
+    MTI_SWERLING_2_PULSE = 3, // Rayleigh amplitude, independent pulse to pulse (the
+                              // textbook case II: no coherent gain in the Doppler FFT)
 } mti_swerling_t;
 
 typedef enum {

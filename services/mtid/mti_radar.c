@@ -254,13 +254,21 @@ static void s_measure (mti_radar_t *self, cgs_enu_t p, double r, double az, doub
     (void)s_ground_at (self, p, h->azimuth_deg, h->range_m, &h->position);
 }
 
-/* One CPI's detection probability in a bin of expected SINR. */
-static double s_pd_cpi (const mti_radar_t *self, mti_swerling_t model, double sinr)
+/* The dwell's detection probability (m of its n coherent intervals) in a
+ * bin of expected SINR, by the target's fluctuation model (mti_theory). */
+static double s_pd_dwell (const mti_radar_t *self, mti_swerling_t model, double sinr)
 {
     double t = mti_dsp_threshold (self->dsp);
-    if (model == MTI_SWERLING_0)
-        return mti_theory_pd_constant_cacfar (sinr, t, self->p.ref_cells);
-    return mti_theory_pd_swerling_cacfar (sinr, t, self->p.ref_cells);
+    int nr = self->p.ref_cells, m = self->p.m, n = self->p.n;
+    switch (model) {
+    case MTI_SWERLING_0:
+        return mti_theory_m_of_n (mti_theory_pd_constant_cacfar (sinr, t, nr), m, n);
+    case MTI_SWERLING_1:
+        return m == n && m == 1 ? mti_theory_pd_swerling_cacfar (sinr, t, nr)
+                                : mti_theory_pd_swerling1_m_of_n (sinr, t, nr, m, n);
+    default: // a new draw each interval (or each pulse, sinr then without coherent gain)
+        return mti_theory_m_of_n (mti_theory_pd_swerling_cacfar (sinr, t, nr), m, n);
+    }
 }
 
 static int s_target (mti_radar_t *self, const mti_dwell_t *d, const mti_platform_t *plat,
@@ -320,10 +328,10 @@ static int s_target (mti_radar_t *self, const mti_dwell_t *d, const mti_platform
         return rc;
     double nz, cl, sg;
     mti_dsp_bin_response (self->dsp, mti_dsp_bin_of (self->dsp, f), f,
-                          cls->swerling == MTI_SWERLING_2, &nz, &cl, &sg);
+                          cls->swerling == MTI_SWERLING_2_PULSE, &nz, &cl, &sg);
     double sinr = snr * sg / (nz + self->cnr[0] * cl);
     tr->snr_db = 10.0 * log10 (sinr);
-    tr->pd = s_pd_cpi (self, cls->swerling, sinr);
+    tr->pd = s_pd_dwell (self, cls->swerling, sinr);
     if (!res.detected)
         return 0;
     mti_hit_t h = {.entity_id = tg->id};

@@ -99,7 +99,7 @@ typedef struct {
     uint32_t entity_id;
     bool visible;  // not hidden by terrain
     double snr_db; // expected SINR in its Doppler bin (one CPI); -inf when hidden
-    double pd;     // one CPI's detection probability in that bin, from theory
+    double pd;     // the dwell's detection probability (m of n intervals), from theory
     bool detected;
     uint32_t hit_id;            // 0 when not detected
     double radial_velocity_mps; // true, positive opening

@@ -267,6 +267,38 @@ double mti_theory_m_of_n (double p, int m, int n)
     return gsl_cdf_binomial_Q ((unsigned)(m - 1), p, (unsigned)n);
 }
 
+typedef struct {
+    double snr, t;
+    int n_ref, m, n;
+} s_dwell_t;
+
+/* With u = 1 - e^-x (x the Swerling I draw over its mean): the m-of-n Pd
+ * of a constant target at x snr, uniform weight in u. */
+static double s_dwell_integrand (double u, void *arg)
+{
+    const s_dwell_t *d = arg;
+    double x = -log1p (-u);
+    return mti_theory_m_of_n (mti_theory_pd_constant_cacfar (x * d->snr, d->t, d->n_ref), d->m,
+                              d->n);
+}
+
+double mti_theory_pd_swerling1_m_of_n (double snr, double t, int n_ref, int m, int n)
+{
+    if (!(snr >= 0.0) || !(t >= 0.0) || n_ref < 1 || n < 1 || m < 1 || m > n)
+        return NAN;
+    gsl_integration_workspace *ws = gsl_integration_workspace_alloc (S_QUAD_LIMIT);
+    if (!ws)
+        return NAN;
+    s_dwell_t d = {.snr = snr, .t = t, .n_ref = n_ref, .m = m, .n = n};
+    gsl_function f = {.function = s_dwell_integrand, .params = &d};
+    double result = NAN, abserr;
+    if (gsl_integration_qag (&f, 0.0, 1.0, 1e-9, 1e-7, S_QUAD_LIMIT, GSL_INTEG_GAUSS21, ws, &result,
+                             &abserr) != GSL_SUCCESS)
+        result = NAN;
+    gsl_integration_workspace_free (ws);
+    return result;
+}
+
 /* One end of a Clopper-Pearson interval: the root in [lo, hi] of the
  * increasing function beta_P(x; a, b) - tail (upper false) or tail -
  * beta_Q(x; a, b) (upper true), by GSL's Brent solver. GSL's own beta

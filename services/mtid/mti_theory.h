@@ -17,6 +17,13 @@
  *   three-pulse I = 6 / (6 - 8 rho_1 + 2 rho_2)          (~ f_r^4 / (8 pi^4 sigma_f^4))
  * (improvement factor: signal gain averaged over all Doppler over clutter gain).
  * m-of-n: P = sum_{k=m..n} C(n,k) p^k (1-p)^(n-k).
+ * A dwell of n coherent intervals that detects when m of them cross, each
+ * interval with its own reference cells (independent noise):
+ *   constant target            P = m-of-n(Pd_constant(SNR))
+ *   Swerling II, interval sense P = m-of-n(Pd_Swerling(SNR)) (a new draw
+ *                               each interval: the radar hops its frequency)
+ *   Swerling I over the dwell  P = integral m-of-n(Pd_constant(x SNR)) e^-x dx
+ *                               (one draw for all intervals: they fade together).
  * Pure functions; GSL does the special functions and the quadrature.
  * Arguments outside a function's domain give NAN. */
 #ifndef MTI_THEORY_H
@@ -44,6 +51,9 @@ double mti_theory_canceller_improvement (int pulses, double sigma_hz, double prf
 double mti_theory_canceller_improvement_approx (int pulses, double sigma_hz, double prf_hz);
 /* P(at least m successes in n independent trials of probability p), 1 <= m <= n. */
 double mti_theory_m_of_n (double p, int m, int n);
+/* Pd of an m-of-n dwell under CA-CFAR (multiplier t, n_ref cells) of a
+ * Swerling I target constant over the dwell, mean SNR snr per interval. */
+double mti_theory_pd_swerling1_m_of_n (double snr, double t, int n_ref, int m, int n);
 /* The two-sided 99% (or any level) Clopper-Pearson interval for k successes
  * in n trials: *ret_lo, *ret_hi. 0, -EINVAL for k > n or a level outside
  * (0, 1), -ERANGE where GSL cannot evaluate the beta distribution (counts with

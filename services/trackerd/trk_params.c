@@ -46,10 +46,10 @@ void trk_params_defaults (trk_params_t *p)
             {
                 .pd = 0.995,
                 .half_range_m = 11800,
-                .range_exponent = 4.9,
-                .mdv_along_mps = 1.0,
+                .range_exponent = 10.8,
+                .mdv_along_mps = 0.58,
                 .mdv_across_mps = 1.8,
-                .width_mps = 0.3,
+                .width_mps = 0.2,
                 .span_mps = 46.875,
                 .min_range_m = 500,
                 .max_range_m = 20000,

@@ -19,11 +19,13 @@
  * velocity, so an uncertain state near the edge is neither seen nor unseen
  * for sure. Outside the radar's range window, or outside the sector a scan
  * swept, Pd is zero. The defaults are measured on mtid's chain at its
- * default parameters (a 10 m² vehicle, the UAV 1200 m up): 50% points of
- * the notch 1.0 m/s along and 1.8 m/s across at 8 km, an edge of about
- * 0.3 m/s; clear of the notch, over 120 dwells each, 1.00 at 4 km, 0.875 at
- * 8, 0.65 at 10, 0.38 at 12 and 0.23 at 14 km, which pd 0.995, half_range
- * 11 800 m and exponent 4.9 follow within 0.09 (test_trk_imm). Where the radar's terrain is known, a target the
+ * default parameters (a 10 m² vehicle, Swerling II from one coherent
+ * interval to the next, the UAV 1200 m up): 50% points of the notch
+ * 0.58 m/s along and 1.8 m/s across at 8 km, an edge of about 0.2 m/s;
+ * clear of the notch, 1.00 at 4 km, 0.98 at 8, 0.83 at 10, 0.44 at 12,
+ * 0.14 at 14 and 0.03 at 16 km along the ground, which pd 0.995,
+ * half_range 11 800 m and exponent 10.8 follow within 0.04 (test_trk_imm,
+ * 400 dwells a point). Where the radar's terrain is known, a target the
  * terrain hides (the line from the antenna to 2 m above the ground at the
  * target cut, as mtid models it) has Pd zero; foliage is not modelled (it
  * does not hide targets from mtid either). Pure: no logging, no globals. */

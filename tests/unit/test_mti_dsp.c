@@ -1,7 +1,8 @@
 /* The MTI processing chain checked against detection theory: the CA-CFAR
  * threshold and its false-alarm rate, Pd against SNR for Swerling I/II and
- * the constant target, Swerling II's lack of coherent gain, the cancellers'
- * improvement factors on Gaussian clutter, m-of-n against the binomial sum,
+ * the constant target, pulse-to-pulse Swerling II's lack of coherent gain,
+ * the cancellers' improvement factors on Gaussian clutter, m-of-n against
+ * the binomial sum, the 2-of-4 dwell of Swerling I and interval Swerling II,
  * slow and fast targets in strong clutter, the chain's mean power against its
  * exact response, and the statistical false-alarm model against full
  * processing of a strip of range cells. Each Monte Carlo figure is compared
@@ -105,14 +106,14 @@ static void test_pd_constant (void **state)
     }
 }
 
-/* Swerling II fluctuates pulse to pulse: the FFT gathers none of its energy
- * into one bin, so its Pd is that of the per-pulse SNR, far below Swerling I's. */
+/* Swerling II pulse to pulse: the FFT gathers none of its energy into one
+ * bin, so its Pd is that of the per-pulse SNR, far below Swerling I's. */
 static void test_swerling2_no_coherent_gain (void **state)
 {
     (void)state;
     const double snrs[] = {20, 27, 32};
     for (size_t i = 0; i < sizeof snrs / sizeof *snrs; i++) {
-        mti_mc_result_t r2 = s_mc (MTI_SWERLING_2, snrs[i], 10000, 1e-4, 300 + i);
+        mti_mc_result_t r2 = s_mc (MTI_SWERLING_2_PULSE, snrs[i], 10000, 1e-4, 300 + i);
         mti_mc_result_t r1 = s_mc (MTI_SWERLING_1, snrs[i], 10000, 1e-4, 310 + i);
         double pulse_snr = pow (10, snrs[i] / 10) / 64;
         double th = s_pd_sw (pulse_snr, r2.threshold, 16);
@@ -216,6 +217,57 @@ static void test_m_of_n_binomial (void **state)
                    (double)lo / dwells, (double)hi / dwells);
     assert_in_range (cross, clo, chi);
     assert_in_range (det, lo, hi);
+    mti_dsp_destroy (&dsp);
+}
+
+/* A 2-of-4 dwell on a fluctuating target against the closed forms: a
+ * Swerling II target (the radar hops its frequency between intervals, each
+ * interval its own draw) detects as the binomial sum over independent
+ * intervals, m-of-n(Pd_Swerling(SNR)); a Swerling I target (one draw for
+ * the dwell) as that sum over constant-target intervals averaged over the
+ * draw. At high SNR the hop's diversity wins: the intervals no longer fade
+ * together. */
+static void test_dwell_fluctuation_m_of_n (void **state)
+{
+    (void)state;
+    mti_params_t p = s_params (64, MTI_CANCELLER_NONE, MTI_WINDOW_RECT);
+    p.pfa = 1e-6; // noise crossings in the other bins: under 7e-5 an interval
+    p.m = 2;
+    p.n = 4;
+    mti_dsp_t *dsp = mti_dsp_new (&p, 17);
+    assert_non_null (dsp);
+    double t = mti_dsp_threshold (dsp), cnr[17] = {0};
+    const double snrs_db[] = {10, 16, 20};
+    const unsigned long dwells = 6000;
+    for (size_t i = 0; i < sizeof snrs_db / sizeof *snrs_db; i++) {
+        double snr = pow (10, snrs_db[i] / 10);
+        double pd[2];
+        for (int k = 0; k < 2; k++) {
+            mti_swerling_t model = k ? MTI_SWERLING_2 : MTI_SWERLING_1;
+            mti_dsp_input_t in = {.snr = snr / 64, // per pulse: the FFT gathers 64 of it
+                                  .doppler_hz = mti_dsp_bin_hz (dsp, 16),
+                                  .swerling = model,
+                                  .cnr = cnr};
+            unsigned long det = 0;
+            for (unsigned long d = 0; d < dwells; d++) {
+                mti_dsp_result_t r;
+                assert_int_equal (mti_dsp_dwell (dsp, &in, &r), 0);
+                det += r.detected;
+            }
+            double th = k ? mti_theory_m_of_n (s_pd_sw (snr, t, 16), 2, 4)
+                          : mti_theory_pd_swerling1_m_of_n (snr, t, 16, 2, 4);
+            unsigned long lo, hi;
+            assert_int_equal (mti_theory_binomial_count_interval (th, dwells, 0.99, &lo, &hi), 0);
+            print_message ("# %4.1f dB, 2 of 4, Swerling %s: Pd %.4f, theory %.4f (99%% "
+                           "[%.4f, %.4f])\n",
+                           snrs_db[i], k ? "II (interval)" : "I (dwell)", (double)det / dwells, th,
+                           (double)lo / dwells, (double)hi / dwells);
+            assert_in_range (det, lo, hi);
+            pd[k] = th;
+        }
+        if (snrs_db[i] >= 16)
+            assert_true (pd[1] > pd[0] + 0.05);
+    }
     mti_dsp_destroy (&dsp);
 }
 
@@ -396,6 +448,7 @@ int main (void)
         cmocka_unit_test (test_swerling2_no_coherent_gain),
         cmocka_unit_test (test_canceller_improvement),
         cmocka_unit_test (test_m_of_n_binomial),
+        cmocka_unit_test (test_dwell_fluctuation_m_of_n),
         cmocka_unit_test (test_slow_and_fast_targets_in_clutter),
         cmocka_unit_test (test_bin_power_matches_response),
         cmocka_unit_test (test_any_bin_probability),

@@ -177,9 +177,9 @@ static void test_defaults (void **state)
         double rcs_m2;
         mti_swerling_t swerling;
     } want[] = {
-        {"vehicle", 10, MTI_SWERLING_1}, {"tank", 20, MTI_SWERLING_1},
-        {"truck", 15, MTI_SWERLING_1},   {"person", 1, MTI_SWERLING_1},
-        {"car", 5, MTI_SWERLING_1},      {"reflector", 10, MTI_SWERLING_0},
+        {"vehicle", 10, MTI_SWERLING_2}, {"tank", 20, MTI_SWERLING_2},
+        {"truck", 15, MTI_SWERLING_2},   {"person", 1, MTI_SWERLING_2},
+        {"car", 5, MTI_SWERLING_2},      {"reflector", 10, MTI_SWERLING_0},
     };
     assert_int_equal (p.class_count, 6);
     for (size_t i = 0; i < 6; i++) {
@@ -308,11 +308,9 @@ static void test_values (void **state)
     const struct {
         const char *text;
         mti_swerling_t want;
-    } sw[] = {{"0", MTI_SWERLING_0},
-              {"constant", MTI_SWERLING_0},
-              {"Constant", MTI_SWERLING_0},
-              {"1", MTI_SWERLING_1},
-              {"2", MTI_SWERLING_2}};
+    } sw[] = {{"0", MTI_SWERLING_0},        {"constant", MTI_SWERLING_0},
+              {"Constant", MTI_SWERLING_0}, {"1", MTI_SWERLING_1},
+              {"2", MTI_SWERLING_2},        {"2-pulse", MTI_SWERLING_2_PULSE}};
     for (size_t i = 0; i < sizeof sw / sizeof sw[0]; i++) {
         char text[128];
         snprintf (text, sizeof text, "[target car]\nswerling = %s\n", sw[i].text);
@@ -335,16 +333,16 @@ static void test_classes (void **state)
     (void)state;
     mti_params_t p;
     // Replace: the keys given change, the others stay; order and count stay.
-    s_load ("[target tank]\nswerling = 2\n[target person]\nrcs_m2 = 0.5\n", &p);
+    s_load ("[target tank]\nswerling = 1\n[target person]\nrcs_m2 = 0.5\n", &p);
     assert_int_equal (p.class_count, 6);
     assert_string_equal (p.classes[1].name, "tank");
     assert_true (p.classes[1].rcs_m2 == 20);
-    assert_int_equal (p.classes[1].swerling, MTI_SWERLING_2);
+    assert_int_equal (p.classes[1].swerling, MTI_SWERLING_1);
     assert_string_equal (p.classes[3].name, "person");
     assert_true (p.classes[3].rcs_m2 == 0.5);
-    assert_int_equal (p.classes[3].swerling, MTI_SWERLING_1);
+    assert_int_equal (p.classes[3].swerling, MTI_SWERLING_2);
 
-    // Add: appended in file order; swerling 1 unless given; names are case-sensitive.
+    // Add: appended in file order; swerling 2 unless given; names are case-sensitive.
     s_load ("[target drone]\nrcs_m2 = 0.01\nswerling = constant\n"
             "[target Tank]\nrcs_m2 = 30\n"
             "[target tank]\nrcs_m2 = 25\n",
@@ -355,7 +353,7 @@ static void test_classes (void **state)
     assert_int_equal (p.classes[6].swerling, MTI_SWERLING_0);
     assert_string_equal (p.classes[7].name, "Tank");
     assert_true (p.classes[7].rcs_m2 == 30);
-    assert_int_equal (p.classes[7].swerling, MTI_SWERLING_1);
+    assert_int_equal (p.classes[7].swerling, MTI_SWERLING_2);
     assert_true (p.classes[1].rcs_m2 == 25);
 
     // Lookup: exact match, else the first class (no `default`).
@@ -477,7 +475,8 @@ static void test_value_errors (void **state)
     s_fails ("[scan]\nsector_reference = track\n",
              "r.ini:2: [scan] sector_reference: expected one of 'north', 'heading', got 'track'");
     s_fails ("[target car]\nswerling = 3\n",
-             "r.ini:2: [target car] swerling: expected one of '0', '1', '2', 'constant', got '3'");
+             "r.ini:2: [target car] swerling: expected one of '0', '1', '2', 'constant', '2-pulse', got "
+             "'3'");
     // A key given twice.
     s_fails ("[radar]\nprf_hz = 5000\nprf_hz = 4000\n",
              "r.ini:3: [radar] prf_hz: given twice (first at line 2)");
@@ -659,8 +658,8 @@ static void test_check (void **state)
     p.classes[2].rcs_m2 = 0;
     s_check_fails (&p, "[target truck] rcs_m2: expected a number in (0, 1000000], got 0");
     p = def;
-    p.classes[2].swerling = (mti_swerling_t)4;
-    s_check_fails (&p, "[target truck] swerling: expected 0, 1 or 2, got 4");
+    p.classes[2].swerling = (mti_swerling_t)5;
+    s_check_fails (&p, "[target truck] swerling: expected 0, 1, 2 or 2-pulse, got 5");
     p = def;
     strcpy (p.classes[3].name, "tank");
     s_check_fails (&p, "[target tank] class given twice (classes 1 and 3)");
