@@ -335,6 +335,7 @@ static int s_setup (s_app_t *app, char *err, size_t errlen)
     strcat (app->checkpoint, ".tracks");
     const trk_params_t *p = &app->params;
     trk_adapter_set_verbose (app->adapter, app->svc.verbose != 0);
+    trk_adapter_set_params_path (app->adapter, params);
     if (p->filter.mode == TRK_FILTER_IMM) {
         cgs_log (LOG_INFO,
                  "filter imm: sigma_meas %g/%g m, models CV %g m/s2, manoeuvre %g m/s2, stopped; "
@@ -348,13 +349,14 @@ static int s_setup (s_app_t *app, char *err, size_t errlen)
     }
     const trk_gains_t *g = trk_tracker_gains (s_trk (app));
     cgs_log (LOG_INFO,
-             "filter %s: sigma_meas %g/%g m, sigma_mod %g/%g m/s2, scan %g s: r %.4g/%.4g, "
+             "filter %s: sigma_meas %g/%g m, sigma_mod %g/%g m/s2, scan %s%g s: r %.4g/%.4g, "
              "g %.4f/%.4f, g_d %.5f/%.5f 1/s; gate %.3f (%.1f), M/N %d/%d, delete after %d "
              "misses, turn threshold %g deg",
              trk_params_mode_name (p->filter.mode), p->filter.sigma_meas_m[0],
              p->filter.sigma_meas_m[1], p->filter.sigma_mod_mps2[0], p->filter.sigma_mod_mps2[1],
-             p->filter.dt_s, g[0].r, g[1].r, g[0].g, g[1].g, g[0].gd_hz, g[1].gd_hz,
-             p->gate_probability, trk_params_gate (p), p->confirm_m, p->confirm_n, p->delete_misses,
+             p->filter.dt_auto ? "each update's own interval, at the nominal " : "", p->filter.dt_s,
+             g[0].r, g[1].r, g[0].g, g[1].g, g[0].gd_hz, g[1].gd_hz, p->gate_probability,
+             trk_params_gate (p), p->confirm_m, p->confirm_n, p->delete_misses,
              p->turn_threshold_deg);
     return 0;
 }

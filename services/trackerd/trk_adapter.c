@@ -30,13 +30,15 @@ typedef struct {
     double last_time_s;
     bool full_revolution;                       // what its latest mti.scan covered (for a scan
     double sector_center_deg, sector_width_deg; // closed without its marker)
+    bool revisit_known;                         // its revisit has been given to the tracker
 } s_radar_t;
 
 struct trk_adapter {
     trk_tracker_t *trk;
     cgs_port_t port;
-    bool verbose; // a log line per scan, not only the first
-    bool dirty;   // tracks changed since the last trk_adapter_take_dirty
+    bool verbose;          // a log line per scan, not only the first
+    char params_path[256]; // where the parameters came from ("": the defaults)
+    bool dirty;            // tracks changed since the last trk_adapter_take_dirty
     s_radar_t radars[TRK_ADAPTER_RADARS_MAX];
     size_t radar_count;
     trk_adapter_stats_t stats;
@@ -86,6 +88,11 @@ void trk_adapter_destroy (trk_adapter_t **self_p)
     free (self->hpos);
     free (self);
     *self_p = NULL;
+}
+
+void trk_adapter_set_params_path (trk_adapter_t *self, const char *path)
+{
+    snprintf (self->params_path, sizeof self->params_path, "%s", path ? path : "");
 }
 
 void trk_adapter_set_verbose (trk_adapter_t *self, bool verbose)
@@ -525,6 +532,21 @@ static void s_on_mti_scan (trk_adapter_t *self, const Cgs__MtiScan *m)
     }
     if (r->open && r->scan_number != m->scan_number)
         s_close_implicit (self, r); // its own end marker was lost
+    // The radar's revisit of a cell: one scan (a revolution, or one pass of
+    // a sector, which revisits its cells once a pass on average).
+    double revisit = m->scan_end_s - m->scan_start_s;
+    if (!r->revisit_known && revisit > 0) {
+        r->revisit_known = true;
+        double fixed = trk_tracker_params (self->trk)->filter.dt_s;
+        if (!trk_tracker_radar_revisit (self->trk, revisit))
+            cgs_port_error (&self->port,
+                            "%s: [filter] scan_period_s = %g refused: radar %u revisits a cell "
+                            "every %.2f s (its scan %u, %.2f to %.2f s); the paper's gains follow "
+                            "each update's own interval (scan_period_s = auto) from now on",
+                            *self->params_path ? self->params_path : "the built-in parameters",
+                            fixed, m->uav_id, revisit, m->scan_number, m->scan_start_s,
+                            m->scan_end_s);
+    }
     r->full_revolution = m->full_revolution;
     r->sector_center_deg = m->sector_center_deg;
     r->sector_width_deg = m->sector_width_deg;

@@ -50,6 +50,9 @@ void trk_adapter_on_message (trk_adapter_t *self, const char *topic, const Proto
                              const Cgs__Header *hdr);
 /* Log a line per scan (LOG_INFO) when true; when false, only for the first. */
 void trk_adapter_set_verbose (trk_adapter_t *self, bool verbose);
+/* The parameter file the tracker's parameters came from, for the errors
+ * that name one of its keys (copied; NULL or "": the built-in defaults). */
+void trk_adapter_set_params_path (trk_adapter_t *self, const char *path);
 /* The tracker (for checkpoints and the daemon's log lines). */
 trk_tracker_t *trk_adapter_tracker (trk_adapter_t *self);
 /* Counters. */

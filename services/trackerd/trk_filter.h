@@ -33,6 +33,8 @@ typedef struct {
     double sigma_meas_m[2];   // measurement standard deviation per axis (east, north), metres
     double sigma_mod_mps2[2]; // model (acceleration) standard deviation per axis, m/s²
     double dt_s;              // nominal scan interval: the paper's gains are computed for it
+    bool dt_auto;             // the paper's gains per update from its own interval (the radar's
+                              // revisit of the track's cell, times the scans missed), not from dt_s
 } trk_filter_params_t;
 
 /* The paper's gains of one axis. */

@@ -7,6 +7,9 @@
 #include <math.h>
 #include <stddef.h>
 #include <stdio.h>
+#include <strings.h>
+
+#define S_DT_NOMINAL_S 10 // a revolution at 36 deg/s: the nominal scan until the radar's says
 
 void trk_params_defaults (trk_params_t *p)
 {
@@ -16,7 +19,8 @@ void trk_params_defaults (trk_params_t *p)
                 .mode = TRK_FILTER_IMM,
                 .sigma_meas_m = {25, 25},
                 .sigma_mod_mps2 = {0.2, 0.2},
-                .dt_s = 10,
+                .dt_s = S_DT_NOMINAL_S,
+                .dt_auto = true,
             },
         .measurement_noise = TRK_NOISE_HIT,
         .gate_probability = 0.999,
@@ -75,7 +79,6 @@ static const cgs_config_real_t s_reals[] = {
     S_R ("filter", "sigma_meas_y_m", filter.sigma_meas_m[1], 0.01, 1e5),
     S_R ("filter", "sigma_mod_x_mps2", filter.sigma_mod_mps2[0], 1e-6, 100),
     S_R ("filter", "sigma_mod_y_mps2", filter.sigma_mod_mps2[1], 1e-6, 100),
-    S_R ("filter", "scan_period_s", filter.dt_s, 0.01, 3600),
     S_R ("association", "gate_probability", gate_probability, 0.5, 0.999999),
     S_R ("association", "max_speed_mps", max_speed_mps, 0.1, 1000),
     S_R ("association", "maneuver_accel_mps2", maneuver_accel_mps2, 0, 1000),
@@ -133,6 +136,10 @@ static int s_check (cgs_config_t *cfg, const trk_params_t *p, char *err, size_t 
     cgs_config_table_out_of_range (s_reals, S_NREALS, s_ints, S_NINTS, p, &sec, &key, msg,
                                    sizeof msg);
     if (key) {
+    } else if (!(p->filter.dt_s >= 0.01 && p->filter.dt_s <= 3600)) {
+        sec = "filter", key = "scan_period_s";
+        snprintf (msg, sizeof msg, "expected auto or a number in [0.01, 3600], got %.15g",
+                  p->filter.dt_s);
     } else if (p->confirm_m > p->confirm_n) {
         sec = "association", key = "confirm_m";
         snprintf (msg, sizeof msg, "must be at most confirm_n (%d), got %d", p->confirm_n,
@@ -164,6 +171,18 @@ static int s_read (cgs_config_t *cfg, void *arg, char *err, size_t errlen)
     int rc = cgs_config_check_repeated (cfg, err, errlen);
     if (rc == 0)
         rc = cgs_config_get_table (cfg, s_reals, S_NREALS, s_ints, S_NINTS, &p, err, errlen);
+    // The paper's gains: per update from the radar's revisit (auto), or fixed.
+    const char *period = NULL;
+    if (rc == 0)
+        rc = cgs_config_get_string (cfg, "filter", "scan_period_s", NULL, &period, err, errlen);
+    if (rc == 0 && period && strcasecmp (period, "auto") == 0) {
+        p.filter.dt_auto = true;
+        p.filter.dt_s = S_DT_NOMINAL_S; // until the radar's scans say
+    } else if (rc == 0 && period) {
+        p.filter.dt_auto = false;
+        rc = cgs_config_get_double (cfg, "filter", "scan_period_s", p.filter.dt_s, 0.01, 3600,
+                                    &p.filter.dt_s, err, errlen);
+    }
     int mode = p.filter.mode, noise = p.measurement_noise;
     if (rc == 0)
         rc = cgs_config_get_enum (cfg, "filter", "mode", s_mode_names, mode, &mode, err, errlen);

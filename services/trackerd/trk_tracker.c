@@ -64,9 +64,15 @@ typedef struct {
                                       // G + 1 + ln|S| of its worst-conditioned pair)
 } s_pair_t;
 
+#define S_GAIN_CACHE 16 // the paper's gains of recent update intervals (dt_auto)
+
 struct trk_tracker {
     trk_params_t p;
-    trk_gains_t gains[2];
+    trk_gains_t gains[2]; // at the nominal dt_s
+    struct {
+        long key; // the interval in tenths of a second (0: empty)
+        trk_gains_t g[2];
+    } gain_cache[S_GAIN_CACHE];
     double gate;  // G, two degrees of freedom (position)
     double gate3; // three (position and radial velocity)
     double tau;   // cos(turn threshold)
@@ -180,6 +186,40 @@ void trk_tracker_destroy (trk_tracker_t **self_p)
 const trk_params_t *trk_tracker_params (const trk_tracker_t *self)
 {
     return &self->p;
+}
+
+/* The paper's gains for an update dt_s after the estimate: the nominal
+ * ones, or with dt_auto those of dt_s itself, taken to a tenth of a second
+ * (a target's revisit wanders by a dwell, 0.08 s, as it moves in azimuth)
+ * and kept in a small cache. */
+static const trk_gains_t *s_gains (trk_tracker_t *self, double dt_s)
+{
+    if (!self->p.filter.dt_auto || !(dt_s > 0) || !isfinite (dt_s))
+        return self->gains;
+    long key = lround (fmin (fmax (dt_s, 0.1), 3600.0) * 10);
+    size_t slot = (size_t)key % S_GAIN_CACHE;
+    if (self->gain_cache[slot].key != key) {
+        const trk_filter_params_t *f = &self->p.filter;
+        for (int a = 0; a < 2; a++)
+            if (trk_gains_paper (f->sigma_meas_m[a], f->sigma_mod_mps2[a], key / 10.0,
+                                 &self->gain_cache[slot].g[a]) < 0)
+                return self->gains; // not for parameters trk_params_check accepts
+        self->gain_cache[slot].key = key;
+    }
+    return self->gain_cache[slot].g;
+}
+
+bool trk_tracker_radar_revisit (trk_tracker_t *self, double revisit_s)
+{
+    if (!(revisit_s > 0) || !isfinite (revisit_s))
+        return true;
+    trk_filter_params_t *f = &self->p.filter;
+    bool agrees = f->dt_auto || fabs (revisit_s - f->dt_s) <= TRK_REVISIT_TOLERANCE * f->dt_s;
+    if (!agrees)
+        f->dt_auto = true;
+    if (f->dt_auto) // the nominal interval is the radar's from now on
+        f->dt_s = revisit_s;
+    return agrees;
 }
 
 const trk_gains_t *trk_tracker_gains (const trk_tracker_t *self)
@@ -1249,7 +1289,8 @@ static bool s_upkeep (trk_tracker_t *self, trk_track_t *t, const s_hit_t *h, dou
         } else {
             trk_estimate_t pr;
             trk_filter_predict (&t->est, &p->filter, h->h.t_s, &pr);
-            if (trk_filter_update (&pr, &p->filter, self->gains, h->h.z, h->R) < 0) {
+            if (trk_filter_update (&pr, &p->filter, s_gains (self, h->h.t_s - t->est.t_s), h->h.z,
+                                   h->R) < 0) {
                 h = NULL; // a covariance gone bad: a miss, not a hit
             } else {
                 t->est = pr;

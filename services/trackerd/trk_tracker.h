@@ -156,8 +156,15 @@ trk_tracker_t *trk_tracker_new (const trk_params_t *p);
 void trk_tracker_destroy (trk_tracker_t **self_p);
 /* Its parameters. */
 const trk_params_t *trk_tracker_params (const trk_tracker_t *self);
-/* The paper's gains per axis, computed once from the parameters. */
+/* The paper's gains per axis at the nominal dt_s, computed once from the parameters. */
 const trk_gains_t *trk_tracker_gains (const trk_tracker_t *self);
+/* A radar's revisit of a cell (its scan's length, from mti.scan). With
+ * dt_auto it becomes the nominal interval (dt_s: the BCIS age limit, the
+ * time-went-back test). A fixed dt_s that disagrees with it by more than
+ * TRK_REVISIT_TOLERANCE (10%) is refused: the tracker takes dt_auto and
+ * the radar's revisit, and returns false (once: it then agrees). */
+#define TRK_REVISIT_TOLERANCE 0.1
+bool trk_tracker_radar_revisit (trk_tracker_t *self, double revisit_s);
 
 /* The ground the radars look over (borrowed, may be NULL: none), for the
  * IMM tracker's expected detection probability: a target the terrain hides

@@ -43,7 +43,8 @@ static bool s_params_equal (const trk_params_t *a, const trk_params_t *b)
            a->filter.sigma_meas_m[1] == b->filter.sigma_meas_m[1] &&
            a->filter.sigma_mod_mps2[0] == b->filter.sigma_mod_mps2[0] &&
            a->filter.sigma_mod_mps2[1] == b->filter.sigma_mod_mps2[1] &&
-           a->filter.dt_s == b->filter.dt_s && a->measurement_noise == b->measurement_noise &&
+           a->filter.dt_s == b->filter.dt_s && a->filter.dt_auto == b->filter.dt_auto &&
+           a->measurement_noise == b->measurement_noise &&
            a->gate_probability == b->gate_probability && a->max_speed_mps == b->max_speed_mps &&
            a->maneuver_accel_mps2 == b->maneuver_accel_mps2 &&
            a->radial_velocity == b->radial_velocity && a->radial_sigma_mps == b->radial_sigma_mps &&
@@ -460,6 +461,61 @@ static void test_confirm_coast_delete (void **state)
     trk_tracker_destroy (&t);
 }
 
+/* The paper's gains follow the update's own interval (scan_period_s =
+ * auto): a hit after a missed scan, 20 s after the track's estimate, is
+ * taken with the gains of dt = 20 s, worked here from the estimate before
+ * it; with a fixed scan_period_s, with those of 10 s. A fixed period the
+ * radar's revisit disagrees with by more than 10% is refused, once. */
+static void test_gains_follow_revisit (void **state)
+{
+    (void)state;
+    for (int fixed = 0; fixed < 2; fixed++) {
+        trk_params_t p = s_defaults ();
+        p.filter.dt_auto = !fixed;
+        trk_tracker_t *t = trk_tracker_new (&p);
+        assert_non_null (t);
+        trk_hit_t h = s_hit (1, 5, 0, 0);
+        s_scan (t, 0, &h, 1);
+        h = s_hit (2, 15, 100, 10);
+        s_scan (t, 1, &h, 1);
+        h = s_hit (3, 25, 200, 15);
+        s_scan (t, 2, &h, 1);
+        s_scan (t, 3, NULL, 0);
+        const trk_track_t *tr = s_track_of_hit (t, 3);
+        assert_non_null (tr);
+        uint32_t id = tr->id;
+        trk_estimate_t before = tr->est;
+        assert_near (before.t_s, 25, 1e-9);
+        h = s_hit (4, 45, 430, -20);
+        s_scan (t, 4, &h, 1);
+        tr = trk_tracker_find (t, id);
+        assert_non_null (tr);
+        assert_near (tr->est.t_s, 45, 1e-9);
+        double dt = fixed ? 10 : 20;
+        for (int a = 0; a < 2; a++) {
+            trk_gains_t g;
+            assert_int_equal (
+                trk_gains_paper (p.filter.sigma_meas_m[a], p.filter.sigma_mod_mps2[a], dt, &g), 0);
+            double pred = before.x[a] + 20 * before.x[a + 2], r = h.z[a] - pred;
+            assert_near (tr->est.x[a], pred + g.g * r, 1e-9);
+            assert_near (tr->est.x[a + 2], before.x[a + 2] + g.gd_hz * r, 1e-9);
+        }
+        // The radar's revisit against the parameter.
+        if (fixed) {
+            assert_true (trk_tracker_radar_revisit (t, 10.5)); // within 10%
+            assert_false (trk_tracker_params (t)->filter.dt_auto);
+            assert_false (trk_tracker_radar_revisit (t, 5)); // refused
+            assert_true (trk_tracker_params (t)->filter.dt_auto);
+            assert_near (trk_tracker_params (t)->filter.dt_s, 5, 0);
+            assert_true (trk_tracker_radar_revisit (t, 5));
+        } else {
+            assert_true (trk_tracker_radar_revisit (t, 7.5)); // the nominal follows the radar
+            assert_near (trk_tracker_params (t)->filter.dt_s, 7.5, 0);
+        }
+        trk_tracker_destroy (&t);
+    }
+}
+
 /* The 20-scan history: one hit per scan, the oldest dropped. */
 static void test_history (void **state)
 {
@@ -844,8 +900,9 @@ static void test_params (void **state)
     f.continue_window_s = 7;
     f.measurement_noise = TRK_NOISE_PARAMETERS;
     for (size_t off = offsetof (trk_params_t, filter.sigma_meas_m);
-         off < offsetof (trk_params_t, measurement_noise); off += sizeof (double))
+         off <= offsetof (trk_params_t, filter.dt_s); off += sizeof (double))
         *(double *)((char *)&f + off) *= 3;
+    f.filter.dt_auto = false;
     f.gate_probability = f.max_speed_mps = f.maneuver_accel_mps2 = 0.5;
     f.radial_velocity = false;
     f.radial_sigma_mps = f.radial_span_mps = 2;
@@ -893,6 +950,28 @@ static void test_params (void **state)
         -EINVAL);
     assert_non_null (strstr (err, "t.ini:2"));
     assert_non_null (strstr (err, "confirm_n"));
+    // The paper's scan period: auto (the default), a number, nothing else.
+    p = s_defaults ();
+    assert_true (p.filter.dt_auto);
+    assert_int_equal (
+        trk_params_load_string ("t.ini", "[filter]\nscan_period_s = 12\n", &p, err, sizeof err), 0);
+    assert_false (p.filter.dt_auto);
+    assert_near (p.filter.dt_s, 12, 0);
+    assert_int_equal (
+        trk_params_load_string ("t.ini", "[filter]\nscan_period_s = Auto\n", &p, err, sizeof err),
+        0);
+    assert_true (p.filter.dt_auto);
+    assert_near (p.filter.dt_s, 10, 0);
+    assert_int_equal (
+        trk_params_load_string ("t.ini", "[filter]\n\nscan_period_s = soon\n", &p, err, sizeof err),
+        -EINVAL);
+    assert_non_null (strstr (err, "t.ini:3"));
+    assert_non_null (strstr (err, "scan_period_s"));
+    assert_int_equal (
+        trk_params_load_string ("t.ini", "[filter]\nscan_period_s = 0\n", &p, err, sizeof err),
+        -EINVAL);
+    assert_non_null (strstr (err, "t.ini:2"));
+    p = s_defaults ();
     assert_int_equal (
         trk_params_load_string ("t.ini", "[filter]\nmode = fast\n", &p, err, sizeof err), -EINVAL);
     assert_int_equal (trk_params_load_string ("t.ini", "[turn]\nangle = 3\n", &p, err, sizeof err),
@@ -955,6 +1034,7 @@ int main (void)
         cmocka_unit_test (test_assignment_is_optimal),
         cmocka_unit_test (test_confirm_coast_delete),
         cmocka_unit_test (test_history),
+        cmocka_unit_test (test_gains_follow_revisit),
         cmocka_unit_test (test_crossing_targets_keep_ids),
         cmocka_unit_test (test_gnn_not_greedy),
         cmocka_unit_test (test_sector_coverage),

@@ -808,6 +808,35 @@ static void test_topics (void **state)
     assert_int_equal (s_last_batch (f)->n_tracks, 1);
 }
 
+/* A fixed scan_period_s the radar's revisit disagrees with is refused at
+ * the radar's first scan, with the file and both periods named, once; one
+ * that agrees (10 s against 10 s) is not. */
+static void test_fixed_period_refused (void **state)
+{
+    s_fix_t *f = *state;
+    trk_adapter_destroy (&f->a);
+    trk_params_t p;
+    trk_params_defaults (&p);
+    p.filter.mode = TRK_FILTER_PAPER;
+    p.filter.dt_auto = false;
+    cgs_port_t port = {
+        .arg = f, .publish = s_publish, .log = s_log, .bad_input = s_bad_input, .error = s_error};
+    f->a = trk_adapter_new (&p, &port);
+    assert_non_null (f->a);
+    trk_adapter_set_params_path (f->a, "t.ini");
+    s_marker (f, 2, 1, 0, 10); // radar 2 turns in 10 s: agrees
+    assert_int_equal (f->nerr, 0);
+    s_marker (f, 1, 1, 0, 5); // radar 1 in 5 s: refused
+    assert_int_equal (f->nerr, 1);
+    assert_string_equal (f->err[0],
+                         "t.ini: [filter] scan_period_s = 10 refused: radar 1 revisits a cell "
+                         "every 5.00 s (its scan 1, 0.00 to 5.00 s); the paper's gains follow "
+                         "each update's own interval (scan_period_s = auto) from now on");
+    assert_true (trk_tracker_params (trk_adapter_tracker (f->a))->filter.dt_auto);
+    s_marker (f, 1, 2, 5, 10);
+    assert_int_equal (f->nerr, 1);
+}
+
 int main (void)
 {
     const struct CMUnitTest tests[] = {
@@ -822,6 +851,7 @@ int main (void)
         cmocka_unit_test_setup_teardown (test_deleted_published_once, s_setup, s_teardown),
         cmocka_unit_test_setup_teardown (test_turn_published, s_setup, s_teardown),
         cmocka_unit_test_setup_teardown (test_topics, s_setup, s_teardown),
+        cmocka_unit_test_setup_teardown (test_fixed_period_refused, s_setup, s_teardown),
     };
     return cmocka_run_group_tests (tests, NULL, NULL);
 }
