@@ -217,6 +217,7 @@ static void s_publish_dwell (mti_adapter_t *self, const mti_dwell_t *d, const mt
         m->pd = tr->pd;
         m->detected = tr->detected;
         m->hit_id = tr->hit_id;
+        m->merged_into = tr->merged_into;
         m->radial_velocity_mps = tr->radial_velocity_mps;
         m->range_m = tr->range_m;
         self->truth_ptrs[i] = m;

@@ -378,6 +378,53 @@ static int s_false_alarms (mti_radar_t *self, const mti_dwell_t *d, const mti_pl
     return (int)count;
 }
 
+/* Targets the radar does not resolve: two hits of one dwell in the same
+ * range gate and the same or the next Doppler bin (the window spreads one
+ * echo's peak over its neighbours, and the noise picks which wins) are one
+ * echo. The stronger's hit
+ * stands for both, its azimuth the power-weighted mean of the two (where
+ * the beam splitting puts a two-scatterer echo), on the ground there; the
+ * weaker's truth says it was merged. (Each target's detection is still
+ * decided alone: the summed echo is not re-detected.) */
+static void s_merge_unresolved (mti_radar_t *self, cgs_enu_t antenna)
+{
+    double dr = self->p.range_resolution_m;
+    double dv = fabs (mti_dsp_bin_hz (self->dsp, 1) - mti_dsp_bin_hz (self->dsp, 0)) *
+                self->lambda_m / 2; // one Doppler bin, in radial velocity
+    for (size_t i = 0; i < self->hit_count; i++)
+        for (size_t j = i + 1; j < self->hit_count;) {
+            mti_hit_t *a = &self->hits[i], *b = &self->hits[j];
+            if (a->entity_id == 0 || b->entity_id == 0 ||
+                fabs (a->range_m - b->range_m) >= 0.5 * dr ||
+                fabs (a->radial_velocity_mps - b->radial_velocity_mps) >= 1.5 * dv) {
+                j++;
+                continue;
+            }
+            if (b->snr_db > a->snr_db) { // the stronger stays, in slot i (ids stay:
+                mti_hit_t t = *a;        // slot 0 keeps the dwell's first, which
+                *a = *b;                 // s_shuffle_hits numbers from)
+                *b = t;
+                uint32_t id = a->hit_id;
+                a->hit_id = b->hit_id;
+                b->hit_id = id;
+            }
+            double wa = pow (10, a->snr_db / 10), wb = pow (10, b->snr_db / 10);
+            double d = remainder (b->azimuth_deg - a->azimuth_deg, 360.0);
+            a->azimuth_deg = cgs_wrap360 (a->azimuth_deg + d * wb / (wa + wb));
+            (void)s_ground_at (self, antenna, a->azimuth_deg, a->range_m, &a->position);
+            for (size_t k = 0; k < self->truth_count; k++) {
+                mti_truth_t *tr = &self->truth[k];
+                if ((tr->detected && tr->entity_id == b->entity_id) ||
+                    tr->merged_with == b->entity_id) {
+                    tr->detected = false;
+                    tr->hit_id = 0;
+                    tr->merged_with = a->entity_id; // its hit id is given with the ids
+                }
+            }
+            self->hits[j] = self->hits[--self->hit_count];
+        }
+}
+
 /* Put the dwell's hits in random order and number them in that order, so
  * neither the order nor the ids tell targets from false alarms. */
 static void s_shuffle_hits (mti_radar_t *self)
@@ -401,9 +448,12 @@ static void s_shuffle_hits (mti_radar_t *self)
         self->hits[i].hit_id = id;
         if (self->hits[i].entity_id == 0)
             continue;
-        for (size_t k = 0; k < self->truth_count; k++)
+        for (size_t k = 0; k < self->truth_count; k++) {
             if (self->truth[k].entity_id == self->hits[i].entity_id && self->truth[k].detected)
                 self->truth[k].hit_id = id;
+            if (self->truth[k].merged_with == self->hits[i].entity_id)
+                self->truth[k].merged_into = id;
+        }
     }
 }
 
@@ -421,6 +471,7 @@ int mti_radar_dwell (mti_radar_t *self, const mti_dwell_t *d, const mti_platform
         if (rc < 0)
             return rc;
     }
+    s_merge_unresolved (self, plat->position);
     int fa = s_false_alarms (self, d, plat);
     if (fa < 0)
         return fa;

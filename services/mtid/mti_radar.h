@@ -102,6 +102,8 @@ typedef struct {
     double pd;     // the dwell's detection probability (m of n intervals), from theory
     bool detected;
     uint32_t hit_id;            // 0 when not detected
+    uint32_t merged_with;       // not resolved: its echo shares this target's range-Doppler
+    uint32_t merged_into;       // cell, whose hit (this id) stands for both (detected false)
     double radial_velocity_mps; // true, positive opening
     double range_m;             // true slant range
 } mti_truth_t;

@@ -292,12 +292,79 @@ static void test_false_alarm_rate (void **state)
     mti_radar_destroy (&r);
 }
 
+/* Two targets the radar does not resolve (one range gate, one Doppler bin,
+ * one beam) give one hit, between them in azimuth, and the weaker's truth
+ * names it; apart in range by two gates, or in radial velocity by several
+ * bins, they give two. 4 km out, where each is detected every time. */
+static void test_unresolved_targets_merge (void **state)
+{
+    (void)state;
+    mti_params_t p = s_defaults ();
+    mti_radar_t *r = mti_radar_new (&p, NULL, 3);
+    assert_non_null (r);
+    mti_platform_t plat = {.position = {0, 0, 1200}};
+    const double g = 4000, S = M_PI / 180;
+    const struct {
+        double dg_m, vr2; // the second target: farther along the ground, radial speed
+        size_t hits;
+    } cases[] = {{0, 8, 1}, {2 * 30 * 4000 / hypot (4000, 1200) + 1, 8, 2}, {0, -8, 2}};
+    for (size_t c = 0; c < sizeof cases / sizeof cases[0]; c++) {
+        int dwells = 0;
+        for (uint64_t k = 15; k < 120 * 30; k += 120) { // dwell 15: 45 to 48 deg
+            mti_dwell_t d;
+            mti_radar_schedule (r, k, 0, &d);
+            double a1 = 46.0 * S, a2 = 47.0 * S, g2 = g + cases[c].dg_m;
+            mti_target_t t[2] = {
+                {.id = 7,
+                 .position = {g * sin (a1), g * cos (a1), 0},
+                 .velocity = {8 * sin (a1), 8 * cos (a1), 0}},
+                {.id = 9,
+                 .position = {g2 * sin (a2), g2 * cos (a2), 0},
+                 .velocity = {cases[c].vr2 * sin (a2), cases[c].vr2 * cos (a2), 0}},
+            };
+            mti_dwell_out_t o;
+            assert_int_equal (mti_radar_dwell (r, &d, &plat, t, 2, &o), 0);
+            assert_int_equal (o.truth_count, 2);
+            size_t from_targets = 0;
+            const mti_hit_t *h = NULL;
+            for (size_t i = 0; i < o.hit_count; i++)
+                if (o.hits[i].entity_id) {
+                    from_targets++;
+                    h = &o.hits[i];
+                }
+            if (from_targets != cases[c].hits)
+                fail_msg ("case %zu, dwell %llu: %zu hits of the two targets, expected %zu", c,
+                          (unsigned long long)k, from_targets, cases[c].hits);
+            const mti_truth_t *a = &o.truth[0], *b = &o.truth[1];
+            if (cases[c].hits == 1) {
+                // One detected, the other merged into its hit; the hit between them.
+                const mti_truth_t *seen = a->detected ? a : b, *hid = a->detected ? b : a;
+                assert_true (seen->detected && !hid->detected);
+                assert_int_equal (seen->hit_id, h->hit_id);
+                assert_int_equal (hid->merged_into, h->hit_id);
+                assert_int_equal (hid->hit_id, 0);
+                assert_true (h->azimuth_deg > 46.0 - 3 * h->azimuth_sigma_deg &&
+                             h->azimuth_deg < 47.0 + 3 * h->azimuth_sigma_deg);
+            } else {
+                assert_true (a->detected && b->detected);
+                assert_int_equal (a->merged_into, 0);
+                assert_int_equal (b->merged_into, 0);
+                assert_int_not_equal (a->hit_id, b->hit_id);
+            }
+            dwells++;
+        }
+        assert_int_equal (dwells, 30);
+    }
+    mti_radar_destroy (&r);
+}
+
 int main (void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test (test_full_scan_schedule), cmocka_unit_test (test_sector_scan),
-        cmocka_unit_test (test_radar_equation),     cmocka_unit_test (test_terrain_masks),
-        cmocka_unit_test (test_hit_measurement),    cmocka_unit_test (test_false_alarm_rate),
+        cmocka_unit_test (test_full_scan_schedule),       cmocka_unit_test (test_sector_scan),
+        cmocka_unit_test (test_radar_equation),           cmocka_unit_test (test_terrain_masks),
+        cmocka_unit_test (test_hit_measurement),          cmocka_unit_test (test_false_alarm_rate),
+        cmocka_unit_test (test_unresolved_targets_merge),
     };
     return cmocka_run_group_tests (tests, NULL, NULL);
 }

@@ -76,7 +76,10 @@ static void s_timeline (s_watch_t *w, const char *topic, const ProtobufCMessage 
                 continue;
             fprintf (f, "truth,%.2f,%u,,,%.2f,,%s,%u,,,,,%.3f,,,%s\n", t, it->entity_id,
                      it->radial_velocity_mps, it->detected ? "detected" : "missed", it->hit_id,
-                     it->pd, it->visible ? "" : "masked");
+                     it->pd,
+                     !it->visible      ? "masked"
+                     : it->merged_into ? "merged"
+                                       : "");
         }
     } else if (strcmp (topic, "track") == 0) {
         const Cgs__TrackBatch *b = (const Cgs__TrackBatch *)msg;

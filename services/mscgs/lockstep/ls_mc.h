@@ -33,7 +33,8 @@ typedef struct {
 /* The columns of a run's timeline: kind is entity (a vehicle or a UAV, once
  * a second), truth (the radar's truth of a vehicle in its beam: radial
  * velocity in ve, detected or missed in status, its hit id in hits, the
- * model's Pd in pd, "masked" in note when terrain hid it), track (one per
+ * model's Pd in pd, "masked" in note when terrain hid it, "merged" when
+ * another target's echo in its range-Doppler cell stood for it), track (one per
  * track of a batch: continues and its probability, existence, the Pd the
  * tracker expected, position standard deviation sd, the stopped mode's
  * probability) or intercept (the designated track in id, the state
