@@ -135,6 +135,8 @@ gd_v2_t gd_secondary_point (const gd_engage_t *in, gd_v2_t waypoint, gd_v2_t dir
 {
     double x, y;
     gd_to_target_frame (waypoint, dir, in->uav, &x, &y);
+    if (in->offset_max_m > 0) // abeam, but no farther than this from the target's line
+        x = fmax (-in->offset_max_m, fmin (x, in->offset_max_m));
     gd_v2_t right = gd_v2 (dir.n, -dir.e);
     if (in->secondary_paper) // Δ = Rᵀ diag(1, 0) R: the cross-track projection
         return gd_add (waypoint, gd_scale (right, x));

@@ -85,6 +85,7 @@ typedef struct {
     bool secondary_paper;   // equation 3 as the paper has it (no k, no lead-in)
     double secondary_scale; // else: k of Δ = Rᵀ·diag(1, −k)·R
     double lead_in_m;       // else: least distance of P_2 ahead of the waypoint
+    double offset_max_m;    // P_2's cross-track offset at most this (0: the UAV's, unbounded)
     double settle_m;        // straight run into the waypoint after the last turn (0: none)
     double min_t_pred_s;    // t_pred at least this (0: equation 1's alone)
     double horizon_s;       // t_pred at most this (0: no bound); beats min_t_pred_s
@@ -108,7 +109,10 @@ typedef struct {
 
 /* Equation 3's secondary waypoint P_2 for a UAV (in->uav) behind the
  * waypoint of a target moving along the unit vector dir: the paper's
- * projection when in->secondary_paper, else the extension (above). */
+ * projection when in->secondary_paper, else the extension (above); with
+ * in->offset_max_m > 0 its cross-track offset is cut to that (the UAV
+ * closes on the target's line instead of flying abeam it at its start
+ * distance, out where its radar barely sees the target). */
 gd_v2_t gd_secondary_point (const gd_engage_t *in, gd_v2_t waypoint, gd_v2_t dir);
 /* Equations 1–3. 0, or -EINVAL (bad input; a target not slower than the UAV;
  * no convergence). *ret written only on success. */

@@ -312,6 +312,8 @@ static void s_plan (gd_intercept_t *self)
         .secondary_paper = self->p.secondary == GD_SECONDARY_PAPER,
         .secondary_scale = self->p.secondary_scale,
         .lead_in_m = fmax (self->p.lead_in_m, 4 * r),
+        .offset_max_m =
+            self->p.secondary_offset_max_m > 0 ? fmax (self->p.secondary_offset_max_m, 4 * r) : 0,
         .settle_m = self->p.settle_m,
         .horizon_s = self->p.horizon_s,
     };

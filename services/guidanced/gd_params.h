@@ -31,16 +31,17 @@ typedef enum {
 typedef struct {
     // [plan]
     gd_timing_t timing;
-    double turn_radius_factor;   // planning radius = this × the UAV's smallest turn radius
-    gd_secondary_t secondary;    // equation 3 as the paper has it, or extended
-    double secondary_scale;      // extended: k of Δ = Rᵀ·diag(1, −k)·R
-    double lead_in_m;            // extended: least distance of P_2 ahead of the waypoint
-    double settle_m;             // straight run into the waypoint after the last turn, metres
-    double horizon_s;            // t_pred at most this: the prediction horizon, seconds
-    double runout_m;             // route goes on this far past the target's meeting point
-    double arc_step_deg;         // turns are sent as route points this many degrees apart
-    double min_target_speed_mps; // slower targets are taken as standing still
-    double max_target_speed_mps; // a track faster than this has a broken velocity: not used
+    double turn_radius_factor;     // planning radius = this × the UAV's smallest turn radius
+    gd_secondary_t secondary;      // equation 3 as the paper has it, or extended
+    double secondary_scale;        // extended: k of Δ = Rᵀ·diag(1, −k)·R
+    double lead_in_m;              // extended: least distance of P_2 ahead of the waypoint
+    double secondary_offset_max_m; // P_2 at most this far abeam the target's line (0: no bound)
+    double settle_m;               // straight run into the waypoint after the last turn, metres
+    double horizon_s;              // t_pred at most this: the prediction horizon, seconds
+    double runout_m;               // route goes on this far past the target's meeting point
+    double arc_step_deg;           // turns are sent as route points this many degrees apart
+    double min_target_speed_mps;   // slower targets are taken as standing still
+    double max_target_speed_mps;   // a track faster than this has a broken velocity: not used
     // [replan]
     double threshold_deg; // re-plan when the target's direction changed by more
     double offset_m;      // re-plan when the target left the planned line by more

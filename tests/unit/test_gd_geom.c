@@ -474,6 +474,17 @@ static void test_equation3_paper (void **state)
     in.uav = gd_v2 (-3000, 500);
     in.secondary_paper = false;
     assert_v2_near (gd_secondary_point (&in, wp, dir), gd_v2 (360, 4980), 1e-9);
+    // The offset bounded: the UAV is x' = -2300 m abeam (right = (0.8, -0.6));
+    // at most 1000 m: P_2 = wp - 1000 right = (200, 2600) for the paper's,
+    // that plus the lead-in 2000 dir = (1400, 4200) for the extension; a
+    // bound wider than the offset changes nothing.
+    in.offset_max_m = 1000;
+    assert_v2_near (gd_secondary_point (&in, wp, dir), gd_v2 (1400, 4200), 1e-9);
+    in.secondary_paper = true;
+    assert_v2_near (gd_secondary_point (&in, wp, dir), gd_v2 (200, 2600), 1e-9);
+    in.offset_max_m = 2300.5;
+    assert_v2_near (gd_secondary_point (&in, wp, dir), gd_v2 (-840, 3380), 1e-9);
+    in.offset_max_m = 0;
     // Through gd_waypoint, on the crossing case (t_pred 200 s, waypoint
     // (8000, 1200)): P_2 = (0, 1200).
     in = s_engage ();
