@@ -180,7 +180,8 @@ int gw_out_update (gw_out_t *self, const gw_truth_t *truth, double t_s, double n
             send = GW_SEND_POSITION;
         else if (gw_dr_rot_angle (R, truth->R) > self->p.orientation_threshold_deg * S_DEG)
             send = GW_SEND_ORIENTATION;
-        else if (now_s - e->sent_wall_s >= self->p.heartbeat_s)
+        else if (t_s - e->sent_t_s >= self->p.heartbeat_s ||
+                 now_s - e->sent_wall_s >= self->p.heartbeat_s)
             send = GW_SEND_HEARTBEAT;
     }
     if (send != GW_SEND_NONE) {

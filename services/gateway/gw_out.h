@@ -3,7 +3,12 @@
  * we sent, and the decision to send another, as 1278.1 prescribes: when the
  * extrapolated position is off by more than a threshold (1 m) or the
  * orientation by more than one (3°), at least every heartbeat (5 s), and
- * once more when an entity leaves. Ground entities are sent with DR
+ * once more when an entity leaves. In simulation time, as the velocities
+ * are: the PDUs carry the state's simulation time as their timestamp, so a
+ * receiver that dead-reckons by the timestamps stays within the thresholds
+ * at any time scale. The heartbeat also comes every heartbeat of wall time:
+ * receivers time entities out on their own clocks, and a paused or slowed
+ * exercise must not vanish from them. Ground entities are sent with DR
  * algorithm FPW, air entities with RVW (acceleration and body rates from
  * successive states). Pure: no sockets, no logging. */
 #ifndef GW_OUT_H
@@ -21,7 +26,7 @@
 typedef struct {
     double position_threshold_m;      // default 1
     double orientation_threshold_deg; // default 3
-    double heartbeat_s;               // default 5, wall-clock seconds
+    double heartbeat_s;               // default 5, of simulation time and of wall time
 } gw_out_params_t;
 
 /* An internal entity's true state, in DIS's terms. */
@@ -60,10 +65,10 @@ void gw_out_params_defaults (gw_out_params_t *p);
  * at the entity's position. 0, or -EINVAL for a missing or non-finite value. */
 int gw_out_truth (const cgs_geo_t *geo, const Cgs__Entity *e, gw_truth_t *ret);
 
-/* Take a true state at simulation time t_s (for dead reckoning) and wall
- * time now_s (for the heartbeat); whether a PDU goes out, and if so the
- * state it carries (*ret_dr, which receivers will extrapolate from).
- * -ENOMEM when a new entity cannot be added. */
+/* Take a true state at simulation time t_s (for dead reckoning and the
+ * heartbeat) and wall time now_s (for the heartbeat too); whether a PDU
+ * goes out, and if so the state it carries (*ret_dr, which receivers will
+ * extrapolate from). -ENOMEM when a new entity cannot be added. */
 int gw_out_update (gw_out_t *self, const gw_truth_t *truth, double t_s, double now_s,
                    gw_send_t *ret_send, gw_dr_t *ret_dr);
 /* Entities known. */

@@ -11,7 +11,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define S_GROUP 0xef010203u     // 239.1.2.3, the default multicast group
+#define S_GROUP     0xef010203u // 239.1.2.3, the default multicast group
 #define S_BROADCAST 0xffffffffu // 255.255.255.255
 
 static bool s_is_group (uint32_t a)

@@ -28,16 +28,16 @@ typedef struct {
 
 typedef struct {
     // [network]
-    uint16_t port;   // UDP port bound and sent to (default 3000)
-    gw_mode_t mode;  // default multicast
-    uint32_t address; // broadcast address or multicast group (host order; default 239.1.2.3)
+    uint16_t port;         // UDP port bound and sent to (default 3000)
+    gw_mode_t mode;        // default multicast
+    uint32_t address;      // broadcast address or multicast group (host order; default 239.1.2.3)
     uint32_t bind_address; // local address bound (default: the group for multicast, 0.0.0.0
                            // for broadcast, 127.0.0.1 for unicast to loopback peers only)
-    char interface[GW_IFACE_MAX]; // name or IPv4 address of the interface multicast and
-                                  // broadcast go out on and are heard on (default "lo");
-                                  // "" is the routing table's choice
-    int ttl;                      // multicast TTL (default 0: never leaves this host)
-    bool loopback;                // multicast loopback (default yes)
+    char interface[GW_IFACE_MAX];  // name or IPv4 address of the interface multicast and
+                                   // broadcast go out on and are heard on (default "lo");
+                                   // "" is the routing table's choice
+    int ttl;                       // multicast TTL (default 0: never leaves this host)
+    bool loopback;                 // multicast loopback (default yes)
     gw_peer_t peers[GW_PEERS_MAX]; // unicast peers
     size_t peer_count;
     // [dis]

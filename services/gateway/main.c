@@ -76,8 +76,10 @@ typedef struct {
     cgs_iface_t ifc; // the interface the parameters name (zeroed: none named)
     gw_out_t *out;
     gw_in_t *in;
-    double sim_time_s;  // newest simulation time heard
-    double mono_offset; // relative timestamps: monotonic clock at the exercise's start
+    double sim_time_s; // newest simulation time heard
+    bool clock_set;    // absolute timestamps: the exercise clock's anchor is known:
+    double utc_at_s;   // UTC, seconds, when the gateway first heard simulation time
+    double sim_at_s;   // that simulation time
     // Outbound queue.
     uint8_t queue[S_QUEUE][GW_ESPDU_LEN];
     size_t queued;
@@ -111,19 +113,32 @@ static double s_wall (void)
     return (double)ts.tv_sec + ts.tv_nsec * 1e-9;
 }
 
-static uint32_t s_timestamp (const s_app_t *app)
+/* A PDU's timestamp: the simulation time t_s of what it says, past the hour,
+ * so that a receiver dead-reckoning by the timestamps moves our entities at
+ * their velocities (simulation metres per second) at any time scale.
+ * Relative: the exercise's simulation time. Absolute: the exercise clock,
+ * UTC when the gateway first heard simulation time plus the simulation
+ * time since: UTC itself at time scale 1, running at the scale otherwise. */
+static uint32_t s_timestamp (s_app_t *app, double t_s)
 {
-    if (app->p.absolute_time)
-        return gw_pdu_timestamp (fmod (s_wall (), 3600.0), true);
-    return gw_pdu_timestamp (cgs_loop_now () - app->mono_offset, false);
+    if (!isfinite (t_s))
+        t_s = isfinite (app->sim_time_s) ? app->sim_time_s : 0;
+    if (!app->p.absolute_time)
+        return gw_pdu_timestamp (t_s, false);
+    if (!app->clock_set) {
+        app->clock_set = true;
+        app->utc_at_s = s_wall ();
+        app->sim_at_s = t_s;
+    }
+    return gw_pdu_timestamp (fmod (app->utc_at_s, 3600.0) + (t_s - app->sim_at_s), true);
 }
 
-static gw_header_t s_header (const s_app_t *app)
+static gw_header_t s_header (s_app_t *app, double t_s)
 {
     gw_header_t h = {0};
     h.version = (uint8_t)app->p.version;
     h.exercise = (uint8_t)cgs_exercise_id (app->svc.exercise);
-    h.timestamp = s_timestamp (app);
+    h.timestamp = s_timestamp (app, t_s);
     h.status = GW_STATUS_LVC_CONSTRUCTIVE;
     return h;
 }
@@ -245,7 +260,7 @@ static void s_on_entity (void *arg, const char *topic, const ProtobufCMessage *m
         if (send == GW_SEND_NONE)
             continue;
         gw_espdu_t pdu;
-        pdu.hdr = s_header (app);
+        pdu.hdr = s_header (app, hdr->sim_time_s);
         gw_out_fill (&t, &dr, s_dis_id (app, e->entity_id), &pdu);
         if (gw_pdu_encode_espdu (&pdu, app->queue[app->queued], GW_ESPDU_LEN) == 0)
             continue; // cannot happen: a fixed-size PDU of a checked version
@@ -300,7 +315,6 @@ static void s_on_intercept (void *arg, const char *topic, const ProtobufCMessage
                             const Cgs__Header *hdr)
 {
     (void)topic;
-    (void)hdr;
     s_app_t *app = arg;
     const Cgs__Intercept *m = (const Cgs__Intercept *)msg;
     s_uav_t *u = s_uav (app, m->uav_id);
@@ -314,7 +328,7 @@ static void s_on_intercept (void *arg, const char *topic, const ProtobufCMessage
     static uint8_t points[S_ROUTE_POINTS_MAX][24];
     gw_action_t *a = &app->action;
     memset (&a->hdr, 0, sizeof a->hdr);
-    a->hdr = s_header (app);
+    a->hdr = s_header (app, hdr ? hdr->sim_time_s : NAN);
     a->hdr.type = GW_PDU_ACTION_REQUEST;
     a->originator = (gw_id_t){(uint16_t)app->p.site, (uint16_t)app->p.application, 0};
     a->receiver = s_dis_id (app, m->uav_id);
@@ -382,7 +396,7 @@ static void s_respond (s_app_t *app, const gw_action_t *req, uint32_t status, co
     static gw_action_t response; // large: kept off the stack, and not allocated per answer
     gw_action_t *r = &response;
     memset (r, 0, sizeof *r);
-    r->hdr = s_header (app);
+    r->hdr = s_header (app, app->sim_time_s);
     r->hdr.type = GW_PDU_ACTION_RESPONSE;
     r->originator = req->receiver;
     r->receiver = req->originator;
@@ -861,7 +875,6 @@ static int s_setup (s_app_t *app, char *err, size_t errlen)
         snprintf (err, errlen, "out of memory");
         return -ENOMEM;
     }
-    app->mono_offset = cgs_loop_now ();
     app->fd = -1;
     app->uavsim = cgs_exercise_first_of (app->svc.exercise, "uavsim");
     if (app->uavsim && !*app->uavsim->command)

@@ -124,6 +124,9 @@ function decode(buf) {
         out.velocity = [pdu.entityLinearVelocity.x, pdu.entityLinearVelocity.y, pdu.entityLinearVelocity.z];
         out.orientation = [pdu.entityOrientation.psi, pdu.entityOrientation.theta, pdu.entityOrientation.phi];
         out.dr = pdu.deadReckoningParameters.deadReckoningAlgorithm;
+        const acc = pdu.deadReckoningParameters.entityLinearAcceleration;
+        out.acceleration = [acc.x, acc.y, acc.z];
+        out.timestamp = pdu.timestamp;
         out.appearance = pdu.entityAppearance;
         const m = pdu.marking.characters;
         out.marking = String.fromCharCode(...m.filter((c) => c !== 0));

@@ -1,6 +1,7 @@
 /* test_gw_out_in — when our entities go out over DIS and what becomes of
  * theirs, against 1278.1's rules worked by hand: a ground entity on a straight
- * line sends its first PDU and then only heartbeats (5 s of wall time); a 2°
+ * line sends its first PDU and then only heartbeats (5 s of simulation time, or of
+ * wall time while paused); a 2°
  * turn is under the 3° threshold and a 4° one is not; 0.5 m off the
  * dead-reckoned line is under 1 m and 1.5 m is not; an accelerating aircraft
  * sends once its acceleration is known and then tracks; deactivation goes out
@@ -167,13 +168,12 @@ static void test_heartbeat (void **state)
     gw_dr_t dr;
     double p[3];
     int heartbeats = 0;
-    // 10 updates per wall second; the simulation runs at twice wall time.
+    // 10 updates per wall second, the simulation at twice wall time: a
+    // heartbeat every 5 simulated seconds (k = 25, 50, 75, 100).
     for (int k = 0; k <= 100; k++) {
         s_at (k / 5.0, 0, p);
         gw_send_t send = s_update (geo, out, &m, p, k / 5.0, 1000 + k / 10.0, &tr, &dr);
-        gw_send_t want = k == 0                ? GW_SEND_FIRST
-                         : k == 50 || k == 100 ? GW_SEND_HEARTBEAT
-                                               : GW_SEND_NONE;
+        gw_send_t want = k == 0 ? GW_SEND_FIRST : k % 25 == 0 ? GW_SEND_HEARTBEAT : GW_SEND_NONE;
         if (send != want)
             fail_msg ("update %d: sent %d, want %d", k, send, want);
         heartbeats += send == GW_SEND_HEARTBEAT;
@@ -184,6 +184,16 @@ static void test_heartbeat (void **state)
                 assert_true (dr.acc[i] == 0 && dr.omega[i] == 0);
             }
         }
+    }
+    assert_int_equal (heartbeats, 4);
+    // Paused (the simulation time stands still): a heartbeat every 5 s of
+    // wall time all the same, so receivers keep the entity.
+    heartbeats = 0;
+    for (int k = 1; k <= 100; k++) {
+        gw_send_t send = s_update (geo, out, &m, p, 20.0, 1010 + k / 10.0, &tr, &dr);
+        heartbeats += send == GW_SEND_HEARTBEAT;
+        if (send != (k % 50 == 0 ? GW_SEND_HEARTBEAT : GW_SEND_NONE))
+            fail_msg ("paused, update %d: sent %d", k, send);
     }
     assert_int_equal (heartbeats, 2);
     assert_int_equal (gw_out_count (out), 1);
