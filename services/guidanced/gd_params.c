@@ -14,7 +14,7 @@ void gd_params_defaults (gd_params_t *p)
         .secondary = GD_SECONDARY_PAPER,
         .secondary_scale = 0.25,
         .lead_in_m = 2000,
-        .secondary_offset_max_m = 0,
+        .secondary_offset_max_m = 6000,
         .settle_m = 800,
         .horizon_s = 900,
         .runout_m = 1500,

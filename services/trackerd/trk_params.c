@@ -64,7 +64,7 @@ void trk_params_defaults (trk_params_t *p)
         .lifetime_s = 3600,
         .stopped_lifetime_s = 120,
         .max_sigma_m = 1000,
-        .continue_window_s = 120,
+        .continue_window_s = 300,
         .continue_probability = 0.5,
         .birth_density = 1e-8,
     };

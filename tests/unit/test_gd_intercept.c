@@ -289,6 +289,8 @@ static void test_designate_plan_eq1 (void **state)
     (void)state;
     gd_params_t p = s_params ();
     p.timing = GD_TIMING_ARC;
+    assert_near (p.secondary_offset_max_m, 6000, 0); // the default bound...
+    p.secondary_offset_max_m = 0;                    // ... off: the paper's P_2 as it stands
     gd_intercept_t *ic = s_new (&p);
     gd_uav_t u = s_uav (100, 0, 0, 0);
     gd_intercept_uav (ic, &u);
@@ -350,6 +352,16 @@ static void test_designate_plan_eq1 (void **state)
     s_assert_flyable (tk->points, tk->count, gd_v2 (0, 0), 0, p.arc_step_deg + 1e-6);
     gd_intercept_destroy (&ic);
     assert_null (ic);
+    // With the default bound, P_2 lies 6000 m abeam the target's line, not
+    // the UAV's 11 400: (1200, 11 400 - 6000).
+    p.secondary_offset_max_m = 6000;
+    ic = s_new (&p);
+    gd_intercept_uav (ic, &u);
+    s_designate (ic, &t, 100);
+    st = s_status (ic);
+    assert_true (st.has_secondary);
+    assert_v2_near (st.secondary, gd_v2 (1200, 5400), 0.01);
+    gd_intercept_destroy (&ic);
 }
 
 /* y'_u > 0: the UAV far ahead of the target on its line, the target coming
