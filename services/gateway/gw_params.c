@@ -109,7 +109,7 @@ static const cgs_config_real_t s_reals[] = {
     }
 static const cgs_config_int_t s_ints[] = {
     S_I ("network", "ttl", ttl, 0, 255),
-    S_I ("dis", "version", version, 4, 7),
+    S_I ("dis", "version", version, 3, 7),
     S_I ("dis", "site", site, 1, 65534),
     S_I ("dis", "application", application, 1, 65534),
     S_I ("dis", "entity_id_base", entity_id_base, 0, 65533),

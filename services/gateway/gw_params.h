@@ -41,7 +41,7 @@ typedef struct {
     gw_peer_t peers[GW_PEERS_MAX]; // unicast peers
     size_t peer_count;
     // [dis]
-    int version;           // sent: 4, 5, 6 or 7 (default 7)
+    int version;           // sent: 3, 4, 5, 6 or 7 (default 7)
     int site, application; // our simulation address (default 1, 1)
     int entity_id_base;    // DIS entity number = base + internal id (default 0)
     bool absolute_time;    // timestamps absolute (UTC past the hour) or relative

@@ -323,7 +323,7 @@ int gw_pdu_decode_header (const uint8_t *buf, size_t len, gw_header_t *ret, cons
     h.length = s_g16 (&r);
     uint8_t status = s_g8 (&r);
     if (!s_version_ok (h.version))
-        return s_fail (ret_why, "unknown protocol version (known: 4 to 7)");
+        return s_fail (ret_why, "unknown protocol version (known: 3 to 7)");
     if (h.length != len)
         return s_fail (ret_why, "length field does not match the bytes that arrived");
     h.status = h.version >= 7 ? status : 0;

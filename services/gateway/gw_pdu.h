@@ -1,6 +1,7 @@
 /* gw_pdu — DIS PDUs on the wire (IEEE 1278.1): the 12-byte header, Entity
- * State, Action Request and Action Response, for protocol versions 4 (DIS
- * 2.0.4), 5 (1278.1-1995), 6 (1278.1a-1998) and 7 (1278.1-2012). Every field
+ * State, Action Request and Action Response, for protocol versions 3 (DIS
+ * 2.0.3, the paper's), 4 (DIS 2.0.4), 5 (1278.1-1995), 6 (1278.1a-1998) and
+ * 7 (1278.1-2012); 3 to 6 share one layout, 7 adds the PDU status byte. Every field
  * is written and read one by one in network byte order, never as a struct
  * copy. Decoding validates before it uses: the length field against what
  * arrived, the version, and every count against the length. Pure: no
@@ -20,7 +21,7 @@
 #define GW_DATUM_MAX       256  // fixed and variable datum records each, in one PDU
 #define GW_PDU_MAX         8192 // the largest PDU this gateway writes (it reads up to 65535)
 
-#define GW_VERSION_MIN 4 // DIS 2.0.4
+#define GW_VERSION_MIN 3 // DIS 2.0.3 (the third draft, May 1993: the paper's)
 #define GW_VERSION_MAX 7 // IEEE 1278.1-2012
 
 enum {

@@ -54,9 +54,10 @@ _Static_assert(GW_ACTION_BASE_LEN + 8 + S_ROUTE_POINTS_MAX * 32 + 8 + 160 <= GW_
 typedef struct {
     uint32_t entity_id;
     char name[64];
-    uint64_t designation; // last intercept route sent out as an Action Request
+    uint64_t task_sent;   // the UAV's last task sent out as an Action Request (0: none)
+    uint64_t designation; // its latest intercept (guidanced's), for the Action Requests'
+    uint32_t track_id;    // mission id and text (0: none)
     uint32_t replans;
-    size_t route_points;
 } s_uav_t;
 
 typedef struct {
@@ -280,11 +281,87 @@ static s_uav_t *s_uav (s_app_t *app, uint32_t entity_id)
     return NULL;
 }
 
+/* A text datum: the string, its length in bits (padded to 64 on the wire). */
+static gw_var_datum_t s_text_datum (const char *text)
+{
+    return (gw_var_datum_t){S_DATUM_TEXT, (uint32_t)strlen (text) * 8, (const uint8_t *)text};
+}
+
+/* The task the UAV flies now (its `uav` message), out as an Action Request:
+ * the route's points (or the loiter centre), the mission id (the latest
+ * designation), the commanded airspeed, and a text that says which task. */
+static void s_send_task (s_app_t *app, s_uav_t *s, const Cgs__Uav *u, double t_s)
+{
+    static uint8_t points[S_ROUTE_POINTS_MAX][24];
+    gw_action_t *a = &app->action;
+    memset (&a->hdr, 0, sizeof a->hdr);
+    a->hdr = s_header (app, t_s);
+    a->hdr.type = GW_PDU_ACTION_REQUEST;
+    a->originator = (gw_id_t){(uint16_t)app->p.site, (uint16_t)app->p.application, 0};
+    a->receiver = s_dis_id (app, u->entity_id);
+    a->request_id = ++app->next_request_id;
+    a->action_or_status = (uint32_t)app->p.route_action_id;
+    a->n_fixed = 0;
+    a->fixed[a->n_fixed++] = (gw_fixed_datum_t){S_DATUM_MISSION_ID, (uint32_t)s->designation};
+    if (isfinite (u->commanded_airspeed_mps) && u->commanded_airspeed_mps > 0) {
+        float v = (float)u->commanded_airspeed_mps;
+        uint32_t bits;
+        memcpy (&bits, &v, sizeof bits);
+        a->fixed[a->n_fixed++] = (gw_fixed_datum_t){S_DATUM_SPEED, bits};
+    }
+    // The route's points, or the loiter orbit's centre; a long route is cut
+    // to what one PDU holds, and the text says so.
+    bool route = u->mode == CGS__UAV_MODE__UAV_MODE_ROUTE && u->n_route > 0;
+    Cgs__Enu *const *pts = route ? u->route : (u->loiter ? &u->loiter->center : NULL);
+    size_t total = route ? u->n_route : (u->loiter && u->loiter->center ? 1 : 0);
+    size_t n = total < S_ROUTE_POINTS_MAX ? total : S_ROUTE_POINTS_MAX;
+    a->n_var = 0;
+    for (size_t k = 0; k < n; k++) {
+        const Cgs__Enu *p = pts[k];
+        cgs_ecef_t x;
+        if (!p ||
+            cgs_geo_enu_to_ecef (app->geo, (cgs_enu_t){p->east_m, p->north_m, p->up_m}, &x) < 0) {
+            cgs_service_bad_input (&app->svc,
+                                   "a uav message with a route point that is not finite");
+            return;
+        }
+        gw_pdu_put_f64x3 (points[k], (double[3]){x.x_m, x.y_m, x.z_m});
+        a->var[a->n_var++] = (gw_var_datum_t){S_DATUM_GEOCENTRIC, 192, points[k]};
+    }
+    char text[200];
+    int used;
+    if (route)
+        used = snprintf (text, sizeof text, "mscgs task %" PRIu64 " of %s: route of %zu points",
+                         u->task_number, s->name, total);
+    else
+        used =
+            snprintf (text, sizeof text, "mscgs task %" PRIu64 " of %s: loiter, radius %.0f m, %s",
+                      u->task_number, s->name, u->loiter ? u->loiter->radius_m : 0.0,
+                      u->loiter && u->loiter->clockwise ? "clockwise" : "anticlockwise");
+    if (n < total && used > 0 && (size_t)used < sizeof text)
+        used += snprintf (text + used, sizeof text - (size_t)used, ", first %zu", n);
+    if (s->track_id && used > 0 && (size_t)used < sizeof text)
+        snprintf (text + used, sizeof text - (size_t)used,
+                  "; intercept of track %u, designation %" PRIu64 ", replan %u", s->track_id,
+                  s->designation, s->replans);
+    a->var[a->n_var++] = s_text_datum (text);
+    static uint8_t buf[GW_PDU_MAX];
+    size_t len = gw_pdu_encode_action (a, buf, sizeof buf);
+    if (len == 0) {
+        cgs_health_set_error (app->svc.health, "a UAV task too long for one PDU");
+        return;
+    }
+    s_send_one (app, buf, len);
+    app->action_out++;
+    s->task_sent = u->task_number;
+    cgs_log (LOG_INFO, "%s: task %" PRIu64 " (%s, %zu points) out as Action Request %u", s->name,
+             u->task_number, route ? "route" : "loiter", n, a->request_id);
+}
+
 static void s_on_uav (void *arg, const char *topic, const ProtobufCMessage *msg,
                       const Cgs__Header *hdr)
 {
     (void)topic;
-    (void)hdr;
     s_app_t *app = arg;
     const Cgs__Uav *u = (const Cgs__Uav *)msg;
     if (u->entity_id == 0) {
@@ -303,72 +380,26 @@ static void s_on_uav (void *arg, const char *topic, const ProtobufCMessage *msg,
                  app->p.entity_id_base + u->entity_id);
     }
     snprintf (s->name, sizeof s->name, "%s", u->name ? u->name : "");
+    // Every task the UAV takes (route, loiter, altitude, speed: each new
+    // task number) goes out once, as it flies it.
+    if (u->task_number != 0 && u->task_number != s->task_sent)
+        s_send_task (app, s, u, hdr ? hdr->sim_time_s : NAN);
 }
 
-/* A text datum: the string, its length in bits (padded to 64 on the wire). */
-static gw_var_datum_t s_text_datum (const char *text)
-{
-    return (gw_var_datum_t){S_DATUM_TEXT, (uint32_t)strlen (text) * 8, (const uint8_t *)text};
-}
-
+/* guidanced's intercept: what the next tasks of its UAV are for. */
 static void s_on_intercept (void *arg, const char *topic, const ProtobufCMessage *msg,
                             const Cgs__Header *hdr)
 {
     (void)topic;
+    (void)hdr;
     s_app_t *app = arg;
     const Cgs__Intercept *m = (const Cgs__Intercept *)msg;
     s_uav_t *u = s_uav (app, m->uav_id);
-    if (!u || m->n_route == 0)
-        return; // no UAV heard of yet, or no route to show
-    if (u->designation == m->designation_number && u->replans == m->replans &&
-        u->route_points == m->n_route)
-        return; // sent already
-    // A long route is cut to what one PDU holds, and the text datum says so.
-    size_t n = m->n_route < S_ROUTE_POINTS_MAX ? m->n_route : S_ROUTE_POINTS_MAX;
-    static uint8_t points[S_ROUTE_POINTS_MAX][24];
-    gw_action_t *a = &app->action;
-    memset (&a->hdr, 0, sizeof a->hdr);
-    a->hdr = s_header (app, hdr ? hdr->sim_time_s : NAN);
-    a->hdr.type = GW_PDU_ACTION_REQUEST;
-    a->originator = (gw_id_t){(uint16_t)app->p.site, (uint16_t)app->p.application, 0};
-    a->receiver = s_dis_id (app, m->uav_id);
-    a->request_id = ++app->next_request_id;
-    a->action_or_status = (uint32_t)app->p.route_action_id;
-    a->n_fixed = 1;
-    a->fixed[0] = (gw_fixed_datum_t){S_DATUM_MISSION_ID, (uint32_t)m->designation_number};
-    a->n_var = 0;
-    for (size_t k = 0; k < n; k++) {
-        const Cgs__Enu *p = m->route[k];
-        cgs_ecef_t x;
-        if (!p ||
-            cgs_geo_enu_to_ecef (app->geo, (cgs_enu_t){p->east_m, p->north_m, p->up_m}, &x) < 0) {
-            cgs_service_bad_input (&app->svc, "an intercept route point that is not finite");
-            return;
-        }
-        gw_pdu_put_f64x3 (points[k], (double[3]){x.x_m, x.y_m, x.z_m});
-        a->var[a->n_var++] = (gw_var_datum_t){S_DATUM_GEOCENTRIC, 192, points[k]};
-    }
-    char text[160];
-    int used = snprintf (text, sizeof text,
-                         "mscgs intercept: track %u, designation %" PRIu64 ", replan %u",
-                         m->track_id, m->designation_number, m->replans);
-    if (n < m->n_route && used > 0 && (size_t)used < sizeof text)
-        snprintf (text + used, sizeof text - (size_t)used, ", first %zu of %zu points", n,
-                  m->n_route);
-    a->var[a->n_var++] = s_text_datum (text);
-    static uint8_t buf[GW_PDU_MAX];
-    size_t len = gw_pdu_encode_action (a, buf, sizeof buf);
-    if (len == 0) {
-        cgs_health_set_error (app->svc.health, "an intercept route too long for one PDU");
-        return;
-    }
-    s_send_one (app, buf, len);
-    app->action_out++;
+    if (!u)
+        return; // no UAV heard of yet
     u->designation = m->designation_number;
+    u->track_id = m->track_id;
     u->replans = m->replans;
-    u->route_points = m->n_route;
-    cgs_log (LOG_INFO, "%s: intercept route of %zu points out as Action Request %u", u->name, n,
-             a->request_id);
 }
 
 /* ---- inbound ------------------------------------------------------------------------------- */

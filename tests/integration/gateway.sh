@@ -1,8 +1,8 @@
 #!/bin/bash
 # gateway.sh — the real gateway beside the real uavsim, mtid, trackerd and
 # guidanced, checked with DIS tools nobody here wrote: Wireshark's dissector
-# (tshark) decodes every PDU the gateway sends, in each protocol version 4 to
-# 7, with no malformed packet, and shows the scenario's entity ids and
+# (tshark) decodes every PDU the gateway sends, in each protocol version 3 (the
+# paper's DIS 2.0.3) to 7, with no malformed packet, and shows the scenario's entity ids and
 # markings; the npm open-dis library decodes our Entity State PDUs (location
 # within 1 mm of GeographicLib's CartConvert for the entity) and the Action
 # Request that carries guidanced's intercept route; an Entity State PDU that
@@ -176,9 +176,20 @@ want=$(node -e 'const r = JSON.parse(process.argv[1]).route; const p = r[r.lengt
 diag "last route point: intercept $want, Action Request $got"
 check "the route point decodes to the intercept's within 1 mm" awk -v a="$got" -v b="$want" \
     'BEGIN { split(a, x); split(b, y); d = 0; for (i = 1; i <= 3; i++) d += (x[i] - y[i]) ^ 2; exit !(sqrt(d) < 0.001) }'
+# Every task the UAV took while the gateway ran went out, each once, the
+# UAV's own task number in the text: from the loiter it had when the
+# gateway started to the one it flies now.
+sleep 1
+tn=$(M echo uav --json --count 1 --timeout 3 2>/dev/null | tail -1 |
+    node -e 'let s = ""; process.stdin.on("data", (d) => (s += d)).on("end", () => console.log(Number(JSON.parse(s).task_number || 0)));')
+grep '"type":16,.*"from":"1:1:0","to":"1:1:1"' "$JSONL" | grep -o 'mscgs task [0-9]* of uav1' |
+    awk '{ print $3 }' >"$TMP/tasks.txt"
+diag "task numbers in Action Requests: $(tr '\n' ' ' <"$TMP/tasks.txt"), the UAV's now $tn"
+check "every task from the first to the UAV's latest ($tn) went out as an Action Request, once" \
+    awk -v last="$tn" 'NR == 1 { first = $1 } { if ($1 != first + NR - 1) exit 1; n = $1 } END { exit !(NR >= 1 && n == last) }' "$TMP/tasks.txt"
 
 # ---- every protocol version ---------------------------------------------------------------
-for v in 4 5 6; do
+for v in 3 4 5 6; do
     stop "$W"
     gwparams $v
     start W gateway-$v "$GATEWAY" --exercise "$EX"
@@ -199,8 +210,10 @@ vel=$(awk -v a="$p0" -v b="$p1" 'BEGIN { split(a, x); split(b, y); printf "%.6f,
 ecef=$(tr ' ' ',' <<<"$p0")
 sent_at=$(date +%s.%N)
 node "$DISJS" send-espdu "$GWPORT" --exercise $EXID --id 42:7:5 --ecef "$ecef" --vel "$vel" --marking OPENDIS1
+# uavsim publishes 200 entity batches a wall second at 20x, the gateway its
+# external entities 10 times: 400 batches hold about 20 of the gateway's.
 check "the open-dis Entity State PDU shows up on the bus as an external entity" wait_for 5 bash -c \
-    "'$MSCGS' echo entity --json --count 4 --timeout 3 --exercise '$EX' 2>/dev/null | grep -q 'OPENDIS1'"
+    "'$MSCGS' echo entity --json --count 400 --timeout 5 --exercise '$EX' 2>/dev/null | grep -q 'OPENDIS1'"
 # The gateway's batches come at 10 Hz among uavsim's many: the first that has it.
 ext=$(M echo entity --json --count 2000 --timeout 3 2>/dev/null | grep -m1 'OPENDIS1' |
     node -e 'let s = ""; process.stdin.on("data", (d) => (s += d)).on("end", () => {
@@ -217,8 +230,9 @@ read -r east north up < <(node -e 'const p = (JSON.parse(process.argv[1] || "{}"
 check "at the right local position, dead-reckoned east (east $east, north $north, up $up)" awk \
     -v e="$east" -v n="$north" -v u="$up" -v t0="$sent_at" -v t1="$seen_at" \
     'BEGIN { lo = 3000 - 1; hi = 3000 + 8 * (t1 - t0) + 1; exit !(e >= lo && e <= hi && n > 1999.9 && n < 2000.1 && u > -0.1 && u < 0.1) }'
+# One mti.truth a dwell, 120 dwells a revolution: 130 of them cover every azimuth.
 check "the radar model sees it (mti.truth lists entity 100000)" wait_for 10 bash -c \
-    "'$MSCGS' echo mti.truth --json --count 20 --timeout 5 --exercise '$EX' 2>/dev/null | grep -q '\"entity_id\":100000'"
+    "'$MSCGS' echo mti.truth --json --count 130 --timeout 8 --exercise '$EX' 2>/dev/null | grep -q '\"entity_id\":100000'"
 
 # ---- Action Requests from open-dis --------------------------------------------------------
 # guidanced lets the UAV go first, so it does not re-task it meanwhile.
@@ -251,7 +265,7 @@ node "$DISJS" send-raw "$GWPORT" 0700010203
 # A version 7 Entity State PDU header whose length field says 200 bytes, 12 sent.
 node "$DISJS" send-raw "$GWPORT" 070b0101000000000000c8000600
 node "$DISJS" send-espdu "$GWPORT" --exercise 99 --id 42:7:6 --ecef "$ecef" --marking OTHEREX
-node "$DISJS" send-espdu "$GWPORT" --exercise $EXID --version 3 --id 42:7:7 --ecef "$ecef" --marking OLD
+node "$DISJS" send-espdu "$GWPORT" --exercise $EXID --version 2 --id 42:7:7 --ecef "$ecef" --marking OLD
 # An all-zero location: the Earth's centre.
 node "$DISJS" send-espdu "$GWPORT" --exercise $EXID --id 42:7:9 --ecef 0,0,0 --marking CENTRE
 check "garbage, a bad length, an unknown version and a location off the Earth are rejected and counted" wait_for 5 \
@@ -259,7 +273,7 @@ check "garbage, a bad length, an unknown version and a location off the Earth ar
 check "another exercise's PDU is ignored and counted" wait_for 3 \
     bash -c "[ \"\$('$MSCGS' status --exercise '$EX' 2>/dev/null | grep -o 'other_exercise=[0-9]*' | cut -d= -f2)\" -ge 1 ]"
 check "and none becomes an entity" bash -c \
-    "! '$MSCGS' echo entity --json --count 4 --timeout 2 --exercise '$EX' 2>/dev/null | grep -q 'OTHEREX\|\"OLD\"\|CENTRE'"
+    "! '$MSCGS' echo entity --json --count 400 --timeout 5 --exercise '$EX' 2>/dev/null | grep -q 'OTHEREX\|\"OLD\"\|CENTRE'"
 check "the gateway logs why, once" bash -c \
     "[ \$(grep -c 'a DIS datagram from 127.0.0.1' '$TMP/gateway-7b.log') -eq 1 ]"
 check "and keeps running" kill -0 "$W"
@@ -267,7 +281,7 @@ check "and keeps running" kill -0 "$W"
 # ---- silence and deactivation -------------------------------------------------------------
 node "$DISJS" send-espdu "$GWPORT" --exercise $EXID --id 42:7:8 --ecef "$ecef" --marking GOER
 check "a second external entity joins" wait_for 5 bash -c \
-    "'$MSCGS' echo entity --json --count 4 --timeout 3 --exercise '$EX' 2>/dev/null | grep -q 'GOER'"
+    "'$MSCGS' echo entity --json --count 400 --timeout 5 --exercise '$EX' 2>/dev/null | grep -q 'GOER'"
 node "$DISJS" send-espdu "$GWPORT" --exercise $EXID --id 42:7:8 --ecef "$ecef" --marking GOER --deactivate
 check "and leaves at once when its PDU says it is deactivated" wait_for 5 bash -c \
     "grep -q 'external entity 42:7:8 (entity [0-9]*) deactivated' '$TMP/gateway-7b.log'"
@@ -315,7 +329,7 @@ check "tshark decodes every datagram received as DIS ($dis of $datagrams)" \
 is "$(awk -F'\t' '$8 != ""' "$TMP/tshark.txt" | wc -l)" 0 "no malformed packet"
 tshark -r "$PCAP" -d "udp.port==$PEERPORT,dis" -q -z expert >"$TMP/expert.txt" 2>&1
 check "no expert warnings or errors" bash -c "! grep -qiE '^(Errors|Warnings) \(' '$TMP/expert.txt'"
-for v in 4 5 6 7; do
+for v in 3 4 5 6 7; do
     check "tshark sees version $v Entity State and Action Request PDUs" bash -c \
         "awk -F'\t' '\$2 == $v && \$3 == 1' '$TMP/tshark.txt' | grep -q . && awk -F'\t' '\$2 == $v && \$3 == 16' '$TMP/tshark.txt' | grep -q ."
 done

@@ -339,7 +339,7 @@ static void test_errors (void **state)
 {
     (void)state;
     s_fails ("[network]\nport = 3000\nspeed = 9\n", "g.ini:3: [network]", "speed");
-    s_fails ("[dis]\nversion = 3\n", "g.ini:2: [dis] version", "3");
+    s_fails ("[dis]\nversion = 2\n", "g.ini:2: [dis] version", "2");
     s_fails ("[dis]\n\nversion = 8\n", "g.ini:3: [dis] version", "8");
     s_fails ("[network]\nport = 0\n", "g.ini:2: [network] port", "0");
     s_fails ("[network]\nport = 65536\n", "g.ini:2: [network] port", "65536");

@@ -1,6 +1,6 @@
 /* test_gw_pdu — DIS PDUs against IEEE 1278.1's layouts: an Entity State PDU
  * built by hand and checked byte by byte at the standard's offsets, round
- * trips in versions 4 to 7, an Action Request whose variable datums are
+ * trips in versions 3 to 7, an Action Request whose variable datums are
  * padded to 64 bits, timestamps worked by hand, every rejection with its
  * reason, datagram walking, and malformed input (the fuzz corpus when it is
  * there, and mutations of good PDUs always) under the sanitizers. */
@@ -106,10 +106,10 @@ static void test_espdu_bytes (void **state)
     assert_int_equal (gw_pdu_encode_espdu (&p, b, sizeof b), 144);
     const uint8_t mark[11] = {'T', '1'};
     assert_memory_equal (b + 129, mark, 11);
-    // Refusals: room for 143 bytes, version 3 or 8, variable parameters asked for.
+    // Refusals: room for 143 bytes, version 2 or 8, variable parameters asked for.
     s_example (&p, 7);
     assert_int_equal (gw_pdu_encode_espdu (&p, b, 143), 0);
-    p.hdr.version = 3;
+    p.hdr.version = 2;
     assert_int_equal (gw_pdu_encode_espdu (&p, b, sizeof b), 0);
     p.hdr.version = 8;
     assert_int_equal (gw_pdu_encode_espdu (&p, b, sizeof b), 0);
@@ -124,7 +124,7 @@ static void test_espdu_bytes (void **state)
 static void test_espdu_round_trip (void **state)
 {
     (void)state;
-    for (uint8_t v = 4; v <= 7; v++) {
+    for (uint8_t v = 3; v <= 7; v++) {
         uint8_t want[144], again[144];
         memcpy (want, s_want, sizeof want);
         want[0] = v;
@@ -167,7 +167,7 @@ static void test_espdu_rejects (void **state)
 {
     (void)state;
     static const s_cut_t cuts[] = {
-        {0, 3, 144, "version"},             // DIS 1.0 (1278-1993) is not known
+        {0, 2, 144, "version"},             // 1278-1993 (before DIS 2.0.3) is not known
         {0, 8, 144, "version"},             // nor anything after 1278.1-2012
         {9, 143, 144, "length"},            // length field 143 on 144 bytes
         {9, 143, 143, "144"},               // consistent, but shorter than an ESPDU
