@@ -71,6 +71,44 @@ void im_frame_target (const im_camera_t *cam, const cgs_terrain_t *terrain, cons
     *ret = out;
 }
 
+size_t im_frame_labels (const im_camera_t *cam, const cgs_terrain_t *terrain,
+                        const im_entity_t *ents, size_t n, im_label_t *ret, size_t cap)
+{
+    size_t lim = cap < IM_LABELS_MAX ? cap : IM_LABELS_MAX, k = 0;
+    double dist[IM_LABELS_MAX];
+    for (size_t i = 0; i < n; i++) {
+        const im_entity_t *e = &ents[i];
+        if (e->kind == CGS_KIND_AIR)
+            continue;
+        double len, wid, hgt;
+        im_model_extent (e->kind, &len, &wid, &hgt);
+        cgs_enu_t top = {e->position.e_m, e->position.n_m, e->position.u_m + hgt};
+        double x, y, depth;
+        if (!im_camera_in_view (cam, top) || !im_camera_project (cam, top, &x, &y, &depth) ||
+            (terrain && !cgs_terrain_los (terrain, cam->eye, top)))
+            continue;
+        if (k == lim && (lim == 0 || depth >= dist[k - 1]))
+            continue;                      // full, and farther than the farthest kept
+        size_t at = k < lim ? k++ : k - 1; // full: it takes the farthest's place
+        for (; at > 0 && dist[at - 1] > depth; at--) {
+            ret[at] = ret[at - 1];
+            dist[at] = dist[at - 1];
+        }
+        ret[at] = (im_label_t){e, x, y};
+        dist[at] = depth;
+    }
+    return k;
+}
+
+void im_frame_status_lines (const im_entity_t *e, char lines[3][24])
+{
+    static const char *const forces[] = {"UNKNOWN", "FRIENDLY", "HOSTILE", "NEUTRAL"};
+    snprintf (lines[0], 24, "%s", e->marking && *e->marking ? e->marking : "?");
+    snprintf (lines[1], 24, "%s",
+              (unsigned)e->force < sizeof forces / sizeof *forces ? forces[e->force] : "?");
+    snprintf (lines[2], 24, "%.0f KM/H", isfinite (e->speed_mps) ? e->speed_mps * 3.6 : 0.0);
+}
+
 void im_frame_overlay (double t_s, const im_uav_t *u, const im_camera_t *cam,
                        const im_footprint_t *fp, const cgs_geo_t *frame, char lines[4][96])
 {

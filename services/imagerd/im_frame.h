@@ -14,6 +14,8 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#define IM_LABELS_MAX 64 // status blocks in one frame, nearest first
+
 /* The UAV as last heard on `uav`. */
 typedef struct {
     bool valid;
@@ -48,6 +50,20 @@ typedef struct {
 void im_frame_target (const im_camera_t *cam, const cgs_terrain_t *terrain, const im_entity_t *ents,
                       size_t n, bool have_track, cgs_enu_t track_at, double gate_m,
                       im_target_t *ret);
+
+/* A ground vehicle's status block: where its model's top falls in the image. */
+typedef struct {
+    const im_entity_t *entity;
+    double px_x, px_y;
+} im_label_t;
+
+/* The ground vehicles of ents in view (their model's top in the image, in
+ * front of the camera and not behind terrain; terrain may be NULL), nearest
+ * the camera first, at most cap of them, into ret; how many. */
+size_t im_frame_labels (const im_camera_t *cam, const cgs_terrain_t *terrain,
+                        const im_entity_t *ents, size_t n, im_label_t *ret, size_t cap);
+/* A status block's lines: the marking, the force, the speed in km/h. */
+void im_frame_status_lines (const im_entity_t *e, char lines[3][24]);
 
 /* The overlay's lines into lines[0..3] (each size bytes): simulation time,
  * UAV altitude, slant range to the image centre, the image centre in MGRS

@@ -21,6 +21,7 @@ void im_params_defaults (im_params_t *p)
         .lods = 5,
         .lod_distance_m = 2000,
         .overlay = true,
+        .status_blocks = true,
         .mode = IM_MODE_VISIBLE,
         .polarity = IM_WHITE_HOT,
         .ambient_k = 288,
@@ -134,6 +135,9 @@ static int s_read (cgs_config_t *cfg, void *arg, char *err, size_t errlen)
         rc = cgs_config_get_bool (cfg, "camera", "staring", p.staring, &p.staring, err, errlen);
     if (rc == 0)
         rc = cgs_config_get_bool (cfg, "overlay", "enabled", p.overlay, &p.overlay, err, errlen);
+    if (rc == 0)
+        rc = cgs_config_get_bool (cfg, "overlay", "status_blocks", p.status_blocks,
+                                  &p.status_blocks, err, errlen);
     static const char *const modes[] = {"visible", "infrared", NULL};
     static const char *const polarities[] = {"white-hot", "black-hot", NULL};
     int mode = (int)p.mode, polarity = (int)p.polarity;

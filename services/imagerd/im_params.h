@@ -28,7 +28,8 @@ typedef struct {
     int lods;              // levels of detail
     double lod_distance_m; // full detail within this; one level coarser per doubling
     // [overlay]
-    bool overlay; // time, altitude, slant range, image centre in MGRS
+    bool overlay;       // time, altitude, slant range, image centre in MGRS
+    bool status_blocks; // a block of marking, force and speed by each ground vehicle in view
     // [infrared]
     im_mode_t mode;
     im_polarity_t polarity;

@@ -161,6 +161,31 @@ int im_post_text (uint8_t *rgba, int w, int h, int x, int y, int scale, const ch
     return x - x0;
 }
 
+void im_post_status_block (uint8_t *rgba, int w, int h, int x, int y, int lead,
+                           const char *const *lines, size_t n)
+{
+    int scale = w >= 960 ? 2 : 1, line_h = 9 * scale, width = 0;
+    for (size_t i = 0; i < n; i++)
+        width = width > (int)strlen (lines[i]) ? width : (int)strlen (lines[i]);
+    int bw = width * 6 * scale + 4 * scale, bh = (int)n * line_h + 2 * scale, top = y - bh;
+    for (int yy = top; yy < y; yy++)
+        for (int xx = x; xx < x + bw; xx++) {
+            if (xx < 0 || yy < 0 || xx >= w || yy >= h)
+                continue;
+            uint8_t *p = rgba + 4 * ((size_t)yy * (size_t)w + (size_t)xx);
+            p[0] = (uint8_t)(p[0] / 3), p[1] = (uint8_t)(p[1] / 3), p[2] = (uint8_t)(p[2] / 3);
+        }
+    static const uint8_t yellow[3] = {255, 230, 64};
+    for (int k = 0; k <= lead; k++) { // the leader, one pixel wide
+        int xx = x - k, yy = y + k;
+        if (xx >= 0 && yy >= 0 && xx < w && yy < h)
+            memcpy (rgba + 4 * ((size_t)yy * (size_t)w + (size_t)xx), yellow, 3);
+    }
+    for (size_t i = 0; i < n; i++)
+        im_post_text (rgba, w, h, x + 2 * scale, top + 2 * scale + (int)i * line_h, scale, lines[i],
+                      yellow);
+}
+
 void im_post_overlay (uint8_t *rgba, int w, int h, const char *const *lines, size_t n)
 {
     int scale = w >= 960 ? 2 : 1, line_h = 9 * scale;

@@ -32,5 +32,10 @@ int im_post_text (uint8_t *rgba, int w, int h, int x, int y, int scale, const ch
                   const uint8_t rgb[3]);
 /* The overlay: lines of text at the top-left on a darkened band. */
 void im_post_overlay (uint8_t *rgba, int w, int h, const char *const *lines, size_t n);
+/* A status block: lines of text on a darkened box whose bottom-left corner
+ * is at (x, y), with a leader line from there down-left to the point it
+ * belongs to (x - lead, y + lead); clipped to the image. */
+void im_post_status_block (uint8_t *rgba, int w, int h, int x, int y, int lead,
+                           const char *const *lines, size_t n);
 
 #endif

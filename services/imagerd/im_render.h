@@ -26,7 +26,10 @@ typedef struct {
     cgs_kind_t kind;
     cgs_enu_t position; // on the ground (the model's base)
     double heading_deg;
-    bool running; // engine on: hot in the infrared
+    bool running;        // engine on: hot in the infrared
+    const char *marking; // for its status block (NULL: none)
+    cgs_force_t force;
+    double speed_mps; // over the ground
 } im_entity_t;
 
 /* A renderer for width × height images of the mesh (NULL: no terrain). It

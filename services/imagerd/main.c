@@ -146,6 +146,9 @@ static size_t s_entities_at (s_app_t *app, double t)
             .position = p,
             .heading_deg = s->heading_deg,
             .running = hypot (s->velocity.e_m, s->velocity.n_m) > S_MOVING_MPS,
+            .marking = s->marking,
+            .force = s->force,
+            .speed_mps = hypot (s->velocity.e_m, s->velocity.n_m),
         };
     }
     return n;
@@ -197,6 +200,20 @@ static void s_render (s_app_t *app, double t)
         im_post_infrared (&app->post, app->rgba, p);
     im_footprint_t fp;
     im_camera_footprint (&cam, app->sensor.terrain, p->max_range_m, &fp);
+    if (p->status_blocks) {
+        static im_label_t labels[IM_LABELS_MAX];
+        size_t nl =
+            im_frame_labels (&cam, app->sensor.terrain, app->draw, n, labels, IM_LABELS_MAX);
+        int lead = p->width_px >= 960 ? 16 : 8;
+        for (size_t i = nl; i-- > 0;) { // the nearest drawn last, on top
+            char sl[3][24];
+            im_frame_status_lines (labels[i].entity, sl);
+            const char *lp[3] = {sl[0], sl[1], sl[2]};
+            im_post_status_block (app->rgba, p->width_px, p->height_px,
+                                  (int)lround (labels[i].px_x) + lead,
+                                  (int)lround (labels[i].px_y) - lead, lead, lp, 3);
+        }
+    }
     if (p->overlay) {
         char lines[4][96];
         im_frame_overlay (t, &app->uav, &cam, &fp, app->sensor.frame, lines);

@@ -23,37 +23,22 @@
 
 // Every key the file takes, by section (the shipped file must give them all).
 static const char *const s_keys[][2] = {
-    {"camera", "width_px"},
-    {"camera", "height_px"},
-    {"camera", "frame_rate_hz"},
-    {"camera", "stabilized"},
-    {"camera", "staring"},
-    {"camera", "near_m"},
-    {"camera", "max_range_m"},
-    {"scene", "sun_azimuth_deg"},
-    {"scene", "sun_elevation_deg"},
-    {"scene", "visibility_m"},
-    {"scene", "chunk_cells"},
-    {"scene", "lods"},
-    {"scene", "lod_distance_m"},
-    {"overlay", "enabled"},
-    {"infrared", "mode"},
-    {"infrared", "polarity"},
-    {"infrared", "ambient_k"},
-    {"infrared", "sun_gain_k"},
-    {"infrared", "hull_rise_k"},
-    {"infrared", "engine_k"},
-    {"infrared", "running_gear_rise_k"},
-    {"infrared", "glass_k"},
-    {"infrared", "person_k"},
-    {"infrared", "sky_k"},
-    {"infrared", "attenuation_per_km"},
-    {"infrared", "display_min_k"},
-    {"infrared", "display_max_k"},
-    {"infrared", "blur_px"},
-    {"infrared", "noise_k"},
-    {"output", "png_rate_hz"},
-    {"output", "latest_rate_hz"},
+    {"camera", "width_px"},         {"camera", "height_px"},
+    {"camera", "frame_rate_hz"},    {"camera", "stabilized"},
+    {"camera", "staring"},          {"camera", "near_m"},
+    {"camera", "max_range_m"},      {"scene", "sun_azimuth_deg"},
+    {"scene", "sun_elevation_deg"}, {"scene", "visibility_m"},
+    {"scene", "chunk_cells"},       {"scene", "lods"},
+    {"scene", "lod_distance_m"},    {"overlay", "enabled"},
+    {"overlay", "status_blocks"},   {"infrared", "mode"},
+    {"infrared", "polarity"},       {"infrared", "ambient_k"},
+    {"infrared", "sun_gain_k"},     {"infrared", "hull_rise_k"},
+    {"infrared", "engine_k"},       {"infrared", "running_gear_rise_k"},
+    {"infrared", "glass_k"},        {"infrared", "person_k"},
+    {"infrared", "sky_k"},          {"infrared", "attenuation_per_km"},
+    {"infrared", "display_min_k"},  {"infrared", "display_max_k"},
+    {"infrared", "blur_px"},        {"infrared", "noise_k"},
+    {"output", "png_rate_hz"},      {"output", "latest_rate_hz"},
 };
 
 static void s_assert_equal (const im_params_t *a, const im_params_t *b)
@@ -77,6 +62,7 @@ static void s_assert_equal (const im_params_t *a, const im_params_t *b)
     S_SAME (lods);
     S_SAME (lod_distance_m);
     S_SAME (overlay);
+    S_SAME (status_blocks);
     S_SAME (mode);
     S_SAME (polarity);
     S_SAME (ambient_k);
@@ -115,6 +101,7 @@ static im_params_t s_not_defaults (void)
         .lods = 3,
         .lod_distance_m = 1500,
         .overlay = false,
+        .status_blocks = false,
         .mode = IM_MODE_INFRARED,
         .polarity = IM_BLACK_HOT,
         .ambient_k = 290,
@@ -253,6 +240,7 @@ static void test_values (void **state)
             "lod_distance_m = 1500\n"
             "[overlay]\n"
             "enabled = false\n"
+            "status_blocks = no\n"
             "[infrared]\n"
             "mode = infrared\n"
             "polarity = black-hot\n"

@@ -360,6 +360,55 @@ static void test_overlay (void **state)
     }
 }
 
+/* A status block of three lines at (200, 150) with an 8-pixel leader, 640 ×
+ * 480: inside its box every pixel is a third of what it was or yellow text
+ * (and each line has text); the leader's pixels, from (200, 150) down-left
+ * to (192, 158), are yellow; outside box and leader nothing changed. One
+ * hanging off each edge of the frame is drawn as far as it fits. */
+static void test_status_block (void **state)
+{
+    (void)state;
+    const int w = 640, h = 480;
+    const char *lines[] = {"APC1", "UNKNOWN", "32 KM/H"};
+    uint8_t *f = s_frame (w, h), *orig = s_frame (w, h);
+    for (int y = 0; y < h; y++)
+        for (int x = 0; x < w; x++) {
+            uint8_t *p = s_px (f, w, x, y);
+            p[0] = (uint8_t)s_pattern (x, y), p[1] = (uint8_t)s_pattern (y, x);
+            p[2] = (uint8_t)(255 - s_pattern (x, y)), p[3] = 255;
+        }
+    memcpy (orig, f, (size_t)w * h * 4);
+    im_post_status_block (f, w, h, 200, 150, 8, lines, 3);
+    // The box: 7 characters of 6 dots plus 4, 3 lines of 9 plus 2.
+    const int bw = 7 * 6 + 4, bh = 3 * 9 + 2, top = 150 - bh;
+    size_t text[3] = {0};
+    for (int y = 0; y < h; y++)
+        for (int x = 0; x < w; x++) {
+            const uint8_t *p = s_px (f, w, x, y), *o = s_px (orig, w, x, y);
+            bool yellow = p[0] == 255 && p[1] == 230 && p[2] == 64;
+            bool in_box = x >= 200 && x < 200 + bw && y >= top && y < 150;
+            bool leader = y - 150 == 200 - x && x <= 200 && x >= 192;
+            bool same = memcmp (p, o, 4) == 0;
+            bool dark = p[0] == o[0] / 3 && p[1] == o[1] / 3 && p[2] == o[2] / 3;
+            if (leader && !yellow)
+                fail_msg ("leader pixel (%d, %d) is not yellow", x, y);
+            if (in_box && !leader && !yellow && !dark)
+                fail_msg ("box pixel (%d, %d) neither darkened nor text", x, y);
+            if (!in_box && !leader && !same)
+                fail_msg ("pixel (%d, %d) outside the block changed", x, y);
+            if (in_box && yellow)
+                for (int i = 0; i < 3; i++)
+                    text[i] += y >= top + 2 + 9 * i && y < top + 2 + 9 * i + 7;
+        }
+    for (int i = 0; i < 3; i++)
+        assert_true (text[i] > 10);
+    // Off the edges: no write outside the frame (ASan watches), the part inside drawn.
+    im_post_status_block (f, w, h, w - 20, 10, 8, lines, 3);
+    im_post_status_block (f, w, h, -30, h + 5, 8, lines, 3);
+    free (f);
+    free (orig);
+}
+
 /* ---- the infrared sensor ----------------------------------------------------------------- */
 
 /* The blur's kernel as documented: e^(−i²/2σ²) for |i| ≤ ⌈3σ⌉, normalised. */
@@ -658,6 +707,7 @@ int main (void)
         cmocka_unit_test (test_text_unknown),
         cmocka_unit_test (test_text_clipped),
         cmocka_unit_test (test_overlay),
+        cmocka_unit_test (test_status_block),
         cmocka_unit_test (test_blur_keeps_constant_and_gradient),
         cmocka_unit_test (test_blur_checkerboard_variance),
         cmocka_unit_test (test_noise_level),

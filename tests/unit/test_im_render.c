@@ -437,6 +437,62 @@ static void test_infrared_temperatures (void **state)
     cgs_terrain_destroy (&t);
 }
 
+/* The status blocks' vehicles: the camera 1 km up and 1 km south of the
+ * origin, looking north 45° down with a 30° field: the vehicles at the
+ * origin and at (100, 300) are in view, nearest first; one behind the
+ * camera, the UAV (air) and one behind a ridge 200 m high across its line of
+ * sight are not; at most cap of them, the nearest; and a block's lines. */
+static void test_status_labels (void **state)
+{
+    (void)state;
+    enum { N = 65 };
+    static float hgt[N * N];
+    for (int r = 0; r < N; r++)
+        for (int c = 0; c < N; c++) {
+            double e = -1600 + 50.0 * c, n = -1600 + 50.0 * r;
+            hgt[r * N + c] = (float)(e >= -300 && e <= -50 && n >= 200 && n <= 250 ? 200 : 0);
+        }
+    cgs_terrain_t *t = cgs_terrain_new_grid (N, N, -1600, -1600, 50, hgt);
+    assert_non_null (t);
+    im_camera_t cam = s_camera ((cgs_enu_t){0, -1000, 1000}, 0, 0, 45, 30, 640, 480);
+    im_entity_t e[] = {
+        {.id = 1, .kind = CGS_KIND_WHEELED, .position = {100, 300, 0}, .marking = "FAR"},
+        {.id = 2, .kind = CGS_KIND_TRACKED, .position = {0, -1500, 0}, .marking = "BEHIND"},
+        {.id = 3, .kind = CGS_KIND_AIR, .position = {0, 0, 0}, .marking = "UAV"},
+        {.id = 4, .kind = CGS_KIND_TRACKED, .position = {-100, 400, 0}, .marking = "RIDGE"},
+        {.id = 5,
+         .kind = CGS_KIND_TRACKED,
+         .position = {0, 0, 0},
+         .marking = "APC1",
+         .force = CGS_FORCE_HOSTILE,
+         .speed_mps = 8.9},
+    };
+    im_label_t l[IM_LABELS_MAX];
+    size_t n = im_frame_labels (&cam, t, e, 5, l, IM_LABELS_MAX);
+    assert_int_equal (n, 2);
+    assert_int_equal (l[0].entity->id, 5);
+    assert_int_equal (l[1].entity->id, 1);
+    // The one at the origin, on the boresight, sits at the image's centre
+    // (its model's top a little above: up the image).
+    assert_true (fabs (l[0].px_x - 320) < 1 && l[0].px_y < 240 && l[0].px_y > 230);
+    assert_true (l[1].px_x > 320 && l[1].px_y < l[0].px_y);
+    // Without the terrain the ridge hides nothing.
+    assert_int_equal (im_frame_labels (&cam, NULL, e, 5, l, IM_LABELS_MAX), 3);
+    // At most cap, the nearest.
+    assert_int_equal (im_frame_labels (&cam, t, e, 5, l, 1), 1);
+    assert_int_equal (l[0].entity->id, 5);
+    assert_int_equal (im_frame_labels (&cam, t, e, 5, l, 0), 0);
+    char lines[3][24];
+    im_frame_status_lines (&e[4], lines);
+    assert_string_equal (lines[0], "APC1");
+    assert_string_equal (lines[1], "HOSTILE");
+    assert_string_equal (lines[2], "32 KM/H");
+    im_frame_status_lines (&e[0], lines);
+    assert_string_equal (lines[1], "UNKNOWN");
+    assert_string_equal (lines[2], "0 KM/H");
+    cgs_terrain_destroy (&t);
+}
+
 int main (void)
 {
     const struct CMUnitTest tests[] = {
@@ -448,6 +504,7 @@ int main (void)
         cmocka_unit_test (test_target_pixel_matches_projection),
         cmocka_unit_test (test_nothing_in_view_draws_terrain_only),
         cmocka_unit_test (test_infrared_temperatures),
+        cmocka_unit_test (test_status_labels),
     };
     return cmocka_run_group_tests (tests, s_setup, s_teardown);
 }
