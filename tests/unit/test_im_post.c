@@ -302,6 +302,18 @@ static int s_pattern (int x, int y)
     return (x * 7 + y * 13) % 256;
 }
 
+/* A frame of a pattern that differs from pixel to pixel, opaque, and its copy in orig. */
+static void s_fill_pattern (uint8_t *f, uint8_t *orig, int w, int h)
+{
+    for (int y = 0; y < h; y++)
+        for (int x = 0; x < w; x++) {
+            uint8_t *p = s_px (f, w, x, y);
+            p[0] = (uint8_t)s_pattern (x, y), p[1] = (uint8_t)s_pattern (y, x);
+            p[2] = (uint8_t)(255 - s_pattern (x, y)), p[3] = 255;
+        }
+    memcpy (orig, f, (size_t)w * h * 4);
+}
+
 /* n lines at 640 × 480: a band of n·9 + 4 rows where every pixel is a
  * third of what it was or white text (opaque); white text in every line's
  * place; below the band the frame untouched. Wider frames get larger text
@@ -314,13 +326,7 @@ static void test_overlay (void **state)
     for (int s = 0; s < 2; s++) {
         const int w = sizes[s][0], h = sizes[s][1];
         uint8_t *f = s_frame (w, h), *orig = s_frame (w, h);
-        for (int y = 0; y < h; y++)
-            for (int x = 0; x < w; x++) {
-                uint8_t *p = s_px (f, w, x, y);
-                p[0] = (uint8_t)s_pattern (x, y), p[1] = (uint8_t)s_pattern (y, x);
-                p[2] = (uint8_t)(255 - s_pattern (x, y)), p[3] = 255;
-            }
-        memcpy (orig, f, (size_t)w * h * 4);
+        s_fill_pattern (f, orig, w, h);
         im_post_overlay (f, w, h, lines, 4);
         int scale = w >= 960 ? 2 : 1;
         // The band: the rows down to the last one changed.
@@ -371,13 +377,7 @@ static void test_status_block (void **state)
     const int w = 640, h = 480;
     const char *lines[] = {"APC1", "UNKNOWN", "32 KM/H"};
     uint8_t *f = s_frame (w, h), *orig = s_frame (w, h);
-    for (int y = 0; y < h; y++)
-        for (int x = 0; x < w; x++) {
-            uint8_t *p = s_px (f, w, x, y);
-            p[0] = (uint8_t)s_pattern (x, y), p[1] = (uint8_t)s_pattern (y, x);
-            p[2] = (uint8_t)(255 - s_pattern (x, y)), p[3] = 255;
-        }
-    memcpy (orig, f, (size_t)w * h * 4);
+    s_fill_pattern (f, orig, w, h);
     im_post_status_block (f, w, h, 200, 150, 8, lines, 3);
     // The box: 7 characters of 6 dots plus 4, 3 lines of 9 plus 2.
     const int bw = 7 * 6 + 4, bh = 3 * 9 + 2, top = 150 - bh;
