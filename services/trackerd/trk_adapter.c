@@ -31,6 +31,7 @@ typedef struct {
     bool full_revolution;                       // what its latest mti.scan covered (for a scan
     double sector_center_deg, sector_width_deg; // closed without its marker)
     bool revisit_known;                         // its revisit has been given to the tracker
+    uint32_t scans_seen;                        // its mti.scan markers taken
 } s_radar_t;
 
 struct trk_adapter {
@@ -533,9 +534,11 @@ static void s_on_mti_scan (trk_adapter_t *self, const Cgs__MtiScan *m)
     if (r->open && r->scan_number != m->scan_number)
         s_close_implicit (self, r); // its own end marker was lost
     // The radar's revisit of a cell: one scan (a revolution, or one pass of
-    // a sector, which revisits its cells once a pass on average).
+    // a sector, which revisits its cells once a pass on average), from its
+    // second scan heard: the first may be partial (a radar starts, or
+    // restarts, at the dwell of the time it is at).
     double revisit = m->scan_end_s - m->scan_start_s;
-    if (!r->revisit_known && revisit > 0) {
+    if (!r->revisit_known && ++r->scans_seen >= 2 && revisit > 0) {
         r->revisit_known = true;
         double fixed = trk_tracker_params (self->trk)->filter.dt_s;
         if (!trk_tracker_radar_revisit (self->trk, revisit))

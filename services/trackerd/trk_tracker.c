@@ -200,10 +200,11 @@ static const trk_gains_t *s_gains (trk_tracker_t *self, double dt_s)
     size_t slot = (size_t)key % S_GAIN_CACHE;
     if (self->gain_cache[slot].key != key) {
         const trk_filter_params_t *f = &self->p.filter;
+        trk_gains_t g[2];
         for (int a = 0; a < 2; a++)
-            if (trk_gains_paper (f->sigma_meas_m[a], f->sigma_mod_mps2[a], key / 10.0,
-                                 &self->gain_cache[slot].g[a]) < 0)
+            if (trk_gains_paper (f->sigma_meas_m[a], f->sigma_mod_mps2[a], key / 10.0, &g[a]) < 0)
                 return self->gains; // not for parameters trk_params_check accepts
+        memcpy (self->gain_cache[slot].g, g, sizeof g);
         self->gain_cache[slot].key = key;
     }
     return self->gain_cache[slot].g;
@@ -217,8 +218,13 @@ bool trk_tracker_radar_revisit (trk_tracker_t *self, double revisit_s)
     bool agrees = f->dt_auto || fabs (revisit_s - f->dt_s) <= TRK_REVISIT_TOLERANCE * f->dt_s;
     if (!agrees)
         f->dt_auto = true;
-    if (f->dt_auto) // the nominal interval is the radar's from now on
+    if (f->dt_auto) { // the nominal interval is the radar's from now on
         f->dt_s = revisit_s;
+        trk_gains_t g[2];
+        if (trk_gains_paper (f->sigma_meas_m[0], f->sigma_mod_mps2[0], f->dt_s, &g[0]) == 0 &&
+            trk_gains_paper (f->sigma_meas_m[1], f->sigma_mod_mps2[1], f->dt_s, &g[1]) == 0)
+            memcpy (self->gains, g, sizeof g);
+    }
     return agrees;
 }
 

@@ -809,8 +809,9 @@ static void test_topics (void **state)
 }
 
 /* A fixed scan_period_s the radar's revisit disagrees with is refused at
- * the radar's first scan, with the file and both periods named, once; one
- * that agrees (10 s against 10 s) is not. */
+ * the radar's second scan (its first may be partial: a radar that starts
+ * mid-revolution), with the file and both periods named, once; one that
+ * agrees (10 s against 10 s) is not. */
 static void test_fixed_period_refused (void **state)
 {
     s_fix_t *f = *state;
@@ -824,16 +825,22 @@ static void test_fixed_period_refused (void **state)
     f->a = trk_adapter_new (&p, &port);
     assert_non_null (f->a);
     trk_adapter_set_params_path (f->a, "t.ini");
-    s_marker (f, 2, 1, 0, 10); // radar 2 turns in 10 s: agrees
+    s_marker (f, 2, 1, 7, 10);  // radar 2 started mid-revolution: a partial scan...
+    s_marker (f, 2, 2, 10, 20); // ... then it turns in 10 s: agrees
     assert_int_equal (f->nerr, 0);
-    s_marker (f, 1, 1, 0, 5); // radar 1 in 5 s: refused
+    s_marker (f, 1, 1, 0, 5);
+    assert_int_equal (f->nerr, 0); // its first scan is not taken
+    s_marker (f, 1, 2, 5, 10);     // radar 1 in 5 s: refused
     assert_int_equal (f->nerr, 1);
     assert_string_equal (f->err[0],
                          "t.ini: [filter] scan_period_s = 10 refused: radar 1 revisits a cell "
-                         "every 5.00 s (its scan 1, 0.00 to 5.00 s); the paper's gains follow "
+                         "every 5.00 s (its scan 2, 5.00 to 10.00 s); the paper's gains follow "
                          "each update's own interval (scan_period_s = auto) from now on");
     assert_true (trk_tracker_params (trk_adapter_tracker (f->a))->filter.dt_auto);
-    s_marker (f, 1, 2, 5, 10);
+    // The nominal gains are the radar's revisit's: r = 4 σ_meas / (σ_mod dt²).
+    assert_true (
+        fabs (trk_tracker_gains (trk_adapter_tracker (f->a))[0].r - 4 * 25 / (0.2 * 5 * 5)) < 1e-9);
+    s_marker (f, 1, 3, 10, 15);
     assert_int_equal (f->nerr, 1);
 }
 
