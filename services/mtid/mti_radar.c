@@ -390,13 +390,15 @@ static void s_merge_unresolved (mti_radar_t *self, cgs_enu_t antenna)
 {
     double dr = self->p.range_resolution_m;
     double dv = fabs (mti_dsp_bin_hz (self->dsp, 1) - mti_dsp_bin_hz (self->dsp, 0)) *
-                self->lambda_m / 2; // one Doppler bin, in radial velocity
+                self->lambda_m / 2;                    // one Doppler bin, in radial velocity
+    double span = self->p.prf_hz * self->lambda_m / 2; // the bins wrap around: λ·PRF/2
     for (size_t i = 0; i < self->hit_count; i++)
         for (size_t j = i + 1; j < self->hit_count;) {
             mti_hit_t *a = &self->hits[i], *b = &self->hits[j];
             if (a->entity_id == 0 || b->entity_id == 0 ||
                 fabs (a->range_m - b->range_m) >= 0.5 * dr ||
-                fabs (a->radial_velocity_mps - b->radial_velocity_mps) >= 1.5 * dv) {
+                fabs (remainder (a->radial_velocity_mps - b->radial_velocity_mps, span)) >=
+                    1.5 * dv) {
                 j++;
                 continue;
             }
@@ -411,6 +413,7 @@ static void s_merge_unresolved (mti_radar_t *self, cgs_enu_t antenna)
             double wa = pow (10, a->snr_db / 10), wb = pow (10, b->snr_db / 10);
             double d = remainder (b->azimuth_deg - a->azimuth_deg, 360.0);
             a->azimuth_deg = cgs_wrap360 (a->azimuth_deg + d * wb / (wa + wb));
+            a->snr_db = 10 * log10 (wa + wb); // the echo's power: what a third weighs against
             (void)s_ground_at (self, antenna, a->azimuth_deg, a->range_m, &a->position);
             for (size_t k = 0; k < self->truth_count; k++) {
                 mti_truth_t *tr = &self->truth[k];
@@ -422,6 +425,7 @@ static void s_merge_unresolved (mti_radar_t *self, cgs_enu_t antenna)
                 }
             }
             self->hits[j] = self->hits[--self->hit_count];
+            j = i + 1; // slot i changed: every other hit is weighed against it again
         }
 }
 

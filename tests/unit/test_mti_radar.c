@@ -294,7 +294,7 @@ static void test_false_alarm_rate (void **state)
 
 /* Two targets the radar does not resolve (one range gate, one Doppler bin,
  * one beam) give one hit, between them in azimuth, and the weaker's truth
- * names it; apart in range by two gates, or in radial velocity by several
+ * names it (three: both weaker ones); apart in range by two gates, or in radial velocity by several
  * bins, they give two. 4 km out, where each is detected every time. */
 static void test_unresolved_targets_merge (void **state)
 {
@@ -354,6 +354,32 @@ static void test_unresolved_targets_merge (void **state)
             dwells++;
         }
         assert_int_equal (dwells, 30);
+    }
+    // Three in one cell: one hit, both others' truth naming it.
+    for (uint64_t k = 15; k < 120 * 10; k += 120) {
+        mti_dwell_t d;
+        mti_radar_schedule (r, k, 0, &d);
+        mti_target_t t[3];
+        for (int i = 0; i < 3; i++) {
+            double a = (46.0 + 0.5 * i) * S;
+            t[i] = (mti_target_t){.id = 20 + (uint32_t)i,
+                                  .position = {g * sin (a), g * cos (a), 0},
+                                  .velocity = {8 * sin (a), 8 * cos (a), 0}};
+        }
+        mti_dwell_out_t o;
+        assert_int_equal (mti_radar_dwell (r, &d, &plat, t, 3, &o), 0);
+        const mti_hit_t *h = NULL;
+        size_t hits = 0, merged = 0, seen = 0;
+        for (size_t i = 0; i < o.hit_count; i++)
+            if (o.hits[i].entity_id)
+                h = &o.hits[i], hits++;
+        assert_int_equal (hits, 1);
+        for (size_t i = 0; i < o.truth_count; i++) {
+            merged += o.truth[i].merged_into == h->hit_id && !o.truth[i].detected;
+            seen += o.truth[i].detected && o.truth[i].hit_id == h->hit_id;
+        }
+        assert_int_equal (seen, 1);
+        assert_int_equal (merged, 2);
     }
     mti_radar_destroy (&r);
 }
