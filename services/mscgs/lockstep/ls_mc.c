@@ -44,7 +44,8 @@ typedef struct {
     ms_icpt_t *ic;
     ms_metrics_t *metrics;
     FILE *timeline;      // c->timeline: every run's vehicles, radar truth, tracks, intercepts
-    double entity_due_s; // the next entity row (one a second)
+    double entity_due_s; // the next second to write entities at (one a second)
+    double entity_t_s;   // the time being written (every batch of that time)
 } s_watch_t;
 
 /* The timeline: one CSV row per entity a second, per radar truth
@@ -56,9 +57,12 @@ static void s_timeline (s_watch_t *w, const char *topic, const ProtobufCMessage 
     FILE *f = w->timeline;
     double t = hdr ? hdr->sim_time_s : 0;
     if (strcmp (topic, "entity") == 0) {
-        if (t + 1e-9 < w->entity_due_s)
-            return;
-        w->entity_due_s = floor (t) + 1;
+        if (t != w->entity_t_s) { // uavsim's batches of one time go out together
+            if (t + 1e-9 < w->entity_due_s)
+                return;
+            w->entity_t_s = t;
+            w->entity_due_s = floor (t) + 1;
+        }
         const Cgs__EntityBatch *b = (const Cgs__EntityBatch *)msg;
         for (size_t i = 0; i < b->n_entities; i++) {
             const Cgs__Entity *e = b->entities[i];
@@ -131,7 +135,7 @@ int ls_mc_one (const ls_mc_config_t *c, size_t i, FILE *log, ls_mc_run_t *ret, c
     ls_run_result_t *res = calloc (1, sizeof *res);
     if (!res)
         return -ENOMEM;
-    s_watch_t w = {.ic = &res->icpt, .timeline = c->timeline};
+    s_watch_t w = {.ic = &res->icpt, .timeline = c->timeline, .entity_t_s = NAN};
     if (w.timeline)
         fputs (LS_MC_TIMELINE_HEADER "\n", w.timeline);
     ls_run_config_t rc = {
