@@ -36,9 +36,12 @@
 #define S_UAV_MAX     64
 #define S_ANSWERED    64 // Action Requests remembered, so a retransmission is answered, not redone
 // Route points in one Action Request: 32 bytes each, with the header, the
-// mission datum and a text datum of at most 160 characters inside GW_PDU_MAX.
+// mission and speed datums and a text datum of at most 200 characters inside
+// GW_PDU_MAX.
 #define S_ROUTE_POINTS_MAX 240
-_Static_assert(GW_ACTION_BASE_LEN + 8 + S_ROUTE_POINTS_MAX * 32 + 8 + 160 <= GW_PDU_MAX,
+#define S_TASK_TEXT_MAX    200
+_Static_assert(GW_ACTION_BASE_LEN + 2 * 8 + S_ROUTE_POINTS_MAX * 32 + 8 + S_TASK_TEXT_MAX <=
+                   GW_PDU_MAX,
                "a route Action Request fits in one PDU");
 // External entities further than these from the ellipsoid are not on the
 // Earth (an all-zero location is the Earth's centre): rejected.
@@ -78,6 +81,7 @@ typedef struct {
     gw_out_t *out;
     gw_in_t *in;
     double sim_time_s; // newest simulation time heard
+    bool sim_heard;    // any: the exercise clock may be anchored
     bool clock_set;    // absolute timestamps: the exercise clock's anchor is known:
     double utc_at_s;   // UTC, seconds, when the gateway first heard simulation time
     double sim_at_s;   // that simulation time
@@ -126,6 +130,8 @@ static uint32_t s_timestamp (s_app_t *app, double t_s)
         t_s = isfinite (app->sim_time_s) ? app->sim_time_s : 0;
     if (!app->p.absolute_time)
         return gw_pdu_timestamp (t_s, false);
+    if (!app->clock_set && !app->sim_heard) // nothing of the simulation yet: UTC
+        return gw_pdu_timestamp (fmod (s_wall (), 3600.0), true);
     if (!app->clock_set) {
         app->clock_set = true;
         app->utc_at_s = s_wall ();
@@ -233,6 +239,7 @@ static void s_on_entity (void *arg, const char *topic, const ProtobufCMessage *m
     }
     if (hdr->sim_time_s > app->sim_time_s)
         app->sim_time_s = hdr->sim_time_s;
+    app->sim_heard = true;
     double now = cgs_loop_now ();
     for (size_t i = 0; i < b->n_entities; i++) {
         const Cgs__Entity *e = b->entities[i];
@@ -323,12 +330,13 @@ static void s_send_task (s_app_t *app, s_uav_t *s, const Cgs__Uav *u, double t_s
             cgs_geo_enu_to_ecef (app->geo, (cgs_enu_t){p->east_m, p->north_m, p->up_m}, &x) < 0) {
             cgs_service_bad_input (&app->svc,
                                    "a uav message with a route point that is not finite");
+            s->task_sent = u->task_number; // said once, not on every uav message
             return;
         }
         gw_pdu_put_f64x3 (points[k], (double[3]){x.x_m, x.y_m, x.z_m});
         a->var[a->n_var++] = (gw_var_datum_t){S_DATUM_GEOCENTRIC, 192, points[k]};
     }
-    char text[200];
+    char text[S_TASK_TEXT_MAX];
     int used;
     if (route)
         used = snprintf (text, sizeof text, "mscgs task %" PRIu64 " of %s: route of %zu points",
@@ -349,6 +357,7 @@ static void s_send_task (s_app_t *app, s_uav_t *s, const Cgs__Uav *u, double t_s
     size_t len = gw_pdu_encode_action (a, buf, sizeof buf);
     if (len == 0) {
         cgs_health_set_error (app->svc.health, "a UAV task too long for one PDU");
+        s->task_sent = u->task_number; // said once, not on every uav message
         return;
     }
     s_send_one (app, buf, len);

@@ -186,7 +186,7 @@ grep '"type":16,.*"from":"1:1:0","to":"1:1:1"' "$JSONL" | grep -o 'mscgs task [0
     awk '{ print $3 }' >"$TMP/tasks.txt"
 diag "task numbers in Action Requests: $(tr '\n' ' ' <"$TMP/tasks.txt"), the UAV's now $tn"
 check "every task from the first to the UAV's latest ($tn) went out as an Action Request, once" \
-    awk -v last="$tn" 'NR == 1 { first = $1 } { if ($1 != first + NR - 1) exit 1; n = $1 } END { exit !(NR >= 1 && n == last) }' "$TMP/tasks.txt"
+    awk -v last="$tn" 'NR == 1 { first = $1 } { if ($1 != first + NR - 1) { bad = 1; exit } n = $1 } END { if (bad) exit 1; exit !(NR >= 1 && n == last) }' "$TMP/tasks.txt"
 
 # ---- every protocol version ---------------------------------------------------------------
 for v in 3 4 5 6; do
