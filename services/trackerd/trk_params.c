@@ -7,6 +7,7 @@
 #include <math.h>
 #include <stddef.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <strings.h>
 
 #define S_DT_NOMINAL_S 10 // a revolution at 36 deg/s: the nominal scan until the radar's says
@@ -180,8 +181,13 @@ static int s_read (cgs_config_t *cfg, void *arg, char *err, size_t errlen)
         p.filter.dt_s = S_DT_NOMINAL_S; // until the radar's scans say
     } else if (rc == 0 && period) {
         p.filter.dt_auto = false;
-        rc = cgs_config_get_double (cfg, "filter", "scan_period_s", p.filter.dt_s, 0.01, 3600,
-                                    &p.filter.dt_s, err, errlen);
+        char *end = NULL;
+        double v = strtod (period, &end);
+        if (end == period || *end || !(v >= 0.01 && v <= 3600))
+            rc = cgs_config_error (cfg, "filter", "scan_period_s", 0, err, errlen,
+                                   "expected auto or a number in [0.01, 3600], got '%s'", period);
+        else
+            p.filter.dt_s = v;
     }
     int mode = p.filter.mode, noise = p.measurement_noise;
     if (rc == 0)
