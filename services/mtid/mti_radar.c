@@ -17,6 +17,10 @@
 #define S_TGT_UP_M            2.0 // the target's reflecting centre above the ground, for line of sight
 #define S_CALIBRATION_SAMPLES 4000 // draws estimating the any-bin crossing probability
 
+#define S_PD_MIN_DB  -30.0 // the truth's Pd table: SINR from here...
+#define S_PD_STEP_DB 0.05  // ... in these steps (Pd moves at most about 0.005 a step)
+#define S_PD_BINS    1801  // ... to +60 dB
+
 struct mti_radar {
     mti_params_t p;
     const cgs_terrain_t *terrain; // borrowed; NULL: flat ground at 0
@@ -33,6 +37,10 @@ struct mti_radar {
     size_t hit_count, hit_cap;
     mti_truth_t *truth;
     size_t truth_count, truth_cap;
+    // The dwell Pd of a constant and of a Swerling I target (quadratures,
+    // milliseconds each), by SINR in S_PD_STEP_DB bins, filled as met (NaN:
+    // not yet).
+    double pd_table[2][S_PD_BINS];
 };
 
 void mti_radar_destroy (mti_radar_t **self_p)
@@ -64,6 +72,9 @@ mti_radar_t *mti_radar_new (const mti_params_t *p, const cgs_terrain_t *terrain,
     self->p = *p;
     self->terrain = terrain;
     self->next_hit_id = 1;
+    for (int k = 0; k < 2; k++)
+        for (int i = 0; i < S_PD_BINS; i++)
+            self->pd_table[k][i] = NAN;
     self->dsp = mti_dsp_new (p, seed);
     self->cnr = calloc ((size_t)p->ref_cells + 1, sizeof (double));
     if (!self->dsp || !self->cnr)
@@ -255,20 +266,28 @@ static void s_measure (mti_radar_t *self, cgs_enu_t p, double r, double az, doub
 }
 
 /* The dwell's detection probability (m of its n coherent intervals) in a
- * bin of expected SINR, by the target's fluctuation model (mti_theory). */
-static double s_pd_dwell (const mti_radar_t *self, mti_swerling_t model, double sinr)
+ * bin of expected SINR, by the target's fluctuation model (mti_theory).
+ * The closed form is cheap for a target drawn anew each interval; the
+ * constant and the Swerling I target need quadratures, so theirs are taken
+ * at the SINR rounded to S_PD_STEP_DB and kept. */
+static double s_pd_dwell (mti_radar_t *self, mti_swerling_t model, double sinr)
 {
     double t = mti_dsp_threshold (self->dsp);
     int nr = self->p.ref_cells, m = self->p.m, n = self->p.n;
-    switch (model) {
-    case MTI_SWERLING_0:
-        return mti_theory_m_of_n (mti_theory_pd_constant_cacfar (sinr, t, nr), m, n);
-    case MTI_SWERLING_1:
-        return m == n && m == 1 ? mti_theory_pd_swerling_cacfar (sinr, t, nr)
-                                : mti_theory_pd_swerling1_m_of_n (sinr, t, nr, m, n);
-    default: // a new draw each interval (or each pulse, sinr then without coherent gain)
+    if (model != MTI_SWERLING_0 && (model != MTI_SWERLING_1 || (m == 1 && n == 1)))
+        // a new draw each interval (or each pulse, sinr then without coherent gain)
         return mti_theory_m_of_n (mti_theory_pd_swerling_cacfar (sinr, t, nr), m, n);
+    double db = sinr > 0 ? 10 * log10 (sinr) : S_PD_MIN_DB;
+    long i = lround ((db - S_PD_MIN_DB) / S_PD_STEP_DB);
+    i = i < 0 ? 0 : i >= S_PD_BINS ? S_PD_BINS - 1 : i;
+    double *pd = &self->pd_table[model == MTI_SWERLING_1][i];
+    if (isnan (*pd)) {
+        double s = pow (10, (S_PD_MIN_DB + (double)i * S_PD_STEP_DB) / 10);
+        *pd = model == MTI_SWERLING_1
+                  ? mti_theory_pd_swerling1_m_of_n (s, t, nr, m, n)
+                  : mti_theory_m_of_n (mti_theory_pd_constant_cacfar (s, t, nr), m, n);
     }
+    return *pd;
 }
 
 static int s_target (mti_radar_t *self, const mti_dwell_t *d, const mti_platform_t *plat,
