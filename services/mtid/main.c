@@ -74,15 +74,12 @@ static int s_monte_carlo (int argc, char **argv)
         case 'M':
             break;
         case 's':
-            if (strcmp (optarg, "2-pulse") == 0)
-                c.swerling = MTI_SWERLING_2_PULSE;
-            else if (strcmp (optarg, "0") && strcmp (optarg, "1") && strcmp (optarg, "2")) {
+            if (mti_swerling_parse (optarg, &c.swerling) < 0) {
                 fprintf (stderr,
                          "mtid: --swerling: expected 0 (constant), 1, 2 or 2-pulse, got '%s'\n",
                          optarg);
                 return 2;
-            } else
-                c.swerling = (mti_swerling_t)atoi (optarg);
+            }
             break;
         case 'r':
             if (s_parse_double ("snr-db", optarg, &c.snr_db) < 0)
@@ -157,13 +154,9 @@ static int s_monte_carlo (int argc, char **argv)
             "\"pd_measured\":%.5f,\"pd_interval_99\":%s,\"pd_theory\":%.5f,"
             "\"false_alarm_cells\":%lu,\"false_alarms\":%lu,\"pfa_measured\":%.6g,"
             "\"false_alarms_interval_99\":%s,\"seed\":%llu}\n",
-            c.swerling == MTI_SWERLING_2_PULSE ? "2-pulse"
-            : c.swerling == MTI_SWERLING_2     ? "2"
-            : c.swerling == MTI_SWERLING_1     ? "1"
-                                               : "0",
-            c.snr_db, r.cell_snr_db, c.trials, c.ref_cells, c.fft_size, c.pfa, r.threshold, r.pd,
-            pd_int, r.pd_theory, r.fa_cells, r.false_alarms, r.pfa_measured, fa_int,
-            (unsigned long long)c.seed);
+            mti_swerling_name (c.swerling), c.snr_db, r.cell_snr_db, c.trials, c.ref_cells,
+            c.fft_size, c.pfa, r.threshold, r.pd, pd_int, r.pd_theory, r.fa_cells, r.false_alarms,
+            r.pfa_measured, fa_int, (unsigned long long)c.seed);
     return 0;
 }
 

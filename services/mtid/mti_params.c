@@ -20,6 +20,7 @@
 #include <stdarg.h>
 #include <stdio.h>
 #include <string.h>
+#include <strings.h>
 
 #define S_C            299792458.0 // speed of light, m/s
 #define S_RES_SLACK    1e-3        // range resolution may exceed c tau / 2 by this fraction
@@ -110,6 +111,24 @@ static const int s_canceller_values[] = {MTI_CANCELLER_NONE, MTI_CANCELLER_TWO,
 static const char *const s_swerling_names[] = {"0", "1", "2", "constant", "2-pulse", NULL};
 static const int s_swerling_values[] = {MTI_SWERLING_0, MTI_SWERLING_1, MTI_SWERLING_2,
                                         MTI_SWERLING_0, MTI_SWERLING_2_PULSE};
+
+int mti_swerling_parse (const char *text, mti_swerling_t *ret)
+{
+    for (int i = 0; text && s_swerling_names[i]; i++)
+        if (strcasecmp (text, s_swerling_names[i]) == 0) {
+            *ret = (mti_swerling_t)s_swerling_values[i];
+            return 0;
+        }
+    return -EINVAL;
+}
+
+const char *mti_swerling_name (mti_swerling_t model)
+{
+    for (int i = 0; s_swerling_names[i]; i++)
+        if (s_swerling_values[i] == (int)model)
+            return s_swerling_names[i]; // the first name of each: the number's
+    return "?";
+}
 
 // --- errors -------------------------------------------------------------------
 

@@ -132,5 +132,10 @@ double mti_params_dwell_s (const mti_params_t *p);
 /* The class named name, else `default`, else the first class; never NULL
  * when class_count > 0. *ret_known (may be NULL) says whether name matched. */
 const mti_class_t *mti_params_class (const mti_params_t *p, const char *name, bool *ret_known);
+/* A fluctuation model by the name a parameter file gives it ("0" or
+ * "constant", "1", "2", "2-pulse"; case-insensitive): 0, or -EINVAL. */
+int mti_swerling_parse (const char *text, mti_swerling_t *ret);
+/* Its name: "0", "1", "2" or "2-pulse" ("?" for no model). */
+const char *mti_swerling_name (mti_swerling_t model);
 
 #endif

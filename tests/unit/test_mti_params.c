@@ -316,7 +316,19 @@ static void test_values (void **state)
         snprintf (text, sizeof text, "[target car]\nswerling = %s\n", sw[i].text);
         s_load (text, &p);
         assert_int_equal (p.classes[4].swerling, sw[i].want);
+        // The same names outside a file (mtid --monte-carlo --swerling).
+        mti_swerling_t m = (mti_swerling_t)-1;
+        assert_int_equal (mti_swerling_parse (sw[i].text, &m), 0);
+        assert_int_equal (m, sw[i].want);
     }
+    mti_swerling_t m = MTI_SWERLING_1;
+    assert_int_equal (mti_swerling_parse ("3", &m), -EINVAL);
+    assert_int_equal (mti_swerling_parse (NULL, &m), -EINVAL);
+    assert_int_equal (m, MTI_SWERLING_1);
+    assert_string_equal (mti_swerling_name (MTI_SWERLING_0), "0");
+    assert_string_equal (mti_swerling_name (MTI_SWERLING_2), "2");
+    assert_string_equal (mti_swerling_name (MTI_SWERLING_2_PULSE), "2-pulse");
+    assert_string_equal (mti_swerling_name ((mti_swerling_t)9), "?");
 
     // Comments, blank lines and an empty file: the defaults.
     mti_params_t def;
@@ -474,9 +486,10 @@ static void test_value_errors (void **state)
              "r.ini:2: [scan] mode: expected one of 'full', 'sector', got 'spotlight'");
     s_fails ("[scan]\nsector_reference = track\n",
              "r.ini:2: [scan] sector_reference: expected one of 'north', 'heading', got 'track'");
-    s_fails ("[target car]\nswerling = 3\n",
-             "r.ini:2: [target car] swerling: expected one of '0', '1', '2', 'constant', '2-pulse', got "
-             "'3'");
+    s_fails (
+        "[target car]\nswerling = 3\n",
+        "r.ini:2: [target car] swerling: expected one of '0', '1', '2', 'constant', '2-pulse', got "
+        "'3'");
     // A key given twice.
     s_fails ("[radar]\nprf_hz = 5000\nprf_hz = 4000\n",
              "r.ini:3: [radar] prf_hz: given twice (first at line 2)");
