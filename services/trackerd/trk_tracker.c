@@ -123,6 +123,15 @@ struct trk_tracker {
     double clutter_ln;            // ln of its false alarm density per m² (IMM costs)
 };
 
+/* The paper's gains of both axes at interval dt_s into g; 0, or -EINVAL. */
+static int s_paper_gains (const trk_filter_params_t *f, double dt_s, trk_gains_t g[2])
+{
+    for (int a = 0; a < 2; a++)
+        if (trk_gains_paper (f->sigma_meas_m[a], f->sigma_mod_mps2[a], dt_s, &g[a]) < 0)
+            return -EINVAL;
+    return 0;
+}
+
 trk_tracker_t *trk_tracker_new (const trk_params_t *p)
 {
     char why[256];
@@ -135,10 +144,8 @@ trk_tracker_t *trk_tracker_new (const trk_params_t *p)
     self->p.imm.sigma_mps2[0] = fmax (p->filter.sigma_mod_mps2[0], p->filter.sigma_mod_mps2[1]);
     self->p.detection.span_mps = p->radial_span_mps;
     self->p.imm.max_speed_mps = 0; // the filter's models unbounded (see s_same_target)
-    for (int a = 0; a < 2; a++)
-        if (trk_gains_paper (p->filter.sigma_meas_m[a], p->filter.sigma_mod_mps2[a], p->filter.dt_s,
-                             &self->gains[a]) < 0)
-            goto fail;
+    if (s_paper_gains (&p->filter, p->filter.dt_s, self->gains) < 0)
+        goto fail;
     self->gate = trk_params_gate (p);
     self->gate3 = trk_params_gate3 (p);
     self->tau = cos (p->turn_threshold_deg * S_PI / 180);
@@ -199,11 +206,9 @@ static const trk_gains_t *s_gains (trk_tracker_t *self, double dt_s)
     long key = lround (fmin (fmax (dt_s, 0.1), 3600.0) * 10);
     size_t slot = (size_t)key % S_GAIN_CACHE;
     if (self->gain_cache[slot].key != key) {
-        const trk_filter_params_t *f = &self->p.filter;
         trk_gains_t g[2];
-        for (int a = 0; a < 2; a++)
-            if (trk_gains_paper (f->sigma_meas_m[a], f->sigma_mod_mps2[a], key / 10.0, &g[a]) < 0)
-                return self->gains; // not for parameters trk_params_check accepts
+        if (s_paper_gains (&self->p.filter, key / 10.0, g) < 0)
+            return self->gains; // not for parameters trk_params_check accepts
         memcpy (self->gain_cache[slot].g, g, sizeof g);
         self->gain_cache[slot].key = key;
     }
@@ -221,8 +226,7 @@ bool trk_tracker_radar_revisit (trk_tracker_t *self, double revisit_s)
     if (f->dt_auto) { // the nominal interval is the radar's from now on
         f->dt_s = revisit_s;
         trk_gains_t g[2];
-        if (trk_gains_paper (f->sigma_meas_m[0], f->sigma_mod_mps2[0], f->dt_s, &g[0]) == 0 &&
-            trk_gains_paper (f->sigma_meas_m[1], f->sigma_mod_mps2[1], f->dt_s, &g[1]) == 0)
+        if (s_paper_gains (f, f->dt_s, g) == 0)
             memcpy (self->gains, g, sizeof g);
     }
     return agrees;
