@@ -161,6 +161,16 @@ int im_post_text (uint8_t *rgba, int w, int h, int x, int y, int scale, const ch
     return x - x0;
 }
 
+/* A third of every pixel's colour in [x0, x1) × [y0, y1), clipped to the image. */
+static void s_darken (uint8_t *rgba, int w, int h, int x0, int y0, int x1, int y1)
+{
+    for (int y = y0 < 0 ? 0 : y0; y < y1 && y < h; y++)
+        for (int x = x0 < 0 ? 0 : x0; x < x1 && x < w; x++) {
+            uint8_t *p = rgba + 4 * ((size_t)y * (size_t)w + (size_t)x);
+            p[0] = (uint8_t)(p[0] / 3), p[1] = (uint8_t)(p[1] / 3), p[2] = (uint8_t)(p[2] / 3);
+        }
+}
+
 void im_post_status_block (uint8_t *rgba, int w, int h, int x, int y, int lead,
                            const char *const *lines, size_t n)
 {
@@ -168,13 +178,7 @@ void im_post_status_block (uint8_t *rgba, int w, int h, int x, int y, int lead,
     for (size_t i = 0; i < n; i++)
         width = width > (int)strlen (lines[i]) ? width : (int)strlen (lines[i]);
     int bw = width * 6 * scale + 4 * scale, bh = (int)n * line_h + 2 * scale, top = y - bh;
-    for (int yy = top; yy < y; yy++)
-        for (int xx = x; xx < x + bw; xx++) {
-            if (xx < 0 || yy < 0 || xx >= w || yy >= h)
-                continue;
-            uint8_t *p = rgba + 4 * ((size_t)yy * (size_t)w + (size_t)xx);
-            p[0] = (uint8_t)(p[0] / 3), p[1] = (uint8_t)(p[1] / 3), p[2] = (uint8_t)(p[2] / 3);
-        }
+    s_darken (rgba, w, h, x, top, x + bw, y);
     static const uint8_t yellow[3] = {255, 230, 64};
     for (int k = 0; k <= lead; k++) { // the leader, one pixel wide
         int xx = x - k, yy = y + k;
@@ -190,11 +194,7 @@ void im_post_overlay (uint8_t *rgba, int w, int h, const char *const *lines, siz
 {
     int scale = w >= 960 ? 2 : 1, line_h = 9 * scale;
     int band = (int)n * line_h + 4 * scale;
-    for (int y = 0; y < band && y < h; y++)
-        for (int x = 0; x < w; x++) {
-            uint8_t *p = rgba + 4 * ((size_t)y * (size_t)w + (size_t)x);
-            p[0] = (uint8_t)(p[0] / 3), p[1] = (uint8_t)(p[1] / 3), p[2] = (uint8_t)(p[2] / 3);
-        }
+    s_darken (rgba, w, h, 0, 0, w, band);
     static const uint8_t white[3] = {255, 255, 255};
     for (size_t i = 0; i < n; i++)
         im_post_text (rgba, w, h, 3 * scale, 3 * scale + (int)i * line_h, scale, lines[i], white);
