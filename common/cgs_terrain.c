@@ -359,6 +359,26 @@ bool cgs_terrain_los_clearance (const cgs_terrain_t *self, cgs_enu_t a, cgs_enu_
     return c > 0; // false for NaN (non-finite input)
 }
 
+bool cgs_terrain_at_slant_range (const cgs_terrain_t *self, cgs_enu_t p, double az_deg, double r_m,
+                                 cgs_enu_t *ret)
+{
+    double se = sin (az_deg * M_PI / 180), ce = cos (az_deg * M_PI / 180);
+    double h = p.u_m - (self ? cgs_terrain_height_clamped (self, p.e_m, p.n_m) : 0);
+    bool reaches = r_m > h;
+    double g = sqrt (fmax (r_m * r_m - h * h, 0));
+    cgs_enu_t q = p;
+    for (int it = 0; it < 4; it++) {
+        q.e_m = p.e_m + g * se;
+        q.n_m = p.n_m + g * ce;
+        q.u_m = self ? cgs_terrain_height_clamped (self, q.e_m, q.n_m) : 0;
+        h = p.u_m - q.u_m;
+        reaches = r_m > h;
+        g = sqrt (fmax (r_m * r_m - h * h, 0));
+    }
+    *ret = q;
+    return reaches;
+}
+
 bool cgs_terrain_los (const cgs_terrain_t *self, cgs_enu_t a, cgs_enu_t b)
 {
     assert (self);

@@ -74,6 +74,14 @@ bool cgs_terrain_los_clearance (const cgs_terrain_t *self, cgs_enu_t a, cgs_enu_
  * once. Marches in steps of half a cell, then bisects. */
 bool cgs_terrain_ray (const cgs_terrain_t *self, cgs_enu_t p, cgs_enu_t d, double max_range_m,
                       cgs_enu_t *ret);
+/* The ground point (self NULL: flat ground at height 0) at slant range r_m
+ * from p toward azimuth az_deg (clockwise from north): where a radar puts a
+ * range and an azimuth. The ground range g = sqrt(r² − h²), h the height of p
+ * above the point, found by four fixed-point steps over the terrain. True
+ * when the range reaches the ground (r above h); false with the point below
+ * p (g = 0) otherwise. */
+bool cgs_terrain_at_slant_range (const cgs_terrain_t *self, cgs_enu_t p, double az_deg, double r_m,
+                                 cgs_enu_t *ret);
 
 /* Vegetation (woods) grown procedurally over the terrain's grid. */
 typedef struct {

@@ -317,6 +317,10 @@ int mti_dsp_dwell (mti_dsp_t *self, const mti_dsp_input_t *in, mti_dsp_result_t 
         // coherent intervals gives each its own draw.
         if (have_tgt && c > 0 && in->swerling == MTI_SWERLING_2)
             tgt = mti_dsp_draw_target (self, in->swerling, in->snr, in->doppler_hz);
+        if (have_tgt && !tgt.pulse_to_pulse)
+            res.fluctuation[c] = tgt.amplitude * tgt.amplitude / in->snr;
+        else
+            res.fluctuation[c] = 1.0;
         mti_dsp_cpi (self, in->cnr, have_tgt ? &tgt : NULL, self->x_bins, self->z_bins);
         bool crossed = false;
         for (int k = 0; k < n; k++) {

@@ -61,6 +61,8 @@ typedef struct {
     int bin;           // Doppler bin of the strongest crossing, -1 when none
     double ratio;      // X / (sum Z / N) of that crossing: the estimated signal-to-interference
     double doppler_hz; // centre of that bin, in [-prf/2, prf/2)
+    double fluctuation[MTI_N_MAX]; // each interval's target power over its mean (1 for a
+                                   // constant or pulse-to-pulse target)
 } mti_dsp_result_t;
 
 /* Chain for these parameters, generator seeded with seed; NULL on bad

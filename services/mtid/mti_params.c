@@ -92,7 +92,7 @@ static const s_int_t s_ints[] = {
     {"processing", "cfar_reference_cells", S_P (ref_cells), 2, MTI_REF_CELLS_MAX, S_EVEN},
     {"processing", "cfar_guard_cells", S_P (guard_cells), 0, 16, S_ANY},
     {"processing", "m", S_P (m), 1, 64, S_ANY},
-    {"processing", "n", S_P (n), 1, 64, S_ANY},
+    {"processing", "n", S_P (n), 1, MTI_N_MAX, S_ANY},
 };
 
 #define S_COUNT(a) (sizeof (a) / sizeof (a)[0])
@@ -108,6 +108,8 @@ static const int s_window_values[] = {MTI_WINDOW_RECT, MTI_WINDOW_HANN, MTI_WIND
 static const char *const s_canceller_names[] = {"none", "two-pulse", "three-pulse", NULL};
 static const int s_canceller_values[] = {MTI_CANCELLER_NONE, MTI_CANCELLER_TWO,
                                          MTI_CANCELLER_THREE};
+static const char *const s_azimuth_names[] = {"beam-split", "monopulse", NULL};
+static const int s_azimuth_values[] = {MTI_AZIMUTH_BEAM_SPLIT, MTI_AZIMUTH_MONOPULSE};
 static const char *const s_swerling_names[] = {"0", "1", "2", "constant", "2-pulse", NULL};
 static const int s_swerling_values[] = {MTI_SWERLING_0, MTI_SWERLING_1, MTI_SWERLING_2,
                                         MTI_SWERLING_0, MTI_SWERLING_2_PULSE};
@@ -355,7 +357,8 @@ static int s_read (s_ctx_t *c, mti_params_t *p)
         rc = s_get_real (c, s_reals[i].section, &s_reals[i], p);
     for (size_t i = 0; i < S_COUNT (s_ints) && rc == 0; i++)
         rc = s_get_int (c, &s_ints[i], p);
-    int scan = p->scan_mode, ref = p->sector_ref, window = p->window, canceller = p->canceller;
+    int scan = p->scan_mode, ref = p->sector_ref, window = p->window, canceller = p->canceller,
+        azimuth = p->azimuth;
     if (rc == 0)
         rc = s_get_enum (c, "scan", "mode", s_scan_names, s_scan_values, &scan);
     if (rc == 0)
@@ -365,8 +368,11 @@ static int s_read (s_ctx_t *c, mti_params_t *p)
     if (rc == 0)
         rc = s_get_enum (c, "processing", "canceller", s_canceller_names, s_canceller_values,
                          &canceller);
+    if (rc == 0)
+        rc = s_get_enum (c, "processing", "azimuth", s_azimuth_names, s_azimuth_values, &azimuth);
     if (rc < 0)
         return rc;
+    p->azimuth = (mti_azimuth_t)azimuth;
     p->scan_mode = (mti_scan_mode_t)scan;
     p->sector_ref = (mti_sector_ref_t)ref;
     p->window = (mti_window_t)window;
@@ -445,6 +451,7 @@ static int s_check_values (const s_ctx_t *c, const mti_params_t *p)
         {"scan", "sector_reference", s_ref_names, s_ref_values, (int)p->sector_ref},
         {"processing", "window", s_window_names, s_window_values, (int)p->window},
         {"processing", "canceller", s_canceller_names, s_canceller_values, (int)p->canceller},
+        {"processing", "azimuth", s_azimuth_names, s_azimuth_values, (int)p->azimuth},
     };
     for (size_t i = 0; i < S_COUNT (enums); i++)
         if (strcmp (s_enum_name (enums[i].names, enums[i].values, enums[i].value), "?") == 0)

@@ -11,13 +11,16 @@
  *   [radar]        frequency, PRF, pulse, resolution, beam, sweep, power,
  *                  gain, noise figure, losses, range limits
  *   [scan]         mode = full|sector, sector centre, width and reference
- *   [processing]   fft_size, window, canceller, CFAR cells, pfa, m, n
+ *   [processing]   fft_size, window, canceller, CFAR cells, pfa, m, n,
+ *                  azimuth = beam-split|monopulse
  *   [clutter]      constant-gamma reflectivity, internal motion
  *   [target NAME]  one per radar cross-section class: rcs_m2, swerling
  * A class named `default` is used for entities whose class the file does not
- * name; without one, the built-in `vehicle` class (10 m², Swerling I) is. */
+ * name; without one, the built-in `vehicle` class (10 m², Swerling II) is. */
 #ifndef MTI_PARAMS_H
 #define MTI_PARAMS_H
+
+#include "mti_azimuth.h"
 
 #include <stdbool.h>
 #include <stddef.h>
@@ -26,6 +29,7 @@
 #define MTI_CLASS_MAX      32 // classes in one file
 #define MTI_FFT_MAX        1024
 #define MTI_REF_CELLS_MAX  128
+#define MTI_N_MAX          64 // coherent intervals in one dwell
 
 /* Target fluctuation model. */
 typedef enum {
@@ -99,6 +103,7 @@ typedef struct {
     double pfa;                // design false-alarm probability per range-Doppler cell (1e-4)
     int m;                     // crossings needed (default 2) ...
     int n;                     // ... of this many coherent intervals per dwell (default 4)
+    mti_azimuth_t azimuth;     // how a hit's azimuth is measured (default beam-split)
     /* [clutter] */
     double clutter_gamma_db;     // constant-gamma reflectivity: sigma0 = gamma sin(grazing) (-15)
     double clutter_internal_mps; // std of internal clutter motion, m/s (default 0.1)

@@ -172,29 +172,6 @@ static bool s_los (const mti_radar_t *self, cgs_enu_t a, cgs_enu_t b)
     return self->terrain ? cgs_terrain_los (self->terrain, a, b) : true;
 }
 
-/* The ground point at slant range r along azimuth az from the antenna at p,
- * in *ret_q; false when the range does not reach the ground there (r below
- * the height), and *ret_q is then the point under the antenna. */
-static bool s_ground_at (const mti_radar_t *self, cgs_enu_t p, double az_deg, double r,
-                         cgs_enu_t *ret_q)
-{
-    double se = sin (az_deg * S_DEG), ce = cos (az_deg * S_DEG);
-    double h = p.u_m - s_height (self, p.e_m, p.n_m);
-    bool reaches = r > h;
-    double g = sqrt (fmax (r * r - h * h, 0));
-    cgs_enu_t q = p;
-    for (int it = 0; it < 4; it++) {
-        q.e_m = p.e_m + g * se;
-        q.n_m = p.n_m + g * ce;
-        q.u_m = s_height (self, q.e_m, q.n_m);
-        h = p.u_m - q.u_m;
-        reaches = r > h;
-        g = sqrt (fmax (r * r - h * h, 0));
-    }
-    *ret_q = q;
-    return reaches;
-}
-
 /* Grazing angle (degrees) at ground point q seen from p: between the line of
  * sight and the surface; <= 0 when the surface faces away. */
 static double s_grazing_deg (const mti_radar_t *self, cgs_enu_t p, cgs_enu_t q)
@@ -252,17 +229,43 @@ static int s_add_hit (mti_radar_t *self, mti_hit_t *h)
     return 0;
 }
 
-/* Measured hit from a true range (gate centre) and azimuth with noise. */
-static void s_measure (mti_radar_t *self, cgs_enu_t p, double r, double az, double sinr,
-                       mti_hit_t *h)
+/* Measured hit from a true range (gate centre) and azimuth with noise: the
+ * azimuth by the parameters' method (mti_azimuth.h), sinr the interval's
+ * SINR in the detection's bin for a target at the beam's centre,
+ * fluctuation each interval's target power over its mean. */
+static void s_measure (mti_radar_t *self, const mti_dwell_t *d, cgs_enu_t p, double r, double az,
+                       double sinr, const double *fluctuation, mti_hit_t *h)
 {
     double dr = self->p.range_resolution_m, th = self->p.azimuth_beamwidth_deg;
     h->range_m = (floor (r / dr) + 0.5) * dr;
     h->range_sigma_m = dr / sqrt (12.0);
-    double s = th / (1.6 * sqrt (2.0 * fmax (sinr, 1e-6)));
-    h->azimuth_sigma_deg = fmin (s, th / sqrt (12.0));
-    h->azimuth_deg = cgs_wrap360 (az + h->azimuth_sigma_deg * mti_dsp_gaussian (self->dsp));
-    (void)s_ground_at (self, p, h->azimuth_deg, h->range_m, &h->position);
+    int n = self->p.n;
+    if (self->p.azimuth == MTI_AZIMUTH_MONOPULSE || n < 2) {
+        // One interval cannot split the beam: the beam's width is what is known.
+        h->azimuth_sigma_deg = n < 2 ? th / sqrt (12.0) : mti_azimuth_monopulse_sigma (th, sinr);
+        h->azimuth_deg = cgs_wrap360 (az + h->azimuth_sigma_deg * mti_dsp_gaussian (self->dsp));
+    } else {
+        // The beam sweeps from az_from to az_to; looks are measured clockwise.
+        double dir = remainder (d->az_to_deg - d->az_from_deg, 360.0) >= 0 ? 1.0 : -1.0;
+        double u = remainder (az - d->az_center_deg, 360.0), b = 8.0 * M_LN2 / (th * th);
+        double x[MTI_N_MAX], y[MTI_N_MAX];
+        for (int c = 0; c < n; c++) {
+            x[c] = dir * mti_azimuth_look_deg (d->width_deg, n, c);
+            double a = sqrt (fmax (sinr, 0) * fluctuation[c] * exp (-b * (u - x[c]) * (u - x[c])));
+            double re = a + M_SQRT1_2 * mti_dsp_gaussian (self->dsp),
+                   im = M_SQRT1_2 * mti_dsp_gaussian (self->dsp);
+            y[c] = fmax (re * re + im * im, 1e-300);
+        }
+        double est, sigma;
+        if (mti_azimuth_beam_split (y, x, n, th, d->width_deg, MTI_AZIMUTH_LN_EXP_VAR, &est,
+                                    &sigma) < 0) {
+            est = 0; // cannot happen with n >= 2 looks apart; the dwell's centre if it did
+            sigma = th / sqrt (12.0);
+        }
+        h->azimuth_deg = cgs_wrap360 (d->az_center_deg + est);
+        h->azimuth_sigma_deg = sigma;
+    }
+    (void)cgs_terrain_at_slant_range (self->terrain, p, h->azimuth_deg, h->range_m, &h->position);
 }
 
 /* The dwell's detection probability (m of its n coherent intervals) in a
@@ -326,7 +329,8 @@ static int s_target (mti_radar_t *self, const mti_dwell_t *d, const mti_platform
             double rc = r + side * (p->guard_cells + i) * p->range_resolution_m;
             double cnr = 0;
             cgs_enu_t c;
-            if (rc > 0 && s_ground_at (self, a, az, rc, &c)) { // no clutter short of the ground
+            if (rc > 0 && cgs_terrain_at_slant_range (self->terrain, a, az, rc,
+                                                      &c)) { // no clutter short of the ground
                 cgs_enu_t c_up = {c.e_m, c.n_m, c.u_m + 0.5};
                 double off_c = atan2 (a.u_m - c.u_m, hypot (c.e_m - a.e_m, c.n_m - a.n_m)) / S_DEG -
                                p->beam_depression_deg;
@@ -354,7 +358,7 @@ static int s_target (mti_radar_t *self, const mti_dwell_t *d, const mti_platform
     if (!res.detected)
         return 0;
     mti_hit_t h = {.entity_id = tg->id};
-    s_measure (self, a, r, az, sinr, &h);
+    s_measure (self, d, a, r, az, sinr, res.fluctuation, &h);
     h.radial_velocity_mps = -res.doppler_hz * self->lambda_m / 2.0;
     h.snr_db = 10.0 * log10 (res.ratio);
     if (s_add_hit (self, &h) < 0)
@@ -377,6 +381,9 @@ static int s_false_alarms (mti_radar_t *self, const mti_dwell_t *d, const mti_pl
     unsigned int count = gates ? mti_dsp_binomial (self->dsp, self->gate_pfa, gates) : 0;
     double t = mti_dsp_threshold (self->dsp);
     double lo = cgs_dwell_lo_deg (d);
+    double steady[MTI_N_MAX]; // a false alarm's echo, as beam splitting sees it
+    for (int c = 0; c < MTI_N_MAX; c++)
+        steady[c] = 1.0;
     for (unsigned int i = 0; i < count; i++) {
         uint32_t gate = g0 + (uint32_t)(mti_dsp_uniform (self->dsp) * gates);
         double r = p->min_range_m + (gate + 0.5) * p->range_resolution_m;
@@ -388,7 +395,7 @@ static int s_false_alarms (mti_radar_t *self, const mti_dwell_t *d, const mti_pl
         double x = t * z - log (1.0 - mti_dsp_uniform (self->dsp));
         double ratio = x / (z / p->ref_cells);
         mti_hit_t h = {.entity_id = 0};
-        s_measure (self, plat->position, r, az, ratio, &h);
+        s_measure (self, d, plat->position, r, az, ratio, steady, &h);
         h.radial_velocity_mps = -mti_dsp_bin_hz (self->dsp, bin) * self->lambda_m / 2.0;
         h.snr_db = 10.0 * log10 (ratio);
         if (s_add_hit (self, &h) < 0)
@@ -433,7 +440,8 @@ static void s_merge_unresolved (mti_radar_t *self, cgs_enu_t antenna)
             double d = remainder (b->azimuth_deg - a->azimuth_deg, 360.0);
             a->azimuth_deg = cgs_wrap360 (a->azimuth_deg + d * wb / (wa + wb));
             a->snr_db = 10 * log10 (wa + wb); // the echo's power: what a third weighs against
-            (void)s_ground_at (self, antenna, a->azimuth_deg, a->range_m, &a->position);
+            (void)cgs_terrain_at_slant_range (self->terrain, antenna, a->azimuth_deg, a->range_m,
+                                              &a->position);
             for (size_t k = 0; k < self->truth_count; k++) {
                 mti_truth_t *tr = &self->truth[k];
                 if ((tr->detected && tr->entity_id == b->entity_id) ||
