@@ -133,7 +133,8 @@ static void s_publish_marker (bcis_adapter_t *self, const cgs_dwell_t *d)
 }
 
 /* The dwell's interrogation and its replies. */
-static void s_publish (bcis_adapter_t *self, const cgs_dwell_t *d, const bcis_dwell_out_t *out)
+static void s_publish (bcis_adapter_t *self, const cgs_dwell_t *d, cgs_enu_t uav,
+                       const bcis_dwell_out_t *out)
 {
     if (s_reserve (self, out->reply_count) < 0) {
         cgs_port_error (&self->port, "out of memory for a dwell's replies");
@@ -156,6 +157,10 @@ static void s_publish (bcis_adapter_t *self, const cgs_dwell_t *d, const bcis_dw
         m->range_m = r->range_m;
         m->snr_up_db = r->snr_up_db;
         m->snr_down_db = r->snr_down_db;
+        m->range_sigma_m = r->range_sigma_m;
+        m->azimuth_sigma_deg = r->azimuth_sigma_deg;
+        m->position_fix = r->position_fix;
+        m->position_sigma_m = r->position_sigma_m;
         self->reply_ptrs[i] = m;
     }
     Cgs__Bcis b = CGS__BCIS__INIT;
@@ -163,6 +168,11 @@ static void s_publish (bcis_adapter_t *self, const cgs_dwell_t *d, const bcis_dw
     b.scan_number = d->scan;
     b.scan_time_s = t;
     b.beam_azimuth_deg = d->az_center_deg;
+    Cgs__Enu at = CGS__ENU__INIT;
+    at.east_m = uav.e_m;
+    at.north_m = uav.n_m;
+    at.up_m = uav.u_m;
+    b.interrogator = &at;
     b.n_replies = out->reply_count;
     b.replies = self->reply_ptrs;
     cgs_port_publish (&self->port, "bcis", &b.base, t);
@@ -184,7 +194,7 @@ static void s_run_dwell (bcis_adapter_t *self, uint64_t k)
         self->stats.replies += out.reply_count;
         for (size_t i = 0; i < out.truth_count; i++)
             self->stats.blocked += out.truth[i].blocked;
-        s_publish (self, &d, &out);
+        s_publish (self, &d, uav, &out);
     }
     if (d.scan_end) { // the scan ends even when a dwell of it could not be modelled
         s_publish_marker (self, &d);

@@ -166,15 +166,24 @@ int bcis_interrogator_dwell (bcis_interrogator_t *self, const cgs_dwell_t *d, cg
             .responder_id = e->id,
             .range_m =
                 t->geometry.range_m + gsl_ran_gaussian_ziggurat (self->rng, p->range_sigma_m),
+            .range_sigma_m = p->range_sigma_m,
             .azimuth_deg = d->az_center_deg,
+            .azimuth_sigma_deg = d->width_deg / sqrt (12.0),
             .snr_up_db = t->budget.up_ebn0_db,
             .snr_down_db = t->budget.down_ebn0_db,
         };
         snprintf (r->marking, sizeof r->marking, "%s", e->marking ? e->marking : "");
-        double s = p->position_sigma_m;
-        r->position = (cgs_enu_t){e->position.e_m + gsl_ran_gaussian_ziggurat (self->rng, s),
-                                  e->position.n_m + gsl_ran_gaussian_ziggurat (self->rng, s),
-                                  e->position.u_m + gsl_ran_gaussian_ziggurat (self->rng, s)};
+        if (p->reports_position) {
+            double s = p->position_sigma_m;
+            r->position_fix = true;
+            r->position_sigma_m = s;
+            r->position = (cgs_enu_t){e->position.e_m + gsl_ran_gaussian_ziggurat (self->rng, s),
+                                      e->position.n_m + gsl_ran_gaussian_ziggurat (self->rng, s),
+                                      e->position.u_m + gsl_ran_gaussian_ziggurat (self->rng, s)};
+        } else {
+            (void)cgs_terrain_at_slant_range (self->terrain, uav, r->azimuth_deg, r->range_m,
+                                              &r->position);
+        }
     }
     *ret = (bcis_dwell_out_t){
         .replies = self->replies,

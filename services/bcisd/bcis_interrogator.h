@@ -17,10 +17,14 @@
  *     replies, and the interrogator decodes the reply the same way. A message
  *     whose expected bit errors are below 1e-12 is taken as whole without
  *     drawing (the draw would not change it in a trillion messages);
- *   - a reply carries the responder's identity and marking, its own position
- *     fix (true position plus Gaussian noise of position_sigma_m on each of
- *     east, north and up), the range measured from the reply's timing (sigma range_sigma_m),
- *     the beam's azimuth, and both links' Eb/N0.
+ *   - a reply carries the responder's identity and marking, the range
+ *     measured from the reply's timing (sigma range_sigma_m), the beam's
+ *     azimuth (the responder is somewhere in the dwell's sector: sigma the
+ *     dwell's width over √12), both links' Eb/N0, and where that range and
+ *     azimuth put it on the ground (cgs_terrain_at_slant_range). With
+ *     reports_position the transponder also sends its own position fix
+ *     (true position plus Gaussian noise of position_sigma_m on each of
+ *     east, north and up), and the reply gives that instead.
  * Pure: no sockets, clocks, globals or logging. */
 #ifndef BCIS_INTERROGATOR_H
 #define BCIS_INTERROGATOR_H
@@ -50,11 +54,15 @@ typedef struct {
 typedef struct {
     uint32_t responder_id;
     char marking[CGS_MARKING_MAX + 1];
-    cgs_enu_t position; // the position fix the reply carried
-    double range_m;     // measured
-    double azimuth_deg; // the beam's, clockwise from north
-    double snr_up_db;   // Eb/N0 of the interrogation at the transponder
-    double snr_down_db; // Eb/N0 of the reply at the interrogator
+    cgs_enu_t position;       // where the reply puts the responder (see position_fix)
+    bool position_fix;        // position is the transponder's fix, not range and azimuth
+    double position_sigma_m;  // of a fix, per axis
+    double range_m;           // measured
+    double range_sigma_m;     // of range_m
+    double azimuth_deg;       // the beam's, clockwise from north
+    double azimuth_sigma_deg; // of the responder's azimuth about it
+    double snr_up_db;         // Eb/N0 of the interrogation at the transponder
+    double snr_down_db;       // Eb/N0 of the reply at the interrogator
 } bcis_reply_t;
 
 /* What became of one friendly transponder in the beam (for tests, health and scoring). */

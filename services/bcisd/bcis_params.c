@@ -159,6 +159,9 @@ static int s_read (cgs_config_t *cfg, void *arg, char *err, size_t errlen)
         rc =
             cgs_config_get_bool (cfg, "propagation", "foliage", p.foliage, &p.foliage, err, errlen);
     if (rc == 0)
+        rc = cgs_config_get_bool (cfg, "transponder", "reports_position", p.reports_position,
+                                  &p.reports_position, err, errlen);
+    if (rc == 0)
         rc = cgs_config_check_unused (cfg, err, errlen);
     if (rc < 0)
         return rc;

@@ -52,7 +52,9 @@ typedef struct {
     double transponder_noise_figure_db; // (default 6)
     double transponder_losses_db;       // (default 2)
     double antenna_height_m;            // above the ground (default 2.5)
-    double position_sigma_m;            // of the position fix a reply carries (default 10)
+    bool reports_position;              // a reply carries the transponder's position fix
+                                        // (default no: range and beam azimuth only)
+    double position_sigma_m;            // of that fix, per axis (default 10)
     /* [link] */
     bcis_modulation_t modulation; // bpsk|qpsk|bfsk (default bfsk)
     double data_rate_bps;         // both ways; the noise bandwidth (default 1e6)

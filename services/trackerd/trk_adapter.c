@@ -572,7 +572,9 @@ static void s_on_mti_scan (trk_adapter_t *self, const Cgs__MtiScan *m)
     s_run_scan (self, r, &scan);
 }
 
-/* BCIS replies: each may mark a track of each radar friendly. */
+/* BCIS replies: each may mark a track of each radar friendly. A reply puts
+ * its responder where its range and the beam's azimuth meet the ground,
+ * with their uncertainty about the interrogator, or gives a position fix. */
 static void s_on_bcis (trk_adapter_t *self, const Cgs__Bcis *m)
 {
     for (size_t i = 0; i < m->n_replies; i++) {
@@ -582,7 +584,25 @@ static void s_on_bcis (trk_adapter_t *self, const Cgs__Bcis *m)
             continue;
         }
         double z[2] = {r->position->east_m, r->position->north_m};
-        size_t marked = trk_tracker_bcis (self->trk, r->sim_time_s, z, r->responder_id);
+        trk_bcis_reply_t reply;
+        if (r->position_fix) {
+            double s = r->position_sigma_m > 0 && isfinite (r->position_sigma_m)
+                           ? r->position_sigma_m
+                           : trk_tracker_params (self->trk)->bcis_sigma_m;
+            reply = (trk_bcis_reply_t){.t_s = r->sim_time_s,
+                                       .z = {z[0], z[1]},
+                                       .R = {s * s, 0, 0, s * s},
+                                       .responder_id = r->responder_id};
+        } else if (!s_enu_ok (m->interrogator) ||
+                   trk_bcis_reply_geometry (r->sim_time_s, z, r->range_m, r->range_sigma_m,
+                                            m->interrogator->up_m - r->position->up_m,
+                                            r->azimuth_deg, r->azimuth_sigma_deg, r->responder_id,
+                                            &reply) < 0) {
+            cgs_port_bad_input (&self->port,
+                                "a BCIS reply without a valid range, azimuth or interrogator");
+            continue;
+        }
+        size_t marked = trk_tracker_bcis (self->trk, &reply);
         if (marked) {
             self->stats.bcis_marks += marked;
             self->dirty = true;

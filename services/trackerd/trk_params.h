@@ -37,11 +37,13 @@ typedef struct {
     int confirm_m, confirm_n;      // confirm with M hits in the last N scans
     int delete_misses;             // consecutive misses that delete a confirmed track
     int history_scans;             // scans of hit history kept per track
-    double bcis_sigma_m;           // standard deviation of a BCIS reply's position, per axis
-    double identity_timeout_s;     // friendly for this long after the last reply
-    double turn_threshold_deg;     // τ = cos(turn_threshold_deg)
-    double turn_min_speed_mps;     // no turn detection below this estimated speed
-    int turn_settle_updates;       // updates after initiation before turns are looked for
+    double bcis_sigma_m;           // σ of a BCIS reply's position fix per axis, when it gives none
+    double identity_min_probability;   // a reply marks a track at least this likely its responder
+    double identity_untracked_per_km2; // density of responders no track follows
+    double identity_timeout_s;         // friendly for this long after the last reply
+    double turn_threshold_deg;         // τ = cos(turn_threshold_deg)
+    double turn_min_speed_mps;         // no turn detection below this estimated speed
+    int turn_settle_updates;           // updates after initiation before turns are looked for
     // The IMM tracker (mode = imm).
     trk_imm_params_t imm;         // its models (σ_cv: the larger of filter.sigma_mod_mps2)
     bool radial_update;           // the filter takes the hits' radial velocity too

@@ -1509,19 +1509,41 @@ nomem:
 
 /* ---- identity ------------------------------------------------------------------------ */
 
-/* A radar's likeliest track for a BCIS reply. */
+/* A radar's likeliest track for a BCIS reply, and the sum of its
+ * candidates' likelihoods, scaled by exp(cost / 2) of the best. */
 typedef struct {
     uint32_t uav_id;
     trk_track_t *best;
-    double cost; // d² + ln|S|
+    double cost; // d² + ln|S| of the best
+    double sum;  // Σ exp(−(cost_i − cost) / 2)
 } s_radar_best_t;
 
-size_t trk_tracker_bcis (trk_tracker_t *self, double t_s, const double z[2], uint32_t responder_id)
+int trk_bcis_reply_geometry (double t_s, const double z[2], double range_m, double range_sigma_m,
+                             double height_m, double azimuth_deg, double azimuth_sigma_deg,
+                             uint32_t responder_id, trk_bcis_reply_t *ret)
 {
+    double rho2 = range_m * range_m - height_m * height_m;
+    if (!isfinite (t_s) || !isfinite (z[0]) || !isfinite (z[1]) || !isfinite (rho2) ||
+        !(rho2 > 0) || !(range_sigma_m > 0) || !isfinite (azimuth_deg) ||
+        !(azimuth_sigma_deg > 0) || !isfinite (range_sigma_m) || !isfinite (azimuth_sigma_deg))
+        return -EINVAL;
+    double rho = sqrt (rho2);
+    *ret = (trk_bcis_reply_t){.t_s = t_s, .z = {z[0], z[1]}, .responder_id = responder_id};
+    trk_filter_polar_covariance (rho, azimuth_deg, range_sigma_m * range_m / rho, azimuth_sigma_deg,
+                                 ret->R);
+    return 0;
+}
+
+size_t trk_tracker_bcis (trk_tracker_t *self, const trk_bcis_reply_t *reply)
+{
+    double t_s = reply->t_s;
+    const double *z = reply->z, *R = reply->R;
     if (!isfinite (t_s) || !isfinite (z[0]) || !isfinite (z[1]))
         return 0;
-    double s2 = self->p.bcis_sigma_m * self->p.bcis_sigma_m;
-    double R[4] = {s2, 0, 0, s2};
+    // Nothing may reach further than 5 km: no gate of a track this fresh
+    // does, and a reply that vague names nobody.
+    if (!(R[0] > 0 && R[3] > 0 && R[0] * R[3] - R[1] * R[2] > 0) || R[0] + R[3] > 25e6)
+        return 0;
     // A track not updated for longer than this is too vague to take an identity.
     double max_age = (self->p.delete_misses + 1) * self->p.filter.dt_s;
     // The best track of each radar (a target two radars follow has a track of
@@ -1535,7 +1557,7 @@ size_t trk_tracker_bcis (trk_tracker_t *self, double t_s, const double z[2], uin
             continue;
         double e = c->est.x[0] + c->est.x[2] * dt, n = c->est.x[1] + c->est.x[3] * dt;
         double de = z[0] - e, dn = z[1] - n;
-        if (de * de + dn * dn > 25e6) // beyond 5 km: no gate of a track this fresh reaches
+        if (de * de + dn * dn > 25e6) // beyond 5 km: no gate reaches
             continue;
         trk_estimate_t pr;
         trk_filter_predict (&c->est, &self->p.filter, t_s, &pr);
@@ -1548,20 +1570,35 @@ size_t trk_tracker_bcis (trk_tracker_t *self, double t_s, const double z[2], uin
         if (k == nr) {
             if (nr == S_BCIS_RADARS)
                 continue; // more radars than the table holds: the rest go without
-            radar[nr++] = (s_radar_best_t){c->uav_id, NULL, INFINITY};
+            radar[nr++] = (s_radar_best_t){c->uav_id, NULL, INFINITY, 0};
         }
-        if (d2 + log_det < radar[k].cost) {
-            radar[k].cost = d2 + log_det;
-            radar[k].best = c;
+        s_radar_best_t *rb = &radar[k];
+        double cost = d2 + log_det;
+        if (cost < rb->cost) {
+            rb->sum = (rb->best ? rb->sum * exp (-(rb->cost - cost) / 2) : 0) + 1;
+            rb->cost = cost;
+            rb->best = c;
+        } else {
+            rb->sum += exp (-(cost - rb->cost) / 2);
         }
     }
+    size_t marked = 0;
     for (size_t k = 0; k < nr; k++) {
-        trk_track_t *b = radar[k].best;
+        s_radar_best_t *rb = &radar[k];
+        // The best's likelihood N = exp(−cost/2) / 2π (|S| in m²), against
+        // the untracked density in the same units (per m²).
+        double best = exp (-rb->cost / 2) / (2 * M_PI);
+        double untracked = self->p.identity_untracked_per_km2 * 1e-6;
+        double p = best / (best * rb->sum + untracked);
+        if (p < self->p.identity_min_probability)
+            continue;
+        trk_track_t *b = rb->best;
         b->friendly = true;
-        b->friendly_id = responder_id;
+        b->friendly_id = reply->responder_id;
         b->friendly_s = fmax (b->friendly_s, t_s);
+        marked++;
     }
-    return nr;
+    return marked;
 }
 
 size_t trk_tracker_age_identity (trk_tracker_t *self, double t_s)

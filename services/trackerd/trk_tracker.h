@@ -177,12 +177,34 @@ void trk_tracker_set_terrain (trk_tracker_t *self, const cgs_terrain_t *terrain)
 int trk_tracker_scan (trk_tracker_t *self, const trk_scan_t *scan, const trk_hit_t *hits, size_t n,
                       trk_scan_out_t *ret);
 
-/* A BCIS reply at time t_s from a transponder that says it is at z: of each
- * radar's confirmed (or coasting) tracks updated within (delete_misses + 1)
- * scan periods, the one whose gate holds the reply (the likeliest, by
- * d² + ln|S|, when several do) becomes friendly. Returns how many tracks it
- * marked (one a radar at most). */
-size_t trk_tracker_bcis (trk_tracker_t *self, double t_s, const double z[2], uint32_t responder_id);
+/* A BCIS reply: where it puts the responder on the ground and how well. */
+typedef struct {
+    double t_s;
+    double z[2]; // east, north
+    double R[4]; // its covariance, row-major
+    uint32_t responder_id;
+} trk_bcis_reply_t;
+
+/* A reply that measured slant range range_m (σ range_sigma_m) from an
+ * interrogator at height height_m above the responder, toward beam azimuth
+ * azimuth_deg (σ azimuth_sigma_deg), putting it at z on the ground: the
+ * range and azimuth converted about the ground range ρ = √(r² − h²), whose
+ * σ is range_sigma_m · r / ρ (trk_filter_polar_covariance). -EINVAL when
+ * the range does not reach the ground or a value is not finite. */
+int trk_bcis_reply_geometry (double t_s, const double z[2], double range_m, double range_sigma_m,
+                             double height_m, double azimuth_deg, double azimuth_sigma_deg,
+                             uint32_t responder_id, trk_bcis_reply_t *ret);
+
+/* A BCIS reply: of each radar's confirmed (or coasting) tracks updated
+ * within (delete_misses + 1) scan periods, those whose gate holds the reply
+ * (χ² at most the gate with S = P + R) are the candidates, each with the
+ * likelihood N(z; ẑ, S); beside them the responder may be a vehicle the
+ * radar does not track (halted, masked), of density identity_untracked_per_km2.
+ * The likeliest candidate becomes friendly when its probability, its
+ * likelihood over the sum of all and the untracked density, is at least
+ * identity_min_probability. Returns how many tracks it marked (one a radar
+ * at most). */
+size_t trk_tracker_bcis (trk_tracker_t *self, const trk_bcis_reply_t *reply);
 /* Friendly tracks whose last reply is older than the identity timeout at
  * time t_s become unknown again; returns how many. */
 size_t trk_tracker_age_identity (trk_tracker_t *self, double t_s);

@@ -1,8 +1,8 @@
 #!/bin/bash
 # bcisd.sh — the real bcisd beside the real uavsim: it publishes an
 # interrogation a dwell on `bcis` and a marker at the end of each scan;
-# friendly transponders in reach answer with their identity and a position
-# fix near where they are, a friendly beyond the range where the link closes
+# friendly transponders in reach answer with their identity, the range and
+# the beam's azimuth, placed where those meet the ground, near where they are, a friendly beyond the range where the link closes
 # never does, nor a hostile carrying a transponder, nor an unknown without
 # one; killed with -9 and restarted it scans on at the scan number simulation
 # time gives; malformed parameters are refused with file and line. TAP on stdout.
@@ -99,10 +99,14 @@ check "a marker ends each scan ($markers in 300 messages)" test "$markers" -ge 4
 n=$(replies 2 | wc -l)
 check "the near friendly answers every scan ($n replies)" test "$n" -ge 4
 check "its reply carries its marking" grep -q '"responder_id":2,"marking":"NEAR"' "$TMP/bcis.json"
-# Its position fix lies on its route (3-4 km east, north 0), within 60 m.
+# Its reply puts it on its route (3-4 km east, north 0), within the beam:
+# 3 degrees either side of it (tan 3 deg = 0.052), and 60 m.
 off=$(replies 2 | sed 's/.*"east_m":\([-0-9.e]*\),"north_m":\([-0-9.e]*\).*/\1 \2/' |
-    awk '{ if ($1 < 2940 || $1 > 4060 || $2 < -60 || $2 > 60) n++ } END { print n + 0 }')
-check "its position fixes lie on its route ($off off it)" test "$off" -eq 0
+    awk '{ w = 0.053 * $1 + 60; if ($1 < 2940 || $1 > 4060 || $2 < -w || $2 > w) n++ } END { print n + 0 }')
+check "its replies place it on its route, within the beam ($off off it)" test "$off" -eq 0
+check "a reply gives its range's and azimuth's sigma, not a position fix" bash -c \
+    "grep -o '\"responder_id\":2,[^}]*}[^}]*}' '$TMP/bcis.json' | head -1 | grep -q '\"range_sigma_m\":5,\"azimuth_sigma_deg\":1.73' && ! grep -q '\"position_fix\":true' '$TMP/bcis.json'"
+check "and the interrogator's position" grep -q '"interrogator":{"east_m"' "$TMP/bcis.json"
 check "the friendly 13 km out, beyond where the link closes, never answers" \
     test "$(replies 3 | wc -l)" -eq 0
 check "the hostile with a transponder never answers" test "$(replies 4 | wc -l)" -eq 0

@@ -64,10 +64,11 @@ static bool s_same (const bcis_params_t *a, const bcis_params_t *b)
            S_EQ (sector_center_deg) && S_EQ (sector_width_deg) && S_EQ (sector_ref) &&
            S_EQ (scan_rate_dps) && S_EQ (transponder_power_w) && S_EQ (transponder_gain_db) &&
            S_EQ (transponder_noise_figure_db) && S_EQ (transponder_losses_db) &&
-           S_EQ (antenna_height_m) && S_EQ (position_sigma_m) && S_EQ (modulation) &&
-           S_EQ (data_rate_bps) && S_EQ (interrogation_bits) && S_EQ (reply_bits) &&
-           S_EQ (correctable_bits) && S_EQ (noise_temperature_k) && S_EQ (atmospheric_db_per_km) &&
-           S_EQ (rain_rate_mmph) && S_EQ (rain_height_m) && S_EQ (polarization) && S_EQ (foliage);
+           S_EQ (antenna_height_m) && S_EQ (reports_position) && S_EQ (position_sigma_m) &&
+           S_EQ (modulation) && S_EQ (data_rate_bps) && S_EQ (interrogation_bits) &&
+           S_EQ (reply_bits) && S_EQ (correctable_bits) && S_EQ (noise_temperature_k) &&
+           S_EQ (atmospheric_db_per_km) && S_EQ (rain_rate_mmph) && S_EQ (rain_height_m) &&
+           S_EQ (polarization) && S_EQ (foliage);
 #undef S_EQ
 }
 
@@ -484,11 +485,13 @@ static void test_who_answers (void **state)
     bcis_interrogator_destroy (&b);
 }
 
-/* A reply carries the responder's position fix and range with the stated noise. */
+/* A transponder that reports its position: the reply carries its position
+ * fix and the range, with the stated noise. */
 static void test_reply_measurements (void **state)
 {
     (void)state;
     bcis_params_t p = s_defaults ();
+    p.reports_position = true;
     bcis_interrogator_t *b = bcis_interrogator_new (&p, NULL, 9);
     cgs_enu_t uav = {0, 0, 1000};
     bcis_entity_t e = {.id = 1,
@@ -506,6 +509,8 @@ static void test_reply_measurements (void **state)
         assert_int_equal (out.reply_count, 1);
         const bcis_reply_t *r = &out.replies[0];
         assert_near (r->azimuth_deg, d.az_center_deg, 0);
+        assert_true (r->position_fix);
+        assert_near (r->position_sigma_m, p.position_sigma_m, 0);
         se += r->position.e_m, se2 += r->position.e_m * r->position.e_m;
         sn += r->position.n_m - 4000, sn2 += (r->position.n_m - 4000) * (r->position.n_m - 4000);
         sr += r->range_m - range, sr2 += (r->range_m - range) * (r->range_m - range);
@@ -521,6 +526,54 @@ static void test_reply_measurements (void **state)
     assert_near (sdn, p.position_sigma_m, 0.05 * p.position_sigma_m);
     assert_near (mr, 0, 4 * p.range_sigma_m / sqrt (n));
     assert_near (sdr, p.range_sigma_m, 0.05 * p.range_sigma_m);
+    bcis_interrogator_destroy (&b);
+}
+
+/* By default (as the paper's BCIS) a reply gives what the interrogation
+ * measured: the range (σ range_sigma_m) and the beam's azimuth. The
+ * responder lies anywhere in the dwell's sector, so the azimuth's stated σ
+ * (the dwell's width over √12) is the spread of the truth about it, checked
+ * over responders all round. The reply puts the responder where that range
+ * and azimuth meet the (here flat) ground. */
+static void test_reply_geometry (void **state)
+{
+    (void)state;
+    bcis_params_t p = s_defaults ();
+    bcis_interrogator_t *b = bcis_interrogator_new (&p, NULL, 9);
+    cgs_enu_t uav = {0, 0, 1000};
+    const int n = 3600;
+    double sa = 0, sa2 = 0, sigma = 0;
+    for (int k = 0; k < n; k++) {
+        double az = 360.0 * (k + 0.5) / n, rg = 4000;
+        bcis_entity_t e = {.id = 1,
+                           .position = {rg * sin (az * M_PI / 180), rg * cos (az * M_PI / 180), 0},
+                           .force = CGS_FORCE_FRIENDLY,
+                           .transponder = true};
+        cgs_dwell_t d = s_dwell_at (b, az, 0);
+        bcis_dwell_out_t out;
+        assert_int_equal (bcis_interrogator_dwell (b, &d, uav, &e, 1, &out), 0);
+        assert_int_equal (out.reply_count, 1);
+        const bcis_reply_t *r = &out.replies[0];
+        assert_false (r->position_fix);
+        assert_near (r->azimuth_deg, d.az_center_deg, 0);
+        assert_near (r->range_sigma_m, p.range_sigma_m, 0);
+        assert_near (r->azimuth_sigma_deg, d.width_deg / sqrt (12), 1e-12);
+        sigma = r->azimuth_sigma_deg;
+        // On the ground, along the beam's azimuth, at the measured slant range.
+        assert_near (r->position.u_m, 0, 1e-9);
+        double ground = hypot (r->position.e_m, r->position.n_m);
+        assert_near (hypot (ground, 1000), r->range_m, 1e-6);
+        double paz = atan2 (r->position.e_m, r->position.n_m) * 180 / M_PI;
+        assert_near (remainder (paz - r->azimuth_deg, 360), 0, 1e-9);
+        double err = remainder (az - r->azimuth_deg, 360);
+        sa += err, sa2 += err * err;
+    }
+    double m = sa / n, sd = sqrt (sa2 / n - m * m);
+    print_message ("# azimuth of the responder about the beam's: mean %.3f, sd %.3f deg (stated "
+                   "%.3f)\n",
+                   m, sd, sigma);
+    assert_near (m, 0, 0.05);
+    assert_near (sd, sigma, 0.02 * sigma);
     bcis_interrogator_destroy (&b);
 }
 
@@ -660,6 +713,7 @@ int main (void)
         cmocka_unit_test (test_terrain_and_range),
         cmocka_unit_test (test_who_answers),
         cmocka_unit_test (test_reply_measurements),
+        cmocka_unit_test (test_reply_geometry),
         cmocka_unit_test (test_foliage_on_path),
         cmocka_unit_test (test_sector_scan),
     };

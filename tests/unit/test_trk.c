@@ -718,38 +718,133 @@ static void test_bad_hits_and_time_reset (void **state)
 
 /* ---- identity -------------------------------------------------------------------- */
 
+/* Two targets 300 m apart north-south moving east at 10 m/s: scans 0 to
+ * scans - 1, hits 10 k + 1 (north 0) and 10 k + 2 (north 300). */
+static void s_two_abreast (trk_tracker_t *t, uint32_t scans)
+{
+    for (uint32_t k = 0; k < scans; k++) {
+        trk_hit_t h[2] = {s_hit (10 * k + 1, 10.0 * k + 1, 10.0 * (10 * k + 1), 0),
+                          s_hit (10 * k + 2, 10.0 * k + 1, 10.0 * (10 * k + 1), 300)};
+        s_scan (t, k, h, 2);
+    }
+}
+
+/* A reply with a position fix at (e, n), 10 m per axis. */
+static size_t s_fix (trk_tracker_t *t, double t_s, double e, double n, uint32_t id)
+{
+    trk_bcis_reply_t r = {.t_s = t_s, .z = {e, n}, .R = {100, 0, 0, 100}, .responder_id = id};
+    return trk_tracker_bcis (t, &r);
+}
+
 static void test_identity_from_bcis (void **state)
 {
     (void)state;
     trk_params_t p = s_defaults (); // timeout 20 s
     trk_tracker_t *t = trk_tracker_new (&p);
-    // Two targets 300 m apart moving east at 10 m/s.
-    for (uint32_t k = 0; k < 5; k++) {
-        trk_hit_t h[2] = {s_hit (10 * k + 1, 10.0 * k + 1, 10.0 * (10 * k + 1), 0),
-                          s_hit (10 * k + 2, 10.0 * k + 1, 10.0 * (10 * k + 1), 300)};
-        s_scan (t, k, h, 2);
-    }
+    s_two_abreast (t, 5);
     uint32_t a = s_track_of_hit (t, 41)->id, b = s_track_of_hit (t, 42)->id;
     // A reply from b's position at t = 46 s (b has moved on 5 s since its hit).
-    assert_int_equal (trk_tracker_bcis (t, 46, (double[2]){460, 290}, 7), 1);
+    assert_int_equal (s_fix (t, 46, 460, 290, 7), 1);
     assert_true (trk_tracker_find (t, b)->friendly);
     assert_int_equal (trk_tracker_find (t, b)->friendly_id, 7);
     assert_false (trk_tracker_find (t, a)->friendly);
     // A reply far from every track marks nothing.
-    assert_int_equal (trk_tracker_bcis (t, 46, (double[2]){5000, 5000}, 8), 0);
-    assert_int_equal (trk_tracker_bcis (t, 46, (double[2]){NAN, 0}, 8), 0);
+    assert_int_equal (s_fix (t, 46, 5000, 5000, 8), 0);
+    assert_int_equal (s_fix (t, 46, NAN, 0, 8), 0);
     // Between BCIS scans (6 s apart) it stays friendly through radar scans...
     for (uint32_t k = 5; k < 7; k++) {
         trk_hit_t h[2] = {s_hit (10 * k + 1, 10.0 * k + 1, 10.0 * (10 * k + 1), 0),
                           s_hit (10 * k + 2, 10.0 * k + 1, 10.0 * (10 * k + 1), 300)};
         s_scan (t, k, h, 2);
         assert_true (trk_tracker_find (t, b)->friendly);
-        trk_tracker_bcis (t, 10.0 * k + 2, (double[2]){10.0 * (10 * k + 2), 300}, 7);
+        s_fix (t, 10.0 * k + 2, 10.0 * (10 * k + 2), 300, 7);
     }
     // ...and ages out 20 s after the last reply (at t = 62 s).
     assert_int_equal (trk_tracker_age_identity (t, 81), 0);
     assert_int_equal (trk_tracker_age_identity (t, 82.5), 1);
     assert_false (trk_tracker_find (t, b)->friendly);
+    trk_tracker_destroy (&t);
+}
+
+/* A reply's range and azimuth, worked by hand: slant range 10 km from 6 km
+ * above the responder is 8 km along the ground; σ 5 m of slant range is
+ * 5 × 10 / 8 = 6.25 m along it; toward azimuth 90° (east) the beam's
+ * σ 1.732° is 8000 × 1.732 × π/180 = 241.8 m across (north). */
+static void test_identity_geometry (void **state)
+{
+    (void)state;
+    trk_bcis_reply_t r;
+    assert_int_equal (
+        trk_bcis_reply_geometry (46, (double[2]){460, 300}, 10000, 5, 6000, 90, 1.732, 7, &r), 0);
+    assert_true (fabs (r.R[0] - 6.25 * 6.25) < 1e-6);
+    assert_true (fabs (sqrt (r.R[3]) - 241.8) < 0.1);
+    assert_true (fabs (r.R[1]) < 1e-6 && fabs (r.R[2]) < 1e-6);
+    assert_true (r.z[0] == 460 && r.z[1] == 300 && r.t_s == 46 && r.responder_id == 7);
+    // A range that does not reach the ground, or no sigma: refused.
+    assert_int_equal (
+        trk_bcis_reply_geometry (46, (double[2]){0, 0}, 5000, 5, 6000, 90, 1.7, 7, &r), -EINVAL);
+    assert_int_equal (
+        trk_bcis_reply_geometry (46, (double[2]){0, 0}, 10000, 0, 6000, 90, 1.7, 7, &r), -EINVAL);
+    assert_int_equal (
+        trk_bcis_reply_geometry (46, (double[2]){0, 0}, 10000, 5, 6000, NAN, 1.7, 7, &r), -EINVAL);
+}
+
+/* Two targets 300 m apart north-south. Seen from the west, the beam's
+ * width spans both (σ 242 m across): the reply is ambiguous and marks
+ * neither. Seen from the south, range tells them apart (σ 6 m): it marks
+ * the responder. A lone track in the gate but far off the reply is not as
+ * likely as a responder nobody tracks. */
+static void test_identity_ambiguous (void **state)
+{
+    (void)state;
+    trk_params_t p = s_defaults ();
+    trk_tracker_t *t = trk_tracker_new (&p);
+    s_two_abreast (t, 5);
+    uint32_t a = s_track_of_hit (t, 41)->id, b = s_track_of_hit (t, 42)->id;
+    trk_bcis_reply_t r;
+    // From the west: b at (460, 300) is 8 km east of the interrogator.
+    assert_int_equal (
+        trk_bcis_reply_geometry (46, (double[2]){460, 300}, 10000, 5, 6000, 90, 1.732, 7, &r), 0);
+    assert_int_equal (trk_tracker_bcis (t, &r), 0);
+    assert_false (trk_tracker_find (t, a)->friendly || trk_tracker_find (t, b)->friendly);
+    // From the south: the beam points north, range along it.
+    assert_int_equal (
+        trk_bcis_reply_geometry (46, (double[2]){460, 300}, 10000, 5, 6000, 0, 1.732, 7, &r), 0);
+    assert_int_equal (trk_tracker_bcis (t, &r), 1);
+    assert_true (trk_tracker_find (t, b)->friendly);
+    assert_false (trk_tracker_find (t, a)->friendly);
+    // A lone track: the responder is it, or a vehicle no track follows.
+    // With the prediction's S = P + R at the reply's time, a fix on the
+    // track has the likelihood N0 = 1 / (2π √|S|), one 2.5 σ off it
+    // N0 e^(−3.125) = 0.044 N0. With the untracked density at 0.05 N0 the
+    // first is 0.95 likely (marked), the second 0.47 (not).
+    trk_tracker_t *u = trk_tracker_new (&p);
+    for (uint32_t k = 0; k < 5; k++) {
+        trk_hit_t h = s_hit (10 * k + 1, 10.0 * k + 1, 10.0 * (10 * k + 1), 0);
+        s_scan (u, k, &h, 1);
+    }
+    const trk_track_t *lone = s_track_of_hit (u, 41);
+    trk_estimate_t pr;
+    trk_filter_predict (&lone->est, &p.filter, 41.5, &pr);
+    double s00 = pr.P[0] + 100, s11 = pr.P[5] + 100, s01 = pr.P[1];
+    double n0 = 1 / (2 * M_PI * sqrt (s00 * s11 - s01 * s01));
+    trk_params_t q = p;
+    q.identity_untracked_per_km2 = 0.05 * n0 * 1e6;
+    trk_tracker_destroy (&u);
+    u = trk_tracker_new (&q);
+    for (uint32_t k = 0; k < 5; k++) {
+        trk_hit_t h = s_hit (10 * k + 1, 10.0 * k + 1, 10.0 * (10 * k + 1), 0);
+        s_scan (u, k, &h, 1);
+    }
+    trk_bcis_reply_t on = {.t_s = 41.5, .z = {pr.x[0], pr.x[1]}, .R = {100, 0, 0, 100}};
+    trk_bcis_reply_t off = on;
+    // 2.5 σ along north, where S's cross term does not reach (east-north 0).
+    assert_true (fabs (s01) < 1e-9 * s11);
+    off.z[1] += 2.5 * sqrt (s11);
+    assert_true (6.25 < trk_params_gate (&q)); // inside the gate
+    assert_int_equal (trk_tracker_bcis (u, &off), 0);
+    assert_int_equal (trk_tracker_bcis (u, &on), 1);
+    trk_tracker_destroy (&u);
     trk_tracker_destroy (&t);
 }
 
@@ -781,7 +876,7 @@ static void test_identity_per_radar (void **state)
     assert_non_null (tent);
     assert_int_equal (tent->status, TRK_TENTATIVE);
     uint32_t tent_id = tent->id;
-    assert_int_equal (trk_tracker_bcis (t, 42, (double[2]){420, 0}, 5), 2);
+    assert_int_equal (s_fix (t, 42, 420, 0, 5), 2);
     size_t friendly = 0;
     for (size_t i = 0; i < trk_tracker_count (t); i++) {
         const trk_track_t *tr = trk_tracker_at (t, i);
@@ -808,7 +903,7 @@ static void test_checkpoint_keeps_ids (void **state)
                           s_hit (10 * k + 3, 10.0 * k + 3, -4000, -4000)};
         s_scan (t, k, h, k == 7 ? 2 : 3);
     }
-    trk_tracker_bcis (t, 75, (double[2]){3000, 600}, 42);
+    s_fix (t, 75, 3000, 600, 42);
     uint8_t *buf;
     size_t len;
     assert_int_equal (trk_tracker_save (t, &buf, &len), 0);
@@ -1041,6 +1136,8 @@ int main (void)
         cmocka_unit_test (test_sector_coverage),
         cmocka_unit_test (test_bad_hits_and_time_reset),
         cmocka_unit_test (test_identity_from_bcis),
+        cmocka_unit_test (test_identity_geometry),
+        cmocka_unit_test (test_identity_ambiguous),
         cmocka_unit_test (test_identity_per_radar),
         cmocka_unit_test (test_checkpoint_keeps_ids),
         cmocka_unit_test (test_params),

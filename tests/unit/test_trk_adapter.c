@@ -182,22 +182,40 @@ static void s_marker (s_fix_t *f, uint32_t uav, uint32_t scan, double start_s, d
     s_send (f, "mti.scan", &m.base, end_s);
 }
 
-/* A BCIS message of one reply from responder at (e, n) at time t. */
-static void s_bcis (s_fix_t *f, uint32_t responder, double t_s, double e_m, double n_m)
+/* A BCIS message of one reply from responder at (e, n) at time t: from an
+ * interrogator 8 km south of it and 6 km up, range 10 km (σ 5 m), beam
+ * azimuth 0 (σ 1.732°); with fix, a position fix of σ 10 m instead. */
+static void s_bcis_reply (s_fix_t *f, uint32_t responder, double t_s, double e_m, double n_m,
+                          bool fix, bool interrogator)
 {
-    Cgs__Enu pos = CGS__ENU__INIT;
+    Cgs__Enu pos = CGS__ENU__INIT, at = CGS__ENU__INIT;
     pos.east_m = e_m;
     pos.north_m = n_m;
+    at.east_m = e_m;
+    at.north_m = n_m - 8000;
+    at.up_m = 6000;
     Cgs__BcisReply r = CGS__BCIS_REPLY__INIT;
     r.responder_id = responder;
     r.position = &pos;
     r.sim_time_s = t_s;
+    r.range_m = 10000;
+    r.range_sigma_m = 5;
+    r.azimuth_deg = 0;
+    r.azimuth_sigma_deg = 1.732;
+    r.position_fix = fix;
+    r.position_sigma_m = fix ? 10 : 0;
     Cgs__BcisReply *rp = &r;
     Cgs__Bcis m = CGS__BCIS__INIT;
     m.uav_id = 1;
     m.n_replies = 1;
     m.replies = &rp;
+    m.interrogator = interrogator ? &at : NULL;
     s_send (f, "bcis", &m.base, t_s);
+}
+
+static void s_bcis (s_fix_t *f, uint32_t responder, double t_s, double e_m, double n_m)
+{
+    s_bcis_reply (f, responder, t_s, e_m, n_m, false, true);
 }
 
 /* A target moving at (ve, vn) from (e0, n0) at time 0, hit at time t. */
@@ -609,6 +627,17 @@ static void test_bcis_marks_friendly (void **state)
     s_bcis (f, 78, 46, 20000, 20000); // near nothing
     assert_int_equal (trk_adapter_stats (f->a)->bcis_marks, 1);
     assert_false (trk_adapter_take_dirty (f->a));
+    // A position fix marks too; a range and azimuth without the interrogator
+    // cannot be placed: refused, counted.
+    size_t nbad = f->nbad;
+    s_bcis_reply (f, 77, 46, 5000 + 15 * 46.0, 2000, true, false);
+    assert_int_equal (trk_adapter_stats (f->a)->bcis_marks, 2);
+    s_bcis_reply (f, 77, 46, 5000 + 15 * 46.0, 2000, false, false);
+    assert_int_equal (trk_adapter_stats (f->a)->bcis_marks, 2);
+    assert_int_equal (f->nbad, nbad + 1);
+    assert_string_equal (f->bad[nbad],
+                         "a BCIS reply without a valid range, azimuth or interrogator");
+    trk_adapter_take_dirty (f->a);
     size_t pubs = f->npubs;
     s_hit_t h[2] = {s_target (51, 51, 5000, 2000, 15, 0), s_target (52, 51, -4000, -2000, 0, 12)};
     s_mti (f, 1, 5, 51, h, 2);
@@ -623,7 +652,7 @@ static void test_bcis_marks_friendly (void **state)
     assert_int_equal (u->track_id, other_id);
     assert_int_equal (u->identity, CGS__TRACK_IDENTITY__TRACK_IDENTITY_UNKNOWN);
     assert_int_equal (u->friendly_id, 0);
-    assert_int_equal (f->nbad, 0);
+    assert_int_equal (f->nbad, 1); // the reply refused above
 }
 
 /* More than 200 tracks of a radar go in several batches, numbered; a scan
