@@ -12,6 +12,8 @@
 typedef struct {
     uint32_t id;
     bool ground, active;
+    bool friendly, hostile;   // its force
+    bool transponder;         // can answer a BCIS interrogation
     double e, n, ve, vn, t_s; // latest true state
     bool detected;            // some radar has had a hit from it
     uint32_t visible_radar;   // the radar that last saw it in its beam, visible
@@ -124,6 +126,9 @@ void ms_metrics_on_entity (void *arg, const char *topic, const ProtobufCMessage 
         }
         t->ground = en->kind != CGS__ENTITY_KIND__ENTITY_KIND_AIR;
         t->active = en->active;
+        t->friendly = en->force == CGS__FORCE__FORCE_FRIENDLY;
+        t->hostile = en->force == CGS__FORCE__FORCE_HOSTILE;
+        t->transponder = en->bcis_transponder;
         t->e = en->position->east_m;
         t->n = en->position->north_m;
         t->ve = en->velocity->east_mps;
@@ -204,7 +209,14 @@ static void s_scan (ms_metrics_t *self, s_radar_t *r, double t_s)
             continue;
         double dt = t_s - t->t_s;
         ms_point_t p = {t->e + t->ve * dt, t->n + t->vn * dt};
-        self->st[nx] = (ms_siap_truth_t){t->id, p};
+        // Only a friend with a transponder can be identified (by its entity id,
+        // which its BCIS responder reports).
+        self->st[nx] = (ms_siap_truth_t){
+            .id = t->id,
+            .pos = p,
+            .identity = t->friendly && t->transponder ? t->id : 0,
+            .hostile = t->hostile,
+        };
         self->x[nx++] = p;
     }
     for (size_t k = 0; k < r->ntracks; k++) {
@@ -261,6 +273,7 @@ void ms_metrics_on_track (void *arg, const char *topic, const ProtobufCMessage *
             .id = tr->track_id,
             .truth_id = ms_icpt_track_entity (self->ic, b->uav_id, tr),
             .pos = {tr->position->east_m, tr->position->north_m},
+            .claimed_id = tr->friendly_id,
         };
     }
     if (r->batches == (b->batch_count ? b->batch_count : 1))
@@ -289,13 +302,17 @@ void ms_metrics_print (ms_metrics_t *self, FILE *f)
              "  continuity        %.2f id swaps and %.2f breaks per truth-hour; %.2f false "
              "confirmed tracks per hour\n",
              r.swaps_per_truth_hour, r.breaks_per_truth_hour, r.false_tracks_per_hour);
+    fprintf (f,
+             "  identification    ID completeness %.3f  ID correctness %.3f  ID wrong %.3f; "
+             "hostile marked friendly %zu (track-scans)\n",
+             r.id_completeness, r.id_correctness, r.id_wrong_fraction, r.id.hostile_marked);
 }
 
-/* A JSON number, or null. */
-static int s_num (char *buf, size_t len, const char *key, double v, bool last)
+/* A JSON number, or null, and a comma. */
+static int s_num (char *buf, size_t len, const char *key, double v)
 {
-    return isfinite (v) ? snprintf (buf, len, "\"%s\":%.4f%s", key, v, last ? "" : ",")
-                        : snprintf (buf, len, "\"%s\":null%s", key, last ? "" : ",");
+    return isfinite (v) ? snprintf (buf, len, "\"%s\":%.4f,", key, v)
+                        : snprintf (buf, len, "\"%s\":null,", key);
 }
 
 int ms_metrics_json (ms_metrics_t *self, char **ret_json)
@@ -324,11 +341,14 @@ int ms_metrics_json (ms_metrics_t *self, char **ret_json)
         {"swaps_per_truth_hour", r.swaps_per_truth_hour},
         {"breaks_per_truth_hour", r.breaks_per_truth_hour},
         {"false_tracks_per_hour", r.false_tracks_per_hour},
+        {"id_completeness", r.id_completeness},
+        {"id_correctness", r.id_correctness},
+        {"id_wrong_fraction", r.id_wrong_fraction},
     };
     size_t nf = sizeof f / sizeof f[0];
     for (size_t i = 0; i < nf; i++)
-        n += (size_t)s_num (buf + n, cap - n, f[i].key, f[i].v, i + 1 == nf);
-    snprintf (buf + n, cap - n, "}");
+        n += (size_t)s_num (buf + n, cap - n, f[i].key, f[i].v);
+    snprintf (buf + n, cap - n, "\"id_hostile_marked\":%zu}", r.id.hostile_marked);
     *ret_json = buf;
     return 0;
 }

@@ -15,7 +15,12 @@
  * produced most of the MTI hits in its history (attributed by `mti.truth`,
  * ms_icpt_track_entity), when that vehicle is one of the scan's truths and
  * within the cut-off (500 m) of the track; otherwise it stands for none.
- * GOSPA makes its own optimal assignment of positions. */
+ * GOSPA makes its own optimal assignment of positions.
+ *
+ * Identification (ms_siap's ID figures): a truth's identity is its entity
+ * id when `entity` says it is friendly with a BCIS transponder (0
+ * otherwise), and it is hostile when its force is; a track claims its
+ * `friendly_id` (0: none). */
 #ifndef MS_METRICS_H
 #define MS_METRICS_H
 

@@ -39,9 +39,9 @@ static void s_usage (FILE *f)
              "writes its vehicles, radar truth, tracks and intercept states to F as CSV,\n"
              "to see why it missed), then one JSON\n"
              "object: runs, imaged, imaged_pct and its 95%% interval, wrong_vehicle, lost,\n"
-             "miss and time-to-image quantiles, GOSPA and SIAP figures. --json and --csv\n"
-             "write every run. Exit code 0, 1 when a run reported bad input or an error\n"
-             "(a defect), 2 for bad options.\n"
+             "miss and time-to-image quantiles, GOSPA, SIAP and identification figures.\n"
+             "--json and --csv write every run. Exit code 0, 1 when a run reported bad\n"
+             "input or an error (a defect), 2 for bad options.\n"
              "Defaults: --exercise %s, the exercise's scenario, seed 1, 1 job, --limit:\n"
              "1500 s after the last designation.\n",
              S_DEFAULT_EXERCISE);
@@ -202,6 +202,10 @@ static void s_summary_json (FILE *f, const ls_mc_config_t *c, const ls_mc_result
     s_jnum (f, "swaps_per_truth_hour", r->siap.swaps_per_truth_hour, "%.3f");
     s_jnum (f, "breaks_per_truth_hour", r->siap.breaks_per_truth_hour, "%.3f");
     s_jnum (f, "false_tracks_per_hour", r->siap.false_tracks_per_hour, "%.3f");
+    s_jnum (f, "id_completeness", r->siap.id_completeness, "%.4f");
+    s_jnum (f, "id_correctness", r->siap.id_correctness, "%.4f");
+    s_jnum (f, "id_wrong_fraction", r->siap.id_wrong_fraction, "%.4f");
+    fprintf (f, ",\"id_hostile_marked\":%zu", r->siap.id.hostile_marked);
     fprintf (f, ",\"bad_inputs\":%llu,\"errors\":%llu,\"failures\":%llu}\n",
              (unsigned long long)r->bad_inputs, (unsigned long long)r->errors,
              (unsigned long long)r->failures);

@@ -37,6 +37,7 @@ typedef struct {
     size_t unknown_truth_scans, swaps, breaks;
     size_t runs, tracks, false_tracks; // of closed runs only
     double position_error_m, truth_time_s, run_time_s;
+    ms_siap_id_t id;
 } s_sums_t;
 
 struct ms_siap {
@@ -168,6 +169,34 @@ static bool s_finite (ms_point_t p)
     return isfinite (p.e) && isfinite (p.n);
 }
 
+// Count a track claiming `claimed` (0: nothing) associated to truth t.
+static void s_identity (ms_siap_id_t *c, const ms_siap_truth_t *t, uint32_t claimed)
+{
+    if (t->identity) {
+        c->identifiable++;
+        c->identifiable_marked += claimed != 0;
+    }
+    if (!claimed)
+        return;
+    c->marked++;
+    if (claimed == t->identity) {
+        c->correct++;
+    } else {
+        c->wrong++;
+        c->hostile_marked += t->hostile;
+    }
+}
+
+static void s_identity_pool (ms_siap_id_t *d, const ms_siap_id_t *s)
+{
+    d->identifiable += s->identifiable;
+    d->identifiable_marked += s->identifiable_marked;
+    d->marked += s->marked;
+    d->correct += s->correct;
+    d->wrong += s->wrong;
+    d->hostile_marked += s->hostile_marked;
+}
+
 int ms_siap_add (ms_siap_t *self, double t_s, const ms_siap_truth_t *truths, size_t n_truths,
                  const ms_siap_track_t *tracks, size_t n_tracks)
 {
@@ -225,6 +254,7 @@ int ms_siap_add (ms_siap_t *self, double t_s, const ms_siap_truth_t *truths, siz
             r->n_assoc++;
             if (k->id == r->last_primary)
                 r->keep_last = true;
+            s_identity (&s->id, &truths[r->at], k->claimed_id);
         } else if (k->truth_id) {
             s->unknown_truth_scans++;
         }
@@ -284,6 +314,7 @@ int ms_siap_merge (ms_siap_t *dst, const ms_siap_t *src)
     d->unknown_truth_scans += s->unknown_truth_scans;
     d->swaps += s->swaps;
     d->breaks += s->breaks;
+    s_identity_pool (&d->id, &s->id);
     d->position_error_m += s->position_error_m;
     d->truth_time_s += s->truth_time_s;
     d->run_time_s += s->run_time_s;
@@ -312,6 +343,9 @@ static void s_figures (ms_siap_result_t *r)
     r->swaps_per_truth_hour = s_ratio ((double)r->swaps, truth_h);
     r->breaks_per_truth_hour = s_ratio ((double)r->breaks, truth_h);
     r->false_tracks_per_hour = s_ratio ((double)r->false_tracks, run_h);
+    r->id_completeness = s_ratio ((double)r->id.identifiable_marked, (double)r->id.identifiable);
+    r->id_correctness = s_ratio ((double)r->id.correct, (double)r->id.marked);
+    r->id_wrong_fraction = s_ratio ((double)r->id.wrong, (double)r->id.marked);
 }
 
 void ms_siap_result_pool (ms_siap_result_t *dst, const ms_siap_result_t *src)
@@ -330,6 +364,7 @@ void ms_siap_result_pool (ms_siap_result_t *dst, const ms_siap_result_t *src)
     dst->breaks += src->breaks;
     dst->tracks += src->tracks;
     dst->false_tracks += src->false_tracks;
+    s_identity_pool (&dst->id, &src->id);
     s_figures (dst);
 }
 
@@ -352,6 +387,7 @@ void ms_siap_result (const ms_siap_t *self, ms_siap_result_t *ret)
         .breaks = s->breaks,
         .tracks = s->tracks + self->tracks.count,
         .false_tracks = s->false_tracks + s_never_associated (&self->tracks),
+        .id = s->id,
     };
     s_figures (&r);
     *ret = r;

@@ -43,6 +43,33 @@
  *     (run time / 3600 s), run time = Σ_k dt_k = Σ over runs of (last scan
  *     time − first scan time).
  *
+ * Identification figures, after Stone Soup's IDSIAPMetrics ("SIAP ID
+ * Completeness", "SIAP ID Correctness") but counted over associated tracks
+ * where it counts truths (of JT(k), those whose associated tracks all carry
+ * no id, JU, all the truth's id, JC, all another, JI, or a mix, JA; its
+ * figures are (JT − JU) / JT, JC / JT and JA / JT, 0 on an empty sum). A
+ * truth's identity is the id it can be identified by (the caller's choice:
+ * its entity id when friendly with a BCIS transponder), 0 for none; a
+ * track's claimed identity is the id it gives its target (its BCIS
+ * responder id when marked friendly), 0 for none. Summed over the NA(k)
+ * associated tracks of every scan k of every run (ms_siap_result_t's id
+ * member, id.marked for id_marked and so on):
+ *   id_identifiable          tracks whose truth has an identity
+ *   id_identifiable_marked   of those, tracks claiming some identity
+ *   id_marked                tracks claiming an identity
+ *   id_correct               tracks claiming their truth's identity
+ *   id_wrong                 tracks claiming an identity other than their
+ *                            truth's (a truth without identity included)
+ *   id_hostile_marked        tracks of a hostile truth claiming an identity
+ *                            (the dangerous error: a hostile vehicle taken
+ *                            for a friend; within id_wrong, as a hostile
+ *                            truth has no identity)
+ *   ID completeness  = id_identifiable_marked / id_identifiable
+ *   ID correctness   = id_correct / id_marked
+ *   ID wrong         = id_wrong / id_marked  (= 1 − ID correctness)
+ * Where a denominator is 0 the figure is NaN. Unassociated tracks and tracks
+ * naming an absent truth count in none of these.
+ *
  * Pooling: ms_siap_end_run closes a run (per-truth and per-track memory is
  * forgotten, so ids may be reused and time may restart); ms_siap_merge adds
  * another accumulator's runs as closed runs. Merging accumulators that each
@@ -57,6 +84,7 @@
 
 #include "ms_gospa.h"
 
+#include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
 
@@ -64,16 +92,29 @@ typedef struct ms_siap ms_siap_t;
 
 /* A truth trackable at the scan. */
 typedef struct {
-    uint32_t id;    // non-zero, unique within a scan
-    ms_point_t pos; // metres
+    uint32_t id;       // non-zero, unique within a scan
+    ms_point_t pos;    // metres
+    uint32_t identity; // the id it can be identified by, 0: none
+    bool hostile;      // hostile force: a claimed identity on its tracks is counted apart
 } ms_siap_truth_t;
 
 /* A confirmed or coasting track at the scan. */
 typedef struct {
-    uint32_t id;       // non-zero, unique within a scan
-    uint32_t truth_id; // the truth the caller associated it with, 0: none
-    ms_point_t pos;    // metres
+    uint32_t id;         // non-zero, unique within a scan
+    uint32_t truth_id;   // the truth the caller associated it with, 0: none
+    ms_point_t pos;      // metres
+    uint32_t claimed_id; // the identity it claims for its target, 0: none
 } ms_siap_track_t;
+
+/* The identification counts, over associated track-scans (see above). */
+typedef struct {
+    size_t identifiable;        // id_identifiable: the truth has an identity
+    size_t identifiable_marked; // id_identifiable_marked: of those, the track claims one
+    size_t marked;              // id_marked: the track claims an identity
+    size_t correct;             // id_correct: of those, its truth's
+    size_t wrong;               // id_wrong: of those, another (or the truth has none)
+    size_t hostile_marked;      // id_hostile_marked: of id_wrong, the truth is hostile
+} ms_siap_id_t;
 
 typedef struct {
     /* Raw counts, summed over scans and runs: what ms_siap_merge pools. */
@@ -91,6 +132,7 @@ typedef struct {
     size_t breaks;                 // truths losing their last associated track
     size_t tracks;                 // distinct track ids seen, counted per run
     size_t false_tracks;           // of those, never associated in their run
+    ms_siap_id_t id;               // identification counts
     /* Figures; NaN when the denominator is 0. */
     double completeness;          // Σ JT / Σ J, 0..1
     double ambiguity;             // Σ NA / Σ JT, >= 1
@@ -99,6 +141,9 @@ typedef struct {
     double swaps_per_truth_hour;  // swaps / truth hours
     double breaks_per_truth_hour; // breaks / truth hours
     double false_tracks_per_hour; // false tracks / run hours
+    double id_completeness;       // id_identifiable_marked / id_identifiable, 0..1
+    double id_correctness;        // id_correct / id_marked, 0..1
+    double id_wrong_fraction;     // id_wrong / id_marked, 0..1
 } ms_siap_result_t;
 
 /* An empty accumulator; NULL on allocation failure. */

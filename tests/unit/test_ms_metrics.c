@@ -4,7 +4,8 @@
  * errors, its speed at 300 x 300 and its running mean; the SIAP-style
  * figures over a scripted run of five scans with two truths and three tracks,
  * every figure worked by hand below, the primary-track rules, empty and
- * refused input, and pooling runs with ms_siap_merge. */
+ * refused input, pooling runs with ms_siap_merge, and the identification
+ * figures over two hand-worked scans (right, wrong and hostile marks). */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stdbool.h>
@@ -488,6 +489,15 @@ static void s_result_equal (const ms_siap_result_t *a, const ms_siap_result_t *b
     S_SAME (swaps_per_truth_hour);
     S_SAME (breaks_per_truth_hour);
     S_SAME (false_tracks_per_hour);
+    S_SAME (id.identifiable);
+    S_SAME (id.identifiable_marked);
+    S_SAME (id.marked);
+    S_SAME (id.correct);
+    S_SAME (id.wrong);
+    S_SAME (id.hostile_marked);
+    S_SAME (id_completeness);
+    S_SAME (id_correctness);
+    S_SAME (id_wrong_fraction);
 #undef S_SAME
 }
 
@@ -515,12 +525,12 @@ static void s_result_equal (const ms_siap_result_t *a, const ms_siap_result_t *b
  *  tracks 3, unknown-truth track-scans 1, runs 1, scans 5. */
 static ms_siap_truth_t s_t (uint32_t id, double e, double n)
 {
-    return (ms_siap_truth_t){id, {e, n}};
+    return (ms_siap_truth_t){.id = id, .pos = {e, n}};
 }
 
 static ms_siap_track_t s_k (uint32_t id, uint32_t truth, double e, double n)
 {
-    return (ms_siap_track_t){id, truth, {e, n}};
+    return (ms_siap_track_t){.id = id, .truth_id = truth, .pos = {e, n}};
 }
 
 static void s_feed_run (ms_siap_t *acc, int first_scan, int last_scan)
@@ -575,6 +585,10 @@ static void test_siap_scripted (void **state)
     assert_near (r.swaps_per_truth_hour, 60.0 / 7, 1e-12);
     assert_near (r.breaks_per_truth_hour, 120.0 / 7, 1e-12);
     assert_near (r.false_tracks_per_hour, 15, 1e-12);
+    // No identity given (zero-initialised): no identification count, NaN figures.
+    assert_int_equal (r.id.identifiable, 0);
+    assert_int_equal (r.id.marked, 0);
+    assert_true (isnan (r.id_completeness) && isnan (r.id_correctness));
     // Ending the run changes no figure.
     ms_siap_end_run (acc);
     ms_siap_result_t after;
@@ -654,6 +668,8 @@ static void test_siap_empty (void **state)
     assert_true (isnan (r.completeness) && isnan (r.ambiguity) && isnan (r.spuriousness));
     assert_true (isnan (r.position_accuracy_m) && isnan (r.swaps_per_truth_hour));
     assert_true (isnan (r.breaks_per_truth_hour) && isnan (r.false_tracks_per_hour));
+    assert_true (isnan (r.id_completeness) && isnan (r.id_correctness));
+    assert_true (isnan (r.id_wrong_fraction) && r.id.marked == 0 && r.id.identifiable == 0);
     ms_siap_end_run (acc); // nothing under way: no run counted
     ms_siap_result (acc, &r);
     assert_int_equal (r.runs, 0);
@@ -832,6 +848,90 @@ static void test_siap_merge (void **state)
     ms_siap_destroy (&b2);
 }
 
+/* Identification, by hand. Truths: T1 (id 1) friendly with a transponder,
+ * identity 1; T2 (id 2) hostile, no identity; T3 (id 3) friendly without
+ * a transponder, no identity. "10→T1 c1" is track 10 associated to T1,
+ * claiming identity 1 (c0: claiming none). Every track on its truth.
+ *
+ *  k  t_s  tracks                               identifiable  marked  correct  wrong  hostile
+ *  1   0   10→T1 c1   right                     10            10      10
+ *          11→T1 c7   another id                11            11               11
+ *          12→T2 c1   hostile marked friendly                 12               12     12
+ *          13→T3 c0   nothing claimed, none due
+ *          14→none c1 unassociated: not counted
+ *  2  10   10→T1 c0   identifiable, unmarked    10
+ *          12→T2 c0   nothing claimed
+ *          13→T3 c3   claims what T3 cannot say                        13
+ *          15→T9 c9   T9 absent: not counted
+ *  Σ  identifiable 3 (of which marked 2: 10 and 11 at scan 1), marked 4,
+ *     correct 1, wrong 3, hostile marked 1
+ *  ID completeness 2/3, ID correctness 1/4, ID wrong 3/4. */
+static void s_feed_identity (ms_siap_t *acc)
+{
+    ms_siap_truth_t tr[3] = {s_t (1, 0, 0), s_t (2, 1000, 0), s_t (3, 2000, 0)};
+    tr[0].identity = 1;
+    tr[1].hostile = true;
+    ms_siap_track_t k1[5] = {s_k (10, 1, 0, 0), s_k (11, 1, 0, 0), s_k (12, 2, 1000, 0),
+                             s_k (13, 3, 2000, 0), s_k (14, 0, 5000, 0)};
+    const uint32_t c1[5] = {1, 7, 1, 0, 1};
+    for (int j = 0; j < 5; j++)
+        k1[j].claimed_id = c1[j];
+    ms_siap_track_t k2[4] = {s_k (10, 1, 0, 0), s_k (12, 2, 1000, 0), s_k (13, 3, 2000, 0),
+                             s_k (15, 9, 0, 0)};
+    k2[2].claimed_id = 3;
+    k2[3].claimed_id = 9;
+    assert_int_equal (ms_siap_add (acc, 0, tr, 3, k1, 5), 0);
+    assert_int_equal (ms_siap_add (acc, 10, tr, 3, k2, 4), 0);
+}
+
+static void test_siap_identity (void **state)
+{
+    (void)state;
+    ms_siap_t *acc = ms_siap_new (), *whole = ms_siap_new (), *b = ms_siap_new (),
+              *c = ms_siap_new ();
+    assert_true (acc && whole && b && c);
+    s_feed_identity (acc);
+    ms_siap_result_t r;
+    ms_siap_result (acc, &r);
+    assert_int_equal (r.associated_track_scans, 7);
+    assert_int_equal (r.unknown_truth_scans, 1);
+    // identifiable, of those marked, marked, correct, wrong, hostile marked:
+    // one run, and two runs of it.
+    const ms_siap_id_t one = {3, 2, 4, 1, 3, 1}, two = {6, 4, 8, 2, 6, 2};
+    assert_memory_equal (&r.id, &one, sizeof one);
+    assert_near (r.id_completeness, 2.0 / 3, 1e-15);
+    assert_near (r.id_correctness, 0.25, 1e-15);
+    assert_near (r.id_wrong_fraction, 0.75, 1e-15);
+
+    // Two accumulators of one run each, merged (either way) or their results
+    // pooled, count what one accumulator fed both runs counts: every count
+    // doubled, the same figures.
+    s_feed_identity (whole);
+    ms_siap_end_run (whole);
+    s_feed_identity (whole);
+    s_feed_identity (b);
+    s_feed_identity (c);
+    ms_siap_result_t w, rb, pooled = {0}, merged;
+    ms_siap_result (whole, &w);
+    assert_memory_equal (&w.id, &two, sizeof two);
+    assert_true (w.id_completeness == r.id_completeness && w.id_correctness == r.id_correctness &&
+                 w.id_wrong_fraction == r.id_wrong_fraction);
+    ms_siap_result (b, &rb);
+    ms_siap_result_pool (&pooled, &r);
+    ms_siap_result_pool (&pooled, &rb);
+    s_result_equal (&pooled, &w);
+    assert_int_equal (ms_siap_merge (b, acc), 0);
+    ms_siap_result (b, &merged);
+    s_result_equal (&merged, &w);
+    assert_int_equal (ms_siap_merge (acc, c), 0);
+    ms_siap_result (acc, &merged);
+    s_result_equal (&merged, &w);
+    ms_siap_destroy (&acc);
+    ms_siap_destroy (&whole);
+    ms_siap_destroy (&b);
+    ms_siap_destroy (&c);
+}
+
 // Hundreds of truths and thousands of track ids: the tables grow, and
 // completeness and the false-track count come out as constructed. 300
 // truths (ids 1..300) for 50 scans 10 s apart; truth i is tracked by track
@@ -892,6 +992,7 @@ int main (void)
         cmocka_unit_test (test_siap_merge),
         cmocka_unit_test (test_siap_result_pool),
         cmocka_unit_test (test_siap_growth),
+        cmocka_unit_test (test_siap_identity),
     };
     return cmocka_run_group_tests (tests, NULL, NULL);
 }

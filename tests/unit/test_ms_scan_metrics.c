@@ -14,7 +14,16 @@
  *   SIAP: J = 1, JT = 1, N = 2, NA = 1: completeness 1, ambiguity 1,
  *   spuriousness 0.5, position accuracy 30 m.
  * A second batch split in two (batch_count 2) is taken only when both
- * halves are in. */
+ * halves are in.
+ *
+ * Identification: vehicle 5 is friendly with a BCIS transponder (identity
+ * 5) and track 10 is marked friendly with responder id 5: of 1 associated
+ * track, identifiable 1, marked 1, correct 1: ID completeness 1, ID
+ * correctness 1, ID wrong 0. Then the same scan with vehicle 5 hostile
+ * (no identity) and track 10 still marked 5: identifiable 0, marked 1,
+ * wrong 1, hostile marked 1: ID completeness NaN (null in JSON), ID
+ * correctness 0, ID wrong 1. Track 11 (unassociated) marked friendly counts
+ * in neither. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -54,7 +63,7 @@ static void s_truth (ms_icpt_t *ic, ms_metrics_t *m)
     ms_metrics_on_mti_truth (m, "mti.truth", &t.base, &h);
 }
 
-static void s_entities (ms_metrics_t *m)
+static void s_entities (ms_metrics_t *m, Cgs__Force force, bool transponder)
 {
     Cgs__Enu p = CGS__ENU__INIT;
     Cgs__EnuVelocity v = CGS__ENU_VELOCITY__INIT;
@@ -66,6 +75,8 @@ static void s_entities (ms_metrics_t *m)
     e.velocity = &v;
     e.active = true;
     e.kind = CGS__ENTITY_KIND__ENTITY_KIND_WHEELED;
+    e.force = force;
+    e.bcis_transponder = transponder;
     Cgs__EntityBatch b = CGS__ENTITY_BATCH__INIT;
     b.n_entities = 1;
     b.entities = &ep;
@@ -74,9 +85,10 @@ static void s_entities (ms_metrics_t *m)
     ms_metrics_on_entity (m, "entity", &b.base, &h);
 }
 
-/* Track batch k of n of scan 1 with the tracks given (ids 10, 11, 12). */
+/* Track batch k of n of scan 1 with the tracks given (ids 10, 11, 12),
+ * tracks 10 and 11 marked friendly with responder id friendly_id (0: not). */
 static void s_tracks (ms_icpt_t *ic, ms_metrics_t *m, uint32_t k, uint32_t n, const int *which,
-                      size_t count)
+                      size_t count, uint32_t friendly_id)
 {
     Cgs__Track t[3], *tp[3];
     Cgs__Enu pos[3];
@@ -98,6 +110,10 @@ static void s_tracks (ms_icpt_t *ic, ms_metrics_t *m, uint32_t k, uint32_t n, co
             t[j].n_history = 1;
             t[j].history = &hpp;
         }
+        if (i < 2 && friendly_id) {
+            t[j].identity = CGS__TRACK_IDENTITY__TRACK_IDENTITY_FRIENDLY;
+            t[j].friendly_id = friendly_id;
+        }
         tp[j] = &t[j];
     }
     Cgs__TrackBatch b = CGS__TRACK_BATCH__INIT;
@@ -113,22 +129,32 @@ static void s_tracks (ms_icpt_t *ic, ms_metrics_t *m, uint32_t k, uint32_t n, co
     (void)ic;
 }
 
-static void test_one_scan (void **state)
+/* Metrics over a new observer (*ret_ic, the caller's to free) fed radar 1's
+ * `mti.truth` of scan 1 and vehicle 5 of the force given. */
+static ms_metrics_t *s_metrics (ms_icpt_t **ret_ic, Cgs__Force force, bool transponder)
 {
-    (void)state;
     ms_icpt_t *ic = calloc (1, sizeof *ic);
     assert_non_null (ic);
     ms_icpt_init (ic);
     ms_metrics_t *m = ms_metrics_new (ic);
     assert_non_null (m);
     s_truth (ic, m);
-    s_entities (m);
+    s_entities (m, force, transponder);
+    *ret_ic = ic;
+    return m;
+}
+
+static void test_one_scan (void **state)
+{
+    (void)state;
+    ms_icpt_t *ic;
+    ms_metrics_t *m = s_metrics (&ic, CGS__FORCE__FORCE_FRIENDLY, true);
     // Batch 1 of 2: nothing yet.
     const int first[] = {0, 2};
-    s_tracks (ic, m, 0, 2, first, 2);
+    s_tracks (ic, m, 0, 2, first, 2, 5);
     assert_int_equal (ms_metrics_gospa (m)->scans, 0);
     const int second[] = {1};
-    s_tracks (ic, m, 1, 2, second, 1);
+    s_tracks (ic, m, 1, 2, second, 1, 5);
     const ms_gospa_mean_t *g = ms_metrics_gospa (m);
     assert_int_equal (g->scans, 1);
     assert_true (fabs (g->distance - sqrt (125900.0)) < 1e-9);
@@ -143,19 +169,63 @@ static void test_one_scan (void **state)
     assert_int_equal (r.associated_track_scans, 1);
     assert_true (r.completeness == 1 && r.ambiguity == 1 && r.spuriousness == 0.5);
     assert_true (fabs (r.position_accuracy_m - 30) < 1e-9);
+    const ms_siap_id_t id = {
+        .identifiable = 1, .identifiable_marked = 1, .marked = 1, .correct = 1};
+    assert_memory_equal (&r.id, &id, sizeof id);
+    assert_true (r.id_completeness == 1 && r.id_correctness == 1 && r.id_wrong_fraction == 0);
     assert_int_equal (ms_metrics_failures (m), 0);
     char *json = NULL;
     assert_int_equal (ms_metrics_json (m, &json), 0);
     assert_non_null (strstr (json, "\"tracking\":{\"scans\":1,\"gospa_m\":354.8239"));
     assert_non_null (strstr (json, "\"spuriousness\":0.5000"));
+    assert_non_null (strstr (json, "\"false_tracks_per_hour\":null,\"id_completeness\":1.0000,"
+                                   "\"id_correctness\":1.0000,\"id_wrong_fraction\":0.0000,"
+                                   "\"id_hostile_marked\":0}"));
     free (json);
     ms_metrics_destroy (&m);
     assert_null (m);
     free (ic);
 }
 
+// The same scan with vehicle 5 hostile: track 10's mark is the dangerous
+// error, printed and in the JSON.
+static void test_hostile_marked (void **state)
+{
+    (void)state;
+    ms_icpt_t *ic;
+    ms_metrics_t *m = s_metrics (&ic, CGS__FORCE__FORCE_HOSTILE, false);
+    const int all[] = {0, 1, 2};
+    s_tracks (ic, m, 0, 1, all, 3, 5);
+    ms_siap_result_t r;
+    ms_siap_result (ms_metrics_siap (m), &r);
+    assert_int_equal (r.associated_track_scans, 1);
+    const ms_siap_id_t id = {.marked = 1, .wrong = 1, .hostile_marked = 1};
+    assert_memory_equal (&r.id, &id, sizeof id);
+    assert_true (isnan (r.id_completeness) && r.id_correctness == 0 && r.id_wrong_fraction == 1);
+    char *json = NULL;
+    assert_int_equal (ms_metrics_json (m, &json), 0);
+    assert_non_null (strstr (json, "\"id_completeness\":null,\"id_correctness\":0.0000,"
+                                   "\"id_wrong_fraction\":1.0000,\"id_hostile_marked\":1}"));
+    free (json);
+    char *text = NULL;
+    size_t len = 0;
+    FILE *f = open_memstream (&text, &len);
+    assert_non_null (f);
+    ms_metrics_print (m, f);
+    assert_int_equal (fclose (f), 0);
+    assert_non_null (
+        strstr (text, "\n  completeness      1.000  ambiguity 1.000  spuriousness 0.500\n"));
+    assert_non_null (strstr (text,
+                             "\n  identification    ID completeness nan  ID correctness 0.000  "
+                             "ID wrong 1.000; hostile marked friendly 1 (track-scans)\n"));
+    free (text);
+    ms_metrics_destroy (&m);
+    free (ic);
+}
+
 int main (void)
 {
-    const struct CMUnitTest tests[] = {cmocka_unit_test (test_one_scan)};
+    const struct CMUnitTest tests[] = {cmocka_unit_test (test_one_scan),
+                                       cmocka_unit_test (test_hostile_marked)};
     return cmocka_run_group_tests (tests, NULL, NULL);
 }
