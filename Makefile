@@ -4,6 +4,7 @@
 #   make run        install missing packages, build, run the default exercise
 #   make test       install missing packages, build under ASan+UBSan, run every test
 #   make test-systemd  only the units under a real systemd in a container
+#   make check-layers  no service includes or links another service's code
 #   make bench      build optimised, run the benchmarks
 #   make montecarlo whole scenes in lockstep: every scenario family, the table
 #                   (MC_RUNS, MC_SEED, MC_JOBS, MC_FAMILIES)
@@ -133,7 +134,7 @@ JOBS    ?= $(shell nproc 2>/dev/null || echo 2)
 # Keep objects that pattern chains would otherwise delete as intermediates.
 .SECONDARY:
 
-.PHONY: all run test test-systemd test-build bench montecarlo validate-lockstep soak fault-build fuzz fuzz-build install clean format deps help
+.PHONY: all run test test-systemd test-build check-layers bench montecarlo validate-lockstep soak fault-build fuzz fuzz-build install clean format deps help
 .DEFAULT_GOAL := all
 
 all: $(BINS) $(WEB_FILES)
@@ -160,12 +161,18 @@ run: deps
 test: deps
 	@$(MAKE) --no-print-directory -j$(JOBS) O=build/asan SAN=1 test-build
 	@$(MAKE) --no-print-directory -j$(JOBS) O=build/release SAN=0 all
+	@$(MAKE) --no-print-directory O=build/asan check-layers
 	@CGS_RELEASE_BUILD=build/release CGS_MAKE_CACHE=1 tests/run build/asan
 
 # Only the systemd container test (makes its cached image when there is none).
 test-systemd: deps
 	@$(MAKE) --no-print-directory -j$(JOBS) O=build/release SAN=0 all
 	@CGS_RELEASE_BUILD=build/release CGS_MAKE_CACHE=1 tests/run build/asan systemd
+
+# No service includes or links another service's code (the tool and the
+# tests may): over the tree, and over this build's binaries.
+check-layers: $(BINS)
+	@scripts/check-layering . $(O) && echo "check-layers: no service includes or links another's code"
 
 test-build: $(BINS) $(WEB_FILES) $(UNIT_BINS) $(INTEG_BINS) $(FAULT_BINS) $(ALT_BINS)
 
