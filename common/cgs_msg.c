@@ -1,5 +1,6 @@
 /* cgs_msg — protobuf-c encode/decode, arena, header access, JSON printing. */
 #include "cgs_msg.h"
+#include "cgs_track_status.h"
 
 #include <ctype.h>
 #include <errno.h>
@@ -8,6 +9,13 @@
 #include <stdarg.h>
 #include <stdlib.h>
 #include <string.h>
+
+/* The cores' track status is the message's. */
+_Static_assert((int)CGS_TRACK_TENTATIVE == (int)CGS__TRACK_STATUS__TRACK_STATUS_TENTATIVE &&
+                   (int)CGS_TRACK_CONFIRMED == (int)CGS__TRACK_STATUS__TRACK_STATUS_CONFIRMED &&
+                   (int)CGS_TRACK_COASTING == (int)CGS__TRACK_STATUS__TRACK_STATUS_COASTING &&
+                   (int)CGS_TRACK_DELETED == (int)CGS__TRACK_STATUS__TRACK_STATUS_DELETED,
+               "cgs_track_status_t and cgs.TrackStatus differ");
 
 /* ---- arena ------------------------------------------------------------------ */
 

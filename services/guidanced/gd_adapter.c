@@ -255,7 +255,8 @@ static bool s_track_from_msg (const Cgs__Track *m, double t_s, gd_track_t *ret)
 {
     if (!m->track_id || !m->position || !m->velocity || !isfinite (m->position->east_m) ||
         !isfinite (m->position->north_m) || !isfinite (m->velocity->east_mps) ||
-        !isfinite (m->velocity->north_mps) || !isfinite (t_s) || m->status > 3)
+        !isfinite (m->velocity->north_mps) || !isfinite (t_s) ||
+        (int)m->status > (int)CGS_TRACK_STATUS_MAX)
         return false;
     ret->id = m->track_id;
     ret->status = (int)m->status;
@@ -371,7 +372,7 @@ static void s_on_track (gd_adapter_t *self, const Cgs__TrackBatch *b, const Cgs_
         tr.linked = b->links_continuation;
         for (size_t k = 0; k < self->uav_count; k++)
             gd_intercept_track (self->uavs[k].core, &tr);
-        if (tr.status == 3) {
+        if (tr.status == CGS_TRACK_DELETED) {
             s_track_forget (self, tr.id);
             continue;
         }
@@ -536,7 +537,7 @@ static void s_designate (gd_adapter_t *self, const Cgs__Designate *d, Cgs__Reply
         if (t->friendly)
             return s_refuse (self, reply, "hit %u is track %u's, which BCIS says is friendly", id,
                              t->id);
-        if (t->status == 0)
+        if (t->status == CGS_TRACK_TENTATIVE)
             return s_refuse (self, reply,
                              "hit %u is track %u's, which is tentative (not yet "
                              "confirmed)",

@@ -604,7 +604,7 @@ void gd_intercept_uav (gd_intercept_t *self, const gd_uav_t *u)
 /* Has t a hit newer than any heard of the designated track? */
 static bool s_fresh (const gd_intercept_t *self, const gd_track_t *t)
 {
-    if (t->status != 1)
+    if (t->status != CGS_TRACK_CONFIRMED)
         return false;
     return !isfinite (t->last_hit_s) || !(t->last_hit_s <= self->heard_hit_s);
 }
@@ -653,7 +653,8 @@ static bool s_near_prediction (const gd_intercept_t *self, const gd_track_t *ref
 static bool s_takes_over (const gd_intercept_t *self, const gd_track_t *t)
 {
     if (!self->orphan || !s_active (self->phase) || t->id == self->orphan_id ||
-        (t->status != 1 && t->status != 2) || gd_norm (t->vel) > self->p.max_target_speed_mps ||
+        (t->status != CGS_TRACK_CONFIRMED && t->status != CGS_TRACK_COASTING) ||
+        gd_norm (t->vel) > self->p.max_target_speed_mps ||
         t->friendly != self->track.friendly) // BCIS says it is another vehicle
         return false;
     if (t->continues == self->orphan_id)
@@ -697,7 +698,7 @@ static double s_confirm_distance (const gd_intercept_t *self, const gd_track_t *
             t_hit = t->history_t_s[k];
         }
     if (!isfinite (t_hit)) {
-        if (t->history_count > 0 || t->status != 1 || !(t->t_s > t_in))
+        if (t->history_count > 0 || t->status != CGS_TRACK_CONFIRMED || !(t->t_s > t_in))
             return NAN;
         hit = t->pos; // no history: its filtered position at a hit
         t_hit = t->t_s;
@@ -760,12 +761,12 @@ void gd_intercept_track (gd_intercept_t *self, const gd_track_t *t)
         self->holding = false;
         self->heard_hit_s = -INFINITY;
         self->heard_s = t->t_s;
-        self->last_status = 1;
+        self->last_status = CGS_TRACK_CONFIRMED;
     } else if (self->orphan) {
         return; // the deleted track's last word
     }
     bool active = s_active (self->phase) && self->have_track;
-    if (active && t->status == 3) {
+    if (active && t->status == CGS_TRACK_DELETED) {
         // Keep flying on the trusted estimate; a new track of the target near
         // it takes over (s_takes_over); none within lost_after_s: lost.
         self->orphan = true;
@@ -875,8 +876,8 @@ void gd_intercept_turn (gd_intercept_t *self, uint32_t track_id, double t_s, gd_
     // update (which may hold it: gd_intercept_track).
     if (track_id == 0 || track_id != self->track_id || !s_active (self->phase) ||
         self->phase == GD_OVERFLIGHT || !self->has_plan || self->orphan || self->holding ||
-        self->last_status == 2 || !isfinite (vel_after.e) || !isfinite (vel_after.n) ||
-        !isfinite (t_s))
+        self->last_status == CGS_TRACK_COASTING || !isfinite (vel_after.e) ||
+        !isfinite (vel_after.n) || !isfinite (t_s))
         return;
     gd_v2_t dir;
     if (!s_target_dir (self, vel_after, &dir) || gd_norm (vel_after) > self->p.max_target_speed_mps)
@@ -953,11 +954,11 @@ int gd_intercept_designate (gd_intercept_t *self, const gd_track_t *t, double t_
         snprintf (why, whylen, "the track has no valid position or velocity");
         return -EINVAL;
     }
-    if (t->status == 3) {
+    if (t->status == CGS_TRACK_DELETED) {
         snprintf (why, whylen, "track %u was deleted", t->id);
         return -EINVAL;
     }
-    if (t->status == 0) {
+    if (t->status == CGS_TRACK_TENTATIVE) {
         snprintf (why, whylen, "track %u is tentative (not yet confirmed)", t->id);
         return -EINVAL;
     }
@@ -1067,7 +1068,7 @@ int gd_pick_nearest (const gd_track_t *tracks, size_t n, gd_v2_t p, gd_pick_t pi
     double best_d = INFINITY;
     for (size_t i = 0; i < n; i++) {
         const gd_track_t *t = &tracks[i];
-        if (t->status != 1 && t->status != 2)
+        if (t->status != CGS_TRACK_CONFIRMED && t->status != CGS_TRACK_COASTING)
             continue;
         if ((pick == GD_PICK_UNKNOWN && t->friendly) || (pick == GD_PICK_FRIENDLY && !t->friendly))
             continue;
@@ -1218,7 +1219,7 @@ int gd_intercept_restore (gd_intercept_t *self, const uint8_t *buf, size_t len, 
     *x = *self;
     const char *cur = (const char *)buf, *end = cur + len;
     char line[512];
-    int ln = 0, a = 0, b = 0, c = 0, d = 0;
+    int ln = 0, a = 0, b = 0, c = 0, d = 0, st = 0;
     unsigned ua = 0;
     unsigned long long ull = 0;
     const char *what = "the header";
@@ -1255,11 +1256,11 @@ int gd_intercept_restore (gd_intercept_t *self, const uint8_t *buf, size_t len, 
     what = "track";
     size_t hn = 0;
     if (!s_line (&cur, end, line, sizeof line, &ln) ||
-        sscanf (line, "track %u %d %d %lf %lf %lf %lf %lf %u %lf %zu", &t->id, &t->status, &a,
-                &t->t_s, &t->pos.e, &t->pos.n, &t->vel.e, &t->vel.n, &t->hits, &t->last_hit_s,
-                &hn) != 11 ||
-        hn > GD_HISTORY_MAX || t->status < 0 || t->status > 3)
+        sscanf (line, "track %u %d %d %lf %lf %lf %lf %lf %u %lf %zu", &t->id, &st, &a, &t->t_s,
+                &t->pos.e, &t->pos.n, &t->vel.e, &t->vel.n, &t->hits, &t->last_hit_s, &hn) != 11 ||
+        hn > GD_HISTORY_MAX || st < 0 || st > CGS_TRACK_STATUS_MAX)
         goto bad;
+    t->status = (cgs_track_status_t)st;
     t->friendly = a != 0;
     t->history_count = hn;
     what = "a hit";
@@ -1272,11 +1273,13 @@ int gd_intercept_restore (gd_intercept_t *self, const uint8_t *buf, size_t len, 
     gd_track_t *h = &x->held;
     if (!s_line (&cur, end, line, sizeof line, &ln) ||
         sscanf (line, "held %d %d %lf %lf %u %d %lf %lf %lf %lf %lf %u %lf", &a, &x->last_status,
-                &x->heard_hit_s, &x->heard_s, &h->id, &h->status, &h->t_s, &h->pos.e, &h->pos.n,
-                &h->vel.e, &h->vel.n, &h->hits, &h->last_hit_s) != 13 ||
-        x->last_status < 0 || x->last_status > 3 || h->status < 0 || h->status > 3 ||
+                &x->heard_hit_s, &x->heard_s, &h->id, &st, &h->t_s, &h->pos.e, &h->pos.n, &h->vel.e,
+                &h->vel.n, &h->hits, &h->last_hit_s) != 13 ||
+        x->last_status < 0 || x->last_status > CGS_TRACK_STATUS_MAX || st < 0 ||
+        st > CGS_TRACK_STATUS_MAX ||
         (a && !s_finite_all ((const double[]){h->t_s, h->pos.e, h->pos.n, h->vel.e, h->vel.n}, 5)))
         goto bad;
+    h->status = (cgs_track_status_t)st;
     x->holding = a != 0;
     h->history_count = 0;
     what = "plan";

@@ -33,6 +33,7 @@
 #ifndef GD_INTERCEPT_H
 #define GD_INTERCEPT_H
 
+#include "cgs_track_status.h"
 #include "gd_geom.h"
 #include "gd_params.h"
 
@@ -78,7 +79,7 @@ typedef struct {
 /* A track as heard on `track`. */
 typedef struct {
     uint32_t id;
-    int status; // proto TrackStatus: 0 tentative, 1 confirmed, 2 coasting, 3 deleted
+    cgs_track_status_t status;
     bool friendly;
     double t_s;  // time of position and velocity
     gd_v2_t pos; // filtered

@@ -23,15 +23,18 @@
 #include "trk_imm.h"
 #include "trk_params.h"
 
+#include "cgs_track_status.h"
+
 #include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
 
+/* A track's status: the message's (cgs_track_status.h). */
 typedef enum {
-    TRK_TENTATIVE = 0, // not yet M hits in N scans
-    TRK_CONFIRMED = 1, // hit in its latest scan
-    TRK_COASTING = 2,  // confirmed, missed its latest scan(s)
-    TRK_DELETED = 3,   // reported once, then forgotten
+    TRK_TENTATIVE = CGS_TRACK_TENTATIVE, // not yet M hits in N scans
+    TRK_CONFIRMED = CGS_TRACK_CONFIRMED, // hit in its latest scan
+    TRK_COASTING = CGS_TRACK_COASTING,   // confirmed, missed its latest scan(s)
+    TRK_DELETED = CGS_TRACK_DELETED,     // reported once, then forgotten
 } trk_status_t;
 
 /* One MTI hit as the tracker takes it. */

@@ -137,11 +137,11 @@ static gd_uav_t s_uav (double t_s, double e, double n, double heading_deg)
     return u;
 }
 
-/* A track update. A confirmed one (status 1) carries a hit of its own time
+/* A track update. A confirmed one carries a hit of its own time
  * (last_hit_s = t_s); other statuses leave the newest hit unknown (NaN).
  * hits 0 (unknown), no history. */
-static gd_track_t s_track (uint32_t id, int status, double t_s, double e, double n, double ve,
-                           double vn)
+static gd_track_t s_track (uint32_t id, cgs_track_status_t status, double t_s, double e, double n,
+                           double ve, double vn)
 {
     gd_track_t t;
     memset (&t, 0, sizeof t);
@@ -150,7 +150,7 @@ static gd_track_t s_track (uint32_t id, int status, double t_s, double e, double
     t.t_s = t_s;
     t.pos = gd_v2 (e, n);
     t.vel = gd_v2 (ve, vn);
-    t.last_hit_s = status == 1 ? t_s : NAN;
+    t.last_hit_s = status == CGS_TRACK_CONFIRMED ? t_s : NAN;
     return t;
 }
 
@@ -158,7 +158,7 @@ static gd_track_t s_track (uint32_t id, int status, double t_s, double e, double
 static gd_track_t s_coast (uint32_t id, double t_s, double e, double n, double ve, double vn,
                            double last_hit_s)
 {
-    gd_track_t t = s_track (id, 2, t_s, e, n, ve, vn);
+    gd_track_t t = s_track (id, CGS_TRACK_COASTING, t_s, e, n, ve, vn);
     t.last_hit_s = last_hit_s;
     return t;
 }
@@ -258,7 +258,7 @@ static void s_assert_flyable (const gd_v2_t *pts, size_t n, gd_v2_t start, doubl
  * predict it to the UAV's time. */
 static gd_track_t s_crossing_track (uint32_t id)
 {
-    return s_track (id, 1, 98, -3020, 11400, 10, 0);
+    return s_track (id, CGS_TRACK_CONFIRMED, 98, -3020, 11400, 10, 0);
 }
 
 static gd_intercept_t *s_crossing (const gd_params_t *p, uint32_t id)
@@ -469,12 +469,12 @@ static void test_time_back (void **state)
         p.handover = GD_HANDOVER_NEAR;
         gd_intercept_t *ic = s_crossing (&p, 7);
         for (double t = 110; t <= 150; t += 10) {
-            gd_track_t u = s_track (7, 1, t, -3020 + 10 * (t - 98), 11400, 10, 0);
+            gd_track_t u = s_track (7, CGS_TRACK_CONFIRMED, t, -3020 + 10 * (t - 98), 11400, 10, 0);
             gd_intercept_track (ic, &u);
         }
         gd_uav_t uav = s_uav (140, 1500, 300, 0);
         gd_intercept_uav (ic, &uav);
-        gd_track_t del = s_track (7, 3, 160, -3020 + 10 * 62, 11400, 10, 0);
+        gd_track_t del = s_track (7, CGS_TRACK_DELETED, 160, -3020 + 10 * 62, 11400, 10, 0);
         gd_intercept_track (ic, &del);
         assert_has (s_status (ic).reason, "track 7 was deleted");
         if (back) {
@@ -482,7 +482,7 @@ static void test_time_back (void **state)
             uav = s_uav (120, 800, 100, 0);
             gd_intercept_uav (ic, &uav);
         }
-        gd_track_t young = s_track (12, 1, 125, -3020 + 10 * 27, 11400, 10, 0);
+        gd_track_t young = s_track (12, CGS_TRACK_CONFIRMED, 125, -3020 + 10 * 27, 11400, 10, 0);
         young.hits = 3;
         young.history_count = 3;
         for (int k = 0; k < 3; k++) {
@@ -521,7 +521,7 @@ static void test_uav_ahead_no_secondary (void **state)
     gd_intercept_t *ic = s_new (&p);
     gd_uav_t u = s_uav (100, 0, 0, 0);
     gd_intercept_uav (ic, &u);
-    gd_track_t t = s_track (3, 1, 95, 0, 20000, 0, -10);
+    gd_track_t t = s_track (3, CGS_TRACK_CONFIRMED, 95, 0, 20000, 0, -10);
     s_designate (ic, &t, 100);
     gd_status_t st = s_status (ic);
     double tp = 19950.0 / (UAV_SPEED + 10);
@@ -551,7 +551,7 @@ static void s_behind_case (gd_params_t p, double d, double want_y2)
     gd_intercept_t *ic = s_new (&p);
     gd_uav_t u = s_uav (100, 0, 0, 0);
     gd_intercept_uav (ic, &u);
-    gd_track_t t = s_track (4, 1, 100, 0, d, 0, 10);
+    gd_track_t t = s_track (4, CGS_TRACK_CONFIRMED, 100, 0, d, 0, 10);
     s_designate (ic, &t, 100);
     gd_status_t st = s_status (ic);
     double tp = d / (UAV_SPEED - 10);
@@ -612,7 +612,7 @@ static void test_standing_target (void **state)
     gd_intercept_t *ic = s_new (&p);
     gd_uav_t u = s_uav (100, 0, 0, 0);
     gd_intercept_uav (ic, &u);
-    gd_track_t t = s_track (6, 1, 100, 0, 10000, 0.5, 0);
+    gd_track_t t = s_track (6, CGS_TRACK_CONFIRMED, 100, 0, 10000, 0.5, 0);
     s_designate (ic, &t, 100);
     gd_status_t st = s_status (ic);
     assert_int_equal (st.phase, GD_TO_WAYPOINT);
@@ -622,7 +622,7 @@ static void test_standing_target (void **state)
     assert_near (st.y_u_m, 10000 - LOOKAHEAD, 1e-6);
     const gd_task_t *tk = gd_intercept_task (ic);
     assert_v2_near (tk->points[tk->count - 1], gd_v2 (0, 10000 + p.runout_m), 1e-6);
-    t = s_track (6, 1, 110, 5, 10000, 0.5, 0);
+    t = s_track (6, CGS_TRACK_CONFIRMED, 110, 5, 10000, 0.5, 0);
     gd_intercept_track (ic, &t);
     assert_int_equal (gd_intercept_task (ic)->number, 1);
     assert_int_equal (s_status (ic).replans, 0);
@@ -673,7 +673,7 @@ static void test_route_timing (void **state)
     p.secondary = GD_SECONDARY_EXTENDED;          // the closed form is the extension's route
     double r = s_radius (&p);
     gd_uav_t u = s_uav (100, 0, 0, 180);
-    gd_track_t t = s_track (4, 1, 100, 0, 5000, 0, 10);
+    gd_track_t t = s_track (4, CGS_TRACK_CONFIRMED, 100, 0, 5000, 0, 10);
     gd_intercept_t *ic = s_new (&p);
     gd_intercept_uav (ic, &u);
     s_designate (ic, &t, 100);
@@ -740,7 +740,7 @@ static void test_route_timing (void **state)
     gd_intercept_destroy (&ic);
 
     // Ahead: the route is shorter than the arc; both timings give equation 1.
-    gd_track_t ta = s_track (3, 1, 95, 0, 20000, 0, -10);
+    gd_track_t ta = s_track (3, CGS_TRACK_CONFIRMED, 95, 0, 20000, 0, -10);
     gd_uav_t ua = s_uav (100, 0, 0, 0);
     double tp = 19950.0 / (UAV_SPEED + 10);
     gd_status_t sa[2];
@@ -785,7 +785,7 @@ static void test_replan_significance (void **state)
         if (k == 2)
             q.significance = 0;
         gd_intercept_t *ic = s_crossing (&q, 7);
-        gd_track_t t = s_track (7, 1, 102, -2980, 11400, v30.e, v30.n);
+        gd_track_t t = s_track (7, CGS_TRACK_CONFIRMED, 102, -2980, 11400, v30.e, v30.n);
         t.has_cov = true;
         double var = k == 1 ? sure : vague;
         t.vel_cov[0] = t.vel_cov[2] = var;
@@ -805,7 +805,7 @@ static void test_replan_significance (void **state)
     // north of where the target should be at 101 s is 200 m across it.
     for (int k = 0; k < 2; k++) {
         gd_intercept_t *ic = s_crossing (&p, 7);
-        gd_track_t t = s_track (7, 1, 101, -2990, 11600, 10, 0);
+        gd_track_t t = s_track (7, CGS_TRACK_CONFIRMED, 101, -2990, 11600, 10, 0);
         t.has_cov = true;
         t.vel_cov[0] = t.vel_cov[2] = sure;
         t.pos_cov[0] = t.pos_cov[2] = k == 0 ? 150 * 150 : 20 * 20;
@@ -839,7 +839,7 @@ static void test_replan_on_direction_change (void **state)
     // 10°: below the threshold (20°); the target stays within 2 m of the
     // planned line and behind the waypoint: nothing changes.
     gd_v2_t v10 = s_vel (10, 100);
-    gd_track_t t = s_track (7, 1, 101, -2990, 11400, v10.e, v10.n);
+    gd_track_t t = s_track (7, CGS_TRACK_CONFIRMED, 101, -2990, 11400, v10.e, v10.n);
     gd_intercept_track (ic, &t);
     gd_status_t st = s_status (ic);
     assert_int_equal (gd_intercept_task (ic)->number, 1);
@@ -848,7 +848,7 @@ static void test_replan_on_direction_change (void **state)
 
     // 30°: a new plan with the new direction.
     gd_v2_t v30 = s_vel (10, 120);
-    t = s_track (7, 1, 102, -2980, 11400, v30.e, v30.n);
+    t = s_track (7, CGS_TRACK_CONFIRMED, 102, -2980, 11400, v30.e, v30.n);
     gd_intercept_track (ic, &t);
     st = s_status (ic);
     assert_int_equal (gd_intercept_task (ic)->number, 2);
@@ -882,7 +882,7 @@ static void test_replan_on_direction_change (void **state)
     assert_int_equal (gd_intercept_task (ic)->number, 3);
     assert_int_equal (st.replans, 2);
     assert_has (st.reason, "turn event");
-    gd_track_t after = s_track (7, 1, 103, -2980 + v30.e, 11400 + v30.n, 0, -10);
+    gd_track_t after = s_track (7, CGS_TRACK_CONFIRMED, 103, -2980 + v30.e, 11400 + v30.n, 0, -10);
     assert_v2_near (st.waypoint, s_eq1 (&after, 100, st.t_pred_s), 1e-6);
     s_assert_fixed_point (&after, &u, s_radius (&p), st.t_pred_s);
     tk = gd_intercept_task (ic);
@@ -924,7 +924,7 @@ static void test_hold_after_coast (void **state)
     gd_intercept_t *ic = s_coasting (&p);
     gd_status_t st0 = s_status (ic);
 
-    gd_track_t h = s_track (7, 1, 112, -2880, 11400, -10, 0);
+    gd_track_t h = s_track (7, CGS_TRACK_CONFIRMED, 112, -2880, 11400, -10, 0);
     gd_intercept_track (ic, &h);
     gd_status_t st = s_status (ic);
     assert_int_equal (s_task_number (ic), 1);
@@ -943,7 +943,7 @@ static void test_hold_after_coast (void **state)
     assert_v2_near (st.waypoint, st0.waypoint, 0);
     assert_has (st.reason, "held");
 
-    gd_track_t a = s_track (7, 1, 114, -2900, 11400, -10, 0);
+    gd_track_t a = s_track (7, CGS_TRACK_CONFIRMED, 114, -2900, 11400, -10, 0);
     gd_intercept_track (ic, &a);
     st = s_status (ic);
     assert_int_equal (s_task_number (ic), 2);
@@ -970,17 +970,17 @@ static void test_hold_replaced (void **state)
     gd_params_t p = s_params ();
     gd_intercept_t *ic = s_coasting (&p);
     gd_v2_t wp0 = s_status (ic).waypoint;
-    gd_track_t h = s_track (7, 1, 112, -2880, 11400, -10, 0);
+    gd_track_t h = s_track (7, CGS_TRACK_CONFIRMED, 112, -2880, 11400, -10, 0);
     gd_intercept_track (ic, &h);
     assert_has (s_status (ic).reason, "held");
-    gd_track_t h2 = s_track (7, 1, 114, -2880, 11420, 0, 10);
+    gd_track_t h2 = s_track (7, CGS_TRACK_CONFIRMED, 114, -2880, 11420, 0, 10);
     gd_intercept_track (ic, &h2);
     gd_status_t st = s_status (ic);
     assert_int_equal (s_task_number (ic), 1);
     assert_int_equal (st.replans, 0);
     assert_v2_near (st.waypoint, wp0, 0);
     assert_has (st.reason, "held");
-    gd_track_t a = s_track (7, 1, 116, -2880, 11440, 0, 10);
+    gd_track_t a = s_track (7, CGS_TRACK_CONFIRMED, 116, -2880, 11440, 0, 10);
     gd_intercept_track (ic, &a);
     st = s_status (ic);
     assert_int_equal (s_task_number (ic), 2);
@@ -1008,7 +1008,7 @@ static void test_hold_not_without_coast (void **state)
     assert_int_equal (s_task_number (ic), 1);
     assert_int_equal (s_status (ic).replans, 0);
     gd_v2_t v2 = s_vel (10, 92);
-    gd_track_t a = s_track (7, 1, 112, -2880, 11400, v2.e, v2.n);
+    gd_track_t a = s_track (7, CGS_TRACK_CONFIRMED, 112, -2880, 11400, v2.e, v2.n);
     gd_intercept_track (ic, &a);
     gd_status_t st = s_status (ic);
     assert_int_equal (s_task_number (ic), 1);
@@ -1024,7 +1024,7 @@ static void test_hold_not_without_coast (void **state)
 
     // No coast: a reversal re-plans at once.
     ic = s_crossing (&p, 7);
-    gd_track_t r = s_track (7, 1, 110, -2900, 11400, -10, 0);
+    gd_track_t r = s_track (7, CGS_TRACK_CONFIRMED, 110, -2900, 11400, -10, 0);
     gd_intercept_track (ic, &r);
     st = s_status (ic);
     assert_int_equal (s_task_number (ic), 2);
@@ -1051,14 +1051,14 @@ static gd_intercept_t *s_deleted_holding (const gd_params_t *p)
     gd_intercept_t *ic = s_new (p);
     gd_uav_t u = s_uav (100, 0, 0, 0);
     gd_intercept_uav (ic, &u);
-    gd_track_t t = s_track (7, 1, 100, -3000, 11400, 10, 0);
+    gd_track_t t = s_track (7, CGS_TRACK_CONFIRMED, 100, -3000, 11400, 10, 0);
     s_designate (ic, &t, 100);
     gd_track_t c = s_coast (7, 110, -2900, 11400, 10, 0, 100);
     gd_intercept_track (ic, &c);
-    gd_track_t h = s_track (7, 1, 112, -2880, 13400, 10, 0);
+    gd_track_t h = s_track (7, CGS_TRACK_CONFIRMED, 112, -2880, 13400, 10, 0);
     gd_intercept_track (ic, &h);
     assert_has (s_status (ic).reason, "held");
-    gd_track_t d = s_track (7, 3, 115, -2850, 13400, 10, 0);
+    gd_track_t d = s_track (7, CGS_TRACK_DELETED, 115, -2850, 13400, 10, 0);
     gd_intercept_track (ic, &d);
     assert_has (s_status (ic).reason, "deleted");
     return ic;
@@ -1072,7 +1072,7 @@ static void test_hold_then_deleted (void **state)
     gd_intercept_t *ref = s_new (&p);
     gd_uav_t u = s_uav (100, 0, 0, 0);
     gd_intercept_uav (ref, &u);
-    gd_track_t t = s_track (7, 1, 100, -3000, 11400, 10, 0);
+    gd_track_t t = s_track (7, CGS_TRACK_CONFIRMED, 100, -3000, 11400, 10, 0);
     s_designate (ref, &t, 100);
     gd_status_t st0 = s_status (ref);
     gd_intercept_destroy (&ref);
@@ -1087,10 +1087,10 @@ static void test_hold_then_deleted (void **state)
     assert_int_equal (s_task_number (ic), 1);
     assert_int_equal (s_status (ic).replans, 0);
 
-    gd_track_t none = s_track (20, 1, 120, -2800, 12400, 10, 0);
+    gd_track_t none = s_track (20, CGS_TRACK_CONFIRMED, 120, -2800, 12400, 10, 0);
     gd_intercept_track (ic, &none);
     assert_int_equal (s_status (ic).track_id, 7);
-    gd_track_t near = s_track (21, 1, 120, -2800 + 700, 11400, 10, 0);
+    gd_track_t near = s_track (21, CGS_TRACK_CONFIRMED, 120, -2800 + 700, 11400, 10, 0);
     gd_intercept_track (ic, &near);
     st = s_status (ic);
     assert_int_equal (st.track_id, 21);
@@ -1101,7 +1101,7 @@ static void test_hold_then_deleted (void **state)
     ic = s_deleted_holding (&p);
     gd_intercept_track (ic, &none);
     assert_int_equal (s_status (ic).track_id, 7);
-    gd_track_t by_held = s_track (22, 1, 120, -2800, 13400 - 500, 10, 0);
+    gd_track_t by_held = s_track (22, CGS_TRACK_CONFIRMED, 120, -2800, 13400 - 500, 10, 0);
     gd_intercept_track (ic, &by_held);
     assert_int_equal (s_status (ic).track_id, 22);
     gd_intercept_destroy (&ic);
@@ -1145,7 +1145,7 @@ static void test_cancel (void **state)
     assert_int_equal (gd_intercept_task (ic)->number, n + 1);
     assert_int_equal (s_status (ic).phase, GD_CANCELLED);
     // Updates of the cancelled track change nothing.
-    gd_track_t t = s_track (7, 1, 130, -2700, 11400, 0, -10);
+    gd_track_t t = s_track (7, CGS_TRACK_CONFIRMED, 130, -2700, 11400, 0, -10);
     gd_intercept_track (ic, &t);
     gd_intercept_tick (ic, 1000);
     assert_int_equal (s_status (ic).phase, GD_CANCELLED);
@@ -1165,12 +1165,13 @@ static void test_preempt (void **state)
     gd_intercept_t *ic = s_crossing (&p, 7);
     gd_uav_t u = s_uav (100, 0, 0, 0);
     gd_v2_t v30 = s_vel (10, 120);
-    gd_track_t t7 = s_track (7, 1, 102, -2980, 11400, v30.e, v30.n);
+    gd_track_t t7 = s_track (7, CGS_TRACK_CONFIRMED, 102, -2980, 11400, v30.e, v30.n);
     gd_intercept_track (ic, &t7);
     assert_int_equal (s_status (ic).replans, 1);
     assert_int_equal (gd_intercept_task (ic)->number, 2);
 
-    gd_track_t t9 = s_track (9, 2, 100, 5000, 5000, 0, 10); // coasting may be designated
+    gd_track_t t9 =
+        s_track (9, CGS_TRACK_COASTING, 100, 5000, 5000, 0, 10); // coasting may be designated
     s_designate (ic, &t9, 105);
     gd_status_t st = s_status (ic);
     assert_int_equal (st.designation_number, 2);
@@ -1183,7 +1184,7 @@ static void test_preempt (void **state)
     assert_v2_near (st.waypoint, s_eq1 (&t9, 100, st.t_pred_s), 1e-6);
     s_assert_fixed_point (&t9, &u, s_radius (&p), st.t_pred_s);
     // Track 7 turning hard is no longer our business.
-    t7 = s_track (7, 1, 106, -2940, 11380, 0, -10);
+    t7 = s_track (7, CGS_TRACK_CONFIRMED, 106, -2940, 11380, 0, -10);
     gd_intercept_track (ic, &t7);
     gd_intercept_turn (ic, 7, 106, gd_v2 (-10, 0), 90);
     assert_int_equal (gd_intercept_task (ic)->number, 3);
@@ -1212,20 +1213,20 @@ static void test_refusals (void **state)
     gd_uav_t u = s_uav (100, 0, 0, 0);
     gd_intercept_uav (ic, &u);
     gd_track_t t = s_crossing_track (7);
-    t.status = 0;
+    t.status = CGS_TRACK_TENTATIVE;
     s_refused (ic, &t, "tentative");
-    t.status = 3;
+    t.status = CGS_TRACK_DELETED;
     s_refused (ic, &t, "deleted");
     // Faster than max_target_speed_mps (30): 1 m/s more is refused.
     assert_true (p.max_target_speed_mps < UAV_SPEED - 1);
-    t = s_track (7, 1, 100, -3000, 11400, p.max_target_speed_mps + 1, 0);
+    t = s_track (7, CGS_TRACK_CONFIRMED, 100, -3000, 11400, p.max_target_speed_mps + 1, 0);
     s_refused (ic, &t, "not credible");
-    t = s_track (7, 1, 100, NAN, 11400, 10, 0);
+    t = s_track (7, CGS_TRACK_CONFIRMED, 100, NAN, 11400, 10, 0);
     s_refused (ic, &t, "no valid position");
-    t = s_track (0, 1, 100, -3000, 11400, 10, 0);
+    t = s_track (0, CGS_TRACK_CONFIRMED, 100, -3000, 11400, 10, 0);
     s_refused (ic, &t, "no valid position");
     // At the limit it is taken.
-    t = s_track (7, 1, 100, -3000, 11400, p.max_target_speed_mps, 0);
+    t = s_track (7, CGS_TRACK_CONFIRMED, 100, -3000, 11400, p.max_target_speed_mps, 0);
     s_designate (ic, &t, 100);
     assert_int_equal (s_status (ic).designation_number, 1);
     assert_int_equal (s_status (ic).track_id, 7);
@@ -1328,7 +1329,7 @@ static void test_save_restore (void **state)
     gd_uav_t u = s_uav (110, 30, 380, 5);
     gd_intercept_uav (a, &u);
     gd_v2_t v30 = s_vel (10, 120);
-    gd_track_t t = s_track (7, 1, 111, -2890, 11395, v30.e, v30.n);
+    gd_track_t t = s_track (7, CGS_TRACK_CONFIRMED, 111, -2890, 11395, v30.e, v30.n);
     gd_intercept_track (a, &t);
     gd_status_t sa = s_status (a);
     assert_int_equal (sa.replans, 1);
@@ -1358,7 +1359,8 @@ static void test_save_restore (void **state)
     gd_uav_t u2 = s_uav (120, 150, 760, 20);
     gd_intercept_uav (a, &u2);
     gd_intercept_uav (b, &u2);
-    gd_track_t t2 = s_track (7, 1, 121, -2800, 11340, 0, -10); // 60° more: a re-plan
+    gd_track_t t2 =
+        s_track (7, CGS_TRACK_CONFIRMED, 121, -2800, 11340, 0, -10); // 60° more: a re-plan
     gd_intercept_track (a, &t2);
     gd_intercept_track (b, &t2);
     assert_int_equal (s_status (a).replans, 2);
@@ -1373,7 +1375,7 @@ static void test_save_restore (void **state)
     // Damaged text into an intercept of its own (track 9 designated).
     gd_intercept_t *c = s_new (&p);
     gd_intercept_uav (c, &u);
-    gd_track_t t9 = s_track (9, 1, 110, 5000, 5000, 0, 10);
+    gd_track_t t9 = s_track (9, CGS_TRACK_CONFIRMED, 110, 5000, 5000, 0, 10);
     s_designate (c, &t9, 110);
     s_damaged (c, buf, len / 2, "line");
     s_damaged (c, buf, len - 4, "end"); // "end\n" cut off
@@ -1434,7 +1436,7 @@ static void test_precision_eq9 (void **state)
     (void)state;
     gd_params_t p = s_params ();
     gd_intercept_t *ic = s_new (&p);
-    gd_track_t t = s_track (5, 1, 100, 0, 20000, 0, -10);
+    gd_track_t t = s_track (5, CGS_TRACK_CONFIRMED, 100, 0, 20000, 0, -10);
     s_designate (ic, &t, 100); // no UAV yet: planned on its first state
     gd_status_t st = s_status (ic);
     assert_false (st.has_plan);
@@ -1453,7 +1455,7 @@ static void test_precision_eq9 (void **state)
     // footprint centre (0, 1200), closing at 38 + 10 m/s.
     assert_near (st.time_to_go_s, 18800.0 / 48.0, 1e-6);
 
-    t = s_track (5, 1, 110, 0, 19900, 0, -10);
+    t = s_track (5, CGS_TRACK_CONFIRMED, 110, 0, 19900, 0, -10);
     gd_intercept_track (ic, &t);
     const gd_task_t *tk = gd_intercept_task (ic);
     assert_int_equal (tk->number, 2);
@@ -1477,7 +1479,7 @@ static void test_precision_eq9 (void **state)
     assert_int_equal (s_status (ic).phase, GD_PRECISION);
     // At 110 s: the target (0, 19 900), the footprint centre (0, 1580).
     assert_near (s_status (ic).time_to_go_s, (19900.0 - 1580.0) / 48.0, 1e-6);
-    t = s_track (5, 1, 120, 30, 19800, 0, -10);
+    t = s_track (5, CGS_TRACK_CONFIRMED, 120, 30, 19800, 0, -10);
     gd_intercept_track (ic, &t);
     tk = gd_intercept_task (ic);
     assert_int_equal (tk->number, 3);
@@ -1493,7 +1495,7 @@ static void test_precision_eq9 (void **state)
     // it away. The task joins the line 2r ahead of the UAV: (30, 1500 + 2r).
     u = s_uav (125, 0, 1500, 0);
     gd_intercept_uav (ic, &u);
-    t = s_track (5, 1, 130, 30, 19700, 0, -10);
+    t = s_track (5, CGS_TRACK_CONFIRMED, 130, 30, 19700, 0, -10);
     gd_intercept_track (ic, &t);
     tk = gd_intercept_task (ic);
     assert_int_equal (tk->number, 4);
@@ -1503,7 +1505,7 @@ static void test_precision_eq9 (void **state)
 
     // A 30° turn of the target during the approach: a new plan (the UAV must turn).
     gd_v2_t v = s_vel (10, 210);
-    t = s_track (5, 1, 135, 30 + v.e * 5, 19650 + v.n * 5, v.e, v.n);
+    t = s_track (5, CGS_TRACK_CONFIRMED, 135, 30 + v.e * 5, 19650 + v.n * 5, v.e, v.n);
     gd_intercept_track (ic, &t);
     st = s_status (ic);
     assert_int_equal (st.replans, 1);
@@ -1534,7 +1536,7 @@ static void test_overflight_done (void **state)
     gd_intercept_t *ic = s_new (&p);
     gd_uav_t u = s_uav (100, 0, 0, 0);
     gd_intercept_uav (ic, &u);
-    gd_track_t t = s_track (5, 1, 100, 0, 20000, 0, -10);
+    gd_track_t t = s_track (5, CGS_TRACK_CONFIRMED, 100, 0, 20000, 0, -10);
     s_designate (ic, &t, 100);
     uint64_t n = gd_intercept_task (ic)->number;
 
@@ -1571,7 +1573,7 @@ static void test_overflight_done (void **state)
     assert_int_equal (st.phase, GD_OVERFLIGHT);
     assert_has (st.reason, "waiting for its next hit");
     assert_int_equal (gd_intercept_task (ic)->number, n);
-    t = s_track (5, 1, 213, 0, 18870, 0, -10);
+    t = s_track (5, CGS_TRACK_CONFIRMED, 213, 0, 18870, 0, -10);
     gd_intercept_track (ic, &t);
     st = s_status (ic);
     assert_int_equal (st.phase, GD_DONE);
@@ -1608,12 +1610,12 @@ static void test_deleted_handover (void **state)
     gd_intercept_t *ic = s_new (&p);
     gd_uav_t u = s_uav (100, 0, 0, 0);
     gd_intercept_uav (ic, &u);
-    gd_track_t t = s_track (7, 1, 100, -3000, 11400, 10, 0);
+    gd_track_t t = s_track (7, CGS_TRACK_CONFIRMED, 100, -3000, 11400, 10, 0);
     s_designate (ic, &t, 100);
     gd_status_t st0 = s_status (ic);
     uint64_t n = gd_intercept_task (ic)->number;
 
-    t = s_track (7, 3, 110, -2900, 11400, 10, 0);
+    t = s_track (7, CGS_TRACK_DELETED, 110, -2900, 11400, 10, 0);
     gd_intercept_track (ic, &t);
     gd_status_t st = s_status (ic);
     assert_int_equal (st.phase, st0.phase);
@@ -1627,17 +1629,19 @@ static void test_deleted_handover (void **state)
 
     double r = p.handover_m + p.handover_growth_mps * 15;
     assert_true (r - 15 > p.handover_m); // the growth matters below
-    gd_track_t far = s_track (12, 1, 115, -2850 + r + 15, 11400, 10, 0);
+    gd_track_t far = s_track (12, CGS_TRACK_CONFIRMED, 115, -2850 + r + 15, 11400, 10, 0);
     gd_intercept_track (ic, &far);
     assert_int_equal (s_status (ic).track_id, 7);
-    gd_track_t tent = s_track (13, 0, 115, -2850 + 100, 11400, 10, 0); // tentative: no
+    gd_track_t tent =
+        s_track (13, CGS_TRACK_TENTATIVE, 115, -2850 + 100, 11400, 10, 0); // tentative: no
     gd_intercept_track (ic, &tent);
     assert_int_equal (s_status (ic).track_id, 7);
-    gd_track_t fast = s_track (14, 1, 115, -2850 + 100, 11400, p.max_target_speed_mps + 5, 0);
+    gd_track_t fast =
+        s_track (14, CGS_TRACK_CONFIRMED, 115, -2850 + 100, 11400, p.max_target_speed_mps + 5, 0);
     gd_intercept_track (ic, &fast); // not credible: no
     assert_int_equal (s_status (ic).track_id, 7);
 
-    gd_track_t near = s_track (15, 1, 115, -2850 + r - 15, 11400, 10, 0);
+    gd_track_t near = s_track (15, CGS_TRACK_CONFIRMED, 115, -2850 + r - 15, 11400, 10, 0);
     gd_intercept_track (ic, &near);
     st = s_status (ic);
     assert_int_equal (st.track_id, 15);
@@ -1648,7 +1652,7 @@ static void test_deleted_handover (void **state)
     // From now on the new track's updates count: a 40° turn re-plans.
     assert_true (p.threshold_deg < 40);
     gd_v2_t v = s_vel (10, 130);
-    near = s_track (15, 1, 116, -2850 + r - 5, 11400, v.e, v.n);
+    near = s_track (15, CGS_TRACK_CONFIRMED, 116, -2850 + r - 5, 11400, v.e, v.n);
     gd_intercept_track (ic, &near);
     assert_int_equal (s_status (ic).replans, 1);
     assert_int_equal (gd_intercept_task (ic)->number, n + 1);
@@ -1684,7 +1688,7 @@ static void test_deleted_handover (void **state)
  * (first hit near, present position 854 m off) does not. */
 static gd_track_t s_born (uint32_t id, double t0, double first_n)
 {
-    gd_track_t t = s_track (id, 1, 160, -2700, 12200, 0, 20);
+    gd_track_t t = s_track (id, CGS_TRACK_CONFIRMED, 160, -2700, 12200, 0, 20);
     t.hits = 3;
     t.history_count = 3;
     t.history[0] = gd_v2 (-2700, first_n);
@@ -1700,7 +1704,7 @@ static gd_track_t s_born (uint32_t id, double t0, double first_n)
  * whose history of count hits starts at t0 (also on the line). */
 static gd_track_t s_on_line (uint32_t id, double t0, uint32_t hits)
 {
-    gd_track_t t = s_track (id, 1, 130, -2700, 11400, 10, 0);
+    gd_track_t t = s_track (id, CGS_TRACK_CONFIRMED, 130, -2700, 11400, 10, 0);
     t.hits = hits;
     t.history_count = 3;
     for (size_t k = 0; k < 3; k++) {
@@ -1715,9 +1719,9 @@ static gd_intercept_t *s_orphaned (const gd_params_t *p)
     gd_intercept_t *ic = s_new (p);
     gd_uav_t u = s_uav (100, 0, 0, 0);
     gd_intercept_uav (ic, &u);
-    gd_track_t t = s_track (7, 1, 100, -3000, 11400, 10, 0);
+    gd_track_t t = s_track (7, CGS_TRACK_CONFIRMED, 100, -3000, 11400, 10, 0);
     s_designate (ic, &t, 100);
-    t = s_track (7, 3, 110, -2900, 11400, 10, 0);
+    t = s_track (7, CGS_TRACK_DELETED, 110, -2900, 11400, 10, 0);
     gd_intercept_track (ic, &t);
     assert_has (s_status (ic).reason, "deleted");
     return ic;
@@ -1788,7 +1792,7 @@ static gd_intercept_t *s_overflown (const gd_params_t *p, uint64_t *ret_n)
     gd_intercept_t *ic = s_new (p);
     gd_uav_t u = s_uav (100, 0, 0, 0);
     gd_intercept_uav (ic, &u);
-    gd_track_t t = s_track (5, 1, 100, 0, 20000, 0, -10);
+    gd_track_t t = s_track (5, CGS_TRACK_CONFIRMED, 100, 0, 20000, 0, -10);
     s_designate (ic, &t, 100);
     const double at[5][2] = {
         {198, 17724}, {200, 17800}, {202, 17876}, {210, 18180}, {212.5, 18275}};
@@ -1826,7 +1830,7 @@ static double s_seg_dist (gd_v2_t p, gd_v2_t a, gd_v2_t b)
  * the line, the others on it, so that only the 200.5 s hit decides. */
 static gd_track_t s_confirming_update (gd_v2_t off)
 {
-    gd_track_t t = s_track (5, 1, 214, 0, 18860, 0, -10);
+    gd_track_t t = s_track (5, CGS_TRACK_CONFIRMED, 214, 0, 18860, 0, -10);
     t.hits = 50;
     t.history_count = 5;
     const double ts[5] = {197.9, 198.5, 200.5, 207, 213};
@@ -1894,7 +1898,7 @@ static void test_handover_continues (void **state)
     other.continues_p = 0.9;
     gd_intercept_track (ic, &other);
     assert_int_equal (s_status (ic).track_id, 7);
-    gd_track_t far = s_track (31, 1, 130, -2700 + 3000, 11400, 10, 0);
+    gd_track_t far = s_track (31, CGS_TRACK_CONFIRMED, 130, -2700 + 3000, 11400, 10, 0);
     gd_intercept_track (ic, &far); // no word from the tracker, too far: no
     assert_int_equal (s_status (ic).track_id, 7);
     far.continues = 7;
@@ -2032,7 +2036,7 @@ static void test_overflight_waiting (void **state)
     gd_status_t st = s_status (ic);
     assert_int_equal (st.phase, GD_OVERFLIGHT);
     assert_has (st.reason, "waiting for its next hit");
-    gd_track_t old = s_track (5, 1, 206, 0, 18940, 0, -10);
+    gd_track_t old = s_track (5, CGS_TRACK_CONFIRMED, 206, 0, 18940, 0, -10);
     old.last_hit_s = 197.5;
     old.hits = 30;
     old.history_count = 3;
@@ -2045,13 +2049,14 @@ static void test_overflight_waiting (void **state)
     st = s_status (ic);
     assert_int_equal (st.phase, GD_OVERFLIGHT);
     assert_has (st.reason, "waiting for its next hit");
-    gd_track_t early = s_track (5, 1, 197.9, 0, 19021, 0, -10); // timed before the entry
+    gd_track_t early =
+        s_track (5, CGS_TRACK_CONFIRMED, 197.9, 0, 19021, 0, -10); // timed before the entry
     gd_intercept_track (ic, &early);
     st = s_status (ic);
     assert_int_equal (st.phase, GD_OVERFLIGHT);
     assert_has (st.reason, "waiting for its next hit");
     assert_int_equal (s_task_number (ic), n);
-    gd_track_t hit = s_track (5, 1, 213, 0, 18870, 0, -10);
+    gd_track_t hit = s_track (5, CGS_TRACK_CONFIRMED, 213, 0, 18870, 0, -10);
     gd_intercept_track (ic, &hit);
     assert_int_equal (s_status (ic).phase, GD_DONE);
     gd_intercept_destroy (&ic);
@@ -2075,13 +2080,13 @@ static void test_deleted_lost (void **state)
     gd_intercept_t *ic = s_new (&p);
     gd_uav_t u = s_uav (100, 0, 0, 0);
     gd_intercept_uav (ic, &u);
-    gd_track_t t = s_track (7, 1, 100, -3000, 11400, 10, 0);
+    gd_track_t t = s_track (7, CGS_TRACK_CONFIRMED, 100, -3000, 11400, 10, 0);
     s_designate (ic, &t, 100);
     uint64_t n = gd_intercept_task (ic)->number;
-    t = s_track (7, 3, 110, -2900, 11400, 10, 0);
+    t = s_track (7, CGS_TRACK_DELETED, 110, -2900, 11400, 10, 0);
     gd_intercept_track (ic, &t);
     // The deleted track's later word is ignored.
-    t = s_track (7, 1, 200, 0, 0, 0, -10);
+    t = s_track (7, CGS_TRACK_CONFIRMED, 200, 0, 0, 0, -10);
     gd_intercept_track (ic, &t);
     assert_int_equal (gd_intercept_task (ic)->number, n);
     gd_intercept_tick (ic, 100 + p.lost_after_s - 1);
@@ -2142,7 +2147,7 @@ static void test_save_restore_holding (void **state)
     (void)state;
     gd_params_t p = s_params ();
     gd_intercept_t *a = s_coasting (&p);
-    gd_track_t h = s_track (7, 1, 112, -2880, 11400, -10, 0);
+    gd_track_t h = s_track (7, CGS_TRACK_CONFIRMED, 112, -2880, 11400, -10, 0);
     gd_intercept_track (a, &h);
     assert_has (s_status (a).reason, "held");
     uint8_t *buf, *buf2;
@@ -2164,13 +2169,13 @@ static void test_save_restore_holding (void **state)
         gd_intercept_track (both[i], &c);
     s_assert_same_status (a, b);
     assert_int_equal (s_task_number (b), 1);
-    gd_track_t h2 = s_track (7, 1, 114, -2880, 11420, 0, 10);
+    gd_track_t h2 = s_track (7, CGS_TRACK_CONFIRMED, 114, -2880, 11420, 0, 10);
     for (int i = 0; i < 2; i++)
         gd_intercept_track (both[i], &h2);
     s_assert_same_status (a, b);
     assert_int_equal (s_task_number (b), 1);
     assert_has (s_status (b).reason, "held");
-    gd_track_t a2 = s_track (7, 1, 116, -2880, 11440, 0, 10);
+    gd_track_t a2 = s_track (7, CGS_TRACK_CONFIRMED, 116, -2880, 11440, 0, 10);
     for (int i = 0; i < 2; i++)
         gd_intercept_track (both[i], &a2);
     s_assert_same_status (a, b);
@@ -2265,22 +2270,22 @@ static void test_pick_nearest (void **state)
     gd_v2_t p = gd_v2 (1000, 1000);
     // 0: filtered position far (3000 m), but its newest hit 100 m from p
     //    (its oldest hit is on p: the newest counts, not the oldest).
-    tr[0] = s_track (1, 1, 10, 4000, 1000, 0, 0);
+    tr[0] = s_track (1, CGS_TRACK_CONFIRMED, 10, 4000, 1000, 0, 0);
     tr[0].history[0] = gd_v2 (1000, 1000);
     tr[0].history[1] = gd_v2 (1000, 1100);
     tr[0].history_count = 2;
     // 1: filtered position 50 m from p, newest hit 300 m.
-    tr[1] = s_track (2, 2, 10, 1050, 1000, 0, 0);
+    tr[1] = s_track (2, CGS_TRACK_COASTING, 10, 1050, 1000, 0, 0);
     tr[1].history[0] = gd_v2 (1300, 1000);
     tr[1].history_count = 1;
     // 2, 3: tentative and deleted, right on p.
-    tr[2] = s_track (3, 0, 10, 1000, 1000, 0, 0);
-    tr[3] = s_track (4, 3, 10, 1000, 1000, 0, 0);
+    tr[2] = s_track (3, CGS_TRACK_TENTATIVE, 10, 1000, 1000, 0, 0);
+    tr[3] = s_track (4, CGS_TRACK_DELETED, 10, 1000, 1000, 0, 0);
     // 4: friendly, no history, 200 m (3-4-5: (120, 160)).
-    tr[4] = s_track (5, 1, 10, 1120, 1160, 0, 0);
+    tr[4] = s_track (5, CGS_TRACK_CONFIRMED, 10, 1120, 1160, 0, 0);
     tr[4].friendly = true;
     // 5: friendly coasting, 500 m.
-    tr[5] = s_track (6, 2, 10, 1000, 500, 0, 0);
+    tr[5] = s_track (6, CGS_TRACK_COASTING, 10, 1000, 500, 0, 0);
     tr[5].friendly = true;
 
     double d = -1;
