@@ -13,7 +13,7 @@
 #define S_MAX_COUNTERS 16
 
 struct cgs_health {
-    char program[64], instance[64], version[32], host[64];
+    char program[64], instance[64], version[32], host[64], machine[64];
     char last_error[512];
     double last_error_wall_s;
     Cgs__ServiceState state;
@@ -33,7 +33,8 @@ struct cgs_health {
     uint64_t prev_sub[S_MAX_SUBS][S_MAX_TOPICS];
 };
 
-cgs_health_t *cgs_health_new (const char *program, const char *instance, const char *version)
+cgs_health_t *cgs_health_new (const char *program, const char *instance, const char *version,
+                              const char *host)
 {
     cgs_health_t *self = calloc (1, sizeof *self);
     if (!self)
@@ -41,7 +42,8 @@ cgs_health_t *cgs_health_new (const char *program, const char *instance, const c
     snprintf (self->program, sizeof self->program, "%s", program ? program : "");
     snprintf (self->instance, sizeof self->instance, "%s", instance ? instance : "");
     snprintf (self->version, sizeof self->version, "%s", version ? version : "");
-    gethostname (self->host, sizeof self->host - 1);
+    snprintf (self->host, sizeof self->host, "%s", host ? host : "");
+    gethostname (self->machine, sizeof self->machine - 1);
     self->start = self->last = cgs_loop_now ();
     self->state = CGS__SERVICE_STATE__SERVICE_STATE_STARTING;
     return self;
@@ -164,6 +166,7 @@ int cgs_health_publish (cgs_health_t *self, cgs_pub_t *pub, double sim_time_s)
     h.instance = self->instance;
     h.version = self->version;
     h.host = self->host;
+    h.machine = self->machine;
     h.pid = (uint32_t)getpid ();
     h.state = self->state;
     h.uptime_s = now - self->start;

@@ -10,8 +10,10 @@
 
 typedef struct cgs_health cgs_health_t;
 
-/* Health of one service instance; NULL on allocation failure. */
-cgs_health_t *cgs_health_new (const char *program, const char *instance, const char *version);
+/* Health of one service instance, which the exercise file places on host
+ * (NULL or "": none given); NULL on allocation failure. */
+cgs_health_t *cgs_health_new (const char *program, const char *instance, const char *version,
+                              const char *host);
 /* Free; accepts NULL; nulls the pointer. */
 void cgs_health_destroy (cgs_health_t **self_p);
 /* Count this publisher's traffic (outbound). */

@@ -309,7 +309,8 @@ int cgs_service_init (cgs_service_t *svc, const cgs_service_info_t *info, int ar
     }
     svc->ctx = zmq_ctx_new ();
     svc->loop = cgs_loop_new ();
-    svc->health = cgs_health_new (info->program, svc->instance_name, CGS_VERSION);
+    svc->health = cgs_health_new (info->program, svc->instance_name, CGS_VERSION,
+                                  svc->instance ? svc->instance->host : NULL);
     if (!svc->ctx || !svc->loop || !svc->health) {
         cgs_log (LOG_ERR, "out of memory");
         return -ENOMEM;

@@ -204,7 +204,8 @@ typedef struct {
     bool seen;
     double seen_at; // monotonic
     Cgs__ServiceState state;
-    char host[64];
+    char host[64];    // where the exercise file puts it
+    char machine[64]; // the machine its health came from
     uint32_t pid;
     double uptime_s, in_per_s, out_per_s;
     uint64_t gaps, drops, malformed, commands;
@@ -230,6 +231,7 @@ static void s_table_init (s_table_t *t, const cgs_exercise_t *ex)
         s_row_t *r = &t->rows[t->nrows++];
         snprintf (r->instance, sizeof r->instance, "%s", in->name);
         snprintf (r->program, sizeof r->program, "%s", in->program);
+        snprintf (r->host, sizeof r->host, "%s", in->host);
         r->enabled = in->enabled;
     }
 }
@@ -255,7 +257,9 @@ static void s_on_health (void *arg, const char *topic, const ProtobufCMessage *m
     r->seen = true;
     r->seen_at = cgs_loop_now ();
     r->state = h->state;
-    snprintf (r->host, sizeof r->host, "%s", h->host);
+    if (h->host && *h->host)
+        snprintf (r->host, sizeof r->host, "%s", h->host);
+    snprintf (r->machine, sizeof r->machine, "%s", h->machine ? h->machine : "");
     r->pid = h->pid;
     r->uptime_s = h->uptime_s;
     r->in_per_s = h->msgs_in_per_s;
@@ -315,18 +319,20 @@ static const char *s_state_name (const s_row_t *r, double now)
 static void s_table_print (const s_table_t *t, FILE *f)
 {
     double now = cgs_loop_now ();
-    fprintf (f, "%-16s %-9s %-12s %8s %9s %9s %9s %7s %7s %9s  %s\n", "INSTANCE", "STATE", "HOST",
-             "PID", "UPTIME_S", "IN/S", "OUT/S", "GAPS", "DROPS", "MALFORMED", "LAST ERROR");
+    fprintf (f, "%-16s %-9s %-12s %-12s %8s %9s %9s %9s %7s %7s %9s  %s\n", "INSTANCE", "STATE",
+             "HOST", "MACHINE", "PID", "UPTIME_S", "IN/S", "OUT/S", "GAPS", "DROPS", "MALFORMED",
+             "LAST ERROR");
     for (size_t i = 0; i < t->nrows; i++) {
         const s_row_t *r = &t->rows[i];
         if (!r->seen) {
-            fprintf (f, "%-16s %-9s%s\n", r->instance, r->enabled ? "down" : "disabled", "");
+            fprintf (f, "%-16s %-9s %-12.12s\n", r->instance, r->enabled ? "down" : "disabled",
+                     r->host);
             continue;
         }
-        fprintf (f, "%-16s %-9s %-12.12s %8u %9.1f %9.1f %9.1f %7llu %7llu %9llu  %s\n",
-                 r->instance, s_state_name (r, now), r->host, r->pid, r->uptime_s, r->in_per_s,
-                 r->out_per_s, (unsigned long long)r->gaps, (unsigned long long)r->drops,
-                 (unsigned long long)r->malformed, r->last_error);
+        fprintf (f, "%-16s %-9s %-12.12s %-12.12s %8u %9.1f %9.1f %9.1f %7llu %7llu %9llu  %s\n",
+                 r->instance, s_state_name (r, now), r->host, r->machine, r->pid, r->uptime_s,
+                 r->in_per_s, r->out_per_s, (unsigned long long)r->gaps,
+                 (unsigned long long)r->drops, (unsigned long long)r->malformed, r->last_error);
         if (*r->counters)
             fprintf (f, "%-16s %s\n", "", r->counters);
     }

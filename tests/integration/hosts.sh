@@ -427,6 +427,8 @@ is "$IC_TRACK" "$tgt" "it is still track $tgt's"
 diag "designated at sim $(ms_s "$designated_ms") s, overflight by $(ms_s "$IC_MS") s"
 M status >"$TMP/status.out" 2>&1
 while IFS= read -r l; do diag "$l"; done <"$TMP/status.out"
+check "mscgs status shows each service on the exercise's host (trackerd on host-b)" \
+    grep -qE '^trackerd +[a-z]+ +host-b ' "$TMP/status.out"
 diag "resume times: ${RESUMES[*]}"
 
 # ---- stop ----------------------------------------------------------------------------------

@@ -141,7 +141,7 @@ static void test_socket_watch_and_remove (void **state)
 typedef struct {
     int n;
     Cgs__ServiceState state;
-    char instance[64], error[64];
+    char instance[64], error[64], host[64], machine[64];
     uint64_t out, clock_msgs;
     bool has_clock;
     uint32_t pid;
@@ -161,6 +161,8 @@ static void s_on_health (void *arg, const char *topic, const ProtobufCMessage *m
     snprintf (s->error, sizeof s->error, "%s", hm->last_error);
     s->out = hm->msgs_out;
     s->pid = hm->pid;
+    snprintf (s->host, sizeof s->host, "%s", hm->host ? hm->host : "");
+    snprintf (s->machine, sizeof s->machine, "%s", hm->machine ? hm->machine : "");
     s->has_clock = false;
     s->max_rate = 0;
     for (size_t i = 0; i < hm->n_topics; i++)
@@ -190,7 +192,7 @@ static void test_health_reports_counts_state_and_error (void **state)
     assert_int_equal (cgs_sub_connect (sub, "inproc://health"), 0);
     s_seen_t seen = {0};
     assert_int_equal (cgs_sub_on (sub, "health", s_on_health, &seen), 0);
-    cgs_health_t *h = cgs_health_new ("svc", "svc.a", "1.0");
+    cgs_health_t *h = cgs_health_new ("svc", "svc.a", "1.0", "lab-b");
     cgs_health_watch_pub (h, pub);
     assert_int_equal (cgs_health_watch_sub (h, sub), 0); // inbound topics follow the outbound
     for (int i = 0; i < 200 && seen.n == 0; i++) {
@@ -217,6 +219,11 @@ static void test_health_reports_counts_state_and_error (void **state)
     assert_int_equal (seen.clock_msgs, 7);
     assert_int_equal (seen.out, health_sent + 7); // counted before this health went out
     assert_int_equal (seen.pid, (uint32_t)getpid ());
+    // The exercise's host for the instance, and the machine it runs on.
+    char machine[64] = "";
+    gethostname (machine, sizeof machine - 1);
+    assert_string_equal (seen.host, "lab-b");
+    assert_string_equal (seen.machine, machine);
     // A topic that appears between two health messages does not shift the
     // others' rates (they were once compared against the wrong counts).
     Cgs__Uav uav = CGS__UAV__INIT;
