@@ -170,7 +170,7 @@ static int s_models (im_renderer_t *self, char *err, size_t errlen)
     }
     free (all);
     for (int k = 0; k < S_KINDS; k++)
-        im_model_free (&models[k]);
+        im_model_fini (&models[k]);
     return rc;
 }
 

@@ -83,7 +83,7 @@ int im_terrain_mesh_build (const cgs_terrain_t *t, int chunk_cells, int lods,
     if (!m.verts || !m.chunks || !m.indices || !cs || !rs) {
         free (cs);
         free (rs);
-        im_terrain_mesh_free (&m);
+        im_terrain_mesh_fini (&m);
         return -ENOMEM;
     }
     /* Skirt depth: the deepest crack a level can leave between neighbours,
@@ -179,7 +179,7 @@ int im_terrain_mesh_build (const cgs_terrain_t *t, int chunk_cells, int lods,
     return 0;
 }
 
-void im_terrain_mesh_free (im_terrain_mesh_t *m)
+void im_terrain_mesh_fini (im_terrain_mesh_t *m)
 {
     if (!m)
         return;
@@ -312,7 +312,7 @@ int im_model_build (cgs_kind_t kind, im_model_t *ret)
     return 0;
 }
 
-void im_model_free (im_model_t *m)
+void im_model_fini (im_model_t *m)
 {
     if (!m)
         return;

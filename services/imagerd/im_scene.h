@@ -60,7 +60,7 @@ typedef struct {
  * -EINVAL or -ENOMEM; *ret is filled only on success. */
 int im_terrain_mesh_build (const cgs_terrain_t *t, int chunk_cells, int lods,
                            im_terrain_mesh_t *ret);
-void im_terrain_mesh_free (im_terrain_mesh_t *m);
+void im_terrain_mesh_fini (im_terrain_mesh_t *m);
 /* The level of detail for a chunk seen from eye: 0 within lod_distance_m of
  * its box, one level coarser for every doubling of the distance beyond. */
 int im_chunk_lod (const im_terrain_mesh_t *m, const im_chunk_t *c, cgs_enu_t eye,
@@ -79,6 +79,6 @@ void im_model_extent (cgs_kind_t kind, double *ret_length_m, double *ret_width_m
                       double *ret_height_m);
 /* The model of an entity kind. 0 or -ENOMEM. */
 int im_model_build (cgs_kind_t kind, im_model_t *ret);
-void im_model_free (im_model_t *m);
+void im_model_fini (im_model_t *m);
 
 #endif

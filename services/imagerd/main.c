@@ -421,7 +421,7 @@ static int s_setup (s_app_t *app, char *err, size_t errlen)
              p->mode == IM_MODE_INFRARED ? "infrared" : "visible", p->frame_rate_hz, mesh.cols,
              mesh.rows, mesh.nchunks, p->lods, im_ctx_backend (),
              app->ren ? im_renderer_gl (app->ren) : "no renderer");
-    im_terrain_mesh_free (&mesh);
+    im_terrain_mesh_fini (&mesh);
     if (!app->ren)
         return -EINVAL;
     if (!(app->png = im_png_writer_new (app->out_dir, S_PNG_QUEUE, err, errlen)))

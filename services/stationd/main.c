@@ -712,7 +712,7 @@ int main (int argc, char **argv)
 done:
     st_web_destroy (&app.web); // first: no page thread may run after what it uses is freed
     st_state_destroy (&app.state);
-    st_relief_free (&app.relief);
+    st_relief_fini (&app.relief);
     cgs_terrain_destroy (&app.terrain);
     cgs_scenario_destroy (&app.scenario);
     cgs_geo_destroy (&app.frame);

@@ -150,7 +150,7 @@ done:
     return rc;
 }
 
-void st_relief_free (st_relief_t *r)
+void st_relief_fini (st_relief_t *r)
 {
     if (!r)
         return;

@@ -24,11 +24,11 @@ typedef struct {
     double extent[4];  // min east, min north, max east, max north (metres): the pixels' outer edges
 } st_relief_t;
 
-/* Shade terrain into *ret (freed by st_relief_free). 0, or -errno with the
+/* Shade terrain into *ret (freed by st_relief_fini). 0, or -errno with the
  * reason in err (GDAL's message when GDAL failed); *ret untouched then. */
 int st_relief_make (const cgs_terrain_t *terrain, const st_relief_params_t *p, st_relief_t *ret,
                     char *err, size_t errlen);
 /* Free what make gave; accepts a zeroed one. */
-void st_relief_free (st_relief_t *r);
+void st_relief_fini (st_relief_t *r);
 
 #endif

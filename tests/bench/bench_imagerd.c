@@ -168,7 +168,7 @@ int main (int argc, char **argv)
     int rc = s_bench (t, &mesh, 640, 480, IM_MODE_VISIBLE, runs, frames);
     rc |= s_bench (t, &mesh, 1280, 720, IM_MODE_VISIBLE, runs, frames);
     rc |= s_bench (t, &mesh, 640, 480, IM_MODE_INFRARED, runs, frames);
-    im_terrain_mesh_free (&mesh);
+    im_terrain_mesh_fini (&mesh);
     cgs_terrain_destroy (&t);
     im_ctx_destroy (&ctx);
     return rc;

@@ -61,7 +61,7 @@ static im_renderer_t *s_renderer (const cgs_terrain_t *t, int w, int h, int chun
     im_renderer_t *r = im_renderer_new (w, h, &mesh, s_err, sizeof s_err);
     if (!r)
         fail_msg ("%s", s_err);
-    im_terrain_mesh_free (&mesh);
+    im_terrain_mesh_fini (&mesh);
     return r;
 }
 

@@ -149,12 +149,12 @@ static void test_mesh_vertices (void **state)
             assert_near (v->mat, IM_MAT_GROUND, 0);
             assert_near (tw->mat, IM_MAT_GROUND, 0);
         }
-    im_terrain_mesh_free (&m);
+    im_terrain_mesh_fini (&m);
     assert_null (m.verts);
     assert_null (m.indices);
     assert_null (m.chunks);
-    im_terrain_mesh_free (&m); // twice is harmless
-    im_terrain_mesh_free (NULL);
+    im_terrain_mesh_fini (&m); // twice is harmless
+    im_terrain_mesh_fini (NULL);
     cgs_terrain_destroy (&t);
 }
 
@@ -176,7 +176,7 @@ static void test_mesh_normals (void **state)
         assert_near (m.verts[i].nrm[1], -PLANE_B / l, 2e-5);
         assert_near (m.verts[i].nrm[2], 1 / l, 2e-5);
     }
-    im_terrain_mesh_free (&m);
+    im_terrain_mesh_fini (&m);
     cgs_terrain_destroy (&t);
 
     t = s_terrain (cols, rows, e0, n0, res, s_paraboloid);
@@ -191,7 +191,7 @@ static void test_mesh_normals (void **state)
             assert_near (v->nrm[1], -gn / len, 2e-5);
             assert_near (v->nrm[2], 1 / len, 2e-5);
         }
-    im_terrain_mesh_free (&m);
+    im_terrain_mesh_fini (&m);
     cgs_terrain_destroy (&t);
 }
 
@@ -348,7 +348,7 @@ static void test_mesh_chunks (void **state)
         assert_int_equal (m.chunks[k].count[2], 192);
     }
     s_check_chunks (t, &m, 16);
-    im_terrain_mesh_free (&m);
+    im_terrain_mesh_fini (&m);
     cgs_terrain_destroy (&t);
 }
 
@@ -371,7 +371,7 @@ static void test_mesh_chunks_uneven (void **state)
             (size_t)((cases[i][0] - 2) / cells + 1) * (size_t)((cases[i][1] - 2) / cells + 1);
         assert_int_equal (m.nchunks, want);
         s_check_chunks (t, &m, cells);
-        im_terrain_mesh_free (&m);
+        im_terrain_mesh_fini (&m);
         cgs_terrain_destroy (&t);
     }
 }
@@ -406,15 +406,15 @@ static void test_chunk_lod (void **state)
                           im_chunk_lod (&m, c, eyes[k], L), want[i]);
     }
     // Fewer levels: the clamp follows.
-    im_terrain_mesh_free (&m);
+    im_terrain_mesh_fini (&m);
     assert_int_equal (im_terrain_mesh_build (t, 16, 2, &m), 0);
     c = &m.chunks[0];
     cgs_enu_t far = {c->hi.e_m + 100 * L, c->hi.n_m, c->hi.u_m};
     assert_int_equal (im_chunk_lod (&m, c, far, L), 1);
-    im_terrain_mesh_free (&m);
+    im_terrain_mesh_fini (&m);
     assert_int_equal (im_terrain_mesh_build (t, 16, 1, &m), 0);
     assert_int_equal (im_chunk_lod (&m, &m.chunks[0], far, L), 0);
-    im_terrain_mesh_free (&m);
+    im_terrain_mesh_fini (&m);
     cgs_terrain_destroy (&t);
 }
 
@@ -442,7 +442,7 @@ static void test_mesh_rejects (void **state)
     // Every power of two in range is taken, and the last level count.
     for (int cells = 2; cells <= 1024; cells *= 2) {
         assert_int_equal (im_terrain_mesh_build (t, cells, IM_MAX_LODS, &m), 0);
-        im_terrain_mesh_free (&m);
+        im_terrain_mesh_fini (&m);
     }
     cgs_terrain_destroy (&t);
 }
@@ -515,7 +515,7 @@ static void test_skirt_hides_cracks (void **state)
                           "\n%s: levels %d and %d leave a crack of %.1f m, the skirt is %.1f m",
                           cases[i].name, l, l + 1, gap, m.skirt_m);
         }
-        im_terrain_mesh_free (&m);
+        im_terrain_mesh_fini (&m);
         cgs_terrain_destroy (&t);
     }
     if (why[0])
@@ -549,7 +549,7 @@ static void test_model_extent (void **state)
                 lo[j] = fmin (lo[j], m.verts[i].pos[j]);
                 hi[j] = fmax (hi[j], m.verts[i].pos[j]);
             }
-        im_model_free (&m);
+        im_model_fini (&m);
         assert_null (m.verts);
         assert_int_equal (m.nverts, 0);
         // Every kind is checked before the test fails.
@@ -566,7 +566,7 @@ static void test_model_extent (void **state)
                       "\n%s: not centred on the origin: x %g..%g, y %g..%g", name, lo[0], hi[0],
                       lo[1], hi[1]);
     }
-    im_model_free (NULL);
+    im_model_fini (NULL);
     if (why[0])
         fail_msg ("models against their extent:%s", why);
 }
@@ -660,7 +660,7 @@ static void test_model_faces (void **state)
             assert_true (box > 0);
             assert_near (vol, box, 1e-4 * box);
         }
-        im_model_free (&m);
+        im_model_fini (&m);
     }
 }
 

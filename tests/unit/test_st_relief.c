@@ -95,7 +95,7 @@ static void s_check_plane (double a, double b, const st_relief_params_t *p)
         fail_msg ("slope (%g, %g), sun %g/%g, z %g: worst pixel %.2f levels off %.2f", a, b,
                   p->sun_azimuth_deg, p->sun_elevation_deg, p->z_factor, worst, want);
     free (px);
-    st_relief_free (&r);
+    st_relief_fini (&r);
     cgs_terrain_destroy (&t);
 }
 
@@ -136,7 +136,7 @@ static void test_extent_and_scaling_down (void **state)
     assert_true (fabs (r.extent[3] - 2010) < 1e-9);
     assert_int_equal (r.width, 301);
     assert_int_equal (r.height, 151);
-    st_relief_free (&r);
+    st_relief_fini (&r);
     p.max_pixels = 100;
     assert_int_equal (st_relief_make (t, &p, &r, err, sizeof err), 0);
     int w, h;
@@ -150,8 +150,8 @@ static void test_extent_and_scaling_down (void **state)
         for (int x = 1; x < w - 1; x++)
             assert_true (fabs (px[y * w + x] - want) <= 1.0);
     free (px);
-    st_relief_free (&r);
-    st_relief_free (&r); // a freed one is zeroed
+    st_relief_fini (&r);
+    st_relief_fini (&r); // a freed one is zeroed
     assert_null (r.png);
     cgs_terrain_destroy (&t);
 }
