@@ -19,13 +19,7 @@
 #include <stdio.h>
 
 #include "cgs_score.h"
-
-#define assert_near(a, b, tol)                                                                     \
-    do {                                                                                           \
-        double a_ = (a), b_ = (b), t_ = (tol);                                                     \
-        if (!(fabs (a_ - b_) <= t_))                                                               \
-            fail_msg ("%s = %.12g, expected %.12g (tolerance %g)", #a, a_, b_, t_);                \
-    } while (0)
+#include "test_util.h"
 
 #define HALF_M   50.0   // half the footprint's side
 #define ROAD_N_M 10.0   // the target's northing

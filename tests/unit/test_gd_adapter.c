@@ -58,16 +58,10 @@
 #include <string.h>
 #include <syslog.h>
 
+#include "test_util.h"
+
 #define S_MAX_MSGS 512
 #define S_MAX_LOGS 256
-
-/* cmocka 1.1 compares only integers; doubles need their own check. */
-#define assert_near(a, b, tol)                                                                     \
-    do {                                                                                           \
-        double a_ = (a), b_ = (b), t_ = (tol);                                                     \
-        if (!(fabs (a_ - b_) <= t_))                                                               \
-            fail_msg ("%s = %.12g, expected %.12g (tolerance %g)", #a, a_, b_, t_);                \
-    } while (0)
 
 #define assert_has(str, sub)                                                                       \
     do {                                                                                           \

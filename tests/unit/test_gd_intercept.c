@@ -71,23 +71,14 @@
 #include "gd_geom.h"
 #include "gd_intercept.h"
 #include "gd_params.h"
+#include "test_util.h"
 
-/* cmocka 1.1 compares only integers; doubles need their own check. */
-#define assert_near(a, b, tol)                                                                     \
-    do {                                                                                           \
-        double a_ = (a), b_ = (b), t_ = (tol);                                                     \
-        if (!(fabs (a_ - b_) <= t_))                                                               \
-            fail_msg ("%s = %.12g, expected %.12g (tolerance %g)", #a, a_, b_, t_);                \
-    } while (0)
-
-/* Two ground points equal within tol metres. */
+/* Two ground points equal within tol metres, east and north. */
 #define assert_v2_near(a, b, tol)                                                                  \
     do {                                                                                           \
         gd_v2_t a_ = (a), b_ = (b);                                                                \
-        double t_ = (tol);                                                                         \
-        if (!(fabs (a_.e - b_.e) <= t_ && fabs (a_.n - b_.n) <= t_))                               \
-            fail_msg ("%s = (%.12g, %.12g), expected (%.12g, %.12g) (tolerance %g)", #a, a_.e,     \
-                      a_.n, b_.e, b_.n, t_);                                                       \
+        test_util_near_v ((double[]){a_.e, a_.n}, (double[]){b_.e, b_.n}, 2, (tol), #a, __FILE__,  \
+                          __LINE__);                                                               \
     } while (0)
 
 #define assert_has(str, sub)                                                                       \

@@ -12,26 +12,11 @@
 #include <string.h>
 #include <cmocka.h>
 
+#include "test_util.h"
+
 #define WGS84_A_M 6378137.0
 #define WGS84_B_M 6356752.314245179 // a (1 - f), f = 1/298.257223563
 #define DEG       (M_PI / 180.0)
-
-// Fail with the values when |got - want| > tol.
-#define assert_near(got, want, tol)                                                                \
-    do {                                                                                           \
-        double g_ = (got), w_ = (want), t_ = (tol);                                                \
-        if (!(fabs (g_ - w_) <= t_))                                                               \
-            fail_msg ("%s = %.12g, want %.12g +- %g", #got, g_, w_, t_);                           \
-    } while (0)
-
-// Difference of two angles in radians, wrapped to [-pi, pi].
-static double s_angle_diff_rad (double a, double b)
-{
-    return remainder (a - b, 2.0 * M_PI);
-}
-
-#define assert_angle_rad(got, want, tol) assert_near (s_angle_diff_rad ((got), (want)), 0.0, (tol))
-#define assert_angle_deg(got, want, tol) assert_near (remainder ((got) - (want), 360.0), 0.0, (tol))
 
 // A small seeded generator (splitmix64), so every run draws the same cases.
 static double s_uniform (uint64_t *state, double lo, double hi)

@@ -17,15 +17,9 @@
 #include <math.h>
 #include <string.h>
 
-#define DEG (M_PI / 180.0)
+#include "test_util.h"
 
-#define assert_near(got, want, tol)                                                                \
-    do {                                                                                           \
-        double g_ = (got), w_ = (want), t_ = (tol);                                                \
-        if (!(fabs (g_ - w_) <= t_))                                                               \
-            fail_msg ("%s = %.15g, want %.15g +- %g", #got, g_, w_, t_);                           \
-    } while (0)
-#define assert_angle(got, want, tol) assert_near (remainder ((got) - (want), 2 * M_PI), 0.0, (tol))
+#define DEG (M_PI / 180.0)
 
 /* The elementary (passive) rotations: coordinates in axes turned by a about x, y, z. */
 static void s_rx (double a, double R[3][3])
@@ -97,9 +91,9 @@ static void test_euler (void **state)
         s_mul (X, W, W); // Rx(phi) Ry(theta) Rz(psi)
         s_assert_mat (R, W, 1e-15);
         gw_dr_euler_from_rot (R, back);
-        assert_angle (back[0], e[0], 1e-12);
+        assert_angle_rad (back[0], e[0], 1e-12);
         assert_near (back[1], e[1], 1e-12);
-        assert_angle (back[2], e[2], 1e-12);
+        assert_angle_rad (back[2], e[2], 1e-12);
     }
     // Worked: heading 90° about z: forward (row 0) is world +y; pitch 30° up tilts
     // forward towards world -z (DIS's z about which psi turns points down here).
@@ -123,9 +117,9 @@ static void test_rotate (void **state)
     for (size_t i = 0; i < sizeof ts / sizeof ts[0]; i++) {
         gw_dr_rotate (R0, (double[3]){0, 0, w}, ts[i], R);
         gw_dr_euler_from_rot (R, e);
-        assert_angle (e[0], psi0 + w * ts[i], 1e-12);
+        assert_angle_rad (e[0], psi0 + w * ts[i], 1e-12);
         assert_near (e[1], 0, 1e-12);
-        assert_angle (e[2], 0, 1e-12);
+        assert_angle_rad (e[2], 0, 1e-12);
     }
     // In any attitude, turning about a body axis at rate w for t is the elementary
     // rotation by w t about that axis applied on the body side: Rz(w t) R0, Rx(w t) R0.

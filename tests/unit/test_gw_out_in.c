@@ -23,14 +23,9 @@
 #include <math.h>
 #include <string.h>
 
-#define DEG (M_PI / 180.0)
+#include "test_util.h"
 
-#define assert_near(got, want, tol)                                                                \
-    do {                                                                                           \
-        double g_ = (got), w_ = (want), t_ = (tol);                                                \
-        if (!(fabs (g_ - w_) <= t_))                                                               \
-            fail_msg ("%s = %.12g, want %.12g +- %g", #got, g_, w_, t_);                           \
-    } while (0)
+#define DEG (M_PI / 180.0)
 
 static int s_setup (void **state)
 {

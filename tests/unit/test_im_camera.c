@@ -34,24 +34,14 @@
 #include "cgs_terrain.h"
 #include "gd_geom.h"
 #include "im_camera.h"
+#include "test_util.h"
 
-/* cmocka 1.1 compares only floats; doubles need their own check. */
-#define assert_near(a, b, tol)                                                                     \
-    do {                                                                                           \
-        double a_ = (a), b_ = (b), t_ = (tol);                                                     \
-        if (!(fabs (a_ - b_) <= t_))                                                               \
-            fail_msg ("%s = %.12g, expected %.12g (tolerance %g)", #a, a_, b_, t_);                \
-    } while (0)
-
-/* Two vectors equal within tol. */
+/* Two vectors equal within tol, each component. */
 #define assert_enu_near(a, b, tol)                                                                 \
     do {                                                                                           \
         cgs_enu_t a_ = (a), b_ = (b);                                                              \
-        double t_ = (tol);                                                                         \
-        if (!(fabs (a_.e_m - b_.e_m) <= t_ && fabs (a_.n_m - b_.n_m) <= t_ &&                      \
-              fabs (a_.u_m - b_.u_m) <= t_))                                                       \
-            fail_msg ("%s = (%.12g, %.12g, %.12g), expected (%.12g, %.12g, %.12g) (tolerance %g)", \
-                      #a, a_.e_m, a_.n_m, a_.u_m, b_.e_m, b_.n_m, b_.u_m, t_);                     \
+        test_util_near_v ((double[]){a_.e_m, a_.n_m, a_.u_m}, (double[]){b_.e_m, b_.n_m, b_.u_m},  \
+                          3, (tol), #a, __FILE__, __LINE__);                                       \
     } while (0)
 
 #define PI  3.14159265358979323846

@@ -24,16 +24,7 @@
 #include <string.h>
 #include <time.h>
 
-/* cmocka compares floats in single precision; these checks need doubles. */
-#define assert_near(a, b, eps) s_assert_near ((a), (b), (eps), #a, __FILE__, __LINE__)
-static void s_assert_near (double a, double b, double eps, const char *what, const char *file,
-                           int line)
-{
-    if (!(fabs (a - b) <= eps)) {
-        print_error ("%s = %.12g, expected %.12g +- %g\n", what, a, b, eps);
-        _fail (file, line);
-    }
-}
+#include "test_util.h"
 
 /* splitmix64: the same points on every machine. */
 static uint64_t s_next (uint64_t *s)

@@ -16,12 +16,7 @@
 #include <gsl/gsl_randist.h>
 #include <gsl/gsl_rng.h>
 
-#define assert_near(got, want, tol)                                                                \
-    do {                                                                                           \
-        double g_ = (got), w_ = (want), t_ = (tol);                                                \
-        if (!(fabs (g_ - w_) <= t_))                                                               \
-            fail_msg ("%s = %.17g, want %.17g +- %g", #got, g_, w_, t_);                           \
-    } while (0)
+#include "test_util.h"
 
 /* The default radar: 3 degree beam, 3 degree dwell, 4 intervals. */
 #define S_TH 3.0
@@ -133,8 +128,8 @@ static void s_mc (gsl_rng *rng, int model, double snr_db, int trials, double *re
  * fall below the floor as the SNR grows. A target steady over the dwell:
  * the reported sigma is cautious (never below the spread), and the error
  * falls with the SNR (at
- * 30 dB within 15% of the fit's linearised error). 20,000 trials a case: the rms of a unit-variance ratio has a
- * standard error under 1% there. */
+ * 30 dB within 15% of the fit's linearised error). 20,000 trials a case: the rms of a unit-variance
+ * ratio has a standard error under 1% there. */
 static void test_monte_carlo (void **state)
 {
     (void)state;

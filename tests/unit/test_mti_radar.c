@@ -18,16 +18,7 @@
 
 #include <cmocka.h>
 
-/* cmocka compares floats in single precision; these checks need doubles. */
-#define assert_near(a, b, eps) s_assert_near ((a), (b), (eps), #a, __FILE__, __LINE__)
-static void s_assert_near (double a, double b, double eps, const char *what, const char *file,
-                           int line)
-{
-    if (!(fabs (a - b) <= eps)) {
-        print_error ("%s = %.10g, expected %.10g +- %g\n", what, a, b, eps);
-        _fail (file, line);
-    }
-}
+#include "test_util.h"
 
 static mti_params_t s_defaults (void)
 {

@@ -26,22 +26,7 @@
 #include <gsl/gsl_sf_bessel.h>
 #include <gsl/gsl_sf_gamma.h>
 
-// Fail with the values when |got - want| > tol.
-#define assert_near(got, want, tol)                                                                \
-    do {                                                                                           \
-        double g_ = (got), w_ = (want), t_ = (tol);                                                \
-        if (!(fabs (g_ - w_) <= t_))                                                               \
-            fail_msg ("%s = %.17g, want %.17g +- %g", #got, g_, w_, t_);                           \
-    } while (0)
-
-// Fail with the values when |got - want| > rel |want|.
-#define assert_rel(got, want, rel)                                                                 \
-    do {                                                                                           \
-        double g_ = (got), w_ = (want), r_ = (rel);                                                \
-        if (!(fabs (g_ - w_) <= r_ * fabs (w_)))                                                   \
-            fail_msg ("%s = %.17g, want %.17g (relative error %.3g > %g)", #got, g_, w_,           \
-                      fabs (g_ - w_) / fabs (w_), r_);                                             \
-    } while (0)
+#include "test_util.h"
 
 static double s_db (double x)
 {

@@ -26,15 +26,7 @@
 
 #include <cmocka.h>
 
-#define assert_near(a, b, eps) s_assert_near ((a), (b), (eps), #a, __FILE__, __LINE__)
-static void s_assert_near (double a, double b, double eps, const char *what, const char *file,
-                           int line)
-{
-    if (!(fabs (a - b) <= eps)) {
-        print_error ("%s = %.12g, expected %.12g +- %g\n", what, a, b, eps);
-        _fail (file, line);
-    }
-}
+#include "test_util.h"
 
 static bool s_params_equal (const trk_params_t *a, const trk_params_t *b)
 {

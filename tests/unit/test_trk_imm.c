@@ -29,17 +29,9 @@
 
 #include <cmocka.h>
 
-#define S_PI 3.14159265358979323846
+#include "test_util.h"
 
-#define assert_near(a, b, eps) s_assert_near ((a), (b), (eps), #a, __FILE__, __LINE__)
-static void s_assert_near (double a, double b, double eps, const char *what, const char *file,
-                           int line)
-{
-    if (!(fabs (a - b) <= eps)) {
-        print_error ("%s = %.12g, expected %.12g +- %g\n", what, a, b, eps);
-        _fail (file, line);
-    }
-}
+#define S_PI 3.14159265358979323846
 
 /* Gaussian noise: Box-Muller over a 64-bit LCG. */
 static double s_gauss (uint64_t *s)

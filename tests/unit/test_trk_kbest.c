@@ -16,17 +16,9 @@
 
 #include <cmocka.h>
 
-#define S_FORBID 1e9
+#include "test_util.h"
 
-#define assert_near(a, b, eps) s_assert_near ((a), (b), (eps), #a, __FILE__, __LINE__)
-static void s_assert_near (double a, double b, double eps, const char *what, const char *file,
-                           int line)
-{
-    if (!(fabs (a - b) <= eps)) {
-        print_error ("%s = %.12g, expected %.12g +- %g\n", what, a, b, eps);
-        _fail (file, line);
-    }
-}
+#define S_FORBID 1e9
 
 static uint64_t s_rng = 99;
 static double s_uniform (void)
@@ -98,7 +90,8 @@ static void test_kbest_against_enumeration (void **state)
             for (int s2 = 0; s2 < s; s2++) {
                 bool same = true;
                 for (size_t r = 0; r < rows && same; r++)
-                    same = trk_kbest_column (kb, (size_t)s, r) == trk_kbest_column (kb, (size_t)s2, r);
+                    same =
+                        trk_kbest_column (kb, (size_t)s, r) == trk_kbest_column (kb, (size_t)s2, r);
                 assert_false (same);
             }
         }

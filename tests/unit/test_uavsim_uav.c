@@ -22,14 +22,7 @@
 
 #include "uavsim_uav.h"
 #include "cgs_util.h"
-
-/* cmocka 1.1 compares only floats; doubles need their own check. */
-#define assert_near(a, b, tol)                                                                     \
-    do {                                                                                           \
-        double a_ = (a), b_ = (b), t_ = (tol);                                                     \
-        if (!(fabs (a_ - b_) <= t_))                                                               \
-            fail_msg ("%s = %.12g, expected %.12g (tolerance %g)", #a, a_, b_, t_);                \
-    } while (0)
+#include "test_util.h"
 
 #define PI   3.14159265358979323846
 #define G    9.80665

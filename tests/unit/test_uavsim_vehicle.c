@@ -22,13 +22,7 @@
 #include "cgs_terrain.h"
 #include "cgs_util.h"
 #include "uavsim_vehicle.h"
-
-#define assert_near(a, b, tol)                                                                     \
-    do {                                                                                           \
-        double a_ = (a), b_ = (b), t_ = (tol);                                                     \
-        if (!(fabs (a_ - b_) <= t_))                                                               \
-            fail_msg ("%s = %.12g, expected %.12g (tolerance %g)", #a, a_, b_, t_);                \
-    } while (0)
+#include "test_util.h"
 
 #define DEG       (M_PI / 180.0)
 #define DT_S      0.1  // simulation step, s
