@@ -1502,6 +1502,25 @@ static int s_write_summary_text (s_run_t *run, const char *path)
     return rc;
 }
 
+/* DIR/summary.json: the intercept's members, then the tracking figures
+ * under "tracking" (left out without memory). 0 or -errno. */
+static int s_write_summary_json (s_run_t *run, const char *path)
+{
+    json_object *o = ms_icpt_json (&run->icpt);
+    if (!o)
+        return -ENOMEM;
+    json_object *tracking = run->metrics ? ms_metrics_json (run->metrics) : NULL;
+    if (tracking)
+        cgs_json_add (o, "tracking", tracking);
+    FILE *f = fopen (path, "w");
+    int rc =
+        f ? cgs_json_print (f, o, JSON_C_TO_STRING_PRETTY | JSON_C_TO_STRING_SPACED, "\n") : -errno;
+    json_object_put (o);
+    if (f && fclose (f) != 0 && rc == 0)
+        rc = -errno;
+    return rc;
+}
+
 /* DIR/summary.txt and DIR/summary.json; the intercept's part to stdout too. */
 static void s_write_summary (s_run_t *run)
 {
@@ -1511,11 +1530,7 @@ static void s_write_summary (s_run_t *run)
     if (rc < 0)
         fprintf (stderr, "mscgs run: cannot write %s: %s\n", path, strerror (-rc));
     snprintf (path, sizeof path, "%s/summary.json", run->out);
-    char *tracking = NULL;
-    if (run->metrics && ms_metrics_json (run->metrics, &tracking) < 0)
-        tracking = NULL;
-    rc = ms_icpt_write_json (&run->icpt, path, tracking);
-    free (tracking);
+    rc = s_write_summary_json (run, path);
     if (rc < 0)
         fprintf (stderr, "mscgs run: cannot write %s: %s\n", path, strerror (-rc));
     ms_icpt_print (&run->icpt, stdout);

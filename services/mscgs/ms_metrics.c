@@ -308,24 +308,16 @@ void ms_metrics_print (ms_metrics_t *self, FILE *f)
              r.id_completeness, r.id_correctness, r.id_wrong_fraction, r.id.hostile_marked);
 }
 
-/* A JSON number, or null, and a comma. */
-static int s_num (char *buf, size_t len, const char *key, double v)
-{
-    return isfinite (v) ? snprintf (buf, len, "\"%s\":%.4f,", key, v)
-                        : snprintf (buf, len, "\"%s\":null,", key);
-}
-
-int ms_metrics_json (ms_metrics_t *self, char **ret_json)
+json_object *ms_metrics_json (ms_metrics_t *self)
 {
     ms_siap_result_t r;
     ms_siap_result (self->siap, &r);
     ms_gospa_avg_t g;
     ms_gospa_mean_finish (&self->gospa, &g);
-    size_t cap = 1024, n = 0;
-    char *buf = malloc (cap);
-    if (!buf)
-        return -ENOMEM;
-    n += (size_t)snprintf (buf + n, cap - n, "\"tracking\":{\"scans\":%zu,", r.scans);
+    json_object *o = json_object_new_object ();
+    if (!o)
+        return NULL;
+    cgs_json_add (o, "scans", json_object_new_uint64 (r.scans));
     const struct {
         const char *key;
         double v;
@@ -345,10 +337,8 @@ int ms_metrics_json (ms_metrics_t *self, char **ret_json)
         {"id_correctness", r.id_correctness},
         {"id_wrong_fraction", r.id_wrong_fraction},
     };
-    size_t nf = sizeof f / sizeof f[0];
-    for (size_t i = 0; i < nf; i++)
-        n += (size_t)s_num (buf + n, cap - n, f[i].key, f[i].v);
-    snprintf (buf + n, cap - n, "\"id_hostile_marked\":%zu}", r.id.hostile_marked);
-    *ret_json = buf;
-    return 0;
+    for (size_t i = 0; i < sizeof f / sizeof f[0]; i++)
+        cgs_json_add (o, f[i].key, cgs_json_fixed (f[i].v, 4));
+    cgs_json_add (o, "id_hostile_marked", json_object_new_uint64 (r.id.hostile_marked));
+    return o;
 }

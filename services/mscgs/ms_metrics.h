@@ -24,6 +24,7 @@
 #ifndef MS_METRICS_H
 #define MS_METRICS_H
 
+#include "cgs_json.h"
 #include "ms_gospa.h"
 #include "ms_observer.h"
 #include "ms_siap.h"
@@ -52,9 +53,10 @@ ms_siap_t *ms_metrics_siap (ms_metrics_t *self);
 const ms_gospa_mean_t *ms_metrics_gospa (const ms_metrics_t *self);
 /* The Tracking section of a summary, for a person. */
 void ms_metrics_print (ms_metrics_t *self, FILE *f);
-/* The same as the members of a JSON object ("\"tracking\":{...}"), into a
- * new string; 0 or -ENOMEM. */
-int ms_metrics_json (ms_metrics_t *self, char **ret_json);
+/* The same figures as a new JSON object (summary.json's "tracking": scans,
+ * then the figures to 4 decimals, null when undefined); NULL without
+ * memory. */
+json_object *ms_metrics_json (ms_metrics_t *self);
 /* Scans whose metrics could not be computed (out of memory): 0 in a sound run. */
 uint64_t ms_metrics_failures (const ms_metrics_t *self);
 

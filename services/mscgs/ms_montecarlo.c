@@ -5,6 +5,7 @@
  * object as the last line of standard output. */
 #include "ms_montecarlo.h"
 
+#include "cgs_json.h"
 #include "cgs_util.h"
 #include "ls_mc.h"
 
@@ -111,32 +112,38 @@ static void s_replay (FILE *f, const ls_mc_config_t *c, size_t i)
     fprintf (f, " --trace %zu", i);
 }
 
-/* A number for JSON: null when not finite. */
-static void s_jnum (FILE *f, const char *key, double v, const char *fmt)
+/* One run as a new JSON object; NULL without memory. */
+static json_object *s_run_json (const ls_mc_run_t *r)
 {
-    fprintf (f, ",\"%s\":", key);
-    if (isfinite (v))
-        fprintf (f, fmt, v);
-    else
-        fputs ("null", f);
+    json_object *o = json_object_new_object ();
+    if (!o)
+        return NULL;
+    cgs_json_add (o, "run", json_object_new_uint64 (r->index));
+    cgs_json_add (o, "exercise_seed", json_object_new_uint64 (r->exercise_seed));
+    cgs_json_add (o, "designation_shift_s", cgs_json_fixed (r->designation_shift_s, 3));
+    cgs_json_add (o, "uav_phase_deg", cgs_json_fixed (r->uav_phase_deg, 3));
+    cgs_json_add (o, "outcome", json_object_new_string (ls_mc_outcome_name (r->outcome)));
+    cgs_json_add (o, "final_state", json_object_new_string (r->final_state));
+    cgs_json_add (o, "designated", json_object_new_boolean (r->designated));
+    cgs_json_add (o, "imaged", json_object_new_boolean (r->imaged));
+    cgs_json_add (o, "miss_m", cgs_json_fixed (r->miss_m, 2));
+    cgs_json_add (o, "closest_m", cgs_json_fixed (r->closest_m, 2));
+    cgs_json_add (o, "time_to_image_s", cgs_json_fixed (r->time_to_image_s, 2));
+    cgs_json_add (o, "end_s", cgs_json_fixed (r->end_s, 2));
+    cgs_json_add (o, "replans", json_object_new_int64 (r->replans));
+    cgs_json_add (o, "target_entity_id", json_object_new_int64 (r->target_entity_id));
+    cgs_json_add (o, "bad_inputs", json_object_new_uint64 (r->bad_inputs));
+    cgs_json_add (o, "errors", json_object_new_uint64 (r->errors));
+    return o;
 }
 
-static void s_run_json (FILE *f, const ls_mc_run_t *r)
+/* One run as one line of JSON text, then end, to f; 0, -ENOMEM or -EIO. */
+static int s_run_print (FILE *f, const ls_mc_run_t *r, const char *end)
 {
-    fprintf (f, "{\"run\":%zu,\"exercise_seed\":%llu", r->index,
-             (unsigned long long)r->exercise_seed);
-    s_jnum (f, "designation_shift_s", r->designation_shift_s, "%.3f");
-    s_jnum (f, "uav_phase_deg", r->uav_phase_deg, "%.3f");
-    fprintf (f, ",\"outcome\":\"%s\",\"final_state\":\"%s\",\"designated\":%s,\"imaged\":%s",
-             ls_mc_outcome_name (r->outcome), r->final_state, r->designated ? "true" : "false",
-             r->imaged ? "true" : "false");
-    s_jnum (f, "miss_m", r->miss_m, "%.2f");
-    s_jnum (f, "closest_m", r->closest_m, "%.2f");
-    s_jnum (f, "time_to_image_s", r->time_to_image_s, "%.2f");
-    s_jnum (f, "end_s", r->end_s, "%.2f");
-    fprintf (f, ",\"replans\":%u,\"target_entity_id\":%u,\"bad_inputs\":%llu,\"errors\":%llu}",
-             r->replans, r->target_entity_id, (unsigned long long)r->bad_inputs,
-             (unsigned long long)r->errors);
+    json_object *o = s_run_json (r);
+    int rc = o ? cgs_json_print (f, o, JSON_C_TO_STRING_PLAIN, end) : -ENOMEM;
+    json_object_put (o);
+    return rc;
 }
 
 static int s_write_runs (const char *json, const char *csv, const ls_mc_run_t *runs, size_t n)
@@ -147,14 +154,19 @@ static int s_write_runs (const char *json, const char *csv, const ls_mc_run_t *r
             fprintf (stderr, "mscgs montecarlo: %s: %s\n", json, strerror (errno));
             return -errno;
         }
-        fputs ("[\n", f);
-        for (size_t i = 0; i < n; i++) {
-            s_run_json (f, &runs[i]);
-            fputs (i + 1 < n ? ",\n" : "\n", f);
+        // One array, a run a line: written run by run, not built whole (a
+        // million runs would hold tens of millions of json-c objects).
+        int rc = fputs ("[\n", f) == EOF ? -EIO : 0;
+        for (size_t i = 0; i < n && rc == 0; i++)
+            rc = s_run_print (f, &runs[i], i + 1 < n ? ",\n" : "\n");
+        if (rc == 0 && fputs ("]\n", f) == EOF)
+            rc = -EIO;
+        if (fclose (f) != 0 && rc == 0)
+            rc = -errno;
+        if (rc < 0) {
+            fprintf (stderr, "mscgs montecarlo: %s: %s\n", json, strerror (-rc));
+            return rc;
         }
-        fputs ("]\n", f);
-        if (fclose (f) != 0)
-            return -errno;
     }
     if (csv) {
         FILE *f = fopen (csv, "w");
@@ -178,37 +190,67 @@ static int s_write_runs (const char *json, const char *csv, const ls_mc_run_t *r
     return 0;
 }
 
-static void s_summary_json (FILE *f, const ls_mc_config_t *c, const ls_mc_result_t *r)
+/* The set's figures as a new JSON object; NULL without memory. */
+static json_object *s_summary_json (const ls_mc_config_t *c, const ls_mc_result_t *r)
 {
-    fprintf (f,
-             "{\"runs\":%zu,\"seed\":%llu,\"jobs\":%d,\"imaged\":%zu,\"imaged_pct\":%.2f,"
-             "\"imaged_pct_ci95\":[%.2f,%.2f],\"designated\":%zu,\"wrong_vehicle\":%zu,"
-             "\"lost\":%zu,\"not_designated\":%zu,\"unfinished\":%zu",
-             r->runs, (unsigned long long)c->seed, c->jobs, r->imaged, r->imaged_pct,
-             r->imaged_lo_pct, r->imaged_hi_pct, r->designated, r->wrong_vehicle, r->lost,
-             r->not_designated, r->unfinished);
-    s_jnum (f, "miss_p50_m", r->miss_p50_m, "%.2f");
-    s_jnum (f, "miss_p95_m", r->miss_p95_m, "%.2f");
-    s_jnum (f, "time_to_image_p50_s", r->time_to_image_p50_s, "%.1f");
-    s_jnum (f, "time_to_image_p95_s", r->time_to_image_p95_s, "%.1f");
-    s_jnum (f, "gospa_m", r->gospa.distance, "%.2f");
-    s_jnum (f, "gospa_localisation_m2", r->gospa.localisation, "%.1f");
-    s_jnum (f, "gospa_missed_m2", r->gospa.missed, "%.1f");
-    s_jnum (f, "gospa_false_m2", r->gospa.false_, "%.1f");
-    s_jnum (f, "completeness", r->siap.completeness, "%.4f");
-    s_jnum (f, "ambiguity", r->siap.ambiguity, "%.4f");
-    s_jnum (f, "spuriousness", r->siap.spuriousness, "%.4f");
-    s_jnum (f, "position_accuracy_m", r->siap.position_accuracy_m, "%.2f");
-    s_jnum (f, "swaps_per_truth_hour", r->siap.swaps_per_truth_hour, "%.3f");
-    s_jnum (f, "breaks_per_truth_hour", r->siap.breaks_per_truth_hour, "%.3f");
-    s_jnum (f, "false_tracks_per_hour", r->siap.false_tracks_per_hour, "%.3f");
-    s_jnum (f, "id_completeness", r->siap.id_completeness, "%.4f");
-    s_jnum (f, "id_correctness", r->siap.id_correctness, "%.4f");
-    s_jnum (f, "id_wrong_fraction", r->siap.id_wrong_fraction, "%.4f");
-    fprintf (f, ",\"id_hostile_marked\":%zu", r->siap.id.hostile_marked);
-    fprintf (f, ",\"bad_inputs\":%llu,\"errors\":%llu,\"failures\":%llu}\n",
-             (unsigned long long)r->bad_inputs, (unsigned long long)r->errors,
-             (unsigned long long)r->failures);
+    json_object *o = json_object_new_object ();
+    json_object *ci95 = json_object_new_array_ext (2);
+    if (!o || !ci95) {
+        json_object_put (o);
+        json_object_put (ci95);
+        return NULL;
+    }
+    cgs_json_add (o, "runs", json_object_new_uint64 (r->runs));
+    cgs_json_add (o, "seed", json_object_new_uint64 (c->seed));
+    cgs_json_add (o, "jobs", json_object_new_int64 (c->jobs));
+    cgs_json_add (o, "imaged", json_object_new_uint64 (r->imaged));
+    cgs_json_add (o, "imaged_pct", cgs_json_fixed (r->imaged_pct, 2));
+    json_object_array_add (ci95, cgs_json_fixed (r->imaged_lo_pct, 2));
+    json_object_array_add (ci95, cgs_json_fixed (r->imaged_hi_pct, 2));
+    cgs_json_add (o, "imaged_pct_ci95", ci95);
+    const struct {
+        const char *key;
+        size_t n;
+    } counts[] = {
+        {"designated", r->designated},
+        {"wrong_vehicle", r->wrong_vehicle},
+        {"lost", r->lost},
+        {"not_designated", r->not_designated},
+        {"unfinished", r->unfinished},
+    };
+    for (size_t i = 0; i < sizeof counts / sizeof counts[0]; i++)
+        cgs_json_add (o, counts[i].key, json_object_new_uint64 (counts[i].n));
+    const struct {
+        const char *key;
+        double v;
+        int decimals;
+    } figures[] = {
+        {"miss_p50_m", r->miss_p50_m, 2},
+        {"miss_p95_m", r->miss_p95_m, 2},
+        {"time_to_image_p50_s", r->time_to_image_p50_s, 1},
+        {"time_to_image_p95_s", r->time_to_image_p95_s, 1},
+        {"gospa_m", r->gospa.distance, 2},
+        {"gospa_localisation_m2", r->gospa.localisation, 1},
+        {"gospa_missed_m2", r->gospa.missed, 1},
+        {"gospa_false_m2", r->gospa.false_, 1},
+        {"completeness", r->siap.completeness, 4},
+        {"ambiguity", r->siap.ambiguity, 4},
+        {"spuriousness", r->siap.spuriousness, 4},
+        {"position_accuracy_m", r->siap.position_accuracy_m, 2},
+        {"swaps_per_truth_hour", r->siap.swaps_per_truth_hour, 3},
+        {"breaks_per_truth_hour", r->siap.breaks_per_truth_hour, 3},
+        {"false_tracks_per_hour", r->siap.false_tracks_per_hour, 3},
+        {"id_completeness", r->siap.id_completeness, 4},
+        {"id_correctness", r->siap.id_correctness, 4},
+        {"id_wrong_fraction", r->siap.id_wrong_fraction, 4},
+    };
+    for (size_t i = 0; i < sizeof figures / sizeof figures[0]; i++)
+        cgs_json_add (o, figures[i].key, cgs_json_fixed (figures[i].v, figures[i].decimals));
+    cgs_json_add (o, "id_hostile_marked", json_object_new_uint64 (r->siap.id.hostile_marked));
+    cgs_json_add (o, "bad_inputs", json_object_new_uint64 (r->bad_inputs));
+    cgs_json_add (o, "errors", json_object_new_uint64 (r->errors));
+    cgs_json_add (o, "failures", json_object_new_uint64 (r->failures));
+    return o;
 }
 
 /* ---- the command ---------------------------------------------------------------------- */
@@ -334,8 +376,12 @@ int ms_montecarlo_main (int argc, char **argv)
                 "orbit, NaN: as the scenario): %s, final state %s, miss %.1f m\n",
                 trace, (unsigned long long)run.exercise_seed, run.designation_shift_s,
                 run.uav_phase_deg, ls_mc_outcome_name (run.outcome), run.final_state, run.miss_m);
-        s_run_json (stdout, &run);
-        fputc ('\n', stdout);
+        int prc = s_run_print (stdout, &run, "\n");
+        if (prc < 0) {
+            fprintf (stderr, "mscgs montecarlo: cannot print run %ld: %s\n", trace,
+                     strerror (-prc));
+            return 1;
+        }
         return run.bad_inputs || run.errors || run.failures ? 1 : 0;
     }
     ls_mc_run_t *runs = calloc (c.runs, sizeof *runs);
@@ -369,8 +415,12 @@ int ms_montecarlo_main (int argc, char **argv)
                     (unsigned long long)runs[i].failures, runs[i].first_error);
     int wrc = s_write_runs (json, csv, runs, c.runs);
     free (runs);
-    s_summary_json (stdout, &c, &r);
-    if (wrc < 0)
+    json_object *summary = s_summary_json (&c, &r);
+    int src = summary ? cgs_json_print (stdout, summary, JSON_C_TO_STRING_PLAIN, "\n") : -ENOMEM;
+    json_object_put (summary);
+    if (src < 0)
+        fprintf (stderr, "mscgs montecarlo: cannot print the summary: %s\n", strerror (-src));
+    if (wrc < 0 || src < 0)
         return 1;
     return r.bad_inputs || r.errors || r.failures ? 1 : 0;
 }

@@ -1,7 +1,6 @@
 /* ms_observer — an intercept judged from ground truth (see ms_observer.h). */
 #include "ms_observer.h"
 
-#include <errno.h>
 #include <math.h>
 #include <string.h>
 
@@ -290,69 +289,52 @@ void ms_icpt_print (const ms_icpt_t *ic, FILE *f)
                  (unsigned long long)ic->malformed, ic->malformed == 1 ? "" : "s");
 }
 
-/* A JSON number, or null when not finite. */
-static void s_json_number (FILE *f, const char *key, double v, const char *end)
+/* A marking as a JSON string, its bytes read as Latin-1: DIS markings are
+ * ASCII, and a byte beyond that from a faulty peer still makes valid UTF-8. */
+static json_object *s_json_marking (const char *s)
 {
-    if (isfinite (v))
-        fprintf (f, "  \"%s\": %.3f%s\n", key, v, end);
-    else
-        fprintf (f, "  \"%s\": null%s\n", key, end);
-}
-
-/* A JSON string (markings are ASCII; anything else is escaped). */
-static void s_json_string (FILE *f, const char *key, const char *s, const char *end)
-{
-    fprintf (f, "  \"%s\": \"", key);
-    for (const unsigned char *c = (const unsigned char *)s; *c; c++) {
-        if (*c == '"' || *c == '\\')
-            fprintf (f, "\\%c", *c);
-        else if (*c < 0x20 || *c >= 0x7f)
-            fprintf (f, "\\u%04x", *c);
-        else
-            fputc (*c, f);
+    char u[2 * sizeof ((ms_icpt_t *)NULL)->marking];
+    size_t n = 0;
+    for (const unsigned char *c = (const unsigned char *)s; *c && n + 2 <= sizeof u; c++) {
+        if (*c < 0x80) {
+            u[n++] = (char)*c;
+        } else {
+            u[n++] = (char)(0xc0 | *c >> 6);
+            u[n++] = (char)(0x80 | (*c & 0x3f));
+        }
     }
-    fprintf (f, "\"%s\n", end);
+    return json_object_new_string_len (u, (int)n);
 }
 
-/* The intercept summary as JSON to path; 0 or -errno. */
-int ms_icpt_write_json (const ms_icpt_t *ic, const char *path, const char *extra)
+/* A whole number, or null when not known. */
+static json_object *s_json_id (bool known, uint32_t v)
 {
-    FILE *f = fopen (path, "w");
-    if (!f)
-        return -errno;
+    return known ? json_object_new_int64 (v) : NULL;
+}
+
+json_object *ms_icpt_json (const ms_icpt_t *ic)
+{
+    json_object *o = json_object_new_object ();
+    if (!o)
+        return NULL;
     const cgs_score_t *sc = &ic->score;
     bool d = ic->designated;
-    fprintf (f, "{\n  \"designated\": %s,\n", d ? "true" : "false");
-    if (d)
-        fprintf (f, "  \"track_id\": %u,\n", ic->desig_track_id);
-    else
-        fprintf (f, "  \"track_id\": null,\n");
-    if (d && ic->entity_id) {
-        fprintf (f, "  \"target_entity_id\": %u,\n", ic->entity_id);
-        s_json_string (f, "target_marking", ic->marking, ",");
-    } else
-        fprintf (f, "  \"target_entity_id\": null,\n  \"target_marking\": null,\n");
-    if (d && ic->other_entity_id)
-        fprintf (f, "  \"handed_over_to_entity_id\": %u,\n", ic->other_entity_id);
-    else
-        fprintf (f, "  \"handed_over_to_entity_id\": null,\n");
-    s_json_number (f, "designation_time_s", d ? sc->designation_s : NAN, ",");
-    if (d) {
-        s_json_string (f, "final_state", ms_icpt_state_name (ic->desig_state), ",");
-        fprintf (f, "  \"replans\": %u,\n", ic->replans);
-    } else
-        fprintf (f, "  \"final_state\": null,\n  \"replans\": null,\n");
-    fprintf (f, "  \"imaged\": %s,\n", d && sc->imaged ? "true" : "false");
-    s_json_number (f, "time_in_footprint_s", d ? sc->inside_s : NAN, ",");
-    s_json_number (f, "closest_approach_m", d ? sc->closest_m : NAN, ",");
-    s_json_number (f, "closest_approach_time_s", d ? sc->closest_s : NAN, ",");
-    s_json_number (f, "designation_to_overflight_s", cgs_score_time_to_image (sc),
-                   extra ? "," : "");
-    if (extra)
-        fprintf (f, "  %s\n", extra);
-    fprintf (f, "}\n");
-    int rc = ferror (f) ? -EIO : 0;
-    if (fclose (f) != 0 && rc == 0)
-        rc = -errno;
-    return rc;
+    bool target = d && ic->entity_id;
+    cgs_json_add (o, "designated", json_object_new_boolean (d));
+    cgs_json_add (o, "track_id", s_json_id (d, ic->desig_track_id));
+    cgs_json_add (o, "target_entity_id", s_json_id (target, ic->entity_id));
+    cgs_json_add (o, "target_marking", target ? s_json_marking (ic->marking) : NULL);
+    cgs_json_add (o, "handed_over_to_entity_id",
+                  s_json_id (d && ic->other_entity_id, ic->other_entity_id));
+    cgs_json_add (o, "designation_time_s", cgs_json_fixed (d ? sc->designation_s : NAN, 3));
+    cgs_json_add (o, "final_state",
+                  d ? json_object_new_string (ms_icpt_state_name (ic->desig_state)) : NULL);
+    cgs_json_add (o, "replans", s_json_id (d, ic->replans));
+    cgs_json_add (o, "imaged", json_object_new_boolean (d && sc->imaged));
+    cgs_json_add (o, "time_in_footprint_s", cgs_json_fixed (d ? sc->inside_s : NAN, 3));
+    cgs_json_add (o, "closest_approach_m", cgs_json_fixed (d ? sc->closest_m : NAN, 3));
+    cgs_json_add (o, "closest_approach_time_s", cgs_json_fixed (d ? sc->closest_s : NAN, 3));
+    cgs_json_add (o, "designation_to_overflight_s",
+                  cgs_json_fixed (cgs_score_time_to_image (sc), 3));
+    return o;
 }

@@ -12,6 +12,7 @@
 
 #include "cgs_bus.h"
 #include "cgs_footprint.h"
+#include "cgs_json.h"
 #include "cgs_msg.h"
 #include "cgs_score.h"
 
@@ -80,9 +81,9 @@ uint32_t ms_icpt_track_entity (ms_icpt_t *ic, uint32_t radar, const Cgs__Track *
 const char *ms_icpt_state_name (Cgs__InterceptState state);
 /* The intercept section of the summary, for a person. */
 void ms_icpt_print (const ms_icpt_t *ic, FILE *f);
-/* The intercept summary as one JSON object to path, with more members
- * (JSON text, "\"key\":value,...") at its end when extra is not NULL; 0 or
- * -errno. */
-int ms_icpt_write_json (const ms_icpt_t *ic, const char *path, const char *extra);
+/* The intercept summary as a new JSON object (summary.json's members, in
+ * the README's order; times to the millisecond, null when they do not
+ * exist); NULL without memory. */
+json_object *ms_icpt_json (const ms_icpt_t *ic);
 
 #endif

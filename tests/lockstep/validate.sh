@@ -17,6 +17,7 @@ tmp=$(mktemp -d "${TMPDIR:-/tmp}/cgs-validate.XXXXXX") || exit 2
 trap 'rm -rf "$tmp"' EXIT
 mscgs=$build/bin/mscgs
 [ -x "$mscgs" ] || { echo "validate: no $mscgs (make first)" >&2; exit 2; }
+command -v node >/dev/null || { echo "validate: no node to read summary.json (scripts/install-deps)" >&2; exit 2; }
 
 # The default exercise with seed S, its folders in $tmp.
 exercise () {
@@ -44,8 +45,11 @@ for s in $(seq 1 "$n"); do
     out=$tmp/live-$s
     "$mscgs" run --exercise "$tmp/live-$s.ini" --speed "$scale" --stop-after-intercept 5 \
         --duration "$duration" --out "$out" >"$out.log" 2>&1
-    imaged=$(grep -c '"imaged": true' "$out/summary.json" 2>/dev/null)
-    state=$(sed -n 's/.*"final_state": "\([A-Z_]*\)".*/\1/p' "$out/summary.json" 2>/dev/null)
+    read -r imaged state < <(node -e '
+        try {
+            const r = JSON.parse(require("fs").readFileSync(process.argv[1]));
+            console.log((r.imaged === true ? 1 : 0) + " " + (r.final_state || ""));
+        } catch (e) { console.log("0"); }' "$out/summary.json" 2>/dev/null)
     echo "$s,${imaged:-0},${state:-NONE}" >>"$tmp/live.csv"
     printf '  seed %2d: live %s (%s)\n' "$s" "$([ "${imaged:-0}" = 1 ] && echo imaged || echo missed)" "${state:-no designation}"
 done
