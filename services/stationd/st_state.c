@@ -1,5 +1,6 @@
 /* st_state — the tactical map's picture (see st_state.h). */
 #include "st_state.h"
+#include "cgs_json.h"
 
 #include "cgs_entities.h"
 #include "cgs_msg.h"
@@ -712,26 +713,9 @@ static const char *s_kind_name (cgs_kind_t k)
     }
 }
 
-/* A number with a fixed number of decimals (json-c's own format keeps 17
- * significant digits, three times the bytes a map needs). */
-static json_object *s_num (double v, int decimals)
-{
-    if (!isfinite (v))
-        return NULL; // JSON null
-    char buf[48];
-    snprintf (buf, sizeof buf, "%.*f", decimals, v);
-    return json_object_new_double_s (v, buf);
-}
-
 static json_object *s_m (double v) // metres, to the decimetre
 {
-    return s_num (v, 1);
-}
-
-static void s_add (json_object *o, const char *key, json_object *v)
-{
-    json_object_object_add_ex (o, key, v,
-                               JSON_C_OBJECT_ADD_KEY_IS_NEW | JSON_C_OBJECT_KEY_IS_CONSTANT);
+    return cgs_json_fixed (v, 1);
 }
 
 static json_object *s_xy (s_xy_t p)
@@ -750,22 +734,22 @@ static json_object *s_json_uavs (const st_state_t *self)
         if (!u->valid)
             continue;
         json_object *o = json_object_new_object ();
-        s_add (o, "id", json_object_new_int64 (u->id));
-        s_add (o, "name", json_object_new_string (u->name));
-        s_add (o, "e", s_m (u->e));
-        s_add (o, "n", s_m (u->n));
-        s_add (o, "alt_agl_m", s_m (u->alt_agl_m));
-        s_add (o, "heading_deg", s_num (u->heading_deg, 1));
-        s_add (o, "airspeed_mps", s_num (u->airspeed_mps, 1));
-        s_add (o, "ground_speed_mps", s_num (u->ground_speed_mps, 1));
-        s_add (o, "cmd_alt_agl_m", s_m (u->cmd_alt_agl_m));
-        s_add (o, "cmd_airspeed_mps", s_num (u->cmd_airspeed_mps, 1));
-        s_add (o, "mode", json_object_new_string (s_mode_name (u->mode)));
+        cgs_json_add (o, "id", json_object_new_int64 (u->id));
+        cgs_json_add (o, "name", json_object_new_string (u->name));
+        cgs_json_add (o, "e", s_m (u->e));
+        cgs_json_add (o, "n", s_m (u->n));
+        cgs_json_add (o, "alt_agl_m", s_m (u->alt_agl_m));
+        cgs_json_add (o, "heading_deg", cgs_json_fixed (u->heading_deg, 1));
+        cgs_json_add (o, "airspeed_mps", cgs_json_fixed (u->airspeed_mps, 1));
+        cgs_json_add (o, "ground_speed_mps", cgs_json_fixed (u->ground_speed_mps, 1));
+        cgs_json_add (o, "cmd_alt_agl_m", s_m (u->cmd_alt_agl_m));
+        cgs_json_add (o, "cmd_airspeed_mps", cgs_json_fixed (u->cmd_airspeed_mps, 1));
+        cgs_json_add (o, "mode", json_object_new_string (s_mode_name (u->mode)));
         json_object *l = json_object_new_object ();
-        s_add (l, "e", s_m (u->loiter_e));
-        s_add (l, "n", s_m (u->loiter_n));
-        s_add (l, "radius_m", s_m (u->loiter_radius_m));
-        s_add (o, "loiter", l);
+        cgs_json_add (l, "e", s_m (u->loiter_e));
+        cgs_json_add (l, "n", s_m (u->loiter_n));
+        cgs_json_add (l, "radius_m", s_m (u->loiter_radius_m));
+        cgs_json_add (o, "loiter", l);
         json_object_array_add (a, o);
     }
     return a;
@@ -787,19 +771,19 @@ static json_object *s_json_hits (const st_state_t *self)
         for (size_t j = 0; j < shown; j++) {
             const s_scan_t *s = &r->scans[j];
             json_object *o = json_object_new_object ();
-            s_add (o, "uav_id", json_object_new_int64 (r->uav_id));
-            s_add (o, "scan", json_object_new_int64 (s->number));
-            s_add (o, "current", json_object_new_boolean (j + 1 == shown));
+            cgs_json_add (o, "uav_id", json_object_new_int64 (r->uav_id));
+            cgs_json_add (o, "scan", json_object_new_int64 (s->number));
+            cgs_json_add (o, "current", json_object_new_boolean (j + 1 == shown));
             json_object *xy = json_object_new_array_ext ((int)(2 * s->count));
             for (size_t k = 0; k < s->count; k++) {
                 json_object_array_add (xy, s_m (s->hits[k].e));
                 json_object_array_add (xy, s_m (s->hits[k].n));
             }
-            s_add (o, "xy", xy);
+            cgs_json_add (o, "xy", xy);
             json_object *ids = json_object_new_array_ext ((int)s->count);
             for (size_t k = 0; k < s->count; k++)
                 json_object_array_add (ids, json_object_new_int64 (s->hits[k].id));
-            s_add (o, "ids", ids);
+            cgs_json_add (o, "ids", ids);
             json_object_array_add (a, o);
         }
     }
@@ -812,12 +796,12 @@ static json_object *s_json_bcis (const st_state_t *self)
     for (size_t i = 0; i < self->bcis_count; i++) {
         const s_bcis_t *b = &self->bcis[i];
         json_object *o = json_object_new_object ();
-        s_add (o, "uav_id", json_object_new_int64 (b->uav_id));
-        s_add (o, "id", json_object_new_int64 (b->id));
-        s_add (o, "marking", json_object_new_string (b->marking));
-        s_add (o, "e", s_m (b->e));
-        s_add (o, "n", s_m (b->n));
-        s_add (o, "age_s", s_num (fmax (0, self->now_s - b->time_s), 2));
+        cgs_json_add (o, "uav_id", json_object_new_int64 (b->uav_id));
+        cgs_json_add (o, "id", json_object_new_int64 (b->id));
+        cgs_json_add (o, "marking", json_object_new_string (b->marking));
+        cgs_json_add (o, "e", s_m (b->e));
+        cgs_json_add (o, "n", s_m (b->n));
+        cgs_json_add (o, "age_s", cgs_json_fixed (fmax (0, self->now_s - b->time_s), 2));
         json_object_array_add (a, o);
     }
     return a;
@@ -829,21 +813,22 @@ static json_object *s_json_tracks (const st_state_t *self)
     for (size_t i = 0; i < self->track_count; i++) {
         const s_track_t *t = &self->tracks[i];
         json_object *o = json_object_new_object ();
-        s_add (o, "id", json_object_new_int64 (t->id));
-        s_add (o, "uav_id", json_object_new_int64 (t->uav_id));
-        s_add (o, "status", json_object_new_string (s_status_name (t->status)));
-        s_add (o, "identity",
-               json_object_new_string (t->identity == CGS__TRACK_IDENTITY__TRACK_IDENTITY_FRIENDLY
-                                           ? "friendly"
-                                           : "unknown"));
-        s_add (o, "e", s_m (t->e));
-        s_add (o, "n", s_m (t->n));
-        s_add (o, "heading_deg", s_num (t->heading_deg, 1));
-        s_add (o, "speed_mps", s_num (t->speed_mps, 1));
-        s_add (o, "hits", json_object_new_int64 (t->hits));
-        s_add (o, "last_hit", t->has_last_hit ? s_xy (t->last_hit) : NULL);
-        s_add (o, "last_hit_id", t->has_last_hit ? json_object_new_int64 (t->last_hit_id) : NULL);
-        s_add (o, "friendly_id", json_object_new_int64 (t->friendly_id));
+        cgs_json_add (o, "id", json_object_new_int64 (t->id));
+        cgs_json_add (o, "uav_id", json_object_new_int64 (t->uav_id));
+        cgs_json_add (o, "status", json_object_new_string (s_status_name (t->status)));
+        cgs_json_add (o, "identity",
+                      json_object_new_string (
+                          t->identity == CGS__TRACK_IDENTITY__TRACK_IDENTITY_FRIENDLY ? "friendly"
+                                                                                      : "unknown"));
+        cgs_json_add (o, "e", s_m (t->e));
+        cgs_json_add (o, "n", s_m (t->n));
+        cgs_json_add (o, "heading_deg", cgs_json_fixed (t->heading_deg, 1));
+        cgs_json_add (o, "speed_mps", cgs_json_fixed (t->speed_mps, 1));
+        cgs_json_add (o, "hits", json_object_new_int64 (t->hits));
+        cgs_json_add (o, "last_hit", t->has_last_hit ? s_xy (t->last_hit) : NULL);
+        cgs_json_add (o, "last_hit_id",
+                      t->has_last_hit ? json_object_new_int64 (t->last_hit_id) : NULL);
+        cgs_json_add (o, "friendly_id", json_object_new_int64 (t->friendly_id));
         json_object_array_add (a, o);
     }
     return a;
@@ -873,41 +858,43 @@ static json_object *s_json_intercepts (st_state_t *self)
         if (!x->valid)
             continue;
         json_object *o = json_object_new_object ();
-        s_add (o, "uav_id", json_object_new_int64 (x->uav_id));
-        s_add (o, "track_id", json_object_new_int64 (x->track_id));
-        s_add (o, "state", json_object_new_string (s_intercept_state_name (x->state)));
-        s_add (o, "method",
-               json_object_new_string (x->method == CGS__INTERCEPT_METHOD__INTERCEPT_METHOD_MTI_HITS
-                                           ? "mti-hits"
-                                           : "head-on"));
+        cgs_json_add (o, "uav_id", json_object_new_int64 (x->uav_id));
+        cgs_json_add (o, "track_id", json_object_new_int64 (x->track_id));
+        cgs_json_add (o, "state", json_object_new_string (s_intercept_state_name (x->state)));
+        cgs_json_add (
+            o, "method",
+            json_object_new_string (x->method == CGS__INTERCEPT_METHOD__INTERCEPT_METHOD_MTI_HITS
+                                        ? "mti-hits"
+                                        : "head-on"));
         json_object *route = json_object_new_array_ext ((int)(2 * x->route_count));
         for (size_t k = 0; k < x->route_count; k++) {
             json_object_array_add (route, s_m (x->route[k].e));
             json_object_array_add (route, s_m (x->route[k].n));
         }
-        s_add (o, "route", route);
+        cgs_json_add (o, "route", route);
         if (x->has_footprint) {
             double shown[8];
             st_footprint_scaled (x->footprint, x->center, x->scale, shown);
-            s_add (o, "footprint", s_corners (x->footprint));
-            s_add (o, "footprint_display", s_corners (shown));
+            cgs_json_add (o, "footprint", s_corners (x->footprint));
+            cgs_json_add (o, "footprint_display", s_corners (shown));
         } else {
-            s_add (o, "footprint", NULL);
-            s_add (o, "footprint_display", NULL);
+            cgs_json_add (o, "footprint", NULL);
+            cgs_json_add (o, "footprint_display", NULL);
         }
-        s_add (o, "scale", json_object_new_int64 (x->scale == 5 || x->scale == 10 ? x->scale : 1));
-        s_add (o, "waypoint", x->has_waypoint ? s_xy (x->waypoint) : NULL);
-        s_add (o, "secondary", x->has_secondary ? s_xy (x->secondary) : NULL);
-        s_add (o, "time_to_go_s", s_num (x->time_to_go_s, 1));
-        s_add (o, "t_pred_s", s_num (x->t_pred_s, 1));
-        s_add (o, "replans", json_object_new_int64 (x->replans));
-        s_add (o, "reason", json_object_new_string (x->reason));
-        s_add (o, "target_in_footprint", json_object_new_boolean (x->target_in_footprint));
+        cgs_json_add (o, "scale",
+                      json_object_new_int64 (x->scale == 5 || x->scale == 10 ? x->scale : 1));
+        cgs_json_add (o, "waypoint", x->has_waypoint ? s_xy (x->waypoint) : NULL);
+        cgs_json_add (o, "secondary", x->has_secondary ? s_xy (x->secondary) : NULL);
+        cgs_json_add (o, "time_to_go_s", cgs_json_fixed (x->time_to_go_s, 1));
+        cgs_json_add (o, "t_pred_s", cgs_json_fixed (x->t_pred_s, 1));
+        cgs_json_add (o, "replans", json_object_new_int64 (x->replans));
+        cgs_json_add (o, "reason", json_object_new_string (x->reason));
+        cgs_json_add (o, "target_in_footprint", json_object_new_boolean (x->target_in_footprint));
         // Ground range from the UAV to the designated track, when both are known.
         const s_uav_t *u = s_uav_find (self, x->uav_id);
         const s_track_t *t = x->track_id ? s_track_find (self, x->track_id) : NULL;
-        s_add (o, "range_m", u && t ? s_m (hypot (t->e - u->e, t->n - u->n)) : NULL);
-        s_add (o, "designation", json_object_new_int64 ((int64_t)x->designation));
+        cgs_json_add (o, "range_m", u && t ? s_m (hypot (t->e - u->e, t->n - u->n)) : NULL);
+        cgs_json_add (o, "designation", json_object_new_int64 ((int64_t)x->designation));
         json_object_array_add (a, o);
     }
     return a;
@@ -922,15 +909,15 @@ static json_object *s_json_truth (const st_state_t *self)
         if (!s->active || s_uav_find (self, s->id))
             continue;
         json_object *o = json_object_new_object ();
-        s_add (o, "id", json_object_new_int64 (s->id));
-        s_add (o, "marking", json_object_new_string (s->marking));
-        s_add (o, "force", json_object_new_string (s_force_name (s->force)));
-        s_add (o, "kind", json_object_new_string (s_kind_name (s->kind)));
-        s_add (o, "e", s_m (s->position.e_m));
-        s_add (o, "n", s_m (s->position.n_m));
-        s_add (o, "heading_deg", s_num (s->heading_deg, 1));
-        s_add (o, "speed_mps", s_num (hypot (s->velocity.e_m, s->velocity.n_m), 1));
-        s_add (o, "external", json_object_new_boolean (s->external));
+        cgs_json_add (o, "id", json_object_new_int64 (s->id));
+        cgs_json_add (o, "marking", json_object_new_string (s->marking));
+        cgs_json_add (o, "force", json_object_new_string (s_force_name (s->force)));
+        cgs_json_add (o, "kind", json_object_new_string (s_kind_name (s->kind)));
+        cgs_json_add (o, "e", s_m (s->position.e_m));
+        cgs_json_add (o, "n", s_m (s->position.n_m));
+        cgs_json_add (o, "heading_deg", cgs_json_fixed (s->heading_deg, 1));
+        cgs_json_add (o, "speed_mps", cgs_json_fixed (hypot (s->velocity.e_m, s->velocity.n_m), 1));
+        cgs_json_add (o, "external", json_object_new_boolean (s->external));
         json_object_array_add (a, o);
     }
     return a;
@@ -944,13 +931,14 @@ static json_object *s_json_image (const st_state_t *self)
     char url[96];
     snprintf (url, sizeof url, "/image/latest.png?frame=%llu",
               (unsigned long long)self->image_shown_frame);
-    s_add (o, "uav_id", json_object_new_int64 (self->image_uav));
-    s_add (o, "frame", json_object_new_int64 ((int64_t)self->image_shown_frame));
-    s_add (o, "url", json_object_new_string (url));
-    s_add (o, "mode",
-           json_object_new_string (
-               self->image_mode == CGS__IMAGE_MODE__IMAGE_MODE_INFRARED ? "infrared" : "visible"));
-    s_add (o, "target_in_view", json_object_new_boolean (self->image_target_in_view));
+    cgs_json_add (o, "uav_id", json_object_new_int64 (self->image_uav));
+    cgs_json_add (o, "frame", json_object_new_int64 ((int64_t)self->image_shown_frame));
+    cgs_json_add (o, "url", json_object_new_string (url));
+    cgs_json_add (o, "mode",
+                  json_object_new_string (self->image_mode == CGS__IMAGE_MODE__IMAGE_MODE_INFRARED
+                                              ? "infrared"
+                                              : "visible"));
+    cgs_json_add (o, "target_in_view", json_object_new_boolean (self->image_target_in_view));
     return o;
 }
 
@@ -959,16 +947,16 @@ char *st_state_json (st_state_t *self, uint64_t seq, size_t *ret_len)
     json_object *o = json_object_new_object ();
     if (!o)
         return NULL;
-    s_add (o, "type", json_object_new_string ("state"));
-    s_add (o, "seq", json_object_new_int64 ((int64_t)seq));
-    s_add (o, "sim_time_s", s_num (self->now_s, 2));
-    s_add (o, "uavs", s_json_uavs (self));
-    s_add (o, "hits", s_json_hits (self));
-    s_add (o, "bcis", s_json_bcis (self));
-    s_add (o, "tracks", s_json_tracks (self));
-    s_add (o, "intercepts", s_json_intercepts (self));
-    s_add (o, "truth", s_json_truth (self));
-    s_add (o, "image", s_json_image (self));
+    cgs_json_add (o, "type", json_object_new_string ("state"));
+    cgs_json_add (o, "seq", json_object_new_int64 ((int64_t)seq));
+    cgs_json_add (o, "sim_time_s", cgs_json_fixed (self->now_s, 2));
+    cgs_json_add (o, "uavs", s_json_uavs (self));
+    cgs_json_add (o, "hits", s_json_hits (self));
+    cgs_json_add (o, "bcis", s_json_bcis (self));
+    cgs_json_add (o, "tracks", s_json_tracks (self));
+    cgs_json_add (o, "intercepts", s_json_intercepts (self));
+    cgs_json_add (o, "truth", s_json_truth (self));
+    cgs_json_add (o, "image", s_json_image (self));
     size_t len = 0;
     const char *text = json_object_to_json_string_length (o, JSON_C_TO_STRING_PLAIN, &len);
     char *out = text ? malloc (len + 1) : NULL;
