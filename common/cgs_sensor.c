@@ -17,30 +17,32 @@ static uint64_t s_seed (uint64_t exercise_seed, uint32_t uav_id, uint64_t salt)
 int cgs_sensor_setup (cgs_sensor_t *self, const cgs_service_t *svc, const char *program,
                       uint64_t salt, char *err, size_t errlen)
 {
-    if (!*svc->instance->uav) {
+    if (!*cgs_service_instance (svc)->uav) {
         cgs_errf (err, errlen, "%s: [service %s] names no `uav =`: %s serves one UAV",
-                  svc->exercise_path, svc->instance_name, program);
+                  cgs_service_exercise_path (svc), cgs_service_instance_name (svc), program);
         return -EINVAL;
     }
-    snprintf (self->uav_name, sizeof self->uav_name, "%s", svc->instance->uav);
-    if (!*svc->scenario) {
+    snprintf (self->uav_name, sizeof self->uav_name, "%s", cgs_service_instance (svc)->uav);
+    if (!*cgs_service_scenario_path (svc)) {
         cgs_errf (err, errlen,
                   "no scenario (its terrain is needed): give --scenario FILE or `scenario =` in %s",
-                  svc->exercise_path);
+                  cgs_service_exercise_path (svc));
         return -EINVAL;
     }
-    cgs_geodetic_t o = cgs_exercise_origin (svc->exercise);
+    cgs_geodetic_t o = cgs_exercise_origin (cgs_service_exercise (svc));
     if (!(self->frame = cgs_geo_new (o.lat_deg, o.lon_deg, o.height_m))) {
-        cgs_errf (err, errlen, "%s: bad exercise origin", svc->exercise_path);
+        cgs_errf (err, errlen, "%s: bad exercise origin", cgs_service_exercise_path (svc));
         return -EINVAL;
     }
-    uint64_t seed = cgs_exercise_seed (svc->exercise);
-    int rc = cgs_scenario_load (svc->scenario, self->frame, seed, &self->scenario, err, errlen);
+    uint64_t seed = cgs_exercise_seed (cgs_service_exercise (svc));
+    int rc = cgs_scenario_load (cgs_service_scenario_path (svc), self->frame, seed, &self->scenario,
+                                err, errlen);
     if (rc < 0)
         return rc;
     if (!(self->uav = cgs_scenario_uav (self->scenario, self->uav_name))) {
-        cgs_errf (err, errlen, "%s: no [uav %s] (named by [service %s] in %s)", svc->scenario,
-                  self->uav_name, svc->instance_name, svc->exercise_path);
+        cgs_errf (err, errlen, "%s: no [uav %s] (named by [service %s] in %s)",
+                  cgs_service_scenario_path (svc), self->uav_name, cgs_service_instance_name (svc),
+                  cgs_service_exercise_path (svc));
         return -EINVAL;
     }
     self->seed = s_seed (seed, self->uav->id, salt);

@@ -32,7 +32,7 @@ typedef struct {
 } cgs_sensor_t;
 
 /* Read what a sensor service of program (for messages) needs: the
- * instance's UAV, the scenario (svc->scenario), the UAV's section in it and
+ * instance's UAV, the scenario (cgs_service_scenario_path), the UAV's section in it and
  * the terrain. 0, or -errno with the reason in err; cgs_sensor_fini frees
  * what was built either way. */
 int cgs_sensor_setup (cgs_sensor_t *self, const cgs_service_t *svc, const char *program,

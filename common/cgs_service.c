@@ -19,6 +19,36 @@
 
 #define S_DEFAULT_EXERCISE "/etc/mscgs/exercise.ini"
 
+struct cgs_service {
+    const cgs_service_info_t *info;
+    char instance_name[CGS_NAME_MAX];
+    char exercise_path[4096];
+    char scenario[4096];   // "" when none given (and none in the exercise)
+    char params[4096];     // "" when none given (and none in the instance)
+    char state_dir[4096];  // absolute, created
+    double time_scale;     // --time-scale, else the exercise's
+    bool time_scale_given; // --time-scale was on the command line
+    bool check_only;       // --check: validate and exit
+    int verbose;
+    void *ctx; // ZeroMQ context
+    cgs_exercise_t *exercise;
+    const cgs_instance_t *instance;
+    cgs_loop_t *loop;
+    cgs_pub_t *pub;        // NULL when the instance has no publish endpoint
+    cgs_sub_t *sub;        // created by the first cgs_service_subscribe
+    cgs_cmd_server_t *cmd; // created by cgs_service_serve_commands
+    cgs_health_t *health;
+    cgs_curve_t *curve; // CURVE keys and the ZAP handler; NULL when the exercise names none
+    double sim_time_s;  // latest simulation time, stamped on health
+    char connected[64][CGS_ENDPOINT_MAX]; // endpoints the subscriber connected to
+    int lock_fd;                 // STATE_DIR/INSTANCE.lock, held for the process's life (-1 before)
+    uint64_t bad_inputs;         // messages the service could not use (cgs_service_bad_input)
+    cgs_cmd_server_t *fault_cmd; // the fault channel (built with CGS_FAULT only), else NULL
+    cgs_fault_t fault;           // its requests and schedule
+    bool cmd_held;               // cgs_service_hold_commands
+    size_t nconnected;
+};
+
 #ifdef CGS_FAULT
 /* ---- the debug-only fault channel (cgs_fault.h) ---------------------------------------- */
 
@@ -239,10 +269,10 @@ static void s_on_zap (void *arg)
     cgs_curve_zap_handle (svc->curve);
 }
 
-int cgs_service_init (cgs_service_t *svc, const cgs_service_info_t *info, int argc, char **argv)
+/* Everything cgs_service_new does after allocating svc; on failure the
+ * caller destroys the half-built service. */
+static int s_init (cgs_service_t *svc, const cgs_service_info_t *info, int argc, char **argv)
 {
-    memset (svc, 0, sizeof *svc);
-    svc->lock_fd = -1;
     svc->info = info;
     int rc = s_parse (svc, argc, argv);
     if (rc != 0)
@@ -353,6 +383,23 @@ int cgs_service_init (cgs_service_t *svc, const cgs_service_info_t *info, int ar
     cgs_log (LOG_INFO, "exercise %s (id %u), instance %s, publishing on %s",
              cgs_exercise_name (svc->exercise), cgs_exercise_id (svc->exercise), svc->instance_name,
              *svc->instance->publish ? svc->instance->publish : "(nothing)");
+    return 0;
+}
+
+int cgs_service_new (const cgs_service_info_t *info, int argc, char **argv, cgs_service_t **ret_svc)
+{
+    cgs_service_t *svc = calloc (1, sizeof *svc);
+    if (!svc) {
+        fprintf (stderr, "%s: out of memory\n", info->program);
+        return -ENOMEM;
+    }
+    svc->lock_fd = -1;
+    int rc = s_init (svc, info, argc, argv);
+    if (rc != 0) {
+        cgs_service_destroy (&svc);
+        return rc;
+    }
+    *ret_svc = svc;
     return 0;
 }
 
@@ -608,8 +655,11 @@ int cgs_service_run (cgs_service_t *svc)
     return 0;
 }
 
-void cgs_service_fini (cgs_service_t *svc)
+void cgs_service_destroy (cgs_service_t **self_p)
 {
+    if (!self_p || !*self_p)
+        return;
+    cgs_service_t *svc = *self_p;
     cgs_cmd_server_destroy (&svc->cmd);
     cgs_cmd_server_destroy (&svc->fault_cmd);
     cgs_sub_destroy (&svc->sub);
@@ -622,10 +672,110 @@ void cgs_service_fini (cgs_service_t *svc)
         zmq_ctx_term (svc->ctx);
         svc->ctx = NULL;
     }
-    if (svc->lock_fd >= 0) {
+    if (svc->lock_fd >= 0)
         close (svc->lock_fd); // releases the lock
-        svc->lock_fd = -1;
-    }
+    free (svc);
+    *self_p = NULL;
+}
+
+const char *cgs_service_instance_name (const cgs_service_t *svc)
+{
+    return svc->instance_name;
+}
+
+const char *cgs_service_exercise_path (const cgs_service_t *svc)
+{
+    return svc->exercise_path;
+}
+
+const char *cgs_service_scenario_path (const cgs_service_t *svc)
+{
+    return svc->scenario;
+}
+
+const char *cgs_service_params_path (const cgs_service_t *svc)
+{
+    return svc->params;
+}
+
+const char *cgs_service_state_dir (const cgs_service_t *svc)
+{
+    return svc->state_dir;
+}
+
+double cgs_service_time_scale (const cgs_service_t *svc)
+{
+    return svc->time_scale;
+}
+
+bool cgs_service_time_scale_given (const cgs_service_t *svc)
+{
+    return svc->time_scale_given;
+}
+
+bool cgs_service_check_only (const cgs_service_t *svc)
+{
+    return svc->check_only;
+}
+
+int cgs_service_verbose (const cgs_service_t *svc)
+{
+    return svc->verbose;
+}
+
+const cgs_exercise_t *cgs_service_exercise (const cgs_service_t *svc)
+{
+    return svc->exercise;
+}
+
+const cgs_instance_t *cgs_service_instance (const cgs_service_t *svc)
+{
+    return svc->instance;
+}
+
+void *cgs_service_ctx (cgs_service_t *svc)
+{
+    return svc->ctx;
+}
+
+cgs_loop_t *cgs_service_loop (cgs_service_t *svc)
+{
+    return svc->loop;
+}
+
+cgs_health_t *cgs_service_health (cgs_service_t *svc)
+{
+    return svc->health;
+}
+
+cgs_curve_t *cgs_service_curve (cgs_service_t *svc)
+{
+    return svc->curve;
+}
+
+cgs_pub_t *cgs_service_pub (cgs_service_t *svc)
+{
+    return svc->pub;
+}
+
+cgs_sub_t *cgs_service_sub (cgs_service_t *svc)
+{
+    return svc->sub;
+}
+
+cgs_cmd_server_t *cgs_service_cmd_server (cgs_service_t *svc)
+{
+    return svc->cmd;
+}
+
+bool cgs_service_commands_held (const cgs_service_t *svc)
+{
+    return svc->cmd_held;
+}
+
+void cgs_service_set_sim_time (cgs_service_t *svc, double sim_time_s)
+{
+    svc->sim_time_s = sim_time_s;
 }
 
 void cgs_service_bad_input (cgs_service_t *svc, const char *what)

@@ -48,41 +48,61 @@ typedef struct {
     void *option_arg;
 } cgs_service_info_t;
 
-typedef struct {
-    const cgs_service_info_t *info;
-    char instance_name[CGS_NAME_MAX];
-    char exercise_path[4096];
-    char scenario[4096];   // "" when none given (and none in the exercise)
-    char params[4096];     // "" when none given (and none in the instance)
-    char state_dir[4096];  // absolute, created
-    double time_scale;     // --time-scale, else the exercise's
-    bool time_scale_given; // --time-scale was on the command line
-    bool check_only;       // --check: validate and exit
-    int verbose;
-    void *ctx; // ZeroMQ context
-    cgs_exercise_t *exercise;
-    const cgs_instance_t *instance;
-    cgs_loop_t *loop;
-    cgs_pub_t *pub;        // NULL when the instance has no publish endpoint
-    cgs_sub_t *sub;        // created by the first cgs_service_subscribe
-    cgs_cmd_server_t *cmd; // created by cgs_service_serve_commands
-    cgs_health_t *health;
-    cgs_curve_t *curve; // CURVE keys and the ZAP handler; NULL when the exercise names none
-    double sim_time_s;  // latest simulation time, stamped on health
-    char connected[64][CGS_ENDPOINT_MAX]; // endpoints the subscriber connected to
-    int lock_fd;                 // STATE_DIR/INSTANCE.lock, held for the process's life (-1 before)
-    uint64_t bad_inputs;         // messages the service could not use (cgs_service_bad_input)
-    cgs_cmd_server_t *fault_cmd; // the fault channel (built with CGS_FAULT only), else NULL
-    cgs_fault_t fault;           // its requests and schedule
-    bool cmd_held;               // cgs_service_hold_commands
-    size_t nconnected;
-} cgs_service_t;
+/* One running service: its options, exercise, instance, loop, sockets and
+ * health. Opaque; read it through the accessors below. */
+typedef struct cgs_service cgs_service_t;
 
 /* Parse options, read the exercise, find the instance, create the state
- * folder, the loop and the publisher (bound). Returns 0 to go on, 1 when
- * --help or --version was printed (exit 0), or a negative errno after logging
- * why (exit non-zero). */
-int cgs_service_init (cgs_service_t *svc, const cgs_service_info_t *info, int argc, char **argv);
+ * folder, the loop and the publisher (bound). Returns 0 with *ret_svc set to
+ * go on (with --check, only the options, exercise and instance are set up), 1
+ * when --help or --version was printed (exit 0), or a negative errno after
+ * logging why (exit non-zero); *ret_svc is written only when 0 is returned. */
+int cgs_service_new (const cgs_service_info_t *info, int argc, char **argv,
+                     cgs_service_t **ret_svc);
+/* Free everything and set *self_p to NULL; accepts NULL. */
+void cgs_service_destroy (cgs_service_t **self_p);
+
+/* The instance's name (--instance, default the program's name). */
+const char *cgs_service_instance_name (const cgs_service_t *svc);
+/* The exercise file read (--exercise, $MSCGS_EXERCISE, or the default). */
+const char *cgs_service_exercise_path (const cgs_service_t *svc);
+/* The scenario file (--scenario, else the exercise's); "" when none. */
+const char *cgs_service_scenario_path (const cgs_service_t *svc);
+/* The model parameter file (--params, else the instance's); "" when none. */
+const char *cgs_service_params_path (const cgs_service_t *svc);
+/* The state folder (--state-dir, else the exercise's); absolute unless --check. */
+const char *cgs_service_state_dir (const cgs_service_t *svc);
+/* Simulation seconds per wall second: --time-scale, else the exercise's. */
+double cgs_service_time_scale (const cgs_service_t *svc);
+/* Whether --time-scale was on the command line. */
+bool cgs_service_time_scale_given (const cgs_service_t *svc);
+/* Whether --check was given: validate the configuration and exit. */
+bool cgs_service_check_only (const cgs_service_t *svc);
+/* How many times -v/--verbose was given. */
+int cgs_service_verbose (const cgs_service_t *svc);
+/* The exercise read; valid while the service lives. */
+const cgs_exercise_t *cgs_service_exercise (const cgs_service_t *svc);
+/* This instance's section of the exercise; valid while the service lives. */
+const cgs_instance_t *cgs_service_instance (const cgs_service_t *svc);
+/* The ZeroMQ context, for the service's own sockets; NULL with --check. */
+void *cgs_service_ctx (cgs_service_t *svc);
+/* The event loop, for the service's own timers and fds; NULL with --check. */
+cgs_loop_t *cgs_service_loop (cgs_service_t *svc);
+/* The health message's counters and last error; NULL with --check. */
+cgs_health_t *cgs_service_health (cgs_service_t *svc);
+/* The CURVE keys, to protect the service's own clients; NULL when none. */
+cgs_curve_t *cgs_service_curve (cgs_service_t *svc);
+/* The publisher; NULL when the instance publishes nothing (or --check). */
+cgs_pub_t *cgs_service_pub (cgs_service_t *svc);
+/* The subscriber; NULL before the first cgs_service_subscribe. */
+cgs_sub_t *cgs_service_sub (cgs_service_t *svc);
+/* The command server; NULL before cgs_service_serve_commands. */
+cgs_cmd_server_t *cgs_service_cmd_server (cgs_service_t *svc);
+/* Whether the commands are held (cgs_service_hold_commands). */
+bool cgs_service_commands_held (const cgs_service_t *svc);
+/* Set the simulation time that publish and health stamp on messages. */
+void cgs_service_set_sim_time (cgs_service_t *svc, double sim_time_s);
+
 /* Subscribe to topic with fn, connecting to every publisher of it named in
  * the exercise; 0 or -errno (logged). */
 int cgs_service_subscribe (cgs_service_t *svc, const char *topic, cgs_sub_fn *fn, void *arg);
@@ -112,8 +132,9 @@ int cgs_service_save_state (cgs_service_t *svc);
 /* The service state saved by the previous run (after serve_commands); *ret_len
  * 0 when there was none. */
 void cgs_service_saved_state (const cgs_service_t *svc, const uint8_t **ret_buf, size_t *ret_len);
-/* Publish msg on topic stamped with svc->sim_time_s; a failure is counted and
- * becomes the health's last error. */
+/* Publish msg on topic stamped with the simulation time
+ * (cgs_service_set_sim_time); a failure is counted and becomes the health's
+ * last error. */
 int cgs_service_publish (cgs_service_t *svc, const char *topic, ProtobufCMessage *msg);
 /* The port an adapter of this service works through: publish stamps the
  * message with the time given (and makes it the health's time), log goes
@@ -121,7 +142,7 @@ int cgs_service_publish (cgs_service_t *svc, const char *topic, ProtobufCMessage
  * last error. Valid while svc lives. */
 cgs_port_t cgs_service_port (cgs_service_t *svc);
 /* The exercise's scene: the local frame about its origin, the scenario it
- * names (svc->scenario, seeded by the exercise) and that scenario's
+ * names (cgs_service_scenario_path, seeded by the exercise) and that scenario's
  * terrain. 0 with all three set (the caller destroys them:
  * cgs_terrain_destroy, cgs_scenario_destroy, cgs_geo_destroy); -EINVAL when
  * no scenario is named or the origin is unusable, or the scenario's own
@@ -132,7 +153,5 @@ int cgs_service_load_scene (const cgs_service_t *svc, cgs_geo_t **ret_frame,
 /* Run the loop until stopped: READY to systemd, health at 1 Hz, the watchdog
  * from the loop. Returns the process exit code. */
 int cgs_service_run (cgs_service_t *svc);
-/* Free everything; safe on a half-initialised service. */
-void cgs_service_fini (cgs_service_t *svc);
 
 #endif

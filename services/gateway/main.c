@@ -71,7 +71,7 @@ typedef struct {
 } s_answer_t;
 
 typedef struct {
-    cgs_service_t svc;
+    cgs_service_t *svc;
     gw_params_t p;
     cgs_geo_t *geo;
     int fd;
@@ -144,7 +144,7 @@ static gw_header_t s_header (s_app_t *app, double t_s)
 {
     gw_header_t h = {0};
     h.version = (uint8_t)app->p.version;
-    h.exercise = (uint8_t)cgs_exercise_id (app->svc.exercise);
+    h.exercise = (uint8_t)cgs_exercise_id (cgs_service_exercise (app->svc));
     h.timestamp = s_timestamp (app, t_s);
     h.status = GW_STATUS_LVC_CONSTRUCTIVE;
     return h;
@@ -179,7 +179,7 @@ static void s_send (s_app_t *app, uint8_t *const *bufs, const size_t *lens, size
                             snprintf (why, sizeof why, "DIS send failed: %s",
                                       sent < 0 ? strerror (errno) : "nothing sent");
                             cgs_log (LOG_WARNING, "%s (counted in health, logged once)", why);
-                            cgs_health_set_error (app->svc.health, why);
+                            cgs_health_set_error (cgs_service_health (app->svc), why);
                         }
                         break;
                     }
@@ -231,10 +231,10 @@ static void s_on_entity (void *arg, const char *topic, const ProtobufCMessage *m
     (void)topic;
     s_app_t *app = arg;
     const Cgs__EntityBatch *b = (const Cgs__EntityBatch *)msg;
-    if (hdr->source && strcmp (hdr->source, app->svc.instance_name) == 0)
+    if (hdr->source && strcmp (hdr->source, cgs_service_instance_name (app->svc)) == 0)
         return; // our own external entities, back from the bus
     if (!isfinite (hdr->sim_time_s)) {
-        cgs_service_bad_input (&app->svc, "an entity batch with a non-finite time");
+        cgs_service_bad_input (app->svc, "an entity batch with a non-finite time");
         return;
     }
     if (hdr->sim_time_s > app->sim_time_s)
@@ -247,8 +247,8 @@ static void s_on_entity (void *arg, const char *topic, const ProtobufCMessage *m
             continue; // came from DIS: its own simulation sends it
         gw_truth_t t;
         if (gw_out_truth (app->geo, e, &t) < 0) {
-            cgs_service_bad_input (&app->svc, "an entity without a usable position, velocity "
-                                              "or attitude");
+            cgs_service_bad_input (app->svc, "an entity without a usable position, velocity "
+                                             "or attitude");
             continue;
         }
         if ((long)app->p.entity_id_base + (long)e->entity_id > 65534) {
@@ -262,7 +262,8 @@ static void s_on_entity (void *arg, const char *topic, const ProtobufCMessage *m
         gw_send_t send;
         gw_dr_t dr;
         if (gw_out_update (app->out, &t, hdr->sim_time_s, now, &send, &dr) < 0) {
-            cgs_health_set_error (app->svc.health, "out of memory for outbound entities");
+            cgs_health_set_error (cgs_service_health (app->svc),
+                                  "out of memory for outbound entities");
             continue;
         }
         if (send == GW_SEND_NONE)
@@ -328,8 +329,7 @@ static void s_send_task (s_app_t *app, s_uav_t *s, const Cgs__Uav *u, double t_s
         cgs_ecef_t x;
         if (!p ||
             cgs_geo_enu_to_ecef (app->geo, (cgs_enu_t){p->east_m, p->north_m, p->up_m}, &x) < 0) {
-            cgs_service_bad_input (&app->svc,
-                                   "a uav message with a route point that is not finite");
+            cgs_service_bad_input (app->svc, "a uav message with a route point that is not finite");
             s->task_sent = u->task_number; // said once, not on every uav message
             return;
         }
@@ -356,7 +356,7 @@ static void s_send_task (s_app_t *app, s_uav_t *s, const Cgs__Uav *u, double t_s
     static uint8_t buf[GW_PDU_MAX];
     size_t len = gw_pdu_encode_action (a, buf, sizeof buf);
     if (len == 0) {
-        cgs_health_set_error (app->svc.health, "a UAV task too long for one PDU");
+        cgs_health_set_error (cgs_service_health (app->svc), "a UAV task too long for one PDU");
         s->task_sent = u->task_number; // said once, not on every uav message
         return;
     }
@@ -374,7 +374,7 @@ static void s_on_uav (void *arg, const char *topic, const ProtobufCMessage *msg,
     s_app_t *app = arg;
     const Cgs__Uav *u = (const Cgs__Uav *)msg;
     if (u->entity_id == 0) {
-        cgs_service_bad_input (&app->svc, "a uav message without an entity id");
+        cgs_service_bad_input (app->svc, "a uav message without an entity id");
         return;
     }
     s_uav_t *s = s_uav (app, u->entity_id);
@@ -427,7 +427,7 @@ static void s_reject (s_app_t *app, const struct sockaddr_in *from, const char *
         inet_ntop (AF_INET, &from->sin_addr, addr, sizeof addr);
     snprintf (what, sizeof what, "a DIS datagram from %s:%u: %s", addr,
               from ? ntohs (from->sin_port) : 0, why);
-    cgs_service_bad_input (&app->svc, what);
+    cgs_service_bad_input (app->svc, what);
 }
 
 /* Answer an Action Request. */
@@ -519,7 +519,7 @@ static uint32_t s_route_task (s_app_t *app, const gw_action_t *a, const s_uav_t 
                                   err, sizeof err);
     if (rc < 0) {
         snprintf (text, textlen, "uavsim did not answer: retry later");
-        cgs_health_set_error (app->svc.health, err);
+        cgs_health_set_error (cgs_service_health (app->svc), err);
         // The client's next call resends under a new number; a late task is still one task.
         return GW_STATUS_RETRANSMIT_LATER;
     }
@@ -602,7 +602,7 @@ static void s_on_pdu (void *arg, const uint8_t *pdu, size_t len)
         s_reject (app, w->from, why);
         return;
     }
-    if (h.exercise != cgs_exercise_id (app->svc.exercise)) {
+    if (h.exercise != cgs_exercise_id (cgs_service_exercise (app->svc))) {
         app->foreign++;
         return;
     }
@@ -633,7 +633,8 @@ static void s_on_pdu (void *arg, const uint8_t *pdu, size_t len)
                          "more than %ld external entities: the rest are ignored (counted)",
                          app->p.max_entities);
         } else if (rc < 0) {
-            cgs_health_set_error (app->svc.health, "out of memory for external entities");
+            cgs_health_set_error (cgs_service_health (app->svc),
+                                  "out of memory for external entities");
         } else if (fresh) {
             char marking[GW_MARKING_LEN + 1]; // printable: it came off the network
             for (size_t i = 0; i < sizeof marking; i++)
@@ -730,12 +731,13 @@ static void s_add_msg (s_app_t *app, const gw_in_entity_t *e, double now, bool l
 {
     Cgs__Entity *m = s_next_msg (app);
     if (!m) {
-        cgs_health_set_error (app->svc.health, "out of memory for external entity messages");
+        cgs_health_set_error (cgs_service_health (app->svc),
+                              "out of memory for external entity messages");
         return;
     }
     if (gw_in_entity_msg (app->geo, e, now, &app->storage[app->nmsg], m) < 0) {
-        cgs_service_bad_input (&app->svc, "an external entity whose state cannot be placed in "
-                                          "the exercise's frame");
+        cgs_service_bad_input (app->svc, "an external entity whose state cannot be placed in "
+                                         "the exercise's frame");
         return;
     }
     if (leaving)
@@ -754,7 +756,7 @@ static void s_on_expired (void *arg, const gw_in_entity_t *e)
 
 static void s_counters (s_app_t *app)
 {
-    cgs_health_t *h = app->svc.health;
+    cgs_health_t *h = cgs_service_health (app->svc);
     cgs_health_set_counter (h, "espdu_out", app->espdu_out);
     cgs_health_set_counter (h, "action_out", app->action_out + app->response_out);
     cgs_health_set_counter (h, "pdus_in", app->pdus_in);
@@ -785,14 +787,14 @@ static void s_on_publish (void *arg)
     for (size_t i = 0; i < app->nmsg; i++)
         app->ptrs[i] = &app->msgs[i];
     size_t count = (app->nmsg + S_BATCH_MAX - 1) / S_BATCH_MAX;
-    app->svc.sim_time_s = app->sim_time_s;
+    cgs_service_set_sim_time (app->svc, app->sim_time_s);
     for (size_t b = 0; b < count; b++) {
         Cgs__EntityBatch batch = CGS__ENTITY_BATCH__INIT;
         batch.entities = app->ptrs + b * S_BATCH_MAX;
         batch.n_entities = b + 1 < count ? S_BATCH_MAX : app->nmsg - b * S_BATCH_MAX;
         batch.batch_index = (uint32_t)b;
         batch.batch_count = (uint32_t)count;
-        cgs_service_publish (&app->svc, "entity", &batch.base);
+        cgs_service_publish (app->svc, "entity", &batch.base);
     }
 }
 
@@ -811,9 +813,10 @@ static int s_interface (s_app_t *app, char *err, size_t errlen)
     if (!*p->interface)
         return 0;
     int rc = cgs_iface_find (p->interface, &app->ifc);
+    const char *params = cgs_service_params_path (app->svc);
     if (rc < 0)
         snprintf (err, errlen, "%s: [network] interface %s: %s (`ip -br link` lists this host's)",
-                  *app->svc.params ? app->svc.params : "gateway parameters", p->interface,
+                  *params ? params : "gateway parameters", p->interface,
                   rc == -ENODEV ? "no such interface on this host" : strerror (-rc));
     return rc;
 }
@@ -889,19 +892,20 @@ fail:;
 static int s_setup (s_app_t *app, char *err, size_t errlen)
 {
     gw_params_defaults (&app->p);
-    if (*app->svc.params) {
-        int rc = gw_params_load (app->svc.params, &app->p, err, errlen);
+    const char *params = cgs_service_params_path (app->svc);
+    if (*params) {
+        int rc = gw_params_load (params, &app->p, err, errlen);
         if (rc < 0)
             return rc;
-        cgs_log (LOG_INFO, "gateway parameters from %s", app->svc.params);
+        cgs_log (LOG_INFO, "gateway parameters from %s", params);
     }
-    uint32_t ex = cgs_exercise_id (app->svc.exercise);
+    uint32_t ex = cgs_exercise_id (cgs_service_exercise (app->svc));
     if (ex < 1 || ex > 255) {
         snprintf (err, errlen, "%s: exercise id %u is not a DIS exercise id (1..255)",
-                  app->svc.exercise_path, ex);
+                  cgs_service_exercise_path (app->svc), ex);
         return -EINVAL;
     }
-    cgs_geodetic_t o = cgs_exercise_origin (app->svc.exercise);
+    cgs_geodetic_t o = cgs_exercise_origin (cgs_service_exercise (app->svc));
     if (!(app->geo = cgs_geo_new (o.lat_deg, o.lon_deg, o.height_m))) {
         snprintf (err, errlen, "the exercise origin is not usable");
         return -EINVAL;
@@ -916,18 +920,19 @@ static int s_setup (s_app_t *app, char *err, size_t errlen)
         return -ENOMEM;
     }
     app->fd = -1;
-    app->uavsim = cgs_exercise_first_of (app->svc.exercise, "uavsim");
+    app->uavsim = cgs_exercise_first_of (cgs_service_exercise (app->svc), "uavsim");
     if (app->uavsim && !*app->uavsim->command)
         app->uavsim = NULL; // it takes no tasks
     int rc = s_interface (app, err, errlen);
-    if (rc < 0 || app->svc.check_only)
+    if (rc < 0 || cgs_service_check_only (app->svc))
         return rc;
     rc = s_socket (app, err, errlen);
     if (rc < 0)
         return rc;
-    if (app->uavsim &&
-        (!(app->client = cgs_cmd_client_new (app->svc.ctx, app->uavsim->command, "gateway")) ||
-         cgs_curve_protect_client (app->svc.curve, app->client, app->uavsim->public_key) < 0)) {
+    if (app->uavsim && (!(app->client = cgs_cmd_client_new (cgs_service_ctx (app->svc),
+                                                            app->uavsim->command, "gateway")) ||
+                        cgs_curve_protect_client (cgs_service_curve (app->svc), app->client,
+                                                  app->uavsim->public_key) < 0)) {
         snprintf (err, errlen, "cannot make a command client for %s", app->uavsim->command);
         return -errno;
     }
@@ -939,7 +944,7 @@ static int s_setup (s_app_t *app, char *err, size_t errlen)
     // Once, at start: an exercise whose parameters put DIS on a network.
     if (gw_params_leaves_host (&app->p, app->ifc.loopback))
         cgs_log (LOG_NOTICE, "DIS leaves this machine: %s (%s)", where,
-                 *app->svc.params ? app->svc.params : "the built-in parameters");
+                 *params ? params : "the built-in parameters");
     return 0;
 }
 
@@ -951,37 +956,36 @@ int main (int argc, char **argv)
         .program = "gateway",
         .summary = "DIS bridge: Entity State and Action Request/Response PDUs in and out.",
     };
-    int rc = cgs_service_init (&app.svc, &info, argc, argv);
-    if (rc != 0) {
-        cgs_service_fini (&app.svc);
+    int rc = cgs_service_new (&info, argc, argv, &app.svc);
+    if (rc != 0)
         return rc > 0 ? 0 : 1;
-    }
     int exit_code = 1;
     char err[1024] = "";
     if (s_setup (&app, err, sizeof err) < 0) {
         cgs_log (LOG_ERR, "%s", err);
         goto done;
     }
-    if (app.svc.check_only) {
+    if (cgs_service_check_only (app.svc)) {
         char where[160];
         gw_params_describe (&app.p, where, sizeof where);
-        printf ("%s: parameters are good (DIS version %d, %s: %s)\n", app.svc.instance_name,
-                app.p.version, where,
+        printf ("%s: parameters are good (DIS version %d, %s: %s)\n",
+                cgs_service_instance_name (app.svc), app.p.version, where,
                 gw_params_leaves_host (&app.p, app.ifc.loopback) ? "leaves this machine"
                                                                  : "this machine only");
         exit_code = 0;
         goto done;
     }
-    if (cgs_loop_add_fd (app.svc.loop, app.fd, s_on_udp, &app) < 0 ||
-        cgs_loop_add_timer (app.svc.loop, 1.0 / app.p.publish_rate_hz, s_on_publish, &app) < 0) {
+    cgs_loop_t *loop = cgs_service_loop (app.svc);
+    if (cgs_loop_add_fd (loop, app.fd, s_on_udp, &app) < 0 ||
+        cgs_loop_add_timer (loop, 1.0 / app.p.publish_rate_hz, s_on_publish, &app) < 0) {
         cgs_log (LOG_ERR, "out of memory");
         goto done;
     }
-    if (cgs_service_subscribe (&app.svc, "entity", s_on_entity, &app) < 0 ||
-        cgs_service_subscribe (&app.svc, "uav", s_on_uav, &app) < 0 ||
-        cgs_service_subscribe (&app.svc, "intercept", s_on_intercept, &app) < 0)
+    if (cgs_service_subscribe (app.svc, "entity", s_on_entity, &app) < 0 ||
+        cgs_service_subscribe (app.svc, "uav", s_on_uav, &app) < 0 ||
+        cgs_service_subscribe (app.svc, "intercept", s_on_intercept, &app) < 0)
         goto done;
-    exit_code = cgs_service_run (&app.svc);
+    exit_code = cgs_service_run (app.svc);
     cgs_log (LOG_INFO,
              "%" PRIu64 " Entity State PDUs and %" PRIu64 " Action Requests out; %" PRIu64
              " PDUs in (%" PRIu64 " Entity State, %" PRIu64 " of other exercises, %" PRIu64
@@ -999,6 +1003,6 @@ done:
     free (app.msgs);
     free (app.ptrs);
     free (app.storage);
-    cgs_service_fini (&app.svc);
+    cgs_service_destroy (&app.svc);
     return exit_code;
 }

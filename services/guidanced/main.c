@@ -26,7 +26,7 @@
 #define S_FORWARD_MS 500 // altitude and speed commands forwarded to uavsim
 
 typedef struct {
-    cgs_service_t svc;
+    cgs_service_t *svc;
     bool fresh;
     gd_params_t params;
     cgs_geo_t *frame;
@@ -45,7 +45,7 @@ typedef struct {
 
 static int s_save_now (s_app_t *app)
 {
-    int rc = cgs_service_save_state (&app->svc);
+    int rc = cgs_service_save_state (app->svc);
     if (rc < 0)
         cgs_log (LOG_WARNING, "state not written (see health)");
     return rc;
@@ -68,7 +68,7 @@ static void s_deliver (s_app_t *app)
         char err[256];
         cgs_cmd_client_set_next_number (app->client, task.command_number);
         if (cgs_cmd_client_call (app->client, &cmd, S_SEND_MS, 1, &reply, err, sizeof err) < 0) {
-            cgs_health_set_error (app->svc.health, err);
+            cgs_health_set_error (cgs_service_health (app->svc), err);
             gd_adapter_task_answered (app->adapter, &task, NULL); // tried again later
             continue;
         }
@@ -104,8 +104,8 @@ static void s_on_message (void *arg, const char *topic, const ProtobufCMessage *
     gd_adapter_on_message (app->adapter, topic, msg, hdr);
     s_save_if_dirty (app);
     s_deliver (app);
-    if (app->svc.cmd_held && gd_adapter_heard_tracks (app->adapter)) {
-        cgs_service_hold_commands (&app->svc, false);
+    if (cgs_service_commands_held (app->svc) && gd_adapter_heard_tracks (app->adapter)) {
+        cgs_service_hold_commands (app->svc, false);
         cgs_log (LOG_INFO, "taking commands: the tracker's picture is heard (%zu tracks)",
                  gd_adapter_track_count (app->adapter));
     }
@@ -115,8 +115,8 @@ static void s_on_message (void *arg, const char *topic, const ProtobufCMessage *
 static void s_on_hold (void *arg)
 {
     s_app_t *app = arg;
-    if (app->svc.cmd_held && cgs_loop_now () >= app->hold_until) {
-        cgs_service_hold_commands (&app->svc, false);
+    if (cgs_service_commands_held (app->svc) && cgs_loop_now () >= app->hold_until) {
+        cgs_service_hold_commands (app->svc, false);
         cgs_log (LOG_WARNING, "taking commands without the tracker's picture (none in %.0f s)",
                  S_HOLD_S);
     }
@@ -208,31 +208,32 @@ static int s_on_option (void *arg, const char *name, const char *value, char *wh
 static int s_setup (s_app_t *app, char *err, size_t errlen)
 {
     gd_params_defaults (&app->params);
-    if (*app->svc.params) {
-        int rc = gd_params_load (app->svc.params, &app->params, err, errlen);
+    const char *params = cgs_service_params_path (app->svc);
+    if (*params) {
+        int rc = gd_params_load (params, &app->params, err, errlen);
         if (rc < 0)
             return rc;
-        cgs_log (LOG_INFO, "guidance parameters from %s", app->svc.params);
+        cgs_log (LOG_INFO, "guidance parameters from %s", params);
     } else {
         cgs_log (LOG_INFO, "guidance parameters: the built-in defaults (no parameter file named)");
     }
     int rc =
-        cgs_service_load_scene (&app->svc, &app->frame, &app->scenario, &app->terrain, err, errlen);
+        cgs_service_load_scene (app->svc, &app->frame, &app->scenario, &app->terrain, err, errlen);
     if (rc < 0)
         return rc;
-    cgs_port_t port = cgs_service_port (&app->svc);
+    cgs_port_t port = cgs_service_port (app->svc);
     bool too_many = false;
     app->adapter = gd_adapter_new (&app->params, app->scenario, app->terrain, &port, &too_many);
     if (!app->adapter) {
         if (too_many)
-            snprintf (err, errlen, "%s: guidanced serves at most %d UAVs", app->svc.scenario,
-                      GD_ADAPTER_UAVS_MAX);
+            snprintf (err, errlen, "%s: guidanced serves at most %d UAVs",
+                      cgs_service_scenario_path (app->svc), GD_ADAPTER_UAVS_MAX);
         else
             snprintf (err, errlen, "out of memory");
         return too_many ? -EINVAL : -ENOMEM;
     }
     // uavsim takes the tasks.
-    app->uavsim = cgs_exercise_first_of (app->svc.exercise, "uavsim");
+    app->uavsim = cgs_exercise_first_of (cgs_service_exercise (app->svc), "uavsim");
     if (app->uavsim && !*app->uavsim->command)
         app->uavsim = NULL;
     if (!app->uavsim)
@@ -248,8 +249,8 @@ static void s_new_client_id (s_app_t *app)
     struct timeval tv;
     gettimeofday (&tv, NULL);
     char id[128];
-    snprintf (id, sizeof id, "%s@%lld.%06ld", app->svc.instance_name, (long long)tv.tv_sec,
-              (long)tv.tv_usec);
+    snprintf (id, sizeof id, "%s@%lld.%06ld", cgs_service_instance_name (app->svc),
+              (long long)tv.tv_sec, (long)tv.tv_usec);
     gd_adapter_set_client_id (app->adapter, id);
 }
 
@@ -264,11 +265,9 @@ int main (int argc, char **argv)
         .on_option = s_on_option,
         .option_arg = &app,
     };
-    int rc = cgs_service_init (&app.svc, &info, argc, argv);
-    if (rc != 0) {
-        cgs_service_fini (&app.svc);
+    int rc = cgs_service_new (&info, argc, argv, &app.svc);
+    if (rc != 0)
         return rc > 0 ? 0 : 1;
-    }
     int exit_code = 1;
     char err[1024] = "";
     if (s_setup (&app, err, sizeof err) < 0) {
@@ -280,24 +279,24 @@ int main (int argc, char **argv)
              uavs == 1 ? "" : "s", app.scenario->designation_count,
              app.scenario->designation_count == 1 ? "" : "s",
              app.uavsim ? app.uavsim->command : "(none)");
-    if (app.svc.check_only) {
-        printf ("%s: configuration is good\n", app.svc.instance_name);
+    if (cgs_service_check_only (app.svc)) {
+        printf ("%s: configuration is good\n", cgs_service_instance_name (app.svc));
         exit_code = 0;
         goto done;
     }
-    if (cgs_service_serve_commands (&app.svc, s_on_command, s_save, &app) < 0)
+    if (cgs_service_serve_commands (app.svc, s_on_command, s_save, &app) < 0)
         goto done;
     s_new_client_id (&app);
     const uint8_t *saved = NULL;
     size_t saved_len = 0;
-    cgs_service_saved_state (&app.svc, &saved, &saved_len);
+    cgs_service_saved_state (app.svc, &saved, &saved_len);
     if (saved_len > 0 && app.fresh) {
         cgs_log (LOG_NOTICE, "--fresh: the saved intercept is ignored; starting idle");
     } else if (saved_len > 0) {
         if (gd_adapter_restore (app.adapter, saved, saved_len, err, sizeof err) < 0) {
             // The adapter is idle again.
             cgs_log (LOG_WARNING, "saved state ignored (%s); starting idle", err);
-            cgs_health_set_error (app.svc.health, err);
+            cgs_health_set_error (cgs_service_health (app.svc), err);
             s_new_client_id (&app);
         } else {
             for (size_t i = 0; i < uavs; i++) {
@@ -310,26 +309,27 @@ int main (int argc, char **argv)
         }
     }
     if (app.uavsim) {
-        app.client = cgs_cmd_client_new_exact (app.svc.ctx, app.uavsim->command,
+        app.client = cgs_cmd_client_new_exact (cgs_service_ctx (app.svc), app.uavsim->command,
                                                gd_adapter_client_id (app.adapter),
                                                gd_adapter_last_number (app.adapter) + 1);
-        if (!app.client ||
-            cgs_curve_protect_client (app.svc.curve, app.client, app.uavsim->public_key) < 0) {
+        if (!app.client || cgs_curve_protect_client (cgs_service_curve (app.svc), app.client,
+                                                     app.uavsim->public_key) < 0) {
             cgs_log (LOG_ERR, "cannot make a command client for %s", app.uavsim->command);
             goto done;
         }
     }
     for (const char *const *t = gd_adapter_topics; *t; t++)
-        if (cgs_service_subscribe (&app.svc, *t, s_on_message, &app) < 0)
+        if (cgs_service_subscribe (app.svc, *t, s_on_message, &app) < 0)
             goto done;
-    cgs_loop_add_timer (app.svc.loop, S_DELIVER_S, s_on_deliver, &app);
-    cgs_loop_add_timer (app.svc.loop, 5.0, s_on_checkpoint, &app);
+    cgs_loop_t *loop = cgs_service_loop (app.svc);
+    cgs_loop_add_timer (loop, S_DELIVER_S, s_on_deliver, &app);
+    cgs_loop_add_timer (loop, 5.0, s_on_checkpoint, &app);
     // A designation needs the tracks: until the tracker is heard (its next
     // batch), commands wait unanswered rather than be refused for want of them.
-    cgs_service_hold_commands (&app.svc, true);
+    cgs_service_hold_commands (app.svc, true);
     app.hold_until = cgs_loop_now () + S_HOLD_S;
-    cgs_loop_add_timer (app.svc.loop, 0.1, s_on_hold, &app);
-    exit_code = cgs_service_run (&app.svc);
+    cgs_loop_add_timer (loop, 0.1, s_on_hold, &app);
+    exit_code = cgs_service_run (app.svc);
     s_save_now (&app);
 done:
     gd_adapter_destroy (&app.adapter);
@@ -337,6 +337,6 @@ done:
     cgs_terrain_destroy (&app.terrain);
     cgs_scenario_destroy (&app.scenario);
     cgs_geo_destroy (&app.frame);
-    cgs_service_fini (&app.svc);
+    cgs_service_destroy (&app.svc);
     return exit_code;
 }

@@ -35,7 +35,7 @@
 #define S_MOVING_MPS 0.5   // a vehicle this fast has its engine running
 
 typedef struct {
-    cgs_service_t svc;
+    cgs_service_t *svc;
     cgs_sensor_t sensor; // its UAV, scenario and terrain
     im_params_t params;
     char out_dir[4096];
@@ -64,7 +64,7 @@ typedef struct {
 
 static void s_bad (s_app_t *app, const char *what)
 {
-    cgs_service_bad_input (&app->svc, what);
+    cgs_service_bad_input (app->svc, what);
 }
 
 static void s_on_entity (void *arg, const char *topic, const ProtobufCMessage *msg,
@@ -72,7 +72,7 @@ static void s_on_entity (void *arg, const char *topic, const ProtobufCMessage *m
 {
     (void)topic;
     s_app_t *app = arg;
-    cgs_service_take_entities (&app->svc, app->ents, msg, hdr);
+    cgs_service_take_entities (app->svc, app->ents, msg, hdr);
     if (app->entity_wall == 0)
         app->entity_wall = cgs_loop_now ();
 }
@@ -127,7 +127,8 @@ static size_t s_entities_at (s_app_t *app, double t)
     if (app->draw_cap < count) {
         im_entity_t *d = realloc (app->draw, count * sizeof *d);
         if (!d) {
-            cgs_health_set_error (app->svc.health, "out of memory for entities: a frame drew none");
+            cgs_health_set_error (cgs_service_health (app->svc),
+                                  "out of memory for entities: a frame drew none");
             return 0;
         }
         app->draw = d;
@@ -167,9 +168,10 @@ static void s_queue_png (s_app_t *app, const char *name)
     int rc = im_png_writer_submit (app->png, app->rgba, app->params.width_px, app->params.height_px,
                                    name);
     if (rc == -EAGAIN)
-        cgs_health_set_error (app->svc.health, "PNG writer behind: a frame's file was dropped");
+        cgs_health_set_error (cgs_service_health (app->svc),
+                              "PNG writer behind: a frame's file was dropped");
     else if (rc < 0)
-        cgs_health_set_error (app->svc.health, "out of memory for a PNG file");
+        cgs_health_set_error (cgs_service_health (app->svc), "out of memory for a PNG file");
 }
 
 static void s_render (s_app_t *app, double t)
@@ -185,7 +187,7 @@ static void s_render (s_app_t *app, double t)
     im_camera_t cam;
     if (im_frame_camera (p, &app->uav, t, p->staring && app->have_track ? &track_at : NULL, &cam) <
         0) {
-        cgs_health_set_error (app->svc.health, "a frame's camera could not be made");
+        cgs_health_set_error (cgs_service_health (app->svc), "a frame's camera could not be made");
         return;
     }
     size_t n = s_entities_at (app, t);
@@ -193,7 +195,7 @@ static void s_render (s_app_t *app, double t)
     if (im_renderer_draw (app->ren, &cam, p, app->draw, n, app->rgba, err, sizeof err) < 0) {
         if (app->render_errors++ == 0)
             cgs_log (LOG_ERR, "%s", err);
-        cgs_health_set_error (app->svc.health, err);
+        cgs_health_set_error (cgs_service_health (app->svc), err);
         return;
     }
     if (p->mode == IM_MODE_INFRARED)
@@ -278,8 +280,8 @@ static void s_render (s_app_t *app, double t)
                                          : CGS__IMAGE_MODE__IMAGE_MODE_VISIBLE;
     m.path = name;
     m.latest_path = latest ? app->latest_path : "";
-    app->svc.sim_time_s = t;
-    cgs_service_publish (&app->svc, "image", &m.base);
+    cgs_service_set_sim_time (app->svc, t);
+    cgs_service_publish (app->svc, "image", &m.base);
     if (app->entity_wall > 0) { // from the first entity update since the last frame to this one
         double lat = cgs_loop_now () - app->entity_wall;
         app->latency_sum_s += lat;
@@ -383,21 +385,22 @@ static void s_on_command (void *arg, const Cgs__Command *cmd, Cgs__Reply *reply)
 static int s_setup (s_app_t *app, char *err, size_t errlen)
 {
     int rc =
-        cgs_sensor_setup (&app->sensor, &app->svc, "imagerd", 0x9E3779B97F4A7C15ull, err, errlen);
+        cgs_sensor_setup (&app->sensor, app->svc, "imagerd", 0x9E3779B97F4A7C15ull, err, errlen);
     if (rc < 0)
         return rc;
     im_params_defaults (&app->params);
-    if (*app->svc.params) {
-        if ((rc = im_params_load (app->svc.params, &app->params, err, errlen)) < 0)
+    const char *params = cgs_service_params_path (app->svc);
+    if (*params) {
+        if ((rc = im_params_load (params, &app->params, err, errlen)) < 0)
             return rc;
-        cgs_log (LOG_INFO, "imager parameters from %s", app->svc.params);
+        cgs_log (LOG_INFO, "imager parameters from %s", params);
     } else {
         cgs_log (LOG_INFO, "imager parameters: the built-in defaults (no parameter file named)");
     }
     if (!*app->out_dir)
-        snprintf (app->out_dir, sizeof app->out_dir, "%s/images", app->svc.state_dir);
+        snprintf (app->out_dir, sizeof app->out_dir, "%s/images", cgs_service_state_dir (app->svc));
     const im_params_t *p = &app->params;
-    if (app->svc.check_only)
+    if (cgs_service_check_only (app->svc))
         return im_ctx_check_driver (getenv ("GALLIUM_DRIVER"), err, errlen);
     app->ents = cgs_entities_new ();
     app->rgba = malloc ((size_t)p->width_px * (size_t)p->height_px * 4);
@@ -463,31 +466,29 @@ int main (int argc, char **argv)
         .on_option = s_on_option,
         .option_arg = &app,
     };
-    int rc = cgs_service_init (&app.svc, &info, argc, argv);
-    if (rc != 0) {
-        cgs_service_fini (&app.svc);
+    int rc = cgs_service_new (&info, argc, argv, &app.svc);
+    if (rc != 0)
         return rc > 0 ? 0 : 1;
-    }
     int exit_code = 1;
     char err[1024] = "";
     if (s_setup (&app, err, sizeof err) < 0) {
         cgs_log (LOG_ERR, "%s", err);
         goto done;
     }
-    if (app.svc.check_only) {
-        printf ("%s: parameters and scenario are good\n", app.svc.instance_name);
+    if (cgs_service_check_only (app.svc)) {
+        printf ("%s: parameters and scenario are good\n", cgs_service_instance_name (app.svc));
         exit_code = 0;
         goto done;
     }
-    if (app.svc.instance->command[0] &&
-        cgs_service_serve_commands (&app.svc, s_on_command, NULL, &app) < 0)
+    if (cgs_service_instance (app.svc)->command[0] &&
+        cgs_service_serve_commands (app.svc, s_on_command, NULL, &app) < 0)
         goto done;
-    if (cgs_service_subscribe (&app.svc, "entity", s_on_entity, &app) < 0 ||
-        cgs_service_subscribe (&app.svc, "intercept", s_on_intercept, &app) < 0 ||
-        cgs_service_subscribe (&app.svc, "track", s_on_track, &app) < 0 ||
-        cgs_service_subscribe (&app.svc, "uav", s_on_uav, &app) < 0)
+    if (cgs_service_subscribe (app.svc, "entity", s_on_entity, &app) < 0 ||
+        cgs_service_subscribe (app.svc, "intercept", s_on_intercept, &app) < 0 ||
+        cgs_service_subscribe (app.svc, "track", s_on_track, &app) < 0 ||
+        cgs_service_subscribe (app.svc, "uav", s_on_uav, &app) < 0)
         goto done;
-    exit_code = cgs_service_run (&app.svc);
+    exit_code = cgs_service_run (app.svc);
     cgs_log (LOG_INFO,
              "%llu frames (%llu skipped to keep under %g per second), %llu PNG files asked for; "
              "entity update to frame %.1f ms on average, %.1f ms at most",
@@ -511,6 +512,6 @@ done:
     cgs_sensor_fini (&app.sensor);
     free (app.draw);
     free (app.rgba);
-    cgs_service_fini (&app.svc);
+    cgs_service_destroy (&app.svc);
     return exit_code;
 }

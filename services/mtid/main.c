@@ -23,7 +23,7 @@
 #include <string.h>
 
 typedef struct {
-    cgs_service_t svc;
+    cgs_service_t *svc;
     cgs_sensor_t sensor; // its UAV, scenario and terrain
     mti_params_t params;
     mti_adapter_t *adapter;
@@ -164,12 +164,14 @@ static int s_monte_carlo (int argc, char **argv)
 
 static int s_setup (s_app_t *app, char *err, size_t errlen)
 {
-    int rc = cgs_sensor_setup (&app->sensor, &app->svc, "mtid", 0xD1B54A32D192ED03ull, err, errlen);
+    int rc = cgs_sensor_setup (&app->sensor, app->svc, "mtid", 0xD1B54A32D192ED03ull, err, errlen);
     if (rc < 0)
         return rc;
     const cgs_scenario_uav_t *u = app->sensor.uav;
     // Parameters: --params, else the instance's `params =`, else the UAV's radar_params.
-    const char *params = *app->svc.params ? app->svc.params : u->radar_params;
+    const char *params = cgs_service_params_path (app->svc);
+    if (!*params)
+        params = u->radar_params;
     mti_params_defaults (&app->params);
     if (params && *params) {
         if ((rc = mti_params_load (params, &app->params, err, errlen)) < 0)
@@ -178,7 +180,7 @@ static int s_setup (s_app_t *app, char *err, size_t errlen)
     } else {
         cgs_log (LOG_INFO, "radar parameters: the built-in defaults (no parameter file named)");
     }
-    cgs_port_t port = cgs_service_port (&app->svc);
+    cgs_port_t port = cgs_service_port (app->svc);
     app->adapter = mti_adapter_new (&app->params, &app->sensor, &port);
     if (!app->adapter) {
         snprintf (err, errlen, "out of memory");
@@ -213,32 +215,30 @@ int main (int argc, char **argv)
         .summary = "MTI radar processing model of one UAV (--monte-carlo: check the detector; "
                    "see mtid --monte-carlo --help).",
     };
-    int rc = cgs_service_init (&app.svc, &info, argc, argv);
-    if (rc != 0) {
-        cgs_service_fini (&app.svc);
+    int rc = cgs_service_new (&info, argc, argv, &app.svc);
+    if (rc != 0)
         return rc > 0 ? 0 : 1;
-    }
     int exit_code = 1;
     char err[1024] = "";
     if (s_setup (&app, err, sizeof err) < 0) {
         cgs_log (LOG_ERR, "%s", err);
         goto done;
     }
-    if (app.svc.check_only) {
-        printf ("%s: parameters and scenario are good\n", app.svc.instance_name);
+    if (cgs_service_check_only (app.svc)) {
+        printf ("%s: parameters and scenario are good\n", cgs_service_instance_name (app.svc));
         exit_code = 0;
         goto done;
     }
     for (size_t i = 0; mti_adapter_topics[i]; i++)
-        if (cgs_service_subscribe (&app.svc, mti_adapter_topics[i], s_on_message, &app) < 0)
+        if (cgs_service_subscribe (app.svc, mti_adapter_topics[i], s_on_message, &app) < 0)
             goto done;
-    exit_code = cgs_service_run (&app.svc);
+    exit_code = cgs_service_run (app.svc);
     const mti_adapter_stats_t *st = mti_adapter_stats (app.adapter);
     cgs_log (LOG_INFO, "%llu dwells run, %llu skipped", (unsigned long long)st->dwells_run,
              (unsigned long long)st->skipped);
 done:
     mti_adapter_destroy (&app.adapter);
     cgs_sensor_fini (&app.sensor);
-    cgs_service_fini (&app.svc);
+    cgs_service_destroy (&app.svc);
     return exit_code;
 }

@@ -26,7 +26,7 @@
 #include <unistd.h>
 
 typedef struct {
-    cgs_service_t svc;
+    cgs_service_t *svc;
     st_params_t p;
     cgs_geo_t *frame;
     cgs_scenario_t *scenario;
@@ -65,12 +65,13 @@ static uint64_t s_read (uint64_t *counter)
 static void s_took (s_app_t *app, int rc, const char *what)
 {
     if (rc == -EINVAL)
-        cgs_service_bad_input (&app->svc, what);
+        cgs_service_bad_input (app->svc, what);
     else if (rc == -ENOSPC)
-        cgs_health_set_error (app->svc.health,
+        cgs_health_set_error (cgs_service_health (app->svc),
                               "the map's table of UAVs or radars is full: a message was dropped");
     else if (rc == -ENOMEM)
-        cgs_health_set_error (app->svc.health, "out of memory: the map dropped part of a message");
+        cgs_health_set_error (cgs_service_health (app->svc),
+                              "out of memory: the map dropped part of a message");
 }
 
 static void s_on_clock (void *arg, const char *topic, const ProtobufCMessage *msg,
@@ -172,7 +173,7 @@ static void s_on_push (void *arg)
     if (json)
         st_web_publish (app->web, json, len);
     else
-        cgs_health_set_error (app->svc.health, "out of memory: a push was skipped");
+        cgs_health_set_error (cgs_service_health (app->svc), "out of memory: a push was skipped");
     st_web_stats_t ws;
     char err[256];
     st_web_stats (app->web, &ws, err, sizeof err);
@@ -180,7 +181,7 @@ static void s_on_push (void *arg)
         cgs_log (LOG_WARNING, "web server: %s", err);
         snprintf (app->web_error, sizeof app->web_error, "%s", err);
     }
-    cgs_health_t *h = app->svc.health;
+    cgs_health_t *h = cgs_service_health (app->svc);
     cgs_health_set_counter (h, "http_port", (uint64_t)st_web_port (app->web));
     cgs_health_set_counter (h, "pages", ws.pages);
     cgs_health_set_counter (h, "pages_total", ws.pages_total);
@@ -287,8 +288,9 @@ static void s_command (s_app_t *app, st_web_conn_t *conn, s_page_t *page, int64_
     }
     cgs_cmd_client_t **client =
         strcmp (to->program, "uavsim") == 0 ? &page->uavsim : &page->guidanced;
-    if (!*client && (!(*client = cgs_cmd_client_new (app->svc.ctx, to->command, "stationd")) ||
-                     cgs_curve_protect_client (app->svc.curve, *client, to->public_key) < 0)) {
+    if (!*client &&
+        (!(*client = cgs_cmd_client_new (cgs_service_ctx (app->svc), to->command, "stationd")) ||
+         cgs_curve_protect_client (cgs_service_curve (app->svc), *client, to->public_key) < 0)) {
         s_count (&app->commands_unanswered);
         return s_refuse (conn, n, op, "cannot make a command client");
     }
@@ -536,13 +538,14 @@ static const cgs_instance_t *s_commanded (const cgs_exercise_t *ex, const char *
 static char *s_hello (s_app_t *app, bool operator)
 {
     json_object *o = json_object_new_object ();
-    cgs_geodetic_t g = cgs_exercise_origin (app->svc.exercise);
+    cgs_geodetic_t g = cgs_exercise_origin (cgs_service_exercise (app->svc));
     json_object_object_add (o, "type", json_object_new_string ("hello"));
     json_object_object_add (o, "version", json_object_new_int (1));
     json_object_object_add (o, "operator", json_object_new_boolean (operator));
     json_object_object_add (o, "token_required", json_object_new_boolean (app->p.token[0] != 0));
-    json_object_object_add (o, "exercise",
-                            json_object_new_string (cgs_exercise_name (app->svc.exercise)));
+    json_object_object_add (
+        o, "exercise",
+        json_object_new_string (cgs_exercise_name (cgs_service_exercise (app->svc))));
     json_object *origin = json_object_new_object ();
     json_object_object_add (origin, "lat_deg", json_object_new_double (g.lat_deg));
     json_object_object_add (origin, "lon_deg", json_object_new_double (g.lon_deg));
@@ -569,11 +572,12 @@ static char *s_hello (s_app_t *app, bool operator)
 static int s_setup (s_app_t *app, char *err, size_t errlen)
 {
     st_params_defaults (&app->p);
-    if (*app->svc.params) {
-        int rc = st_params_load (app->svc.params, &app->p, err, errlen);
+    const char *params = cgs_service_params_path (app->svc);
+    if (*params) {
+        int rc = st_params_load (params, &app->p, err, errlen);
         if (rc < 0)
             return rc;
-        cgs_log (LOG_INFO, "station parameters from %s", app->svc.params);
+        cgs_log (LOG_INFO, "station parameters from %s", params);
     }
     if (*app->listen_override) {
         if (!st_params_is_loopback (app->listen_override) && !app->p.token[0]) {
@@ -587,27 +591,27 @@ static int s_setup (s_app_t *app, char *err, size_t errlen)
     }
     if (app->port_override >= 0)
         app->p.port = (int)app->port_override;
-    if (*app->svc.scenario) {
-        int rc = cgs_service_load_scene (&app->svc, &app->frame, &app->scenario, &app->terrain, err,
+    if (*cgs_service_scenario_path (app->svc)) {
+        int rc = cgs_service_load_scene (app->svc, &app->frame, &app->scenario, &app->terrain, err,
                                          errlen);
         if (rc < 0)
             return rc;
     } else {
-        cgs_geodetic_t o = cgs_exercise_origin (app->svc.exercise);
+        cgs_geodetic_t o = cgs_exercise_origin (cgs_service_exercise (app->svc));
         if (!(app->frame = cgs_geo_new (o.lat_deg, o.lon_deg, o.height_m))) {
             snprintf (err, errlen, "the exercise origin is not usable");
             return -EINVAL;
         }
     }
-    app->guidanced = s_commanded (app->svc.exercise, "guidanced");
-    app->uavsim = s_commanded (app->svc.exercise, "uavsim");
+    app->guidanced = s_commanded (cgs_service_exercise (app->svc), "guidanced");
+    app->uavsim = s_commanded (cgs_service_exercise (app->svc), "uavsim");
     st_state_params_t sp = {app->p.history_scans, app->p.bcis_timeout_s, app->p.track_stale_s,
                             app->p.truth_stale_s};
     if (!(app->state = st_state_new (&sp))) {
         snprintf (err, errlen, "out of memory");
         return -ENOMEM;
     }
-    if (app->svc.check_only)
+    if (cgs_service_check_only (app->svc))
         return 0;
     if (app->terrain) {
         double t0 = cgs_loop_now ();
@@ -670,25 +674,23 @@ int main (int argc, char **argv)
         .on_option = s_on_option,
         .option_arg = &app,
     };
-    int rc = cgs_service_init (&app.svc, &info, argc, argv);
-    if (rc != 0) {
-        cgs_service_fini (&app.svc);
+    int rc = cgs_service_new (&info, argc, argv, &app.svc);
+    if (rc != 0)
         return rc > 0 ? 0 : 1;
-    }
     int exit_code = 1;
     char err[1024] = "";
     if (s_setup (&app, err, sizeof err) < 0) {
         cgs_log (LOG_ERR, "%s", err);
         goto done;
     }
-    if (app.svc.check_only) {
-        printf ("%s: parameters are good (listening on %s:%d, %s)\n", app.svc.instance_name,
-                app.p.listen_address, app.p.port,
+    if (cgs_service_check_only (app.svc)) {
+        printf ("%s: parameters are good (listening on %s:%d, %s)\n",
+                cgs_service_instance_name (app.svc), app.p.listen_address, app.p.port,
                 app.p.token[0] ? "operators need the token" : "no token");
         exit_code = 0;
         goto done;
     }
-    if (cgs_loop_add_timer (app.svc.loop, 1.0 / app.p.push_hz, s_on_push, &app) < 0) {
+    if (cgs_loop_add_timer (cgs_service_loop (app.svc), 1.0 / app.p.push_hz, s_on_push, &app) < 0) {
         cgs_log (LOG_ERR, "out of memory");
         goto done;
     }
@@ -699,9 +701,9 @@ int main (int argc, char **argv)
                 {"mti", s_on_mti},     {"mti.scan", s_on_mti_scan},   {"bcis", s_on_bcis},
                 {"track", s_on_track}, {"intercept", s_on_intercept}, {"image", s_on_image}};
     for (size_t i = 0; i < sizeof subs / sizeof subs[0]; i++)
-        if (cgs_service_subscribe (&app.svc, subs[i].topic, subs[i].fn, &app) < 0)
+        if (cgs_service_subscribe (app.svc, subs[i].topic, subs[i].fn, &app) < 0)
             goto done;
-    exit_code = cgs_service_run (&app.svc);
+    exit_code = cgs_service_run (app.svc);
     st_web_stats_t ws;
     st_web_stats (app.web, &ws, NULL, 0);
     cgs_log (LOG_INFO,
@@ -716,6 +718,6 @@ done:
     cgs_terrain_destroy (&app.terrain);
     cgs_scenario_destroy (&app.scenario);
     cgs_geo_destroy (&app.frame);
-    cgs_service_fini (&app.svc);
+    cgs_service_destroy (&app.svc);
     return exit_code;
 }

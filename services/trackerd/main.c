@@ -28,7 +28,7 @@
 #define S_CHECKPOINT_MAX (1u << 30) // a checkpoint file larger than this is refused
 
 typedef struct {
-    cgs_service_t svc;
+    cgs_service_t *svc;
     trk_params_t params;
     trk_adapter_t *adapter; // scans, the tracker, the output messages
     bool fresh;             // --fresh: ignore the checkpoint
@@ -70,7 +70,7 @@ static int s_checkpoint (s_app_t *app)
     if (rc < 0) {
         char why[4400];
         snprintf (why, sizeof why, "cannot write %s: %s", app->checkpoint, strerror (-rc));
-        cgs_health_set_error (app->svc.health, why);
+        cgs_health_set_error (cgs_service_health (app->svc), why);
         return rc;
     }
     app->unsaved = false;
@@ -111,7 +111,7 @@ static void s_restore (s_app_t *app)
         snprintf (why, sizeof why, "checkpoint %s ignored: %s", app->checkpoint,
                   rc < 0 ? strerror (-rc) : err);
         cgs_log (LOG_WARNING, "%s; starting with no tracks", why);
-        cgs_health_set_error (app->svc.health, why);
+        cgs_health_set_error (cgs_service_health (app->svc), why);
         // Keep the damaged file for a look; the next checkpoint takes its name.
         char aside[4300];
         snprintf (aside, sizeof aside, "%s.damaged", app->checkpoint);
@@ -300,7 +300,7 @@ static int s_on_option (void *arg, const char *name, const char *value, char *wh
 static int s_setup (s_app_t *app, char *err, size_t errlen)
 {
     trk_params_defaults (&app->params);
-    const char *params = app->svc.params;
+    const char *params = cgs_service_params_path (app->svc);
     if (*params) {
         int rc = trk_params_load (params, &app->params, err, errlen);
         if (rc < 0)
@@ -309,32 +309,32 @@ static int s_setup (s_app_t *app, char *err, size_t errlen)
     } else {
         cgs_log (LOG_INFO, "tracker parameters: the built-in defaults (no parameter file named)");
     }
-    cgs_port_t port = cgs_service_port (&app->svc);
+    cgs_port_t port = cgs_service_port (app->svc);
     app->adapter = trk_adapter_new (&app->params, &port);
     if (!app->adapter) {
         snprintf (err, errlen, "out of memory");
         return -ENOMEM;
     }
-    if (app->params.filter.mode == TRK_FILTER_IMM && *app->svc.scenario) {
-        int rc = cgs_service_load_scene (&app->svc, &app->frame, &app->scenario, &app->terrain, err,
+    if (app->params.filter.mode == TRK_FILTER_IMM && *cgs_service_scenario_path (app->svc)) {
+        int rc = cgs_service_load_scene (app->svc, &app->frame, &app->scenario, &app->terrain, err,
                                          errlen);
         if (rc < 0)
             return rc;
         trk_tracker_set_terrain (trk_adapter_tracker (app->adapter), app->terrain);
         cgs_log (LOG_INFO, "terrain of %s: a target it hides from a radar is not expected seen",
-                 app->svc.scenario);
+                 cgs_service_scenario_path (app->svc));
     } else if (app->params.filter.mode == TRK_FILTER_IMM) {
         cgs_log (LOG_INFO, "no scenario named: no terrain in the expected detection probability");
     }
-    if (cgs_state_path (app->checkpoint, sizeof app->checkpoint, app->svc.state_dir,
-                        app->svc.instance_name) < 0 ||
+    if (cgs_state_path (app->checkpoint, sizeof app->checkpoint, cgs_service_state_dir (app->svc),
+                        cgs_service_instance_name (app->svc)) < 0 ||
         strlen (app->checkpoint) + 8 > sizeof app->checkpoint) {
         snprintf (err, errlen, "state folder path too long");
         return -ENAMETOOLONG;
     }
     strcat (app->checkpoint, ".tracks");
     const trk_params_t *p = &app->params;
-    trk_adapter_set_verbose (app->adapter, app->svc.verbose != 0);
+    trk_adapter_set_verbose (app->adapter, cgs_service_verbose (app->svc) != 0);
     trk_adapter_set_params_path (app->adapter, params);
     if (p->filter.mode == TRK_FILTER_IMM) {
         cgs_log (LOG_INFO,
@@ -376,28 +376,26 @@ int main (int argc, char **argv)
         .on_option = s_on_option,
         .option_arg = &app,
     };
-    int rc = cgs_service_init (&app.svc, &info, argc, argv);
-    if (rc != 0) {
-        cgs_service_fini (&app.svc);
+    int rc = cgs_service_new (&info, argc, argv, &app.svc);
+    if (rc != 0)
         return rc > 0 ? 0 : 1;
-    }
     int exit_code = 1;
     char err[1024] = "";
     if (s_setup (&app, err, sizeof err) < 0) {
         cgs_log (LOG_ERR, "%s", err);
         goto done;
     }
-    if (app.svc.check_only) {
-        printf ("%s: parameters are good\n", app.svc.instance_name);
+    if (cgs_service_check_only (app.svc)) {
+        printf ("%s: parameters are good\n", cgs_service_instance_name (app.svc));
         exit_code = 0;
         goto done;
     }
     s_restore (&app);
     for (const char *const *topic = trk_adapter_topics; *topic; topic++)
-        if (cgs_service_subscribe (&app.svc, *topic, s_on_message, &app) < 0)
+        if (cgs_service_subscribe (app.svc, *topic, s_on_message, &app) < 0)
             goto done;
-    cgs_loop_add_timer (app.svc.loop, S_CHECKPOINT_S, s_on_checkpoint_timer, &app);
-    exit_code = cgs_service_run (&app.svc);
+    cgs_loop_add_timer (cgs_service_loop (app.svc), S_CHECKPOINT_S, s_on_checkpoint_timer, &app);
+    exit_code = cgs_service_run (app.svc);
     if (s_checkpoint (&app) == 0)
         cgs_log (LOG_INFO, "saved %zu tracks to %s", trk_tracker_count (s_trk (&app)),
                  app.checkpoint);
@@ -414,6 +412,6 @@ done:
     cgs_terrain_destroy (&app.terrain);
     cgs_scenario_destroy (&app.scenario);
     cgs_geo_destroy (&app.frame);
-    cgs_service_fini (&app.svc);
+    cgs_service_destroy (&app.svc);
     return exit_code;
 }

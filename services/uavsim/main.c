@@ -20,7 +20,7 @@
 #define S_BUDGET_S 0.010 // most wall time one pacing tick may spend stepping
 
 typedef struct {
-    cgs_service_t svc;
+    cgs_service_t *svc;
     cgs_geo_t *frame;
     uavsim_world_t *world;
     uavsim_adapter_t *adapter;
@@ -111,7 +111,7 @@ static void s_on_tick (void *arg)
                 "the simulation cannot keep time scale %g: it runs slower (lagged %llu times)",
                 app->time_scale, (unsigned long long)app->lag_events);
             cgs_log (LOG_WARNING, "%s", why);
-            cgs_health_set_error (app->svc.health, why);
+            cgs_health_set_error (cgs_service_health (app->svc), why);
         }
     }
 }
@@ -210,7 +210,7 @@ static void s_on_command (void *arg, const Cgs__Command *cmd, Cgs__Reply *reply)
 static void s_on_checkpoint (void *arg)
 {
     s_app_t *app = arg;
-    if (cgs_service_save_state (&app->svc) < 0)
+    if (cgs_service_save_state (app->svc) < 0)
         cgs_log (LOG_WARNING, "checkpoint not written (see health)");
     cgs_notify_status ("t=%.1f s, x%g%s", uavsim_world_time (app->world), app->time_scale,
                        app->paused ? " paused" : "");
@@ -228,31 +228,30 @@ int main (int argc, char **argv)
         .on_option = s_on_option,
         .option_arg = &app,
     };
-    int rc = cgs_service_init (&app.svc, &info, argc, argv);
-    if (rc != 0) {
-        cgs_service_fini (&app.svc);
+    int rc = cgs_service_new (&info, argc, argv, &app.svc);
+    if (rc != 0)
         return rc > 0 ? 0 : 1;
-    }
     int exit_code = 1;
     char err[1024] = "";
-    if (!*app.svc.scenario) {
+    const char *scenario = cgs_service_scenario_path (app.svc);
+    if (!*scenario) {
         cgs_log (LOG_ERR, "no scenario: give --scenario FILE or `scenario =` in %s",
-                 app.svc.exercise_path);
+                 cgs_service_exercise_path (app.svc));
         goto done;
     }
-    cgs_geodetic_t o = cgs_exercise_origin (app.svc.exercise);
+    cgs_geodetic_t o = cgs_exercise_origin (cgs_service_exercise (app.svc));
     app.frame = cgs_geo_new (o.lat_deg, o.lon_deg, o.height_m);
     cgs_scenario_t *sc = NULL;
     if (!app.frame ||
-        cgs_scenario_load (app.svc.scenario, app.frame, cgs_exercise_seed (app.svc.exercise), &sc,
-                           err, sizeof err) < 0 ||
+        cgs_scenario_load (scenario, app.frame, cgs_exercise_seed (cgs_service_exercise (app.svc)),
+                           &sc, err, sizeof err) < 0 ||
         uavsim_world_new (sc, app.frame, &app.world, err, sizeof err) < 0) {
         cgs_log (LOG_ERR, "%s", *err ? err : "bad exercise origin");
         goto done;
     }
     const cgs_scenario_t *scn = uavsim_world_scenario (app.world);
-    cgs_log (LOG_INFO, "scenario %s: %zu UAV%s, %zu vehicles, terrain %dx%d at %.0f m",
-             app.svc.scenario, scn->uav_count, scn->uav_count == 1 ? "" : "s", scn->vehicle_count,
+    cgs_log (LOG_INFO, "scenario %s: %zu UAV%s, %zu vehicles, terrain %dx%d at %.0f m", scenario,
+             scn->uav_count, scn->uav_count == 1 ? "" : "s", scn->vehicle_count,
              cgs_terrain_cols (uavsim_world_terrain (app.world)),
              cgs_terrain_rows (uavsim_world_terrain (app.world)),
              cgs_terrain_resolution (uavsim_world_terrain (app.world)));
@@ -263,55 +262,56 @@ int main (int argc, char **argv)
         char w[512];
         cgs_scenario_standoff_text (scn, &near[i], w, sizeof w);
         cgs_log (LOG_WARNING, "%s", w);
-        if (app.svc.check_only)
-            printf ("%s: warning: %s\n", app.svc.instance_name, w);
+        if (cgs_service_check_only (app.svc))
+            printf ("%s: warning: %s\n", cgs_service_instance_name (app.svc), w);
     }
     if (n_near > 16)
         cgs_log (LOG_WARNING, "%zu more loiter orbits within their stand-off of a route",
                  n_near - 16);
-    if (app.svc.check_only) {
-        printf ("%s: scenario %s is good\n", app.svc.instance_name, app.svc.scenario);
+    if (cgs_service_check_only (app.svc)) {
+        printf ("%s: scenario %s is good\n", cgs_service_instance_name (app.svc), scenario);
         exit_code = 0;
         goto done;
     }
-    cgs_port_t port = cgs_service_port (&app.svc);
+    cgs_port_t port = cgs_service_port (app.svc);
     app.adapter = uavsim_adapter_new (app.world, o, &port);
     if (!app.adapter) {
         cgs_log (LOG_ERR, "out of memory");
         goto done;
     }
-    app.time_scale = app.svc.time_scale;
-    if (cgs_service_serve_commands (&app.svc, s_on_command, s_save, &app) < 0)
+    app.time_scale = cgs_service_time_scale (app.svc);
+    if (cgs_service_serve_commands (app.svc, s_on_command, s_save, &app) < 0)
         goto done;
     const uint8_t *saved = NULL;
     size_t saved_len = 0;
-    cgs_service_saved_state (&app.svc, &saved, &saved_len);
+    cgs_service_saved_state (app.svc, &saved, &saved_len);
     if (saved_len > 0 && app.fresh) {
         cgs_log (LOG_NOTICE, "--fresh: the saved state is ignored; starting from the scenario");
     } else if (saved_len > 0) {
         if (s_restore (&app, saved, saved_len, err, sizeof err) < 0) {
             cgs_log (LOG_WARNING, "saved state ignored (%s); starting from the scenario", err);
-            cgs_health_set_error (app.svc.health, err);
+            cgs_health_set_error (cgs_service_health (app.svc), err);
         } else {
             cgs_log (LOG_NOTICE, "resumed from the saved state at t=%.2f s (tick %llu)",
                      uavsim_world_time (app.world),
                      (unsigned long long)uavsim_world_tick (app.world));
         }
     }
-    if (app.svc.time_scale_given)
-        app.time_scale = app.svc.time_scale; // --time-scale on the command line wins
+    if (cgs_service_time_scale_given (app.svc))
+        app.time_scale = cgs_service_time_scale (app.svc); // --time-scale on the command line wins
     s_anchor (&app);
     s_publish_due (&app, true);
-    cgs_loop_add_timer (app.svc.loop, S_TICK_S, s_on_tick, &app);
-    cgs_loop_add_timer (app.svc.loop, scn->settings.checkpoint_interval_s, s_on_checkpoint, &app);
-    exit_code = cgs_service_run (&app.svc);
+    cgs_loop_t *loop = cgs_service_loop (app.svc);
+    cgs_loop_add_timer (loop, S_TICK_S, s_on_tick, &app);
+    cgs_loop_add_timer (loop, scn->settings.checkpoint_interval_s, s_on_checkpoint, &app);
+    exit_code = cgs_service_run (app.svc);
     // A clean stop saves the world as it is, so a restart continues from here.
-    if (cgs_service_save_state (&app.svc) == 0)
+    if (cgs_service_save_state (app.svc) == 0)
         cgs_log (LOG_INFO, "saved the world at t=%.2f s", uavsim_world_time (app.world));
 done:
     uavsim_adapter_destroy (&app.adapter);
     uavsim_world_destroy (&app.world);
     cgs_geo_destroy (&app.frame);
-    cgs_service_fini (&app.svc);
+    cgs_service_destroy (&app.svc);
     return exit_code;
 }

@@ -58,7 +58,7 @@ static void s_on_usr1 (int sig)
 }
 
 typedef struct {
-    cgs_service_t svc;
+    cgs_service_t *svc;
     /* options */
     uint64_t publish_n; // --publish-clock: messages to publish from the rate timer
     double rate_hz;     // --rate
@@ -202,11 +202,12 @@ static void s_report (peer_t *p, bool force)
     if (!*p->report)
         return;
     cgs_topic_stats_t st = {0};
-    cgs_sub_t *sub = p->svc.sub;
+    cgs_sub_t *sub = cgs_service_sub (p->svc);
     for (size_t i = 0; sub && p->ntopics && i < cgs_sub_topic_count (sub); i++)
         if (strcmp (cgs_sub_topic_stats (sub, i)->topic, p->topics[0]) == 0)
             st = *cgs_sub_topic_stats (sub, i);
-    cgs_cmd_server_t *cmd = p->svc.cmd;
+    cgs_cmd_server_t *cmd = cgs_service_cmd_server (p->svc);
+    cgs_pub_t *pub = cgs_service_pub (p->svc);
     char line[1024];
     snprintf (line, sizeof line,
               "received=%" PRIu64 " gaps=%" PRIu64 " restarts=%" PRIu64 " stale=%" PRIu64
@@ -218,8 +219,8 @@ static void s_report (peer_t *p, bool force)
               " pid=%ld\n",
               st.messages, st.gaps, st.restarts, st.stale, sub ? cgs_sub_malformed (sub) : 0,
               p->first_seq, p->last_seq, p->epochs, p->epoch_first_seq, p->mismatch, p->health,
-              p->held, p->published, p->pub_errors, p->svc.pub ? cgs_pub_drops (p->svc.pub) : 0,
-              p->applied, p->restored, p->state_count, cmd ? cgs_cmd_server_applied (cmd) : 0,
+              p->held, p->published, p->pub_errors, pub ? cgs_pub_drops (pub) : 0, p->applied,
+              p->restored, p->state_count, cmd ? cgs_cmd_server_applied (cmd) : 0,
               cmd ? cgs_cmd_server_duplicates (cmd) : 0, cmd ? cgs_cmd_server_malformed (cmd) : 0,
               cmd ? cgs_cmd_server_write_errors (cmd) : 0, (long)getpid ());
     if (!force && strcmp (line, p->last_report) == 0)
@@ -241,7 +242,7 @@ static void s_on_report_timer (void *arg)
 static void s_publish_clock (peer_t *p)
 {
     double step_s = p->rate_hz > 0 ? 1.0 / p->rate_hz : 0.01;
-    cgs_geodetic_t o = cgs_exercise_origin (p->svc.exercise);
+    cgs_geodetic_t o = cgs_exercise_origin (cgs_service_exercise (p->svc));
     Cgs__Geodetic origin = CGS__GEODETIC__INIT;
     origin.lat_deg = o.lat_deg;
     origin.lon_deg = o.lon_deg;
@@ -252,8 +253,8 @@ static void s_publish_clock (peer_t *p)
     clock.sim_time_s = (double)clock.tick * step_s;
     clock.time_scale = 1;
     clock.origin = &origin;
-    p->svc.sim_time_s = clock.sim_time_s;
-    if (cgs_service_publish (&p->svc, "clock", &clock.base) < 0)
+    cgs_service_set_sim_time (p->svc, clock.sim_time_s);
+    if (cgs_service_publish (p->svc, "clock", &clock.base) < 0)
         p->pub_errors++;
 }
 
@@ -323,7 +324,8 @@ static void s_on_message (void *arg, const char *topic, const ProtobufCMessage *
     }
     // Health from others only: its own health comes back over its own
     // publisher and says nothing about the other connections.
-    if (strcmp (topic, "health") == 0 && strcmp (hdr->source, p->svc.instance_name) != 0)
+    if (strcmp (topic, "health") == 0 &&
+        strcmp (hdr->source, cgs_service_instance_name (p->svc)) != 0)
         p->health++;
 }
 
@@ -394,7 +396,7 @@ static int s_restore (peer_t *p)
 {
     const uint8_t *buf = NULL;
     size_t len = 0;
-    cgs_service_saved_state (&p->svc, &buf, &len);
+    cgs_service_saved_state (p->svc, &buf, &len);
     if (!len)
         return 0;
     if (buf[len - 1] != '\n' || memchr (buf, '\0', len)) {
@@ -506,10 +508,10 @@ static int s_service_main (int argc, char **argv)
         .on_option = s_on_option,
         .option_arg = p,
     };
-    cgs_service_t *svc = &p->svc;
     int exit_code = 1;
-    int rc = cgs_service_init (svc, &info, argc, argv);
-    if (rc != 0 || svc->check_only) {
+    int rc = cgs_service_new (&info, argc, argv, &p->svc);
+    cgs_service_t *svc = p->svc;
+    if (rc != 0 || cgs_service_check_only (svc)) {
         exit_code = rc < 0 ? 1 : 0;
         goto done;
     }
@@ -527,26 +529,28 @@ static int s_service_main (int argc, char **argv)
             goto done;
         s_state_report (p);
     }
+    cgs_loop_t *loop = cgs_service_loop (svc);
     if (p->publish_n || p->burst_n) {
-        if (!svc->pub) {
-            cgs_log (LOG_ERR, "[service %s] has no publish endpoint", svc->instance_name);
+        if (!cgs_service_pub (svc)) {
+            cgs_log (LOG_ERR, "[service %s] has no publish endpoint",
+                     cgs_service_instance_name (svc));
             goto done;
         }
-        cgs_loop_add_timer (svc->loop, 0.01, s_on_go_timer, p);
+        cgs_loop_add_timer (loop, 0.01, s_on_go_timer, p);
         if (p->publish_n)
-            cgs_loop_add_timer (svc->loop, 1.0 / p->rate_hz, s_on_rate_timer, p);
+            cgs_loop_add_timer (loop, 1.0 / p->rate_hz, s_on_rate_timer, p);
         if (p->burst_n)
-            cgs_loop_add_timer (svc->loop, p->tail_s, s_on_tail_timer, p);
+            cgs_loop_add_timer (loop, p->tail_s, s_on_tail_timer, p);
     }
     if (*p->report)
-        cgs_loop_add_timer (svc->loop, 0.1, s_on_report_timer, p);
+        cgs_loop_add_timer (loop, 0.1, s_on_report_timer, p);
     s_report (p, false);
     exit_code = cgs_service_run (svc);
     s_report (p, true);
     if (p->serve)
         s_state_report (p);
 done:
-    cgs_service_fini (svc);
+    cgs_service_destroy (&p->svc);
     free (p->state);
     free (p);
     return exit_code;
