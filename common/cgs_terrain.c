@@ -5,6 +5,7 @@
  * Pure: no globals, no logging (GDAL's own messages are silenced while a DEM
  * loads and folded into the caller's error text). */
 #include "cgs_terrain.h"
+#include "cgs_terrain_impl.h"
 #include "cgs_util.h"
 
 #include <assert.h>
@@ -23,33 +24,12 @@
 #include <gdal.h>
 #include <ogr_srs_api.h>
 
-/* fBm must come out the same everywhere: no fused multiply-adds. GCC keeps
- * them off in ISO C mode (-std=c11) and does not know this pragma; clang needs it. */
-#if defined(__clang__)
-#pragma STDC FP_CONTRACT OFF
-#endif
-
-#define CGS_TERRAIN_MAX_NODES      ((size_t)1 << 26) // most nodes in one grid
 #define CGS_TERRAIN_MAX_READ_BYTES ((size_t)1 << 28) // most raster bytes read at once
 #define CGS_TERRAIN_EDGE_SAMPLES   256 // points per raster edge when mapping its footprint
 
-struct cgs_terrain {
-    int cols;            // nodes west to east
-    int rows;            // nodes south to north
-    double e0_m;         // east of node (0, 0), metres
-    double n0_m;         // north of node (0, 0), metres
-    double res_m;        // node spacing, metres
-    double min_m;        // lowest node, metres (local up)
-    double max_m;        // highest node, metres (local up)
-    float *h_m;          // rows * cols heights, row 0 southernmost, metres (local up)
-    float *canopy_m;     // rows * cols vegetation heights above the ground, 0 open; NULL: none
-    double canopy_max_m; // tallest vegetation, metres
-};
-
 /* --- grid ------------------------------------------------------------------ */
 
-/* An empty grid of the given shape; NULL on bad shape or no memory. */
-static cgs_terrain_t *s_new (int cols, int rows, double e0_m, double n0_m, double res_m)
+cgs_terrain_t *cgs_terrain__new (int cols, int rows, double e0_m, double n0_m, double res_m)
 {
     if (cols < 2 || rows < 2 || (size_t)cols * (size_t)rows > CGS_TERRAIN_MAX_NODES)
         return NULL;
@@ -72,8 +52,7 @@ fail:
     return NULL;
 }
 
-/* Record the height range once the nodes are filled in. */
-static void s_finish (cgs_terrain_t *self)
+void cgs_terrain__finish (cgs_terrain_t *self)
 {
     size_t n = (size_t)self->cols * (size_t)self->rows;
     float lo = self->h_m[0], hi = self->h_m[0];
@@ -92,7 +71,7 @@ cgs_terrain_t *cgs_terrain_new_grid (int cols, int rows, double e0_m, double n0_
 {
     if (!heights_m)
         return NULL;
-    cgs_terrain_t *self = s_new (cols, rows, e0_m, n0_m, res_m);
+    cgs_terrain_t *self = cgs_terrain__new (cols, rows, e0_m, n0_m, res_m);
     if (!self)
         return NULL;
     size_t n = (size_t)cols * (size_t)rows;
@@ -101,7 +80,7 @@ cgs_terrain_t *cgs_terrain_new_grid (int cols, int rows, double e0_m, double n0_
             goto fail;
         self->h_m[i] = heights_m[i];
     }
-    s_finish (self);
+    cgs_terrain__finish (self);
     return self;
 fail:
     cgs_terrain_destroy (&self);
@@ -119,11 +98,6 @@ void cgs_terrain_destroy (cgs_terrain_t **self_p)
     *self_p = NULL;
 }
 
-static inline double s_node (const cgs_terrain_t *self, int c, int r)
-{
-    return self->h_m[(size_t)r * (size_t)self->cols + (size_t)c];
-}
-
 /* Bilinear height at grid coordinates (x, y) (node units), which must lie in
  * [0, cols-1] x [0, rows-1]. */
 static double s_bilinear (const cgs_terrain_t *self, double x, double y)
@@ -138,14 +112,9 @@ static double s_bilinear (const cgs_terrain_t *self, double x, double y)
     if (r < 0)
         r = 0;
     double u = x - c, v = y - r;
-    double h00 = s_node (self, c, r), h10 = s_node (self, c + 1, r);
-    double h01 = s_node (self, c, r + 1), h11 = s_node (self, c + 1, r + 1);
+    double h00 = cgs_terrain__node (self, c, r), h10 = cgs_terrain__node (self, c + 1, r);
+    double h01 = cgs_terrain__node (self, c, r + 1), h11 = cgs_terrain__node (self, c + 1, r + 1);
     return (h00 * (1 - u) + h10 * u) * (1 - v) + (h01 * (1 - u) + h11 * u) * v;
-}
-
-static double s_clamp (double x, double lo, double hi)
-{
-    return x < lo ? lo : x > hi ? hi : x;
 }
 
 int cgs_terrain_height (const cgs_terrain_t *self, double e_m, double n_m, double *ret_h_m)
@@ -156,7 +125,8 @@ int cgs_terrain_height (const cgs_terrain_t *self, double e_m, double n_m, doubl
     cgs_terrain_bounds (self, NULL, NULL, &max_e, &max_n);
     if (!(e_m >= self->e0_m && e_m <= max_e && n_m >= self->n0_m && n_m <= max_n))
         return -ERANGE; // also NaN
-    double h = s_bilinear (self, s_clamp (x, 0, self->cols - 1), s_clamp (y, 0, self->rows - 1));
+    double h = s_bilinear (self, cgs_terrain__clamp (x, 0, self->cols - 1),
+                           cgs_terrain__clamp (y, 0, self->rows - 1));
     if (ret_h_m)
         *ret_h_m = h;
     return 0;
@@ -170,7 +140,8 @@ double cgs_terrain_height_clamped (const cgs_terrain_t *self, double e_m, double
         x = 0;
     if (isnan (y))
         y = 0;
-    return s_bilinear (self, s_clamp (x, 0, self->cols - 1), s_clamp (y, 0, self->rows - 1));
+    return s_bilinear (self, cgs_terrain__clamp (x, 0, self->cols - 1),
+                       cgs_terrain__clamp (y, 0, self->rows - 1));
 }
 
 /* Central differences one node spacing either side, one-sided at the edges. */
@@ -179,7 +150,7 @@ cgs_enu_t cgs_terrain_normal (const cgs_terrain_t *self, double e_m, double n_m)
     assert (self);
     double min_e, min_n, max_e, max_n;
     cgs_terrain_bounds (self, &min_e, &min_n, &max_e, &max_n);
-    double e = s_clamp (e_m, min_e, max_e), n = s_clamp (n_m, min_n, max_n);
+    double e = cgs_terrain__clamp (e_m, min_e, max_e), n = cgs_terrain__clamp (n_m, min_n, max_n);
     double e_lo = fmax (e - self->res_m, min_e), e_hi = fmin (e + self->res_m, max_e);
     double n_lo = fmax (n - self->res_m, min_n), n_hi = fmin (n + self->res_m, max_n);
     double dh_de =
@@ -264,8 +235,8 @@ static double s_piece_min (const cgs_terrain_t *self, const s_seg_t *s, double t
     int c = (int)floor (xm), r = (int)floor (ym);
     c = c < 0 ? 0 : c > self->cols - 2 ? self->cols - 2 : c;
     r = r < 0 ? 0 : r > self->rows - 2 ? self->rows - 2 : r;
-    double h00 = s_node (self, c, r), h10 = s_node (self, c + 1, r);
-    double h01 = s_node (self, c, r + 1), h11 = s_node (self, c + 1, r + 1);
+    double h00 = cgs_terrain__node (self, c, r), h10 = cgs_terrain__node (self, c + 1, r);
+    double h01 = cgs_terrain__node (self, c, r + 1), h11 = cgs_terrain__node (self, c + 1, r + 1);
     double A = h10 - h00, B = h01 - h00, C = h00 - h10 - h01 + h11;
     double um = xm - c, vm = ym - r;
     // Surface along the piece, in s = t - tm: H0 + H1 s + H2 s^2.
@@ -436,9 +407,8 @@ static double s_perlin (uint64_t key, double x, double y)
     return nx0 + v * (nx1 - nx0);
 }
 
-/* fBm of the given octaves over the terrain's nodes into out (rows * cols). */
-static void s_fbm_field (const cgs_terrain_t *self, uint64_t seed, double feature_m, int octaves,
-                         double persistence, float *out)
+void cgs_terrain__fbm_field (const cgs_terrain_t *self, uint64_t seed, double feature_m,
+                             int octaves, double persistence, float *out)
 {
     uint64_t state = seed, key[16];
     double off_x[16], off_y[16], freq[16], amp[16];
@@ -498,19 +468,19 @@ cgs_terrain_t *cgs_terrain_new_fbm (const cgs_terrain_fbm_t *p)
 
     int n = (int)n_d;
     double half_m = 0.5 * (n - 1) * p->resolution_m;
-    cgs_terrain_t *self = s_new (n, n, -half_m, -half_m, p->resolution_m);
+    cgs_terrain_t *self = cgs_terrain__new (n, n, -half_m, -half_m, p->resolution_m);
     if (!self)
         return NULL;
 
-    s_fbm_field (self, p->seed, p->feature_m, p->octaves, p->persistence, self->h_m);
+    cgs_terrain__fbm_field (self, p->seed, p->feature_m, p->octaves, p->persistence, self->h_m);
     // Rescale so the lowest node is base exactly and the highest base + relief.
-    s_finish (self);
+    cgs_terrain__finish (self);
     double lo = self->min_m, span = self->max_m - self->min_m;
     for (size_t i = 0; i < (size_t)n * n; i++) {
         double f = span > 0 ? (self->h_m[i] - lo) / span : 0;
         self->h_m[i] = (float)(p->base_height_m + p->relief_m * f);
     }
-    s_finish (self);
+    cgs_terrain__finish (self);
     return self;
 }
 
@@ -566,7 +536,7 @@ int cgs_terrain_grow_vegetation (cgs_terrain_t *self, const cgs_vegetation_t *v)
         return -ENOMEM;
     }
     // Woods where a seeded fBm field is highest: the top `cover` of its nodes.
-    s_fbm_field (self, v->seed, v->feature_m, 4, 0.5, field);
+    cgs_terrain__fbm_field (self, v->seed, v->feature_m, 4, 0.5, field);
     memcpy (sorted, field, n * sizeof *field);
     qsort (sorted, n, sizeof *sorted, s_cmp_float);
     size_t k = (size_t)llround (v->cover * (double)n);
@@ -847,8 +817,8 @@ static bool s_dem_sample (const s_dem_t *d, double px, double py, double *ret_h_
     double x = px - 0.5 - d->wx0, y = py - 0.5 - d->wy0;
     if (!(x >= -eps && x <= d->ww - 1 + eps && y >= -eps && y <= d->wh - 1 + eps))
         return false;
-    x = s_clamp (x, 0, d->ww - 1);
-    y = s_clamp (y, 0, d->wh - 1);
+    x = cgs_terrain__clamp (x, 0, d->ww - 1);
+    y = cgs_terrain__clamp (y, 0, d->wh - 1);
     int i = (int)floor (x), j = (int)floor (y);
     if (i > d->ww - 2)
         i = d->ww - 2;
@@ -1198,7 +1168,7 @@ static int s_dem_build (s_dem_t *d, const cgs_geo_t *frame, double res_m, double
     // is at (e, n).
     int gc = hi[0] - lo[0] + 1, gr = hi[1] - lo[1] + 1;
     double e0_m = (k_lo[0] + lo[0]) * res_m, n0_m = (k_lo[1] + lo[1]) * res_m;
-    t = s_new (gc, gr, e0_m, n0_m, res_m);
+    t = cgs_terrain__new (gc, gr, e0_m, n0_m, res_m);
     if (!t) {
         cgs_errf (err, errlen, "%s: out of memory for a %d x %d grid", d->path, gc, gr);
         rc = -ENOMEM;
@@ -1227,7 +1197,7 @@ static int s_dem_build (s_dem_t *d, const cgs_geo_t *frame, double res_m, double
         for (int c = 0; c < gc; c++)
             t->h_m[(size_t)r * gc + c] = (float)b.u[c];
     }
-    s_finish (t);
+    cgs_terrain__finish (t);
     *ret_t = t;
     t = NULL;
     rc = 0;
