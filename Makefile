@@ -32,7 +32,10 @@ FAULT   ?= $(if $(filter 1,$(SAN)),1,0)
 CC      ?= cc
 CXX     ?= c++
 PKGS     = libzmq libprotobuf-c geographiclib gdal inih libsystemd zlib fftw3 gsl libpng json-c
-PKG_CFLAGS := $(shell pkg-config --cflags $(PKGS) 2>/dev/null)
+# GDAL's include flags go only to the files that use GDAL (GDAL_SRCS, below);
+# every program links it.
+PKG_CFLAGS := $(shell pkg-config --cflags $(filter-out gdal,$(PKGS)) 2>/dev/null)
+GDAL_CFLAGS := $(shell pkg-config --cflags gdal 2>/dev/null)
 PKG_LIBS   := $(shell pkg-config --libs $(PKGS) 2>/dev/null)
 CMOCKA_LIBS := $(shell pkg-config --libs cmocka 2>/dev/null)
 
@@ -283,6 +286,12 @@ $(PROTO_C) $(PROTO_H): $(O)/gen/.stamp ;
 $(O)/obj/gen/%.o: $(O)/gen/%.c | $(O)/gen/.stamp
 	@mkdir -p $(dir $@)
 	$(CC) $(CPPFLAGS) $(CFLAGS) -c $< -o $@
+
+# The only sources that include GDAL's headers: the terrain's DEM import,
+# stationd's relief, and their tests.
+GDAL_SRCS := common/cgs_terrain_dem.c services/stationd/st_relief.c \
+             tests/unit/test_terrain.c tests/unit/test_st_relief.c
+$(patsubst %.c,$(O)/obj/%.o,$(GDAL_SRCS)): CPPFLAGS += $(GDAL_CFLAGS)
 
 $(O)/obj/%.o: %.c | $(O)/gen/.stamp
 	@mkdir -p $(dir $@)
