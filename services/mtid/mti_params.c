@@ -557,6 +557,7 @@ void mti_params_defaults (mti_params_t *p)
         .pfa = 1e-4,
         .m = 2,
         .n = 4,
+        .azimuth = MTI_AZIMUTH_MONOPULSE,
         .clutter_gamma_db = -15,
         .clutter_internal_mps = 0.1,
     };

@@ -103,7 +103,7 @@ typedef struct {
     double pfa;                // design false-alarm probability per range-Doppler cell (1e-4)
     int m;                     // crossings needed (default 2) ...
     int n;                     // ... of this many coherent intervals per dwell (default 4)
-    mti_azimuth_t azimuth;     // how a hit's azimuth is measured (default beam-split)
+    mti_azimuth_t azimuth;     // how a hit's azimuth is measured (default monopulse)
     /* [clutter] */
     double clutter_gamma_db;     // constant-gamma reflectivity: sigma0 = gamma sin(grazing) (-15)
     double clutter_internal_mps; // std of internal clutter motion, m/s (default 0.1)
