@@ -123,14 +123,16 @@ CTX_OBJ_egl    := $(O)/obj/services/imagerd/ctx/im_ctx_egl.o
 ALT_RENDER     := $(if $(filter osmesa,$(RENDER)),egl,osmesa)
 ALT_BINS       := $(O)/bin-$(ALT_RENDER)/imagerd $(O)/tests/unit/test_im_render@$(ALT_RENDER)
 
-# stationd's page: its own files, and OpenLayers and milsymbol from the npm
-# packages its lock file names (scripts/install-deps runs npm ci), copied into
-# $(O)/web, which stationd serves (no CDN: it works on a lab network).
+# stationd's page: its own files (the script is ES modules in web/js, no
+# bundler), and OpenLayers and milsymbol from the npm packages its lock file
+# names (scripts/install-deps runs npm ci), copied into $(O)/web, which
+# stationd serves (no CDN: it works on a lab network).
 WEB_DIR    := services/stationd/web
 WEB_NPM    := $(WEB_DIR)/node_modules
-WEB_OWN    := $(addprefix $(O)/web/,index.html app.js style.css)
+WEB_OWN    := $(addprefix $(O)/web/,index.html style.css)
+WEB_JS     := $(patsubst $(WEB_DIR)/%,$(O)/web/%,$(wildcard $(WEB_DIR)/js/*.js))
 WEB_VENDOR := $(addprefix $(O)/web/vendor/,ol.js ol.css milsymbol.js)
-WEB_FILES  := $(WEB_OWN) $(WEB_VENDOR)
+WEB_FILES  := $(WEB_OWN) $(WEB_JS) $(WEB_VENDOR)
 
 JOBS    ?= $(shell nproc 2>/dev/null || echo 2)
 
@@ -226,8 +228,9 @@ fuzz-build: $(FUZZ_BINS)
 install: all
 	install -d $(DESTDIR)$(PREFIX)/bin $(DESTDIR)$(PREFIX)/share/mscgs
 	install -m 0755 $(BINS) $(DESTDIR)$(PREFIX)/bin/
-	install -d $(DESTDIR)$(PREFIX)/share/mscgs/web/vendor
+	install -d $(DESTDIR)$(PREFIX)/share/mscgs/web/js $(DESTDIR)$(PREFIX)/share/mscgs/web/vendor
 	install -m 0644 $(WEB_OWN) $(DESTDIR)$(PREFIX)/share/mscgs/web/
+	install -m 0644 $(WEB_JS) $(DESTDIR)$(PREFIX)/share/mscgs/web/js/
 	install -m 0644 $(WEB_VENDOR) $(DESTDIR)$(PREFIX)/share/mscgs/web/vendor/
 	install -d $(DESTDIR)$(UNITDIR) $(DESTDIR)$(SYSCONFDIR)/mscgs $(DESTDIR)$(PREFIX)/share/doc/mscgs
 	for f in deploy/systemd/*; do \

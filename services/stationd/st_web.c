@@ -368,6 +368,8 @@ static struct mg_context *s_start (st_web_t *self, const st_web_config_t *cfg, c
     snprintf (ports, portslen, v6 ? "[%s]:%d" : "%s:%d", cfg->listen_address, cfg->port);
     snprintf (threads, sizeof threads, "%d", cfg->threads);
     snprintf (timeout, sizeof timeout, "%.0f", cfg->write_timeout_s * 1000);
+    // The page's ES modules as text/javascript (CivetWeb's own type for .js
+    // is application/javascript).
     const char *options[] = {"listening_ports",
                              ports,
                              "document_root",
@@ -376,6 +378,8 @@ static struct mg_context *s_start (st_web_t *self, const st_web_config_t *cfg, c
                              threads,
                              "enable_directory_listing",
                              "no",
+                             "extra_mime_types",
+                             ".js=text/javascript",
                              "request_timeout_ms",
                              timeout,
                              "websocket_timeout_ms",

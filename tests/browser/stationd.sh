@@ -27,7 +27,7 @@ STATIOND=$CGS_BUILD/bin/stationd
 for b in "$UAVSIM" "$MTID" "$BCISD" "$TRACKERD" "$GUIDANCED" "$IMAGERD" "$STATIOND"; do
     [ -x "$b" ] || bail "no $b"
 done
-[ -f "$CGS_BUILD/web/app.js" ] || bail "no page at $CGS_BUILD/web (make test-build)"
+[ -f "$CGS_BUILD/web/js/main.js" ] || bail "no page at $CGS_BUILD/web (make test-build)"
 command -v node >/dev/null || bail "no node"
 for t in CartConvert GeoConvert; do
     command -v $t >/dev/null || bail "no $t (geographiclib-tools)"

@@ -118,8 +118,15 @@ start S stationd "$STATIOND" --exercise "$EX"
 check "stationd serves the page" wait_for 20 curl -sf -o "$TMP/index.html" "$URL/"
 check "which loads OpenLayers and milsymbol from this server only" bash -c \
     "grep -q 'vendor/ol.js' '$TMP/index.html' && grep -q 'vendor/milsymbol.js' '$TMP/index.html' && ! grep -qiE 'src=\"(https?:)?//' '$TMP/index.html'"
-for f in app.js style.css vendor/ol.js vendor/ol.css vendor/milsymbol.js; do
+for f in style.css vendor/ol.js vendor/ol.css vendor/milsymbol.js; do
     check "/$f is served" curl -sf -o /dev/null "$URL/$f"
+done
+check "which loads its script as an ES module" grep -q '<script type="module" src="/js/main.js">' "$TMP/index.html"
+# Every module of the page, as a browser loads a module: text/javascript.
+for m in "$CGS_ROOT"/services/stationd/web/js/*.js; do
+    f=js/$(basename "$m")
+    check "/$f is served as text/javascript" bash -c \
+        "curl -sf -o /dev/null -w '%{content_type}' '$URL/$f' | grep -q '^text/javascript'"
 done
 curl -sf -o "$TMP/relief.png" "$URL/relief.png"
 check "/relief.png is a PNG of the terrain" bash -c "file '$TMP/relief.png' | grep -q 'PNG image data, 401 x 401'"

@@ -20,7 +20,7 @@ make -s -C "$CGS_ROOT" install O="$CGS_BUILD" SAN=$SAN PREFIX="$ROOT/usr/local" 
     >"$TMP/install.out" 2>&1 || { cat "$TMP/install.out"; bail "make install failed"; }
 UNITS=$ROOT/usr/local/lib/systemd/system
 check "make install puts the units, the binaries, the page and the exercise in place" bash -c \
-    "[ -f '$UNITS/mscgs.target' ] && [ -x '$ROOT/usr/local/bin/mtid' ] && [ -f '$ROOT/usr/local/share/mscgs/web/vendor/ol.js' ] && [ -f '$ROOT/etc/mscgs/exercise.ini' ]"
+    "[ -f '$UNITS/mscgs.target' ] && [ -x '$ROOT/usr/local/bin/mtid' ] && [ -f '$ROOT/usr/local/share/mscgs/web/vendor/ol.js' ] && [ -f '$ROOT/usr/local/share/mscgs/web/js/main.js' ] && [ -f '$ROOT/etc/mscgs/exercise.ini' ]"
 
 V=$TMP/verify
 mkdir -p "$V"
