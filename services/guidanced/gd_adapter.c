@@ -3,7 +3,10 @@
  * (see gd_adapter.h). */
 #include "gd_adapter.h"
 
+#include "cgs_ckpt.h"
 #include "cgs_cmd.h"
+#include "cgs_util.h"
+#include "gd_checkpoint.h"
 
 #include <assert.h>
 #include <errno.h>
@@ -15,8 +18,10 @@
 #include <string.h>
 #include <syslog.h>
 
-#define S_STATE_MAGIC "guidanced 1"
-#define S_TIME_BACK_S 1.0 // simulation time this far behind the latest heard: it went back
+#define S_STATE_MAGIC   "GDST" // cgs_ckpt kind of guidanced's state
+#define S_STATE_VERSION 1u
+#define S_STATE_WHAT    "guidanced state"
+#define S_TIME_BACK_S   1.0 // simulation time this far behind the latest heard: it went back
 
 const char *const gd_adapter_topics[] = {"uav", "track", "track.turn", NULL};
 
@@ -740,10 +745,11 @@ uint64_t gd_adapter_take_number (gd_adapter_t *self)
 }
 
 /* ---- state --------------------------------------------------------------------------------
- * A header line, a line of the adapter's own counters ("client ID
- * LAST_NUMBER SCRIPT_DONE OPERATOR_ACTED"), then per UAV a line "uav
- * ENTITY_ID DELIVERED PENDING_TASK PENDING_SEQ LEN" followed by LEN bytes of
- * the intercept's own save. */
+ * A cgs_ckpt frame "GDST", version 1: the command client id (string), the
+ * last command number (u64), script lines done (u64), whether an operator
+ * acted (u8), the UAV count (u32), then per UAV its entity id (u32), the
+ * task numbers delivered and pending and the pending one's command number
+ * (3 u64), and its intercept's own checkpoint (bytes, gd_checkpoint). */
 
 void gd_adapter_set_client_id (gd_adapter_t *self, const char *client_id)
 {
@@ -770,116 +776,78 @@ bool gd_adapter_take_dirty (gd_adapter_t *self)
 
 int gd_adapter_save (const gd_adapter_t *self, uint8_t **ret_buf, size_t *ret_len)
 {
-    size_t cap = 512, len = 0;
-    uint8_t *buf = malloc (cap);
-    if (!buf)
-        return -ENOMEM;
-    len = (size_t)snprintf ((char *)buf, cap, "%s\nclient %s %" PRIu64 " %zu %d\n", S_STATE_MAGIC,
-                            self->client_id, self->send_seq, self->script_done,
-                            self->operator_acted ? 1 : 0);
+    cgs_ckpt_writer_t w;
+    cgs_ckpt_writer_init (&w, S_STATE_MAGIC, S_STATE_VERSION);
+    cgs_ckpt_put_str (&w, self->client_id);
+    cgs_ckpt_put_u64 (&w, self->send_seq);
+    cgs_ckpt_put_u64 (&w, self->script_done);
+    cgs_ckpt_put_bool (&w, self->operator_acted);
+    cgs_ckpt_put_u32 (&w, (uint32_t)self->uav_count);
     for (size_t i = 0; i < self->uav_count; i++) {
         const s_uav_t *u = &self->uavs[i];
         uint8_t *core = NULL;
         size_t clen = 0;
-        if (gd_intercept_save (u->core, &core, &clen) < 0) {
-            free (buf);
+        if (gd_checkpoint_save (u->core, &core, &clen) < 0) {
+            cgs_ckpt_writer_fini (&w);
             return -ENOMEM;
         }
-        char head[160];
-        int hn = snprintf (head, sizeof head, "uav %u %" PRIu64 " %" PRIu64 " %" PRIu64 " %zu\n",
-                           u->entity_id, u->delivered, u->pending_task, u->pending_seq, clen);
-        if (len + (size_t)hn + clen + 1 > cap) {
-            cap = (len + (size_t)hn + clen + 1) * 2;
-            uint8_t *nb = realloc (buf, cap);
-            if (!nb) {
-                free (core);
-                free (buf);
-                return -ENOMEM;
-            }
-            buf = nb;
-        }
-        memcpy (buf + len, head, (size_t)hn);
-        len += (size_t)hn;
-        memcpy (buf + len, core, clen);
-        len += clen;
+        cgs_ckpt_put_u32 (&w, u->entity_id);
+        cgs_ckpt_put_u64 (&w, u->delivered);
+        cgs_ckpt_put_u64 (&w, u->pending_task);
+        cgs_ckpt_put_u64 (&w, u->pending_seq);
+        cgs_ckpt_put_bytes (&w, core, clen);
         free (core);
     }
-    *ret_buf = buf;
-    *ret_len = len;
-    return 0;
-}
-
-/* The next line of [*cur, end) into line (without its newline); false when
- * there is no whole line, or it is too long. */
-static bool s_line (const char **cur, const char *end, char *line, size_t size)
-{
-    const char *nl = memchr (*cur, '\n', (size_t)(end - *cur));
-    size_t n = nl ? (size_t)(nl - *cur) : 0;
-    if (!nl || n >= size)
-        return false;
-    memcpy (line, *cur, n);
-    line[n] = '\0';
-    *cur = nl + 1;
-    return true;
+    return cgs_ckpt_writer_finish (&w, ret_buf, ret_len);
 }
 
 static int s_restore (gd_adapter_t *self, const uint8_t *buf, size_t len, char *err, size_t errlen)
 {
-    const char *cur = (const char *)buf, *end = cur + len;
-    char line[256];
-    // Header and counters.
-    if (!s_line (&cur, end, line, sizeof line)) {
-        snprintf (err, errlen, "not a guidanced state (truncated header)");
-        return -EPROTO;
-    }
-    if (strcmp (line, S_STATE_MAGIC) != 0) {
-        snprintf (err, errlen, "not a guidanced state (header \"%.40s\")", line);
-        return -EPROTO;
-    }
-    if (!s_line (&cur, end, line, sizeof line)) {
-        snprintf (err, errlen, "not a guidanced state (truncated header)");
-        return -EPROTO;
-    }
-    int acted = 0;
-    char id[128];
-    uint64_t seq = 0;
-    size_t done = 0;
-    if (sscanf (line, "client %127s %" SCNu64 " %zu %d", id, &seq, &done, &acted) != 4) {
-        snprintf (err, errlen, "not a guidanced state (bad counters line)");
-        return -EPROTO;
+    cgs_ckpt_reader_t r;
+    int rc =
+        cgs_ckpt_open (&r, buf, len, S_STATE_MAGIC, S_STATE_VERSION, S_STATE_WHAT, err, errlen);
+    if (rc < 0)
+        return rc;
+    char id[sizeof self->client_id];
+    cgs_ckpt_get_str (&r, id, sizeof id);
+    uint64_t seq = cgs_ckpt_get_u64 (&r), done = cgs_ckpt_get_u64 (&r);
+    bool acted = cgs_ckpt_get_bool (&r);
+    uint32_t count = cgs_ckpt_get_u32 (&r);
+    if (!cgs_ckpt_ok (&r)) {
+        cgs_errf (err, errlen, "a %s with damaged counters", S_STATE_WHAT);
+        return -EINVAL;
     }
     snprintf (self->client_id, sizeof self->client_id, "%s", id);
     self->send_seq = seq;
-    self->script_done = done;
-    self->operator_acted = acted != 0;
-    while (cur < end) {
-        if (!s_line (&cur, end, line, sizeof line)) {
-            snprintf (err, errlen, "damaged UAV record");
-            return -EPROTO;
-        }
-        uint32_t uid = 0;
-        uint64_t delivered = 0, pending = 0, pseq = 0;
+    self->script_done = (size_t)done;
+    self->operator_acted = acted;
+    for (uint32_t i = 0; i < count; i++) {
+        uint32_t uid = cgs_ckpt_get_u32 (&r);
+        uint64_t delivered = cgs_ckpt_get_u64 (&r), pending = cgs_ckpt_get_u64 (&r),
+                 pseq = cgs_ckpt_get_u64 (&r);
         size_t clen = 0;
-        if (sscanf (line, "uav %u %" SCNu64 " %" SCNu64 " %" SCNu64 " %zu", &uid, &delivered,
-                    &pending, &pseq, &clen) != 5 ||
-            clen > (size_t)(end - cur)) {
-            snprintf (err, errlen, "damaged UAV record \"%.60s\"", line);
-            return -EPROTO;
+        const uint8_t *core = cgs_ckpt_get_bytes (&r, &clen);
+        if (!cgs_ckpt_ok (&r)) {
+            cgs_errf (err, errlen, "a %s whose UAV record %u of %u is damaged", S_STATE_WHAT, i + 1,
+                      count);
+            return -EINVAL;
         }
         s_uav_t *u = s_uav_by_id (self, uid);
         if (!u) {
             cgs_port_log (&self->port, LOG_WARNING,
                           "saved intercept of UAV %u ignored: not in the scenario", uid);
-        } else {
-            if (gd_intercept_restore (u->core, (const uint8_t *)cur, clen, err, errlen) < 0)
-                return -EPROTO;
-            u->delivered = delivered;
-            u->pending_task = pending;
-            u->pending_seq = pseq;
+            continue;
         }
-        cur += clen;
+        char why[256] = "";
+        if ((rc = gd_checkpoint_restore (u->core, core, clen, why, sizeof why)) < 0) {
+            cgs_errf (err, errlen, "UAV %u: %s", uid, why);
+            return rc;
+        }
+        u->delivered = delivered;
+        u->pending_task = pending;
+        u->pending_seq = pseq;
     }
-    return 0;
+    return cgs_ckpt_end (&r, S_STATE_WHAT, err, errlen);
 }
 
 int gd_adapter_restore (gd_adapter_t *self, const uint8_t *buf, size_t len, char *err,

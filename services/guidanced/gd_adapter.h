@@ -95,11 +95,12 @@ uint64_t gd_adapter_last_number (const gd_adapter_t *self);
 /* Whether the state changed in a way that must be saved now (a script line
  * done, a designation); cleared by the call. */
 bool gd_adapter_take_dirty (gd_adapter_t *self);
-/* The whole state, as the state file holds it; 0 or -ENOMEM. */
+/* The whole state, as the state file holds it (a cgs_ckpt frame, "GDST");
+ * 0 or -ENOMEM. */
 int gd_adapter_save (const gd_adapter_t *self, uint8_t **ret_buf, size_t *ret_len);
-/* Restore it; 0, or -EPROTO with the reason in err (the adapter is then as
- * after gd_adapter_reset). A saved UAV not in the scenario is reported
- * through the port and skipped. */
+/* Restore it; 0, or one of cgs_ckpt's errors with the reason in err (the
+ * adapter is then as after gd_adapter_reset). A saved UAV not in the
+ * scenario is reported through the port and skipped. */
 int gd_adapter_restore (gd_adapter_t *self, const uint8_t *buf, size_t len, char *err,
                         size_t errlen);
 /* Back to idle: every intercept new, no task bookkeeping, the script from

@@ -186,13 +186,7 @@ void gd_intercept_status (const gd_intercept_t *self, gd_status_t *ret);
 /* The UAV's planning turn radius (metres) at its present speed; 0 before any UAV state. */
 double gd_intercept_turn_radius (const gd_intercept_t *self);
 
-/* Serialise the intercept (everything but the parameters and terrain) into
- * a new malloc'd buffer (text, versioned). 0 or -ENOMEM. */
-int gd_intercept_save (const gd_intercept_t *self, uint8_t **ret_buf, size_t *ret_len);
-/* Restore a saved intercept. 0, or -EPROTO with the reason in err (self
- * unchanged). */
-int gd_intercept_restore (gd_intercept_t *self, const uint8_t *buf, size_t len, char *err,
-                          size_t errlen);
+/* Its checkpoint: gd_checkpoint.h. */
 
 /* Which tracks an operator's pick may take. */
 typedef enum {

@@ -12,6 +12,7 @@
 #include "cgs_util.h"
 #include "cgs_state.h"
 #include "trk_adapter.h"
+#include "trk_checkpoint.h"
 #include "trk_mc.h"
 #include "trk_params.h"
 #include "trk_tracker.h"
@@ -62,7 +63,7 @@ static int s_checkpoint (s_app_t *app)
 {
     uint8_t *buf;
     size_t len;
-    int rc = trk_tracker_save (s_trk (app), &buf, &len);
+    int rc = trk_checkpoint_save (s_trk (app), &buf, &len);
     if (rc == 0) {
         rc = cgs_state_write (app->checkpoint, buf, len);
         free (buf);
@@ -102,7 +103,7 @@ static void s_restore (s_app_t *app)
     uint32_t next_id = 0;
     if (rc == 0 && app->fresh) {
         cgs_log (LOG_NOTICE, "--fresh: the checkpoint %s is ignored", app->checkpoint);
-    } else if (rc == 0 && trk_tracker_restore (s_trk (app), data, len, err, sizeof err) == 0) {
+    } else if (rc == 0 && trk_checkpoint_restore (s_trk (app), data, len, err, sizeof err) == 0) {
         cgs_log (LOG_NOTICE, "resumed %zu tracks from %s (next track id %u)",
                  trk_tracker_count (s_trk (app)), app->checkpoint,
                  trk_tracker_next_id (s_trk (app)));
@@ -120,7 +121,7 @@ static void s_restore (s_app_t *app)
     }
     // Whatever was refused, ids it had given are not given again.
     if (rc == 0 && trk_tracker_count (s_trk (app)) == 0 &&
-        trk_tracker_checkpoint_next_id (data, len, &next_id) == 0) {
+        trk_checkpoint_next_id (data, len, &next_id) == 0) {
         trk_tracker_raise_next_id (s_trk (app), next_id);
         cgs_log (LOG_INFO, "new track ids start at %u", trk_tracker_next_id (s_trk (app)));
     }

@@ -4,8 +4,8 @@
  * initiation from unassociated hits, confirmation M of N, coasting through
  * missed scans and deletion after too many; the paper's Track & Update filter
  * (trk_filter); turn detection (paper, equation 8); identity from BCIS
- * replies, which ages out; the last scans of each track's hits; and a
- * checkpoint of everything, so track ids outlive a restart.
+ * replies, which ages out; the last scans of each track's hits. Its
+ * checkpoint (every track and the id counter) is trk_checkpoint's.
  *
  * Association uses each hit's radial velocity when the radar measured it
  * (a third dimension of the gate, against the track's velocity along the
@@ -223,17 +223,13 @@ void trk_tracker_predict (const trk_tracker_t *self, const trk_track_t *t, doubl
 /* The id the next new track will get. */
 uint32_t trk_tracker_next_id (const trk_tracker_t *self);
 
-/* A checkpoint of every track and the id counter, in a new malloc'd buffer. */
-int trk_tracker_save (const trk_tracker_t *self, uint8_t **ret_buf, size_t *ret_len);
-/* The next track id a checkpoint's header names, even when its tracks are
- * damaged; 0, or -EPROTO when the header itself is not a checkpoint's. */
-int trk_tracker_checkpoint_next_id (const uint8_t *buf, size_t len, uint32_t *ret_id);
+/* Replace the tracks with count tracks (copied; history beyond
+ * history_scans trimmed to the newest) and the id counter with next_id, as
+ * trk_checkpoint_restore does once it has checked them: their ids distinct
+ * and below next_id. 0, or -ENOMEM (the tracker unchanged). */
+int trk_tracker_replace (trk_tracker_t *self, const trk_track_t *tracks, size_t count,
+                         uint32_t next_id);
 /* Never give ids below id (those of a checkpoint set aside). */
 void trk_tracker_raise_next_id (trk_tracker_t *self, uint32_t id);
-/* Replace the tracks with a checkpoint's (history beyond history_scans is
- * trimmed to the newest). 0, or -EPROTO with the reason in
- * err (the tracker is unchanged), -ENOMEM. */
-int trk_tracker_restore (trk_tracker_t *self, const uint8_t *buf, size_t len, char *err,
-                         size_t errlen);
 
 #endif

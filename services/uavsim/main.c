@@ -5,6 +5,7 @@
  * where it was. The models are in uavsim_*.c, the stepping, publication and
  * UAV commands in uavsim_adapter.c; this file paces the adapter by the wall
  * clock and wires it to the bus. */
+#include "cgs_ckpt.h"
 #include "cgs_lifecycle.h"
 #include "cgs_log.h"
 #include "cgs_service.h"
@@ -117,8 +118,12 @@ static void s_on_tick (void *arg)
 }
 
 /* ---- state (the checkpoint) ----------------------------------------------------------
- * Saved state: the time scale (8 bytes, IEEE double, little-endian host order
- * is not assumed: written as text), then the world's checkpoint. */
+ * Saved state: a cgs_ckpt frame "USIM", version 1, of the time scale (f64),
+ * whether paused (u8) and the world's own frame (bytes). */
+
+#define S_STATE_MAGIC   "USIM"
+#define S_STATE_VERSION 1u
+#define S_STATE_WHAT    "uavsim state"
 
 static int s_save (void *arg, uint8_t **ret_buf, size_t *ret_len)
 {
@@ -128,40 +133,36 @@ static int s_save (void *arg, uint8_t **ret_buf, size_t *ret_len)
     int rc = uavsim_world_save (app->world, &world, &len);
     if (rc < 0)
         return rc;
-    char head[64];
-    int n = snprintf (head, sizeof head, "uavsim %.17g %d\n", app->time_scale, app->paused ? 1 : 0);
-    uint8_t *buf = malloc ((size_t)n + len);
-    if (!buf) {
-        free (world);
-        return -ENOMEM;
-    }
-    memcpy (buf, head, (size_t)n);
-    memcpy (buf + n, world, len);
+    cgs_ckpt_writer_t w;
+    cgs_ckpt_writer_init (&w, S_STATE_MAGIC, S_STATE_VERSION);
+    cgs_ckpt_put_f64 (&w, app->time_scale);
+    cgs_ckpt_put_bool (&w, app->paused);
+    cgs_ckpt_put_bytes (&w, world, len);
     free (world);
-    *ret_buf = buf;
-    *ret_len = (size_t)n + len;
-    return 0;
+    return cgs_ckpt_writer_finish (&w, ret_buf, ret_len);
 }
 
 static int s_restore (s_app_t *app, const uint8_t *buf, size_t len, char *err, size_t errlen)
 {
-    const uint8_t *nl = memchr (buf, '\n', len < 64 ? len : 64);
-    double scale = 0;
-    int paused = 0;
-    char head[64] = "";
-    if (nl)
-        memcpy (head, buf, (size_t)(nl - buf));
-    if (!nl || sscanf (head, "uavsim %lf %d", &scale, &paused) != 2 || !(scale > 0) ||
-        scale > 1000) {
-        snprintf (err, errlen, "not a uavsim state");
-        return -EPROTO;
-    }
-    size_t off = (size_t)(nl - buf) + 1;
-    int rc = uavsim_world_restore (app->world, buf + off, len - off, err, errlen);
+    cgs_ckpt_reader_t r;
+    int rc =
+        cgs_ckpt_open (&r, buf, len, S_STATE_MAGIC, S_STATE_VERSION, S_STATE_WHAT, err, errlen);
     if (rc < 0)
         return rc;
+    double scale = cgs_ckpt_get_f64 (&r);
+    bool paused = cgs_ckpt_get_bool (&r);
+    size_t world_len = 0;
+    const uint8_t *world = cgs_ckpt_get_bytes (&r, &world_len);
+    if ((rc = cgs_ckpt_end (&r, S_STATE_WHAT, err, errlen)) < 0)
+        return rc;
+    if (!(scale > 0) || scale > 1000) {
+        snprintf (err, errlen, "a %s with time scale %g, not in (0, 1000]", S_STATE_WHAT, scale);
+        return -EINVAL;
+    }
+    if ((rc = uavsim_world_restore (app->world, world, world_len, err, errlen)) < 0)
+        return rc;
     app->time_scale = scale;
-    app->paused = paused != 0;
+    app->paused = paused;
     return 0;
 }
 

@@ -137,22 +137,6 @@ static cgs_enu_t s_enu (const Cgs__Enu *p)
     return e;
 }
 
-/* The UAV's state before a command, so a refused command changes nothing. */
-static int s_keep (uavsim_uav_model_t *uav, uint8_t **ret_buf, size_t *ret_len)
-{
-    size_t size = uavsim_uav_save_size (uav);
-    uint8_t *buf = malloc (size);
-    if (!buf)
-        return -ENOMEM;
-    int rc = uavsim_uav_save (uav, buf, size, ret_len);
-    if (rc < 0) {
-        free (buf);
-        return rc;
-    }
-    *ret_buf = buf;
-    return 0;
-}
-
 /* 0 when the UAV can fly an orbit of radius_m (0: its default) at its
  * commanded airspeed, else refuse with the smallest radius it can fly. */
 static int s_radius_ok (uavsim_adapter_t *self, uavsim_uav_model_t *uav, double radius_m,
@@ -187,9 +171,9 @@ static uavsim_uav_model_t *s_route (uavsim_adapter_t *self, const Cgs__TaskRoute
         return NULL;
     }
     cgs_enu_t *pts = calloc (t->n_waypoints, sizeof *pts);
-    uint8_t *before = NULL;
+    uint8_t *before = NULL; // the UAV as it was, so a refused route changes nothing
     size_t before_len = 0;
-    if (!pts || s_keep (uav, &before, &before_len) < 0) {
+    if (!pts || uavsim_uav_save (uav, &before, &before_len) < 0) {
         free (pts);
         s_refuse (self, reply, "out of memory");
         return NULL;
@@ -207,7 +191,7 @@ static uavsim_uav_model_t *s_route (uavsim_adapter_t *self, const Cgs__TaskRoute
                                !t->loiter_anticlockwise) < 0)
         why = "route refused: a point is out of range";
     if (why)
-        uavsim_uav_restore (uav, before, before_len);
+        uavsim_uav_restore (uav, before, before_len, NULL, 0);
     free (pts);
     free (before);
     if (why) {

@@ -4,6 +4,7 @@
  * save/restore of the dynamic state. See uavsim_uav.h for the laws.
  * Pure: no globals, no clocks, no logging. */
 #include "uavsim_uav.h"
+#include "cgs_ckpt.h"
 #include "cgs_util.h"
 
 #include <assert.h>
@@ -27,8 +28,9 @@
 #define S_CAPTURE_M    10.0               // ... plus 10 m ...
 #define S_CAPTURE_COS  0.8660254037844386 // ... flying within 30° of its tangent
 
-#define S_SAVE_MAGIC   "UAVS"
+#define S_SAVE_MAGIC   "UUAV" // cgs_ckpt kind of a UAV's checkpoint
 #define S_SAVE_VERSION 1u
+#define S_SAVE_WHAT    "UAV checkpoint"
 
 typedef enum {
     S_TASK_LOITER = 0, // circling (or joining) the loiter orbit
@@ -584,171 +586,97 @@ double uavsim_uav_min_turn_radius (const uavsim_uav_model_t *self, double v_mps)
 
 /* --- save and restore ---------------------------------------------------------- */
 
-/* Layout, little-endian: "UAVS", u32 version, u32 payload bytes, payload, u32
- * CRC-32 (IEEE) of all that precedes it. Payload: 11 f64 (e, n, u, course,
+/* A cgs_ckpt frame "UUAV", version 1. Payload: 11 f64 (e, n, u, course,
  * airspeed, bank, climb, flight-path angle, AGL command, airspeed command,
  * previous terrain), u8 have_terrain, u64 task number, u8 task, u8 captured,
  * u8 is_goto, u8 loiter_at_end, u8 clockwise, 5 f64 (loiter centre e, n,
  * radius, route origin e, n), u32 count, u32 index, count × 3 f64 (e, n, u). */
-#define S_FIXED_PAYLOAD (11 * 8 + 1 + 8 + 5 + 5 * 8 + 4 + 4)
-#define S_HEAD          12
-#define S_TAIL          4
 
-typedef struct {
-    uint8_t *b;
-    size_t at;
-} s_writer_t;
-
-static void s_put_u (s_writer_t *w, uint64_t x, int bytes)
+int uavsim_uav_save (const uavsim_uav_model_t *self, uint8_t **ret_buf, size_t *ret_len)
 {
-    for (int i = 0; i < bytes; i++)
-        w->b[w->at++] = (uint8_t)(x >> (8 * i));
-}
-
-static void s_put_f (s_writer_t *w, double x)
-{
-    uint64_t u;
-    memcpy (&u, &x, sizeof u);
-    s_put_u (w, u, 8);
-}
-
-typedef struct {
-    const uint8_t *b;
-    size_t at;
-} s_reader_t;
-
-static uint64_t s_get_u (s_reader_t *r, int bytes)
-{
-    uint64_t x = 0;
-    for (int i = 0; i < bytes; i++)
-        x |= (uint64_t)r->b[r->at++] << (8 * i);
-    return x;
-}
-
-static double s_get_f (s_reader_t *r)
-{
-    uint64_t u = s_get_u (r, 8);
-    double x;
-    memcpy (&x, &u, sizeof x);
-    return x;
-}
-
-size_t uavsim_uav_save_size (const uavsim_uav_model_t *self)
-{
-    assert (self);
-    return S_HEAD + S_FIXED_PAYLOAD + self->count * 24 + S_TAIL;
-}
-
-int uavsim_uav_save (const uavsim_uav_model_t *self, void *buf, size_t size, size_t *ret_len)
-{
-    if (!self || !buf)
+    if (!self)
         return -EINVAL;
-    size_t need = uavsim_uav_save_size (self);
-    if (size < need)
-        return -ENOBUFS;
-    s_writer_t w = {buf, 0};
-    memcpy (w.b, S_SAVE_MAGIC, 4);
-    w.at = 4;
-    s_put_u (&w, S_SAVE_VERSION, 4);
-    s_put_u (&w, need - S_HEAD - S_TAIL, 4);
+    cgs_ckpt_writer_t w;
+    cgs_ckpt_writer_init (&w, S_SAVE_MAGIC, S_SAVE_VERSION);
     const double f1[] = {self->e_m,       self->n_m,       self->u_m,           self->course_rad,
                          self->v_mps,     self->bank_rad,  self->climb_mps,     self->gamma_rad,
                          self->agl_cmd_m, self->v_cmd_mps, self->terrain_prev_m};
     for (size_t i = 0; i < sizeof f1 / sizeof f1[0]; i++)
-        s_put_f (&w, f1[i]);
-    s_put_u (&w, self->have_terrain, 1);
-    s_put_u (&w, self->task_number, 8);
-    s_put_u (&w, self->task, 1);
-    s_put_u (&w, self->captured, 1);
-    s_put_u (&w, self->is_goto, 1);
-    s_put_u (&w, self->loiter_at_end, 1);
-    s_put_u (&w, self->lcw, 1);
+        cgs_ckpt_put_f64 (&w, f1[i]);
+    cgs_ckpt_put_bool (&w, self->have_terrain);
+    cgs_ckpt_put_u64 (&w, self->task_number);
+    cgs_ckpt_put_u8 (&w, (uint8_t)self->task);
+    cgs_ckpt_put_bool (&w, self->captured);
+    cgs_ckpt_put_bool (&w, self->is_goto);
+    cgs_ckpt_put_bool (&w, self->loiter_at_end);
+    cgs_ckpt_put_bool (&w, self->lcw);
     const double f2[] = {self->lc_e_m, self->lc_n_m, self->lr_m, self->org_e_m, self->org_n_m};
     for (size_t i = 0; i < sizeof f2 / sizeof f2[0]; i++)
-        s_put_f (&w, f2[i]);
-    s_put_u (&w, self->count, 4);
-    s_put_u (&w, self->index, 4);
+        cgs_ckpt_put_f64 (&w, f2[i]);
+    cgs_ckpt_put_u32 (&w, (uint32_t)self->count);
+    cgs_ckpt_put_u32 (&w, (uint32_t)self->index);
     for (size_t i = 0; i < self->count; i++) {
-        s_put_f (&w, self->route[i].e_m);
-        s_put_f (&w, self->route[i].n_m);
-        s_put_f (&w, self->route[i].u_m);
+        cgs_ckpt_put_f64 (&w, self->route[i].e_m);
+        cgs_ckpt_put_f64 (&w, self->route[i].n_m);
+        cgs_ckpt_put_f64 (&w, self->route[i].u_m);
     }
-    s_put_u (&w, cgs_crc32 (w.b, w.at), 4);
-    *ret_len = w.at;
-    return 0;
+    return cgs_ckpt_writer_finish (&w, ret_buf, ret_len);
 }
 
-/* A saved flag: true for a valid 0 or 1, stored in *ret. */
-static bool s_flag (uint64_t x, bool *ret)
+int uavsim_uav_restore (uavsim_uav_model_t *self, const void *buf, size_t len, char *err,
+                        size_t errlen)
 {
-    *ret = x == 1;
-    return x <= 1;
-}
-
-int uavsim_uav_restore (uavsim_uav_model_t *self, const void *buf, size_t len)
-{
-    if (!self || (!buf && len))
+    if (!self)
         return -EINVAL;
-    const uint8_t *b = buf;
-    if (len < S_HEAD + S_FIXED_PAYLOAD + S_TAIL || memcmp (b, S_SAVE_MAGIC, 4) != 0)
-        return -EPROTO;
-    s_reader_t r = {b, 4};
-    if (s_get_u (&r, 4) != S_SAVE_VERSION || s_get_u (&r, 4) != len - S_HEAD - S_TAIL)
-        return -EPROTO;
-    uint32_t crc = (uint32_t)b[len - 4] | (uint32_t)b[len - 3] << 8 | (uint32_t)b[len - 2] << 16 |
-                   (uint32_t)b[len - 1] << 24;
-    if (crc != cgs_crc32 (b, len - S_TAIL))
-        return -EPROTO;
-
+    cgs_ckpt_reader_t r;
+    int rc = cgs_ckpt_open (&r, buf, len, S_SAVE_MAGIC, S_SAVE_VERSION, S_SAVE_WHAT, err, errlen);
+    if (rc < 0)
+        return rc;
     uavsim_uav_model_t t = *self; // parameters kept; everything dynamic replaced
     t.route = NULL;
     double *f1[] = {&t.e_m,       &t.n_m,       &t.u_m,           &t.course_rad,
                     &t.v_mps,     &t.bank_rad,  &t.climb_mps,     &t.gamma_rad,
                     &t.agl_cmd_m, &t.v_cmd_mps, &t.terrain_prev_m};
-    bool ok = true;
-    for (size_t i = 0; i < sizeof f1 / sizeof f1[0]; i++) {
-        *f1[i] = s_get_f (&r);
-        ok = ok && isfinite (*f1[i]);
-    }
-    ok = s_flag (s_get_u (&r, 1), &t.have_terrain) && ok;
-    t.task_number = s_get_u (&r, 8);
-    uint64_t task = s_get_u (&r, 1);
-    ok = ok && task <= S_TASK_ROUTE;
-    t.task = (s_task_t)task;
-    ok = s_flag (s_get_u (&r, 1), &t.captured) && ok;
-    ok = s_flag (s_get_u (&r, 1), &t.is_goto) && ok;
-    ok = s_flag (s_get_u (&r, 1), &t.loiter_at_end) && ok;
-    ok = s_flag (s_get_u (&r, 1), &t.lcw) && ok;
+    for (size_t i = 0; i < sizeof f1 / sizeof f1[0]; i++)
+        *f1[i] = cgs_ckpt_get_finite (&r);
+    t.have_terrain = cgs_ckpt_get_bool (&r);
+    t.task_number = cgs_ckpt_get_u64 (&r);
+    uint8_t task = cgs_ckpt_get_u8 (&r);
+    t.task = task <= S_TASK_ROUTE ? (s_task_t)task : S_TASK_LOITER;
+    t.captured = cgs_ckpt_get_bool (&r);
+    t.is_goto = cgs_ckpt_get_bool (&r);
+    t.loiter_at_end = cgs_ckpt_get_bool (&r);
+    t.lcw = cgs_ckpt_get_bool (&r);
     double *f2[] = {&t.lc_e_m, &t.lc_n_m, &t.lr_m, &t.org_e_m, &t.org_n_m};
-    for (size_t i = 0; i < sizeof f2 / sizeof f2[0]; i++) {
-        *f2[i] = s_get_f (&r);
-        ok = ok && isfinite (*f2[i]);
-    }
-    t.count = s_get_u (&r, 4);
-    t.index = s_get_u (&r, 4);
+    for (size_t i = 0; i < sizeof f2 / sizeof f2[0]; i++)
+        *f2[i] = cgs_ckpt_get_finite (&r);
+    t.count = cgs_ckpt_get_u32 (&r);
+    t.index = cgs_ckpt_get_u32 (&r);
     // Physically possible values only.
+    bool ok = cgs_ckpt_ok (&r) && task <= S_TASK_ROUTE;
     ok = ok && t.v_mps > 0 && t.v_cmd_mps > 0 && fabs (t.climb_mps) < t.v_mps;
     ok = ok && t.course_rad >= 0 && t.course_rad < S_TWO_PI && fabs (t.bank_rad) < S_PI / 2;
     ok = ok && fabs (t.gamma_rad) < S_PI / 2 && s_agl_ok (t.agl_cmd_m);
     ok = ok && t.lr_m > 0 && t.lr_m <= UAVSIM_UAV_RADIUS_MAX_M;
     ok = ok && t.count <= UAVSIM_UAV_ROUTE_MAX && t.index <= t.count;
     ok = ok && (t.task == S_TASK_ROUTE ? t.count >= 1 : t.count == 0);
-    if (!ok || r.at + t.count * 24 + S_TAIL != len)
-        return -EPROTO;
+    if (!ok) {
+        cgs_errf (err, errlen, "a %s with values no UAV can have", S_SAVE_WHAT);
+        return -EINVAL;
+    }
     if (t.count) {
         t.route = malloc (t.count * sizeof *t.route);
         if (!t.route)
             return -ENOMEM;
         for (size_t i = 0; i < t.count; i++) {
-            t.route[i].e_m = s_get_f (&r);
-            t.route[i].n_m = s_get_f (&r);
-            t.route[i].u_m = s_get_f (&r);
-            if (!isfinite (t.route[i].e_m) || !isfinite (t.route[i].n_m) ||
-                !isfinite (t.route[i].u_m)) {
-                free (t.route);
-                return -EPROTO;
-            }
+            t.route[i].e_m = cgs_ckpt_get_finite (&r);
+            t.route[i].n_m = cgs_ckpt_get_finite (&r);
+            t.route[i].u_m = cgs_ckpt_get_finite (&r);
         }
+    }
+    if ((rc = cgs_ckpt_end (&r, S_SAVE_WHAT, err, errlen)) < 0) {
+        free (t.route);
+        return rc;
     }
     free (self->route);
     *self = t;

@@ -161,16 +161,15 @@ const uavsim_uav_params_t *uavsim_uav_params (const uavsim_uav_model_t *self);
 /* Smallest turn radius at airspeed v_mps and the bank limit, metres. */
 double uavsim_uav_min_turn_radius (const uavsim_uav_model_t *self, double v_mps);
 
-/* Bytes uavsim_uav_save needs for the present state. */
-size_t uavsim_uav_save_size (const uavsim_uav_model_t *self);
-/* Serialise the complete dynamic state (kinematics, commands, task, route) into
- * buf: little-endian fixed layout, versioned, with a CRC-32. *ret_len the bytes
- * written. 0 or -ENOBUFS (buf too small) / -EINVAL. Parameters are not saved. */
-int uavsim_uav_save (const uavsim_uav_model_t *self, void *buf, size_t size, size_t *ret_len);
+/* Serialise the complete dynamic state (kinematics, commands, task, route)
+ * into a new malloc'd cgs_ckpt frame ("UUAV"). 0 or -ENOMEM / -EINVAL.
+ * Parameters are not saved. */
+int uavsim_uav_save (const uavsim_uav_model_t *self, uint8_t **ret_buf, size_t *ret_len);
 /* Replace the dynamic state with a saved one, exactly (a restored UAV steps
- * bit-identically to the saved one, given the same parameters). 0, or -EPROTO
- * (damaged, truncated, wrong version or out-of-range values; self unchanged),
- * -EINVAL, -ENOMEM. */
-int uavsim_uav_restore (uavsim_uav_model_t *self, const void *buf, size_t len);
+ * bit-identically to the saved one, given the same parameters). 0, or one of
+ * cgs_ckpt's errors with the reason in err (-EINVAL also for out-of-range
+ * values; self unchanged), -EINVAL for a NULL self. */
+int uavsim_uav_restore (uavsim_uav_model_t *self, const void *buf, size_t len, char *err,
+                        size_t errlen);
 
 #endif

@@ -12,6 +12,7 @@
  * driven along it. Each element is at most three pieces in a row — half an
  * arc, the straight, half an arc — each with its own speed limit. */
 #include "uavsim_vehicle.h"
+#include "cgs_ckpt.h"
 #include "cgs_util.h"
 
 #include <assert.h>
@@ -38,10 +39,9 @@
 #define S_DEV_MIN_WAVE_M 100.0         // shortest wavelength drawn, metres
 #define S_DEV_MAX_WAVE_M 500.0         // longest wavelength drawn, metres
 #define S_MAX_HALT_S     1e6           // longest halt, seconds
-#define S_SAVE_MAGIC     0x48455655u   // "UVEH"
-#define S_SAVE_VERSION   2u            // 2: the halt under way; 1: before halts
-#define S_SAVE_BYTES     188           // see uavsim_vehicle_save
-#define S_SAVE_V1_BYTES  180           // format 1: no halt field
+#define S_SAVE_MAGIC     "UVHC"        // cgs_ckpt kind of a vehicle's checkpoint
+#define S_SAVE_VERSION   1u
+#define S_SAVE_WHAT      "vehicle checkpoint"
 
 typedef enum { S_WAIT = 0, S_DRIVE = 1, S_PIVOT = 2, S_DONE = 3, S_HALT = 4 } s_phase_t;
 
@@ -328,7 +328,7 @@ static uint64_t s_fingerprint (const uavsim_vehicle_params_t *p)
     h = s_fnv (h, (uint64_t)p->end);
     h = s_fnv (h, p->seed);
     // Halts only where there are some: a route without them keeps the
-    // fingerprint it had before halts existed, so its old checkpoints load.
+    // fingerprint it had before halts existed.
     for (size_t i = 0; p->halt_s && i < p->n_points; i++)
         if (p->halt_s[i] > 0) {
             h = s_fnv (h, i);
@@ -970,70 +970,32 @@ void uavsim_vehicle_ground (const cgs_terrain_t *terrain, const uavsim_vehicle_s
 
 /* --- checkpoint --------------------------------------------------------------------------- */
 
-static void s_put (uint8_t **p, uint64_t x, int bytes)
+/* A cgs_ckpt frame "UVHC", version 1. Payload: fingerprint u64, phase u32,
+ * direction i32, element u32, lap u64, x f64, speed f64, heading f64, turn
+ * left f64, generator 4 x u64, wander 3 x (wavenumber, phase, weight) f64,
+ * halt left f64: 172 bytes. */
+int uavsim_vehicle_save (const uavsim_vehicle_t *self, uint8_t **ret_buf, size_t *ret_len)
 {
-    for (int i = 0; i < bytes; i++)
-        *(*p)++ = (uint8_t)(x >> (8 * i));
-}
-
-static uint64_t s_get (const uint8_t **p, int bytes)
-{
-    uint64_t x = 0;
-    for (int i = 0; i < bytes; i++)
-        x |= (uint64_t)(*(*p)++) << (8 * i);
-    return x;
-}
-
-static double s_get_f64 (const uint8_t **p)
-{
-    uint64_t u = s_get (p, 8);
-    double x;
-    memcpy (&x, &u, sizeof x);
-    return x;
-}
-
-size_t uavsim_vehicle_save_size (const uavsim_vehicle_t *self)
-{
-    assert (self);
-    return S_SAVE_BYTES;
-}
-
-/* Layout, little-endian: magic u32, version u32, fingerprint u64, phase u32,
- * direction i32, element u32, reserved u32, lap u64, x f64, speed f64,
- * heading f64, turn left f64, generator 4 x u64, wander 3 x (wavenumber,
- * phase, weight) f64, halt left f64, CRC-32 of all before it u32: 188 bytes.
- * Format 1 (before halts) is the same without the halt: 180 bytes. */
-int uavsim_vehicle_save (const uavsim_vehicle_t *self, void *buf, size_t len, size_t *ret_len)
-{
-    assert (self && buf);
-    if (len < S_SAVE_BYTES)
-        return -ENOSPC;
-    uint8_t *p = buf;
-    s_put (&p, S_SAVE_MAGIC, 4);
-    s_put (&p, S_SAVE_VERSION, 4);
-    s_put (&p, self->fingerprint, 8);
-    s_put (&p, (uint64_t)self->phase, 4);
-    s_put (&p, (uint64_t)(uint32_t)self->dir, 4);
-    s_put (&p, (uint64_t)self->k, 4);
-    s_put (&p, 0, 4);
-    s_put (&p, self->lap, 8);
-    s_put (&p, s_bits (self->x_m), 8);
-    s_put (&p, s_bits (self->v_mps), 8);
-    s_put (&p, s_bits (self->heading_rad), 8);
-    s_put (&p, s_bits (self->pivot_rad), 8);
+    cgs_ckpt_writer_t w;
+    cgs_ckpt_writer_init (&w, S_SAVE_MAGIC, S_SAVE_VERSION);
+    cgs_ckpt_put_u64 (&w, self->fingerprint);
+    cgs_ckpt_put_u32 (&w, (uint32_t)self->phase);
+    cgs_ckpt_put_u32 (&w, (uint32_t)self->dir);
+    cgs_ckpt_put_u32 (&w, (uint32_t)self->k);
+    cgs_ckpt_put_u64 (&w, self->lap);
+    cgs_ckpt_put_f64 (&w, self->x_m);
+    cgs_ckpt_put_f64 (&w, self->v_mps);
+    cgs_ckpt_put_f64 (&w, self->heading_rad);
+    cgs_ckpt_put_f64 (&w, self->pivot_rad);
     for (int i = 0; i < 4; i++)
-        s_put (&p, self->rng[i], 8);
+        cgs_ckpt_put_u64 (&w, self->rng[i]);
     for (int i = 0; i < S_DEV_WAVES; i++) {
-        s_put (&p, s_bits (self->dev.k_rpm[i]), 8);
-        s_put (&p, s_bits (self->dev.phase_rad[i]), 8);
-        s_put (&p, s_bits (self->dev.weight[i]), 8);
+        cgs_ckpt_put_f64 (&w, self->dev.k_rpm[i]);
+        cgs_ckpt_put_f64 (&w, self->dev.phase_rad[i]);
+        cgs_ckpt_put_f64 (&w, self->dev.weight[i]);
     }
-    s_put (&p, s_bits (self->halt_left_s), 8);
-    s_put (&p, cgs_crc32 (buf, (size_t)(p - (uint8_t *)buf)), 4);
-    assert (p - (uint8_t *)buf == S_SAVE_BYTES);
-    if (ret_len)
-        *ret_len = S_SAVE_BYTES;
-    return 0;
+    cgs_ckpt_put_f64 (&w, self->halt_left_s);
+    return cgs_ckpt_writer_finish (&w, ret_buf, ret_len);
 }
 
 static bool s_in (double x, double lo, double hi)
@@ -1041,74 +1003,87 @@ static bool s_in (double x, double lo, double hi)
     return isfinite (x) && x >= lo && x <= hi;
 }
 
-int uavsim_vehicle_restore (uavsim_vehicle_t *self, const void *buf, size_t len)
+/* Whether the decoded state t (a copy of self, given its phase, direction
+ * and element here) is one this vehicle can be in. */
+static bool s_restorable (const uavsim_vehicle_t *self, uavsim_vehicle_t *t, uint32_t phase,
+                          int32_t dir, uint32_t k)
 {
-    assert (self);
-    if (!buf || (len != S_SAVE_BYTES && len != S_SAVE_V1_BYTES))
-        return -EPROTO;
-    // Format 2, or format 1 (written before halts: no halt can be under way).
-    const uint64_t version = len == S_SAVE_BYTES ? S_SAVE_VERSION : 1;
-    const uint8_t *p = buf;
-    const uint8_t *crc_at = p + len - 4;
-    if (cgs_crc32 (p, len - 4) != (uint32_t)s_get (&crc_at, 4))
-        return -EPROTO;
-    if (s_get (&p, 4) != S_SAVE_MAGIC || s_get (&p, 4) != version ||
-        s_get (&p, 8) != self->fingerprint)
-        return -EPROTO;
-    uavsim_vehicle_t t = *self; // decoded into a copy; self untouched on failure
-    uint64_t phase = s_get (&p, 4);
-    int32_t dir = (int32_t)(uint32_t)s_get (&p, 4);
-    uint64_t k = s_get (&p, 4);
-    (void)s_get (&p, 4);
-    t.lap = s_get (&p, 8);
-    t.x_m = s_get_f64 (&p);
-    t.v_mps = s_get_f64 (&p);
-    t.heading_rad = s_get_f64 (&p);
-    t.pivot_rad = s_get_f64 (&p);
-    for (int i = 0; i < 4; i++)
-        t.rng[i] = s_get (&p, 8);
     double wsum = 0;
     for (int i = 0; i < S_DEV_WAVES; i++) {
-        t.dev.k_rpm[i] = s_get_f64 (&p);
-        t.dev.phase_rad[i] = s_get_f64 (&p);
-        t.dev.weight[i] = s_get_f64 (&p);
-        if (!s_in (t.dev.k_rpm[i], 2 * S_PI / S_DEV_MAX_WAVE_M * (1 - 1e-12),
+        if (!s_in (t->dev.k_rpm[i], 2 * S_PI / S_DEV_MAX_WAVE_M * (1 - 1e-12),
                    2 * S_PI / S_DEV_MIN_WAVE_M * (1 + 1e-12)) ||
-            !s_in (t.dev.phase_rad[i], 0, 2 * S_PI) || !s_in (t.dev.weight[i], 0, 1))
-            return -EPROTO;
-        wsum += t.dev.weight[i];
+            !s_in (t->dev.phase_rad[i], 0, 2 * S_PI) || !s_in (t->dev.weight[i], 0, 1))
+            return false;
+        wsum += t->dev.weight[i];
     }
-    t.halt_left_s = version >= 2 ? s_get_f64 (&p) : 0;
-    if (phase > (version >= 2 ? S_HALT : S_DONE) || (dir != 1 && dir != -1) ||
-        k >= (uint64_t)self->nlegs)
-        return -EPROTO;
+    if (phase > S_HALT || (dir != 1 && dir != -1) || k >= (uint32_t)self->nlegs)
+        return false;
     if (dir < 0 && self->end != UAVSIM_VEHICLE_END_REVERSE)
-        return -EPROTO;
-    if (fabs (wsum - 1) > 1e-9 || (t.rng[0] | t.rng[1] | t.rng[2] | t.rng[3]) == 0)
-        return -EPROTO;
-    t.phase = (s_phase_t)phase;
-    t.dir = dir;
-    t.k = (int)k;
+        return false;
+    if (fabs (wsum - 1) > 1e-9 || (t->rng[0] | t->rng[1] | t->rng[2] | t->rng[3]) == 0)
+        return false;
+    t->phase = (s_phase_t)phase;
+    t->dir = dir;
+    t->k = (int)k;
     s_elem_t el;
-    s_elem (&t, t.k, t.dir, t.lap, &el);
-    if (!s_in (t.x_m, 0, el.len_m) || !s_in (t.v_mps, 0, self->vmax_mps) ||
-        !s_in (t.heading_rad, 0, 2 * S_PI) || !s_in (t.pivot_rad, -S_PI, S_PI))
-        return -EPROTO;
-    if (t.phase == S_WAIT && (t.k != 0 || t.dir != 1 || t.lap != 0 || t.x_m != 0 || t.v_mps != 0))
-        return -EPROTO;
-    if (t.phase == S_DONE && (self->end != UAVSIM_VEHICLE_END_STOP || t.v_mps != 0))
-        return -EPROTO;
-    if (t.phase == S_PIVOT && t.v_mps != 0)
-        return -EPROTO;
+    s_elem (t, t->k, t->dir, t->lap, &el);
+    if (!s_in (t->x_m, 0, el.len_m) || !s_in (t->v_mps, 0, self->vmax_mps) ||
+        !s_in (t->heading_rad, 0, 2 * S_PI) || !s_in (t->pivot_rad, -S_PI, S_PI))
+        return false;
+    if (t->phase == S_WAIT &&
+        (t->k != 0 || t->dir != 1 || t->lap != 0 || t->x_m != 0 || t->v_mps != 0))
+        return false;
+    if (t->phase == S_DONE && (self->end != UAVSIM_VEHICLE_END_STOP || t->v_mps != 0))
+        return false;
+    if (t->phase == S_PIVOT && t->v_mps != 0)
+        return false;
     // A halt: standing at the start of its element, on a point that halts,
     // for no longer than that point's halt.
-    if (t.phase == S_HALT) {
-        double halt_s = s_elem_start (&t, &el)->halt_s;
-        if (halt_s <= 0 || t.v_mps != 0 || t.x_m != 0 || !(t.halt_left_s > 0) ||
-            !s_in (t.halt_left_s, 0, halt_s))
-            return -EPROTO;
-    } else if (t.halt_left_s != 0)
+    if (t->phase == S_HALT) {
+        double halt_s = s_elem_start (t, &el)->halt_s;
+        if (halt_s <= 0 || t->v_mps != 0 || t->x_m != 0 || !(t->halt_left_s > 0) ||
+            !s_in (t->halt_left_s, 0, halt_s))
+            return false;
+    } else if (t->halt_left_s != 0)
+        return false;
+    return true;
+}
+
+int uavsim_vehicle_restore (uavsim_vehicle_t *self, const void *buf, size_t len, char *err,
+                            size_t errlen)
+{
+    cgs_ckpt_reader_t r;
+    int rc = cgs_ckpt_open (&r, buf, len, S_SAVE_MAGIC, S_SAVE_VERSION, S_SAVE_WHAT, err, errlen);
+    if (rc < 0)
+        return rc;
+    if (cgs_ckpt_get_u64 (&r) != self->fingerprint) {
+        cgs_errf (err, errlen, "a %s of another vehicle (its route or parameters differ)",
+                  S_SAVE_WHAT);
         return -EPROTO;
+    }
+    uavsim_vehicle_t t = *self; // decoded into a copy; self untouched on failure
+    uint32_t phase = cgs_ckpt_get_u32 (&r);
+    int32_t dir = (int32_t)cgs_ckpt_get_u32 (&r);
+    uint32_t k = cgs_ckpt_get_u32 (&r);
+    t.lap = cgs_ckpt_get_u64 (&r);
+    t.x_m = cgs_ckpt_get_f64 (&r);
+    t.v_mps = cgs_ckpt_get_f64 (&r);
+    t.heading_rad = cgs_ckpt_get_f64 (&r);
+    t.pivot_rad = cgs_ckpt_get_f64 (&r);
+    for (int i = 0; i < 4; i++)
+        t.rng[i] = cgs_ckpt_get_u64 (&r);
+    for (int i = 0; i < S_DEV_WAVES; i++) {
+        t.dev.k_rpm[i] = cgs_ckpt_get_f64 (&r);
+        t.dev.phase_rad[i] = cgs_ckpt_get_f64 (&r);
+        t.dev.weight[i] = cgs_ckpt_get_f64 (&r);
+    }
+    t.halt_left_s = cgs_ckpt_get_f64 (&r);
+    if ((rc = cgs_ckpt_end (&r, S_SAVE_WHAT, err, errlen)) < 0)
+        return rc;
+    if (!s_restorable (self, &t, phase, dir, k)) {
+        cgs_errf (err, errlen, "a %s with a state no vehicle on this route can be in", S_SAVE_WHAT);
+        return -EINVAL;
+    }
     *self = t;
     s_update_out (self);
     return 0;

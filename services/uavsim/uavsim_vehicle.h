@@ -139,16 +139,15 @@ void uavsim_vehicle_corner (const uavsim_vehicle_t *self, int i, double *ret_rad
 void uavsim_vehicle_ground (const cgs_terrain_t *terrain, const uavsim_vehicle_state_t *s,
                             uavsim_vehicle_ground_t *ret_g);
 
-/* Bytes a checkpoint of this vehicle takes. */
-size_t uavsim_vehicle_save_size (const uavsim_vehicle_t *self);
-/* Write the full dynamic state (position on the route, speed, turn, laps, the
- * generator, the current wander and the halt under way) to buf; 0 with
- * *ret_len set, or -ENOSPC. */
-int uavsim_vehicle_save (const uavsim_vehicle_t *self, void *buf, size_t len, size_t *ret_len);
-/* Restore a checkpoint into a vehicle built from the same parameters (one
- * written before halts existed, format 1, restores too); 0, or -EPROTO (left
- * unchanged) for a damaged or truncated checkpoint or one saved from a
- * vehicle with other parameters. */
-int uavsim_vehicle_restore (uavsim_vehicle_t *self, const void *buf, size_t len);
+/* The full dynamic state (position on the route, speed, turn, laps, the
+ * generator, the current wander and the halt under way) as a new malloc'd
+ * cgs_ckpt frame ("UVHC"); 0 or -ENOMEM. */
+int uavsim_vehicle_save (const uavsim_vehicle_t *self, uint8_t **ret_buf, size_t *ret_len);
+/* Restore a checkpoint into a vehicle built from the same parameters; 0, or
+ * one of cgs_ckpt's errors with the reason in err (self unchanged): -EPROTO
+ * also for a checkpoint of a vehicle with other parameters, -EINVAL for a
+ * state this vehicle cannot be in. */
+int uavsim_vehicle_restore (uavsim_vehicle_t *self, const void *buf, size_t len, char *err,
+                            size_t errlen);
 
 #endif

@@ -1,5 +1,6 @@
 /* uavsim_world — terrain, UAVs and vehicles of a scenario in fixed steps. */
 #include "uavsim_world.h"
+#include "cgs_ckpt.h"
 #include "cgs_util.h"
 
 #include <errno.h>
@@ -7,8 +8,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define S_MAGIC   "UAVSIMW1" // checkpoint format, 8 bytes
+#define S_MAGIC   "UWLD" // cgs_ckpt kind of the world's checkpoint
 #define S_VERSION 1u
+#define S_WHAT    "uavsim world checkpoint"
 
 struct uavsim_world {
     cgs_scenario_t *scenario;
@@ -281,73 +283,70 @@ int uavsim_world_find_uav (const uavsim_world_t *self, uint32_t entity_id)
 }
 
 /* ---- checkpoint -------------------------------------------------------------------
- * "UAVSIMW1", u32 version, u64 fingerprint, u64 tick, u32 uav count, u32
- * vehicle count, then for each UAV and each vehicle a u32 length and its
- * model's own blob (each model checks its own integrity). Little-endian. */
-
-static void s_put_u32 (uint8_t *p, uint32_t v)
-{
-    for (int i = 0; i < 4; i++)
-        p[i] = (uint8_t)(v >> (8 * i));
-}
-
-static void s_put_u64 (uint8_t *p, uint64_t v)
-{
-    for (int i = 0; i < 8; i++)
-        p[i] = (uint8_t)(v >> (8 * i));
-}
-
-static uint32_t s_get_u32 (const uint8_t *p)
-{
-    uint32_t v = 0;
-    for (int i = 0; i < 4; i++)
-        v |= (uint32_t)p[i] << (8 * i);
-    return v;
-}
-
-static uint64_t s_get_u64 (const uint8_t *p)
-{
-    uint64_t v = 0;
-    for (int i = 0; i < 8; i++)
-        v |= (uint64_t)p[i] << (8 * i);
-    return v;
-}
-
-#define S_HEAD (8 + 4 + 8 + 8 + 4 + 4)
+ * A cgs_ckpt frame "UWLD", version 1. Payload: u64 fingerprint, u64 tick,
+ * u32 uav count, u32 vehicle count, then each UAV's and each vehicle's own
+ * frame (as bytes: its model decodes and checks it). */
 
 int uavsim_world_save (const uavsim_world_t *self, uint8_t **ret_buf, size_t *ret_len)
 {
     const cgs_scenario_t *sc = self->scenario;
-    size_t total = S_HEAD;
-    for (size_t i = 0; i < sc->uav_count; i++)
-        total += 4 + uavsim_uav_save_size (self->uavs[i]);
-    for (size_t i = 0; i < sc->vehicle_count; i++)
-        total += 4 + uavsim_vehicle_save_size (self->vehicles[i]);
-    uint8_t *buf = malloc (total);
-    if (!buf)
-        return -ENOMEM;
-    memcpy (buf, S_MAGIC, 8);
-    s_put_u32 (buf + 8, S_VERSION);
-    s_put_u64 (buf + 12, self->fingerprint);
-    s_put_u64 (buf + 20, self->tick);
-    s_put_u32 (buf + 28, (uint32_t)sc->uav_count);
-    s_put_u32 (buf + 32, (uint32_t)sc->vehicle_count);
-    size_t off = S_HEAD;
+    cgs_ckpt_writer_t w;
+    cgs_ckpt_writer_init (&w, S_MAGIC, S_VERSION);
+    cgs_ckpt_put_u64 (&w, self->fingerprint);
+    cgs_ckpt_put_u64 (&w, self->tick);
+    cgs_ckpt_put_u32 (&w, (uint32_t)sc->uav_count);
+    cgs_ckpt_put_u32 (&w, (uint32_t)sc->vehicle_count);
     for (size_t i = 0; i < sc->uav_count + sc->vehicle_count; i++) {
+        uint8_t *b = NULL;
         size_t n = 0;
         int rc = i < sc->uav_count
-                     ? uavsim_uav_save (self->uavs[i], buf + off + 4, total - off - 4, &n)
-                     : uavsim_vehicle_save (self->vehicles[i - sc->uav_count], buf + off + 4,
-                                            total - off - 4, &n);
+                     ? uavsim_uav_save (self->uavs[i], &b, &n)
+                     : uavsim_vehicle_save (self->vehicles[i - sc->uav_count], &b, &n);
         if (rc < 0) {
-            free (buf);
+            cgs_ckpt_writer_fini (&w);
             return rc;
         }
-        s_put_u32 (buf + off, (uint32_t)n);
-        off += 4 + n;
+        cgs_ckpt_put_bytes (&w, b, n);
+        free (b);
     }
-    *ret_buf = buf;
-    *ret_len = off;
+    return cgs_ckpt_writer_finish (&w, ret_buf, ret_len);
+}
+
+/* The payload's fields before the entities' frames. */
+typedef struct {
+    uint64_t fingerprint, tick;
+    uint32_t uavs, vehicles;
+} s_head_t;
+
+static s_head_t s_get_head (cgs_ckpt_reader_t *r)
+{
+    s_head_t h;
+    h.fingerprint = cgs_ckpt_get_u64 (r);
+    h.tick = cgs_ckpt_get_u64 (r);
+    h.uavs = cgs_ckpt_get_u32 (r);
+    h.vehicles = cgs_ckpt_get_u32 (r);
+    return h;
+}
+
+/* Restore every entity, in order, from r (past the header); 0, or the first
+ * failure with its reason in err (the entities before it are restored). */
+static int s_restore_entities (uavsim_world_t *self, cgs_ckpt_reader_t *r, char *err, size_t errlen)
+{
+    const cgs_scenario_t *sc = self->scenario;
+    for (size_t i = 0; i < sc->uav_count + sc->vehicle_count; i++) {
+        size_t n = 0;
+        const uint8_t *b = cgs_ckpt_get_bytes (r, &n);
+        char why[256] = "";
+        bool uav = i < sc->uav_count;
+        int rc =
+            uav ? uavsim_uav_restore (self->uavs[i], b, n, why, sizeof why)
+                : uavsim_vehicle_restore (self->vehicles[i - sc->uav_count], b, n, why, sizeof why);
+        if (rc < 0) {
+            cgs_errf (err, errlen, "%s %s: %s", uav ? "uav" : "vehicle",
+                      uav ? sc->uavs[i].name : sc->vehicles[i - sc->uav_count].name, why);
+            return rc;
+        }
+    }
     return 0;
 }
 
@@ -355,64 +354,42 @@ int uavsim_world_restore (uavsim_world_t *self, const uint8_t *buf, size_t len, 
                           size_t errlen)
 {
     const cgs_scenario_t *sc = self->scenario;
-    if (len < S_HEAD || memcmp (buf, S_MAGIC, 8) != 0 || s_get_u32 (buf + 8) != S_VERSION) {
-        cgs_errf (err, errlen, "not a uavsim checkpoint of this version");
+    cgs_ckpt_reader_t r;
+    int rc = cgs_ckpt_open (&r, buf, len, S_MAGIC, S_VERSION, S_WHAT, err, errlen);
+    if (rc < 0)
+        return rc;
+    s_head_t h = s_get_head (&r);
+    if (cgs_ckpt_ok (&r) && (h.fingerprint != self->fingerprint || h.uavs != sc->uav_count ||
+                             h.vehicles != sc->vehicle_count)) {
+        cgs_errf (err, errlen, "a %s of another scenario (its entities differ)", S_WHAT);
         return -EPROTO;
     }
-    if (s_get_u64 (buf + 12) != self->fingerprint || s_get_u32 (buf + 28) != sc->uav_count ||
-        s_get_u32 (buf + 32) != sc->vehicle_count) {
-        cgs_errf (err, errlen, "the checkpoint is of another scenario (its entities differ)");
-        return -EPROTO;
+    // Every entity's frame is there, and nothing after them, before any is touched.
+    cgs_ckpt_reader_t entities = r;
+    for (size_t i = 0; i < sc->uav_count + sc->vehicle_count; i++) {
+        size_t n;
+        (void)cgs_ckpt_get_bytes (&r, &n);
     }
-    // Restore into fresh models first, so a damaged checkpoint leaves the world as it was.
-    size_t n = sc->uav_count + sc->vehicle_count;
-    int rc = 0;
-    // Check every blob's framing before touching anything.
-    size_t off = S_HEAD;
-    for (size_t i = 0; i < n; i++) {
-        if (len - off < 4 || s_get_u32 (buf + off) > len - off - 4) {
-            cgs_errf (err, errlen, "the checkpoint is truncated (entity %zu of %zu)", i + 1, n);
-            return -EPROTO;
-        }
-        off += 4 + s_get_u32 (buf + off);
-    }
-    if (off != len) {
-        cgs_errf (err, errlen, "the checkpoint has %zu bytes too many", len - off);
-        return -EPROTO;
-    }
-    // Each model leaves itself unchanged when its own blob is damaged; save
+    if ((rc = cgs_ckpt_end (&r, S_WHAT, err, errlen)) < 0)
+        return rc;
+    // Each model leaves itself unchanged when its own frame is refused; save
     // the present state so a failure part way through can be rolled back.
     uint8_t *before = NULL;
     size_t before_len = 0;
     if ((rc = uavsim_world_save (self, &before, &before_len)) < 0)
         return rc;
-    off = S_HEAD;
-    for (size_t i = 0; i < n && rc == 0; i++) {
-        uint32_t bl = s_get_u32 (buf + off);
-        rc = i < sc->uav_count
-                 ? uavsim_uav_restore (self->uavs[i], buf + off + 4, bl)
-                 : uavsim_vehicle_restore (self->vehicles[i - sc->uav_count], buf + off + 4, bl);
-        if (rc < 0)
-            cgs_errf (err, errlen, "the checkpoint of %s %s is damaged",
-                      i < sc->uav_count ? "uav" : "vehicle",
-                      i < sc->uav_count ? sc->uavs[i].name : sc->vehicles[i - sc->uav_count].name);
-        off += 4 + bl;
-    }
+    rc = s_restore_entities (self, &entities, err, errlen);
     if (rc < 0) {
-        off = S_HEAD; // roll back what was restored
-        for (size_t i = 0; i < n; i++) {
-            uint32_t bl = s_get_u32 (before + off);
-            if (i < sc->uav_count)
-                uavsim_uav_restore (self->uavs[i], before + off + 4, bl);
-            else
-                uavsim_vehicle_restore (self->vehicles[i - sc->uav_count], before + off + 4, bl);
-            off += 4 + bl;
+        cgs_ckpt_reader_t back;
+        if (cgs_ckpt_open (&back, before, before_len, S_MAGIC, S_VERSION, S_WHAT, NULL, 0) == 0) {
+            (void)s_get_head (&back);
+            (void)s_restore_entities (self, &back, NULL, 0);
         }
         free (before);
-        return -EPROTO;
+        return rc;
     }
     free (before);
-    self->tick = s_get_u64 (buf + 20);
+    self->tick = h.tick;
     self->time_s = (double)self->tick * self->step_s;
     return 0;
 }

@@ -39,11 +39,13 @@ const uavsim_vehicle_t *uavsim_world_vehicle (const uavsim_world_t *self, size_t
 int uavsim_world_find_uav (const uavsim_world_t *self, uint32_t entity_id);
 
 /* Serialise the dynamic state (time, every UAV, every vehicle) into a new
- * malloc'd buffer; 0 or -ENOMEM. */
+ * malloc'd cgs_ckpt frame ("UWLD", each entity's own frame inside); 0 or
+ * -ENOMEM. */
 int uavsim_world_save (const uavsim_world_t *self, uint8_t **ret_buf, size_t *ret_len);
 /* Restore a saved state into a world built from the same scenario; 0, or
- * -EPROTO with the reason in err (damaged, or from another scenario; the world
- * is left unchanged). */
+ * one of cgs_ckpt's errors with the reason in err (-EPROTO also for a
+ * checkpoint of another scenario; an entity's own error, its name in err,
+ * for an entity its model refuses). The world is left unchanged. */
 int uavsim_world_restore (uavsim_world_t *self, const uint8_t *buf, size_t len, char *err,
                           size_t errlen);
 

@@ -161,12 +161,15 @@ stop "$U"
 check "no sanitizer report from the first trackerd" clean_log trackerd-1
 check "no sanitizer report from the second trackerd" clean_log trackerd-2
 
-# A damaged checkpoint is refused with a reason; trackerd starts empty and runs.
+# A damaged checkpoint (here one of the format before cgs_ckpt, cut short) is
+# refused with a reason naming what it found; trackerd starts empty and runs.
 check "the stopped trackerd left its checkpoint" test -s "$TMP/state/trackerd.tracks"
 printf 'MSCGSTRK\001\000\000\000garbage' >"$TMP/state/trackerd.tracks"
 start T3 trackerd-3 "$TRACKERD" --exercise "$EX"
 check "a damaged checkpoint is ignored with the reason" wait_for 20 \
     grep -q "checkpoint .*trackerd.tracks ignored: " "$TMP/trackerd-3.log"
+check "the reason names what the old file begins with" \
+    grep -q 'not a trackerd checkpoint: it begins "MSCG"' "$TMP/trackerd-3.log"
 check "and trackerd runs on with no tracks" wait_for 20 bash -c \
     "'$MSCGS' echo health --json --count 20 --timeout 5 --exercise '$EX' | grep -q '\"instance\":\"trackerd\".*RUNNING'"
 stop "$T3"

@@ -30,9 +30,9 @@
  *     designates the nearest unknown one at its time and makes the state
  *     dirty; skipped, with a notice, after an operator's designation;
  *   - state: save → restore into a new adapter gives the same bytes and the
- *     same pending numbers; a state written in the format main.c wrote
- *     before the adapter loads (a UAV not in the scenario is reported and
- *     skipped); damaged states are refused with -EPROTO and leave the
+ *     same pending numbers; a UAV not in the scenario is reported and
+ *     skipped; damaged states, another version's and the text format of
+ *     before cgs_ckpt are refused with cgs_ckpt's errors and leave the
  *     adapter idle;
  *   - `intercept` messages: one per UAV after each uav message and track
  *     batch, the footprint once the UAV is heard with a valid sensor during
@@ -45,10 +45,12 @@
 
 #include <cmocka.h>
 
+#include "cgs_ckpt.h"
 #include "cgs_msg.h"
 #include "cgs_scenario.h"
 #include "cgs_topics.h"
 #include "gd_adapter.h"
+#include "gd_checkpoint.h"
 #include "port_check.h"
 
 #include <errno.h>
@@ -1035,12 +1037,22 @@ static void test_save_restore (void **state)
     uint8_t *buf = NULL, *buf2 = NULL;
     size_t len = 0, len2 = 0;
     s_save (a, &buf, &len);
-    const char *head = "guidanced 1\nclient guidanced@1.000001 3 0 1\nuav 1 0 ";
-    assert_memory_equal (buf, head, strlen (head));
+    // The frame's counters and first UAV record.
+    cgs_ckpt_reader_t rd;
+    char err[256] = "", id[128];
+    assert_int_equal (cgs_ckpt_open (&rd, buf, len, "GDST", 1, "x", err, sizeof err), 0);
+    cgs_ckpt_get_str (&rd, id, sizeof id);
+    assert_string_equal (id, "guidanced@1.000001");
+    assert_int_equal (cgs_ckpt_get_u64 (&rd), 3); // the last command number
+    assert_int_equal (cgs_ckpt_get_u64 (&rd), 0); // script lines done
+    assert_true (cgs_ckpt_get_bool (&rd));        // an operator acted
+    assert_int_equal (cgs_ckpt_get_u32 (&rd), 2); // UAVs
+    assert_int_equal (cgs_ckpt_get_u32 (&rd), 1); // the first, entity 1,
+    assert_int_equal (cgs_ckpt_get_u64 (&rd), 0); // nothing delivered
+    assert_true (cgs_ckpt_ok (&rd));
 
     s_fx_t *b = s_fx_new (s_two);
     gd_adapter_set_client_id (b->gd, "guidanced@2.000002"); // a new start's, replaced by the saved
-    char err[256] = "";
     assert_int_equal (gd_adapter_restore (b->gd, buf, len, err, sizeof err), 0);
     s_save (b, &buf2, &len2);
     assert_int_equal (len2, len);
@@ -1069,34 +1081,51 @@ static void test_save_restore (void **state)
     s_fx_free (&b);
 }
 
-/* A state file as main.c wrote it before the adapter: the format is the same. */
-static void test_restore_earlier_format (void **state)
+/* A state as s_state_frame writes it: the counters, then a record per UAV
+ * (entity ids[i], delivered, pending and its command number 3, 4, 7 for
+ * the first, 0 for the others) each with the intercept checkpoint core. */
+static uint8_t *s_state_frame (const uint32_t *ids, size_t n, const uint8_t *core, size_t clen,
+                               size_t *ret_len)
+{
+    cgs_ckpt_writer_t w;
+    cgs_ckpt_writer_init (&w, "GDST", 1);
+    cgs_ckpt_put_str (&w, "guidanced@1700000000.000001");
+    cgs_ckpt_put_u64 (&w, 7);
+    cgs_ckpt_put_u64 (&w, 1);
+    cgs_ckpt_put_bool (&w, true);
+    cgs_ckpt_put_u32 (&w, (uint32_t)n);
+    for (size_t i = 0; i < n; i++) {
+        cgs_ckpt_put_u32 (&w, ids[i]);
+        cgs_ckpt_put_u64 (&w, i == 0 ? 3 : 0);
+        cgs_ckpt_put_u64 (&w, i == 0 ? 4 : 0);
+        cgs_ckpt_put_u64 (&w, i == 0 ? 7 : 0);
+        cgs_ckpt_put_bytes (&w, core, clen);
+    }
+    uint8_t *buf = NULL;
+    assert_int_equal (cgs_ckpt_writer_finish (&w, &buf, ret_len), 0);
+    return buf;
+}
+
+/* A saved UAV that is not in the scenario is skipped with a warning; the
+ * rest restores, and is written back the same, less that UAV. */
+static void test_restore_unknown_uav (void **state)
 {
     (void)state;
     s_fx_t *fx = s_fx_new (s_one);
-    // An idle intercept's own save, as its record's payload.
+    // An idle intercept's own checkpoint, as each record's.
     gd_params_t p;
     gd_params_defaults (&p);
     gd_intercept_t *ic = gd_intercept_new (&p, NULL);
     assert_non_null (ic);
     uint8_t *core = NULL;
     size_t clen = 0;
-    assert_int_equal (gd_intercept_save (ic, &core, &clen), 0);
+    assert_int_equal (gd_checkpoint_save (ic, &core, &clen), 0);
     gd_intercept_destroy (&ic);
-    size_t cap = 2 * clen + 512, len = 0;
-    char *text = malloc (cap);
-    assert_non_null (text);
-    len += (size_t)snprintf (text + len, cap - len,
-                             "guidanced 1\nclient guidanced@1700000000.000001 7 1 1\n"
-                             "uav 1 3 4 7 %zu\n",
-                             clen);
-    memcpy (text + len, core, clen);
-    len += clen;
-    len += (size_t)snprintf (text + len, cap - len, "uav 99 0 0 0 %zu\n", clen);
-    memcpy (text + len, core, clen);
-    len += clen;
+    size_t len = 0, first_len = 0;
+    uint8_t *state_buf = s_state_frame ((const uint32_t[]){1, 99}, 2, core, clen, &len);
+    uint8_t *first = s_state_frame ((const uint32_t[]){1}, 1, core, clen, &first_len);
     char err[256] = "";
-    assert_int_equal (gd_adapter_restore (fx->gd, (uint8_t *)text, len, err, sizeof err), 0);
+    assert_int_equal (gd_adapter_restore (fx->gd, state_buf, len, err, sizeof err), 0);
     assert_logged (&fx->seen, LOG_WARNING,
                    "saved intercept of UAV 99 ignored: not in the scenario");
     assert_string_equal (gd_adapter_client_id (fx->gd), "guidanced@1700000000.000001");
@@ -1105,11 +1134,11 @@ static void test_restore_earlier_format (void **state)
     uint8_t *buf = NULL;
     size_t blen = 0;
     s_save (fx, &buf, &blen);
-    size_t first = len - clen - (size_t)snprintf (NULL, 0, "uav 99 0 0 0 %zu\n", clen);
-    assert_int_equal (blen, first);
-    assert_memory_equal (buf, text, first);
+    assert_int_equal (blen, first_len);
+    assert_memory_equal (buf, first, first_len);
     free (buf);
-    free (text);
+    free (first);
+    free (state_buf);
     free (core);
     s_fx_free (&fx);
 }
@@ -1117,19 +1146,54 @@ static void test_restore_earlier_format (void **state)
 static void test_restore_damaged (void **state)
 {
     (void)state;
-    const char *head = "guidanced 1\nclient guidanced@9.000009 5 0 1\n";
+    // Frames: counters cut short; a UAV record claiming more bytes than
+    // there are; a count of 1 with no record; a record whose intercept
+    // checkpoint is not one.
+    cgs_ckpt_writer_t w;
+    uint8_t *frames[4] = {NULL};
+    size_t flen[4] = {0};
+    for (int k = 0; k < 4; k++) {
+        cgs_ckpt_writer_init (&w, "GDST", 1);
+        cgs_ckpt_put_str (&w, "guidanced@9.000009");
+        if (k > 0) {
+            cgs_ckpt_put_u64 (&w, 5);
+            cgs_ckpt_put_u64 (&w, 0);
+            cgs_ckpt_put_bool (&w, true);
+            cgs_ckpt_put_u32 (&w, 1);
+        }
+        if (k == 1 || k == 3) {
+            cgs_ckpt_put_u32 (&w, 1);
+            for (int i = 0; i < 3; i++)
+                cgs_ckpt_put_u64 (&w, 0);
+        }
+        if (k == 1) {
+            cgs_ckpt_put_u64 (&w, 999);
+            cgs_ckpt_put_u8 (&w, 'a');
+        }
+        if (k == 3)
+            cgs_ckpt_put_bytes (&w, "hello", 5);
+        assert_int_equal (cgs_ckpt_writer_finish (&w, &frames[k], &flen[k]), 0);
+    }
+    const char *old = "guidanced 1\nclient guidanced@9.000009 5 0 1\nuav 1 0 0 0 5\nhello";
     struct {
-        const char *text;
+        const void *buf;
+        size_t len;
+        int rc;
         const char *reason;
     } cases[] = {
-        {"not a state\n", "not a guidanced state (header \"not a state\")"},
-        {"guidanced 1", "not a guidanced state (truncated header)"},
-        {"guidanced 1\n", "not a guidanced state (truncated header)"},
-        {"guidanced 1\nclient x y\n", "not a guidanced state (bad counters line)"},
-        {"uav 1 0 0 0 999\nabc", "damaged UAV record \"uav 1 0 0 0 999\""},
-        {"uav 1 0 0", "damaged UAV record"},
-        {"uav one\n", "damaged UAV record \"uav one\""},
-        {"uav 1 0 0 0 5\nhello", NULL}, // the intercept's own reason
+        {"not a state\n", 12, -EPROTO,
+         "not a guidanced state: it begins \"not \", not \"GDST\" (another kind of file, or one "
+         "saved before mscgs's common checkpoint format)"},
+        {old, strlen (old), -EPROTO, NULL}, // the text format before cgs_ckpt
+        {"GDST\x01\x00", 6, -EINVAL, "a guidanced state truncated to 6 bytes"},
+        {"GDST\x07\x00\x00\x00", 8, -ENOTSUP,
+         "a guidanced state saved by another version of mscgs (format 7; this one reads "
+         "format 1)"},
+        {frames[0], flen[0], -EINVAL, "a guidanced state with damaged counters"},
+        {frames[1], flen[1], -EINVAL, "a guidanced state whose UAV record 1 of 1 is damaged"},
+        {frames[2], flen[2], -EINVAL, "a guidanced state whose UAV record 1 of 1 is damaged"},
+        {frames[3], flen[3], -EPROTO, NULL}, // the intercept's own reason
+        {frames[3], flen[3] - 1, -EINVAL, NULL},
     };
     for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
         s_fx_t *fx = s_fx_new (s_one);
@@ -1139,19 +1203,18 @@ static void test_restore_damaged (void **state)
         assert_int_equal (s_designate_track (fx, 1, 7, &r), 0);
         (void)s_next (fx);
         assert_int_equal (gd_adapter_last_number (fx->gd), 1);
-        char text[256];
-        if (strncmp (cases[k].text, "uav", 3) == 0)
-            snprintf (text, sizeof text, "%s%s", head, cases[k].text);
-        else
-            snprintf (text, sizeof text, "%s", cases[k].text);
         char err[256] = "";
-        int rc = gd_adapter_restore (fx->gd, (const uint8_t *)text, strlen (text), err, sizeof err);
-        if (rc != -EPROTO)
-            fail_msg ("case %zu: %d, expected -EPROTO", k, rc);
+        int rc = gd_adapter_restore (fx->gd, cases[k].buf, cases[k].len, err, sizeof err);
+        if (rc != cases[k].rc)
+            fail_msg ("case %zu: %d, expected %d (%s)", k, rc, cases[k].rc, err);
         if (cases[k].reason)
             assert_string_equal (err, cases[k].reason);
         else
             assert_true (strlen (err) > 0);
+        if (k == 1)
+            assert_non_null (strstr (err, "it begins \"guid\""));
+        if (k == 7)
+            assert_non_null (strstr (err, "UAV 1: "));
         // Idle, as after gd_adapter_reset; its client id and numbering kept.
         assert_int_equal (s_status (fx, 0).phase, GD_IDLE);
         assert_int_equal (s_status (fx, 0).track_id, 0);
@@ -1173,6 +1236,8 @@ static void test_restore_damaged (void **state)
         s_fx_free (&fresh);
         s_fx_free (&fx);
     }
+    for (int k = 0; k < 4; k++)
+        free (frames[k]);
 }
 
 static void test_reset_and_names (void **state)
@@ -1242,7 +1307,7 @@ int main (void)
         cmocka_unit_test (test_script),
         cmocka_unit_test (test_script_skipped),
         cmocka_unit_test (test_save_restore),
-        cmocka_unit_test (test_restore_earlier_format),
+        cmocka_unit_test (test_restore_unknown_uav),
         cmocka_unit_test (test_restore_damaged),
         cmocka_unit_test (test_reset_and_names),
     };

@@ -68,6 +68,9 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "cgs_ckpt.h"
+#include "cgs_util.h"
+#include "gd_checkpoint.h"
 #include "gd_geom.h"
 #include "gd_intercept.h"
 #include "gd_params.h"
@@ -1263,45 +1266,72 @@ static void s_assert_same_status (const gd_intercept_t *a, const gd_intercept_t 
         assert_memory_equal (ta->points, tb->points, ta->count * sizeof ta->points[0]);
 }
 
-/* A copy of buf with the first occurrence of from replaced by to (NUL-terminated). */
-static char *s_replace (const uint8_t *buf, size_t len, const char *from, const char *to,
-                        size_t *ret_len)
+/* Where records are in an intercept's checkpoint (gd_checkpoint.c's
+ * layout): the fixed ones from the payload's start, those after the
+ * track's history found from the counts before them. */
+#define CK_P             CGS_CKPT_HEAD // the payload
+#define CK_SCALE         (CK_P + 1)
+#define CK_HAVE_UAV      (CK_P + 5)
+#define CK_PHASE         (CK_P + 118)
+#define CK_HISTORY_COUNT (CK_P + 204)
+
+static uint32_t s_u32_at (const uint8_t *b)
 {
-    char *s = malloc (len + 1);
-    assert_non_null (s);
-    memcpy (s, buf, len);
-    s[len] = '\0';
-    char *at = strstr (s, from);
-    if (!at)
-        fail_msg ("\"%s\" is not in the saved text", from);
-    size_t head = (size_t)(at - s), fl = strlen (from), tl = strlen (to);
-    char *out = malloc (len - fl + tl + 1);
+    return (uint32_t)b[0] | (uint32_t)b[1] << 8 | (uint32_t)b[2] << 16 | (uint32_t)b[3] << 24;
+}
+
+/* The held record (u8 holding, u8 latest status, ...). */
+static size_t s_held_at (const uint8_t *buf)
+{
+    return CK_P + 208 + 24 * (size_t)s_u32_at (buf + CK_HISTORY_COUNT);
+}
+
+/* The confirm record (u8 confirming, u32 samples, f64, then the samples). */
+static size_t s_confirm_at (const uint8_t *buf)
+{
+    return s_held_at (buf) + 75 + 122 + 54; // past held, plan, approach
+}
+
+/* The task record (u64 number, u8 kind, u32 count, then the points). */
+static size_t s_task_at (const uint8_t *buf)
+{
+    size_t c = s_confirm_at (buf);
+    return c + 13 + 88 * (size_t)s_u32_at (buf + c + 1);
+}
+
+/* A copy of buf with n bytes at offset at replaced by bytes, sealed again
+ * (its checksum recomputed), so only the decoder can refuse it. */
+static uint8_t *s_forge (const uint8_t *buf, size_t len, size_t at, const void *bytes, size_t n)
+{
+    assert_true (at + n <= len - CGS_CKPT_TAIL);
+    uint8_t *out = malloc (len);
     assert_non_null (out);
-    memcpy (out, s, head);
-    memcpy (out + head, to, tl);
-    memcpy (out + head + tl, at + fl, len - head - fl + 1);
-    free (s);
-    *ret_len = len - fl + tl;
+    memcpy (out, buf, len);
+    memcpy (out + at, bytes, n);
+    uint32_t crc = cgs_crc32 (out + CGS_CKPT_HEAD, len - CGS_CKPT_HEAD - CGS_CKPT_TAIL);
+    for (int i = 0; i < 4; i++)
+        out[len - 4 + i] = (uint8_t)(crc >> (8 * i));
     return out;
 }
 
 static void s_save (const gd_intercept_t *ic, uint8_t **ret, size_t *ret_len)
 {
-    assert_int_equal (gd_intercept_save (ic, ret, ret_len), 0);
+    assert_int_equal (gd_checkpoint_save (ic, ret, ret_len), 0);
     assert_non_null (*ret);
     assert_true (*ret_len > 0);
 }
 
-/* Restore damaged text into victim: -EPROTO, a reason, victim unchanged
- * (its own save is byte for byte what it was). */
-static void s_damaged (gd_intercept_t *victim, const void *buf, size_t len, const char *want)
+/* Restore a damaged checkpoint into victim: rc, a reason with want in it,
+ * victim unchanged (its own save is byte for byte what it was). */
+static void s_damaged (gd_intercept_t *victim, const void *buf, size_t len, int rc,
+                       const char *want)
 {
     uint8_t *before, *after;
     size_t nb, na;
     s_save (victim, &before, &nb);
     char err[256] = "";
-    assert_int_equal (gd_intercept_restore (victim, buf, len, err, sizeof err), -EPROTO);
-    assert_has (err, "not a guidanced intercept");
+    assert_int_equal (gd_checkpoint_restore (victim, buf, len, err, sizeof err), rc);
+    assert_has (err, "guidanced intercept checkpoint");
     assert_has (err, want);
     s_save (victim, &after, &na);
     assert_int_equal (na, nb);
@@ -1333,12 +1363,12 @@ static void test_save_restore (void **state)
     s_save (a, &buf, &len);
     gd_intercept_t *b = s_new (&p);
     char err[256] = "";
-    if (gd_intercept_restore (b, buf, len, err, sizeof err) != 0)
+    if (gd_checkpoint_restore (b, buf, len, err, sizeof err) != 0)
         fail_msg ("restore failed: %s", err);
     s_assert_same_status (a, b);
     assert_int_equal (s_status (b).display_scale, 5);
     assert_near (gd_intercept_turn_radius (b), gd_intercept_turn_radius (a), 0);
-    // Saved again, the text is the same.
+    // Saved again, the checkpoint is the same.
     uint8_t *buf2;
     size_t len2;
     s_save (b, &buf2, &len2);
@@ -1363,46 +1393,49 @@ static void test_save_restore (void **state)
     s_assert_same_status (a, b);
     assert_int_equal (s_status (a).replans, 3);
 
-    // Damaged text into an intercept of its own (track 9 designated).
+    // Damaged checkpoints into an intercept of its own (track 9 designated).
     gd_intercept_t *c = s_new (&p);
     gd_intercept_uav (c, &u);
     gd_track_t t9 = s_track (9, CGS_TRACK_CONFIRMED, 110, 5000, 5000, 0, 10);
     s_designate (c, &t9, 110);
-    s_damaged (c, buf, len / 2, "line");
-    s_damaged (c, buf, len - 4, "end"); // "end\n" cut off
-    s_damaged (c, buf, 0, "line 0");
-    s_damaged (c, "", 0, "the header");
-    size_t n;
-    // The format is version 2; version 1 (no held, confirm, sample records) is refused.
-    char *bad = s_replace (buf, len, "gd_intercept 2\n", "gd_intercept 1\n", &n);
-    s_damaged (c, bad, n, "line 1: bad or missing the header");
+    s_damaged (c, buf, len / 2, -EINVAL, "truncated");
+    s_damaged (c, buf, len - 4, -EINVAL, "truncated"); // the CRC cut off
+    s_damaged (c, buf, 0, -EINVAL, "no bytes");
+    s_damaged (c, "", 0, -EINVAL, "no bytes");
+    uint8_t *bad = malloc (len);
+    memcpy (bad, buf, len);
+    bad[len / 3] ^= 0x04;
+    s_damaged (c, bad, len, -EBADMSG, "checksum");
     free (bad);
-    bad = s_replace (buf, len, "settings 0 5\n", "settings 0 3\n", &n); // no such scale
-    s_damaged (c, bad, n, "line 2: bad or missing settings");
+    // The format is version 1 of its kind; another version is refused.
+    bad = s_forge (buf, len, 0, "GDIC\x02", 5);
+    s_damaged (c, bad, len, -ENOTSUP, "another version");
     free (bad);
-    char from[64], to[64];
-    snprintf (from, sizeof from, "\ndesignation %d ", (int)sa.phase);
-    bad = s_replace (buf, len, from, "\ndesignation x ", &n);
-    s_damaged (c, bad, n, "line 4: bad or missing designation");
+    // The text this intercept saved before cgs_ckpt is refused, not misread.
+    const char old[] = "gd_intercept 2\nsettings 0 5\nuav 1 110 0 0 380 5 0 0 30 38 400 "
+                       "30 45 20 15\n";
+    s_damaged (c, old, sizeof old - 1, -EPROTO, "it begins \"gd_i\"");
+    bad = s_forge (buf, len, CK_SCALE, "\x03\x00\x00\x00", 4); // no such scale
+    s_damaged (c, bad, len, -EINVAL, "bad or missing settings");
     free (bad);
-    bad = s_replace (buf, len, "\ndesignation ", "\ndesignation 99", &n); // phase 99x: no such
-    s_damaged (c, bad, n, "designation");
+    bad = s_forge (buf, len, CK_PHASE, "\x63", 1); // phase 99: no such
+    s_damaged (c, bad, len, -EINVAL, "bad or missing designation");
     free (bad);
-    bad = s_replace (buf, len, "\npoint ", "\npoint nan ", &n);
-    s_damaged (c, bad, n, "a route point");
+    bad = s_forge (buf, len, CK_HAVE_UAV, "\x02", 1); // a flag neither 0 nor 1
+    s_damaged (c, bad, len, -EINVAL, "bad or missing uav");
     free (bad);
-    bad = s_replace (buf, len, "\nuav 1 ", "\nuav 1 x", &n);
-    s_damaged (c, bad, n, "line 3: bad or missing uav");
+    const double nan = NAN;
+    bad = s_forge (buf, len, s_task_at (buf) + 13, &nan, 8); // the first route point
+    s_damaged (c, bad, len, -EINVAL, "a route point");
     free (bad);
     // The task record (a route, kind 1) with kind 7.
-    snprintf (from, sizeof from, "\ntask %llu 1 ", saved_task);
-    snprintf (to, sizeof to, "\ntask %llu 7 ", saved_task);
-    bad = s_replace (buf, len, from, to, &n);
-    s_damaged (c, bad, n, "task");
+    assert_int_equal (buf[s_task_at (buf) + 8], 1);
+    bad = s_forge (buf, len, s_task_at (buf) + 8, "\x07", 1);
+    s_damaged (c, bad, len, -EINVAL, "task");
     free (bad);
-    // The intercept restored from the good text still works after all that.
+    // The intercept restored from the good checkpoint still works after all that.
     char err2[256] = "";
-    assert_int_equal (gd_intercept_restore (c, buf, len, err2, sizeof err2), 0);
+    assert_int_equal (gd_checkpoint_restore (c, buf, len, err2, sizeof err2), 0);
     free (buf);
     gd_intercept_destroy (&a);
     gd_intercept_destroy (&b);
@@ -2103,14 +2136,14 @@ static void test_deleted_lost (void **state)
 /* ---- save and restore of holding and confirming ------------------------------------------- */
 
 /* Restore a's save into a new intercept; the restored one saves the same
- * text and shows the same status. The text in *ret_buf (caller frees). */
+ * bytes and shows the same status. The checkpoint in *ret_buf (caller frees). */
 static gd_intercept_t *s_round_trip (const gd_params_t *p, const gd_intercept_t *a,
                                      uint8_t **ret_buf, size_t *ret_len)
 {
     s_save (a, ret_buf, ret_len);
     gd_intercept_t *b = s_new (p);
     char err[256] = "";
-    if (gd_intercept_restore (b, *ret_buf, *ret_len, err, sizeof err) != 0)
+    if (gd_checkpoint_restore (b, *ret_buf, *ret_len, err, sizeof err) != 0)
         fail_msg ("restore failed: %s", err);
     s_assert_same_status (a, b);
     uint8_t *again;
@@ -2144,7 +2177,9 @@ static void test_save_restore_holding (void **state)
     uint8_t *buf, *buf2;
     size_t len, len2;
     gd_intercept_t *b = s_round_trip (&p, a, &buf, &len);
-    assert_non_null (memmem (buf, len, "\nheld 1 1 ", 10)); // holding, the latest update confirmed
+    size_t held = s_held_at (buf);
+    assert_int_equal (buf[held], 1);     // holding,
+    assert_int_equal (buf[held + 1], 1); // the latest update confirmed
 
     gd_intercept_t *both[2] = {a, b};
     for (int i = 0; i < 2; i++)
@@ -2178,7 +2213,8 @@ static void test_save_restore_holding (void **state)
     // that ends the coast is held in both.
     gd_intercept_t *a3 = s_coasting (&p);
     gd_intercept_t *b3 = s_round_trip (&p, a3, &buf2, &len2);
-    assert_non_null (memmem (buf2, len2, "\nheld 0 2 ", 10));
+    assert_int_equal (buf2[s_held_at (buf2)], 0);     // not holding,
+    assert_int_equal (buf2[s_held_at (buf2) + 1], 2); // the latest update coasting
     free (buf2);
     gd_intercept_t *pair[2] = {a3, b3};
     for (int i = 0; i < 2; i++)
@@ -2196,12 +2232,14 @@ static void test_save_restore_holding (void **state)
     // Damaged: the held record's latest status out of range; a confirm
     // record with 2 samples (0 or 3 only).
     gd_intercept_t *v = s_crossing (&p, 9);
-    size_t n;
-    char *bad = s_replace (buf, len, "\nheld 1 1 ", "\nheld 1 7 ", &n);
-    s_damaged (v, bad, n, "held");
+    uint8_t *bad = s_forge (buf, len, held + 1, "\x07", 1);
+    s_damaged (v, bad, len, -EINVAL, "held");
     free (bad);
-    bad = s_replace (buf, len, "\nconfirm 0 0 ", "\nconfirm 0 2 ", &n);
-    s_damaged (v, bad, n, "confirm");
+    size_t conf = s_confirm_at (buf);
+    assert_int_equal (buf[conf], 0);
+    assert_int_equal (s_u32_at (buf + conf + 1), 0);
+    bad = s_forge (buf, len, conf + 1, "\x02", 1);
+    s_damaged (v, bad, len, -EINVAL, "confirm");
     free (bad);
     free (buf);
     gd_intercept_destroy (&a);
@@ -2223,7 +2261,9 @@ static void test_save_restore_confirming (void **state)
     uint8_t *buf;
     size_t len;
     gd_intercept_t *b = s_round_trip (&p, a, &buf, &len);
-    assert_non_null (memmem (buf, len, "\nconfirm 1 3 ", 13));
+    size_t conf = s_confirm_at (buf);
+    assert_int_equal (buf[conf], 1);                 // confirming,
+    assert_int_equal (s_u32_at (buf + conf + 1), 3); // three samples
     gd_track_t out = s_confirming_update (gd_v2 (600, 0));
     gd_intercept_track (a, &out);
     gd_intercept_track (b, &out);
@@ -2236,16 +2276,16 @@ static void test_save_restore_confirming (void **state)
     a = s_overflown (&p, &n);
     b = s_new (&p);
     char err[256] = "";
-    assert_int_equal (gd_intercept_restore (b, buf, len, err, sizeof err), 0);
+    assert_int_equal (gd_checkpoint_restore (b, buf, len, err, sizeof err), 0);
     gd_track_t in = s_confirming_update (gd_v2 (0, 0));
     gd_intercept_track (a, &in);
     gd_intercept_track (b, &in);
     s_assert_same_status (a, b);
     assert_int_equal (s_status (b).phase, GD_DONE);
 
-    size_t bn;
-    char *bad = s_replace (buf, len, "\nsample ", "\nsample nan ", &bn);
-    s_damaged (b, bad, bn, "a sample");
+    const double nan = NAN;
+    uint8_t *bad = s_forge (buf, len, conf + 13, &nan, 8); // the first sample's time
+    s_damaged (b, bad, len, -EINVAL, "a sample");
     free (bad);
     free (buf);
     gd_intercept_destroy (&a);

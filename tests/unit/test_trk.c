@@ -8,7 +8,10 @@
  * search; association, M of N, coasting, deletion, crossing targets, sector
  * coverage, identity from BCIS and its ageing, the checkpoint; the
  * parameter file. */
+#include "cgs_ckpt.h"
+#include "cgs_util.h"
 #include "trk_assign.h"
+#include "trk_checkpoint.h"
 #include "trk_filter.h"
 #include "trk_mc.h"
 #include "trk_params.h"
@@ -541,10 +544,10 @@ static void test_history (void **state)
     uint8_t *buf;
     size_t len;
     char err[256];
-    assert_int_equal (trk_tracker_save (t, &buf, &len), 0);
+    assert_int_equal (trk_checkpoint_save (t, &buf, &len), 0);
     p.history_scans = 20;
     trk_tracker_t *u = trk_tracker_new (&p);
-    assert_int_equal (trk_tracker_restore (u, buf, len, err, sizeof err), 0);
+    assert_int_equal (trk_checkpoint_restore (u, buf, len, err, sizeof err), 0);
     tr = trk_tracker_at (u, 0);
     assert_int_equal (tr->history_count, 20);
     assert_int_equal (tr->history[0].scan_number, 20);
@@ -884,6 +887,14 @@ static void test_identity_per_radar (void **state)
 
 /* ---- checkpoint ------------------------------------------------------------------- */
 
+/* Seal a forged checkpoint again: its payload's CRC-32 in the last 4 bytes. */
+static void s_reseal (uint8_t *b, size_t len)
+{
+    uint32_t c = cgs_crc32 (b + CGS_CKPT_HEAD, len - CGS_CKPT_HEAD - CGS_CKPT_TAIL);
+    for (int i = 0; i < 4; i++)
+        b[len - 4 + i] = (uint8_t)(c >> (8 * i));
+}
+
 static void test_checkpoint_keeps_ids (void **state)
 {
     (void)state;
@@ -898,12 +909,12 @@ static void test_checkpoint_keeps_ids (void **state)
     s_fix (t, 75, 3000, 600, 42);
     uint8_t *buf;
     size_t len;
-    assert_int_equal (trk_tracker_save (t, &buf, &len), 0);
+    assert_int_equal (trk_checkpoint_save (t, &buf, &len), 0);
     uint32_t saved_next = trk_tracker_next_id (t);
     // A fresh tracker (a restarted trackerd) takes it whole.
     trk_tracker_t *u = trk_tracker_new (&p);
     char err[256];
-    assert_int_equal (trk_tracker_restore (u, buf, len, err, sizeof err), 0);
+    assert_int_equal (trk_checkpoint_restore (u, buf, len, err, sizeof err), 0);
     assert_int_equal (trk_tracker_count (u), trk_tracker_count (t));
     assert_int_equal (trk_tracker_next_id (u), trk_tracker_next_id (t));
     for (size_t i = 0; i < trk_tracker_count (t); i++) {
@@ -922,28 +933,41 @@ static void test_checkpoint_keeps_ids (void **state)
     }
     // Damage is refused with a reason and leaves the tracker as it was.
     size_t before = trk_tracker_count (u);
-    assert_int_equal (trk_tracker_restore (u, buf, len - 3, err, sizeof err), -EPROTO);
-    assert_non_null (strstr (err, "damaged"));
-    assert_int_equal (
-        trk_tracker_restore (u, (const uint8_t *)"garbage!garbage!garbage!", 24, err, sizeof err),
-        -EPROTO);
+    assert_int_equal (trk_checkpoint_restore (u, buf, len - 3, err, sizeof err), -EINVAL);
+    assert_non_null (strstr (err, "truncated"));
+    assert_int_equal (trk_checkpoint_restore (u, (const uint8_t *)"garbage!garbage!garbage!", 24,
+                                              err, sizeof err),
+                      -EPROTO);
     assert_non_null (strstr (err, "not a trackerd checkpoint"));
     uint8_t *bad = malloc (len + 8);
     memcpy (bad, buf, len);
     memcpy (bad + len, "12345678", 8);
-    assert_int_equal (trk_tracker_restore (u, bad, len + 8, err, sizeof err), -EPROTO);
-    assert_non_null (strstr (err, "too many"));
+    assert_int_equal (trk_checkpoint_restore (u, bad, len + 8, err, sizeof err), -EINVAL);
+    assert_non_null (strstr (err, "past its end"));
     memcpy (bad, buf, len);
-    bad[8] = 9; // version
-    assert_int_equal (trk_tracker_restore (u, bad, len, err, sizeof err), -EPROTO);
+    bad[len / 2] ^= 0x10;
+    assert_int_equal (trk_checkpoint_restore (u, bad, len, err, sizeof err), -EBADMSG);
+    assert_non_null (strstr (err, "checksum"));
     memcpy (bad, buf, len);
-    bad[12] = 1, bad[13] = bad[14] = bad[15] = 0; // next id 1: below the ids in use
-    assert_int_equal (trk_tracker_restore (u, bad, len, err, sizeof err), -EPROTO);
+    bad[4] = 9; // version
+    assert_int_equal (trk_checkpoint_restore (u, bad, len, err, sizeof err), -ENOTSUP);
+    assert_non_null (strstr (err, "another version"));
+    memcpy (bad, buf, len);
+    const size_t pl = CGS_CKPT_HEAD;                          // the payload: next id first
+    bad[pl] = 1, bad[pl + 1] = bad[pl + 2] = bad[pl + 3] = 0; // next id 1: below the ids in use
+    s_reseal (bad, len);
+    assert_int_equal (trk_checkpoint_restore (u, bad, len, err, sizeof err), -EINVAL);
     assert_non_null (strstr (err, "inconsistent"));
+    // A checkpoint of the format before cgs_ckpt ("MSCGSTRK", version 2):
+    // refused naming what it found, its ids not salvaged.
+    uint8_t old[64] = "MSCGSTRK\x02\x00\x00\x00\x07\x00\x00\x00\x00\x00\x00\x00";
+    assert_int_equal (trk_checkpoint_restore (u, old, sizeof old, err, sizeof err), -EPROTO);
+    assert_non_null (strstr (err, "it begins \"MSCG\""));
+    uint32_t next = 0;
+    assert_int_equal (trk_checkpoint_next_id (old, sizeof old, &next), -EPROTO);
     assert_int_equal (trk_tracker_count (u), before);
     // Ids a refused checkpoint gave are not given again: its header still names the next.
-    uint32_t next = 0;
-    assert_int_equal (trk_tracker_checkpoint_next_id (buf, len - 3, &next), 0);
+    assert_int_equal (trk_checkpoint_next_id (buf, len - 3, &next), 0);
     assert_int_equal (next, saved_next);
     trk_tracker_t *fresh = trk_tracker_new (&p);
     trk_tracker_raise_next_id (fresh, next);
@@ -951,8 +975,8 @@ static void test_checkpoint_keeps_ids (void **state)
     trk_tracker_raise_next_id (fresh, 1); // never lowered
     assert_int_equal (trk_tracker_next_id (fresh), next);
     assert_int_equal (
-        trk_tracker_checkpoint_next_id ((const uint8_t *)"garbage!garbage!garbage!", 24, &next),
-        -EPROTO);
+        trk_checkpoint_next_id ((const uint8_t *)"garbage!garbage!garbage!", 24, &next), -EPROTO);
+    assert_int_equal (trk_checkpoint_next_id (buf, 18, &next), -EINVAL); // no whole id
     trk_tracker_destroy (&fresh);
     free (bad);
     free (buf);

@@ -10,7 +10,10 @@
  * identity carried to a new track after a deletion; two crossing targets;
  * the checkpoint of the models; the existence of two tracks that share one
  * hit, weighed over the k best joint hypotheses (JIPDA). */
+#include "cgs_ckpt.h"
+#include "cgs_util.h"
 #include "mti_radar.h"
+#include "trk_checkpoint.h"
 #include "trk_imm.h"
 #include "trk_params.h"
 #include "trk_pd.h"
@@ -667,25 +670,34 @@ static void test_continuation (void **state)
     // The checkpoint keeps the models, the existence and the link.
     uint8_t *buf = NULL;
     size_t len = 0;
-    assert_int_equal (trk_tracker_save (t, &buf, &len), 0);
+    assert_int_equal (trk_checkpoint_save (t, &buf, &len), 0);
     trk_tracker_t *r = trk_tracker_new (&p);
     char err[256];
-    assert_int_equal (trk_tracker_restore (r, buf, len, err, sizeof err), 0);
+    assert_int_equal (trk_checkpoint_restore (r, buf, len, err, sizeof err), 0);
     const trk_track_t *a = trk_tracker_find (t, fresh), *b = trk_tracker_find (r, fresh);
     assert_non_null (b);
     assert_int_equal (b->continues, old);
     assert_true (memcmp (&a->imm, &b->imm, sizeof a->imm) == 0);
     assert_true (a->existence == b->existence && a->pd == b->pd);
-    // A damaged mode probability is refused.
-    size_t off = len - (8 + 8 + 4 + 4 + 8) - 8; // the last track's stopped-model probability
-    uint8_t keep[8];
-    memcpy (keep, buf + off, 8);
+    // A damaged mode probability is refused: by the checksum, and sealed
+    // again, by the decoder.
+    size_t off =
+        len - CGS_CKPT_TAIL - (8 + 8 + 1 + 4 + 8) - 8; // the last track's stopped-model probability
+    uint8_t *keep = malloc (len);
+    memcpy (keep, buf, len);
     double bad = 2;
     memcpy (buf + off, &bad, 8);
     trk_tracker_t *r2 = trk_tracker_new (&p);
-    assert_int_equal (trk_tracker_restore (r2, buf, len, err, sizeof err), -EPROTO);
-    memcpy (buf + off, keep, 8);
-    assert_int_equal (trk_tracker_restore (r2, buf, len, err, sizeof err), 0);
+    assert_int_equal (trk_checkpoint_restore (r2, buf, len, err, sizeof err), -EBADMSG);
+    uint32_t crc = cgs_crc32 (buf + CGS_CKPT_HEAD, len - CGS_CKPT_HEAD - CGS_CKPT_TAIL);
+    for (int i = 0; i < 4; i++)
+        buf[len - 4 + i] = (uint8_t)(crc >> (8 * i));
+    assert_int_equal (trk_checkpoint_restore (r2, buf, len, err, sizeof err), -EINVAL);
+    assert_non_null (strstr (err, "is damaged"));
+    assert_int_equal (trk_tracker_count (r2), 0);
+    memcpy (buf, keep, len);
+    free (keep);
+    assert_int_equal (trk_checkpoint_restore (r2, buf, len, err, sizeof err), 0);
     free (buf);
     trk_tracker_destroy (&r);
     trk_tracker_destroy (&r2);

@@ -21,12 +21,15 @@
 #include <string.h>
 
 #include "uavsim_uav.h"
+#include "cgs_ckpt.h"
 #include "cgs_util.h"
 #include "test_util.h"
 
 #define PI   3.14159265358979323846
 #define G    9.80665
 #define DT_S 0.1 // the service's step
+// A UAV checkpoint's payload without its route (uavsim_uav.c).
+#define S_PAYLOAD_FIXED (11 * 8 + 1 + 8 + 5 + 5 * 8 + 4 + 4)
 
 /* --- helpers ------------------------------------------------------------------- */
 
@@ -562,18 +565,23 @@ static void test_tasks_replace_and_speed (void **state)
 
 /* --- save and restore ---------------------------------------------------------- */
 
+/* Seal a forged frame again: its payload's CRC-32 in the last 4 bytes. */
 static void s_reseal (uint8_t *b, size_t len)
 {
-    uint32_t c = cgs_crc32 (b, len - 4);
+    uint32_t c = cgs_crc32 (b + CGS_CKPT_HEAD, len - CGS_CKPT_HEAD - CGS_CKPT_TAIL);
     for (int i = 0; i < 4; i++)
         b[len - 4 + i] = (uint8_t)(c >> (8 * i));
 }
 
+/* uav's checkpoint, copied into buf (of size bytes). */
 static size_t s_save (const uavsim_uav_model_t *uav, uint8_t *buf, size_t size)
 {
+    uint8_t *b = NULL;
     size_t len = 0;
-    assert_int_equal (uavsim_uav_save (uav, buf, size, &len), 0);
-    assert_int_equal (len, uavsim_uav_save_size (uav));
+    assert_int_equal (uavsim_uav_save (uav, &b, &len), 0);
+    assert_true (len <= size);
+    memcpy (buf, b, len);
+    free (b);
     return len;
 }
 
@@ -595,13 +603,14 @@ static void test_save_restore (void **state)
 
     static uint8_t buf[4096], buf2[4096], buf3[4096];
     size_t len = s_save (a, buf, sizeof buf);
-    size_t dummy = 12345;
-    assert_int_equal (uavsim_uav_save (a, buf, len - 1, &dummy), -ENOBUFS);
-    assert_int_equal (dummy, 12345);
+    // The frame: a fixed payload and the route's points.
+    assert_int_equal (len, CGS_CKPT_HEAD + S_PAYLOAD_FIXED + 3 * 24 + CGS_CKPT_TAIL);
+    assert_memory_equal (buf, "UUAV", 4);
 
     // Restore into a UAV somewhere else doing something else.
     uavsim_uav_model_t *b = s_uav (&p, -9000, 7000, 3000, 270, 22, 900);
-    assert_int_equal (uavsim_uav_restore (b, buf, len), 0);
+    char err[256] = "";
+    assert_int_equal (uavsim_uav_restore (b, buf, len, err, sizeof err), 0);
     assert_int_equal (s_save (b, buf2, sizeof buf2), len);
     assert_memory_equal (buf, buf2, len);
 
@@ -618,42 +627,51 @@ static void test_save_restore (void **state)
     assert_int_equal (la, lb);
     assert_memory_equal (buf2, buf3, la);
 
-    // Damage: every single-bit flip, every truncation, trailing bytes.
+    // Damage: every single-bit flip (refused by the frame: magic, version,
+    // length, else the checksum), every truncation, trailing bytes.
     size_t before = s_save (b, buf3, sizeof buf3);
     for (size_t i = 0; i < len; i++)
         for (int bit = 0; bit < 8; bit++) {
             buf[i] ^= (uint8_t)(1u << bit);
-            assert_int_equal (uavsim_uav_restore (b, buf, len), -EPROTO);
+            int want = i < 4 ? -EPROTO : i < 8 ? -ENOTSUP : i < 16 ? -EINVAL : -EBADMSG;
+            assert_int_equal (uavsim_uav_restore (b, buf, len, err, sizeof err), want);
             buf[i] ^= (uint8_t)(1u << bit);
         }
     for (size_t l = 0; l < len; l++)
-        assert_int_equal (uavsim_uav_restore (b, buf, l), -EPROTO);
+        assert_int_equal (uavsim_uav_restore (b, buf, l, err, sizeof err), -EINVAL);
     buf[len] = 0;
-    assert_int_equal (uavsim_uav_restore (b, buf, len + 1), -EPROTO);
+    assert_int_equal (uavsim_uav_restore (b, buf, len + 1, err, sizeof err), -EINVAL);
     // Well sealed but wrong: version, airspeed, flags, route index past the end.
+    const size_t pl = CGS_CKPT_HEAD; // the payload's first byte
     uint8_t forged[4096];
     memcpy (forged, buf, len);
     forged[4] = 2;
-    s_reseal (forged, len);
-    assert_int_equal (uavsim_uav_restore (b, forged, len), -EPROTO);
+    assert_int_equal (uavsim_uav_restore (b, forged, len, err, sizeof err), -ENOTSUP);
+    assert_non_null (strstr (err, "another version"));
     memcpy (forged, buf, len);
-    forged[12 + 4 * 8 + 7] = 0xC0; // airspeed's sign and exponent: -2.x
+    forged[pl + 4 * 8 + 7] = 0xC0; // airspeed's sign and exponent: -2.x
     s_reseal (forged, len);
-    assert_int_equal (uavsim_uav_restore (b, forged, len), -EPROTO);
+    assert_int_equal (uavsim_uav_restore (b, forged, len, err, sizeof err), -EINVAL);
+    assert_non_null (strstr (err, "values no UAV can have"));
     memcpy (forged, buf, len);
-    forged[12 + 11 * 8] = 2; // have_terrain neither 0 nor 1
+    forged[pl + 11 * 8] = 2; // have_terrain neither 0 nor 1
     s_reseal (forged, len);
-    assert_int_equal (uavsim_uav_restore (b, forged, len), -EPROTO);
+    assert_int_equal (uavsim_uav_restore (b, forged, len, err, sizeof err), -EINVAL);
     memcpy (forged, buf, len);
-    forged[12 + 11 * 8 + 1 + 8 + 5 + 5 * 8 + 4] = 9; // index 9 of 3 points
+    forged[pl + 11 * 8 + 1 + 8 + 5 + 5 * 8 + 4] = 9; // index 9 of 3 points
     s_reseal (forged, len);
-    assert_int_equal (uavsim_uav_restore (b, forged, len), -EPROTO);
+    assert_int_equal (uavsim_uav_restore (b, forged, len, err, sizeof err), -EINVAL);
     memcpy (forged, buf, len);
     s_reseal (forged, len); // resealing an intact state changes nothing: still good
-    assert_int_equal (uavsim_uav_restore (b, forged, len), 0);
-    assert_int_equal (uavsim_uav_restore (b, buf3, before), 0); // back to where b was
-    assert_int_equal (uavsim_uav_restore (b, NULL, 0), -EPROTO);
-    assert_int_equal (uavsim_uav_restore (NULL, buf, len), -EINVAL);
+    assert_int_equal (uavsim_uav_restore (b, forged, len, err, sizeof err), 0);
+    // Back to where b was.
+    assert_int_equal (uavsim_uav_restore (b, buf3, before, err, sizeof err), 0);
+    assert_int_equal (uavsim_uav_restore (b, NULL, 0, err, sizeof err), -EINVAL);
+    assert_int_equal (uavsim_uav_restore (NULL, buf, len, err, sizeof err), -EINVAL);
+    // A checkpoint of the format before cgs_ckpt ("UAVS", version 1) is refused.
+    memcpy (forged, "UAVS\x01\x00\x00\x00", 8);
+    assert_int_equal (uavsim_uav_restore (b, forged, len, err, sizeof err), -EPROTO);
+    assert_non_null (strstr (err, "it begins \"UAVS\""));
     // Failed restores left b as it was.
     assert_int_equal (s_save (b, buf2, sizeof buf2), before);
     assert_memory_equal (buf2, buf3, before);

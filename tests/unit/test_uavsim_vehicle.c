@@ -5,7 +5,7 @@
  * the corner; heights and attitude on a sloping plane; start time; stop, loop
  * and reverse; halts on route points (timed from the same allowances, on
  * every lap and pass); seeded wander within its bound; exact checkpoint and
- * restore, in a halt and from a checkpoint written before halts existed. */
+ * restore, in a halt; checkpoints of the formats before cgs_ckpt refused. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -19,6 +19,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "cgs_ckpt.h"
 #include "cgs_terrain.h"
 #include "cgs_util.h"
 #include "uavsim_vehicle.h"
@@ -31,6 +32,12 @@
 #define ACC_MPS2  1.5  // default acceleration
 #define DEC_MPS2  2.0  // default deceleration
 #define CUT_M     10.0 // default corner cut
+// A vehicle checkpoint (uavsim_vehicle.c): its bytes, and where fields are.
+#define CK_BYTES   (CGS_CKPT_HEAD + 172 + CGS_CKPT_TAIL)
+#define CK_PHASE   (CGS_CKPT_HEAD + 8)
+#define CK_ELEMENT (CGS_CKPT_HEAD + 16)
+#define CK_SPEED   (CGS_CKPT_HEAD + 36)
+#define CK_HALT    (CGS_CKPT_HEAD + 164)
 
 /* The test route: east 1000 m at 10 m/s, a right angle (left) onto north 800 m
  * at 8 m/s, a 150-degree turn (left) onto 600 m at 6 m/s heading 210. */
@@ -766,11 +773,13 @@ static void s_check_restore (const uavsim_vehicle_params_t *p, double t_save, do
     int i = 0;
     for (; i * DT_S < t_save; i++)
         assert_int_equal (uavsim_vehicle_step (a, i * DT_S, DT_S), 0);
-    uint8_t buf[512];
+    uint8_t *buf = NULL;
     size_t n = 0;
-    assert_int_equal (uavsim_vehicle_save (a, buf, sizeof buf, &n), 0);
-    assert_int_equal (n, uavsim_vehicle_save_size (a));
-    assert_int_equal (uavsim_vehicle_restore (b, buf, n), 0);
+    assert_int_equal (uavsim_vehicle_save (a, &buf, &n), 0);
+    assert_int_equal (n, CK_BYTES);
+    char err[256] = "";
+    assert_int_equal (uavsim_vehicle_restore (b, buf, n, err, sizeof err), 0);
+    free (buf);
     uavsim_vehicle_state_t sa = s_state (a), sb = s_state (b);
     assert_true (s_same (&sa, &sb));
     uint64_t lap0 = sa.lap;
@@ -824,6 +833,26 @@ static void test_save_restore (void **state)
     uavsim_vehicle_destroy (&probe);
 }
 
+/* Seal a forged checkpoint again: its payload's CRC-32 in the last 4 bytes. */
+static void s_reseal (uint8_t *b, size_t n)
+{
+    uint32_t crc = cgs_crc32 (b + CGS_CKPT_HEAD, n - CGS_CKPT_HEAD - CGS_CKPT_TAIL);
+    for (int i = 0; i < 4; i++)
+        b[n - 4 + i] = (uint8_t)(crc >> (8 * i));
+}
+
+/* v's checkpoint, copied into buf (CK_BYTES of it). */
+static size_t s_save_into (const uavsim_vehicle_t *v, uint8_t *buf)
+{
+    uint8_t *b = NULL;
+    size_t n = 0;
+    assert_int_equal (uavsim_vehicle_save (v, &b, &n), 0);
+    assert_int_equal (n, CK_BYTES);
+    memcpy (buf, b, n);
+    free (b);
+    return n;
+}
+
 static void test_restore_damaged (void **state)
 {
     (void)state;
@@ -837,46 +866,47 @@ static void test_restore_damaged (void **state)
     for (int i = 0; i < 77; i++)
         uavsim_vehicle_step (b, i * DT_S, DT_S);
     uavsim_vehicle_state_t before = s_state (b);
-    uint8_t buf[512], bad[512];
-    size_t n = 0;
-    assert_int_equal (uavsim_vehicle_save (a, buf, 10, &n), -ENOSPC);
-    assert_int_equal (uavsim_vehicle_save (a, buf, sizeof buf, &n), 0);
-    // Every single-bit flip is caught, and b is left as it was.
+    uint8_t buf[CK_BYTES + 1], bad[CK_BYTES + 1];
+    size_t n = s_save_into (a, buf);
+    char err[256] = "";
+    // Every single-bit flip is caught (by the frame: magic, version, length,
+    // else the checksum), and b is left as it was.
     for (size_t i = 0; i < n; i++)
         for (int bit = 0; bit < 8; bit++) {
             memcpy (bad, buf, n);
             bad[i] ^= (uint8_t)(1u << bit);
-            assert_int_equal (uavsim_vehicle_restore (b, bad, n), -EPROTO);
+            int want = i < 4 ? -EPROTO : i < 8 ? -ENOTSUP : i < 16 ? -EINVAL : -EBADMSG;
+            assert_int_equal (uavsim_vehicle_restore (b, bad, n, err, sizeof err), want);
         }
     uavsim_vehicle_state_t after = s_state (b);
     assert_true (s_same (&before, &after));
     // Truncated, extended, missing.
-    assert_int_equal (uavsim_vehicle_restore (b, buf, n - 1), -EPROTO);
-    assert_int_equal (uavsim_vehicle_restore (b, buf, n + 1), -EPROTO);
-    assert_int_equal (uavsim_vehicle_restore (b, NULL, n), -EPROTO);
-    assert_int_equal (uavsim_vehicle_restore (b, buf, 0), -EPROTO);
+    for (size_t l = 0; l < n; l++)
+        assert_int_equal (uavsim_vehicle_restore (b, buf, l, err, sizeof err), -EINVAL);
+    buf[n] = 0;
+    assert_int_equal (uavsim_vehicle_restore (b, buf, n + 1, err, sizeof err), -EINVAL);
+    assert_int_equal (uavsim_vehicle_restore (b, NULL, n, err, sizeof err), -EINVAL);
+    assert_int_equal (uavsim_vehicle_restore (b, buf, 0, err, sizeof err), -EINVAL);
     // Well-formed but impossible: a leg past the route's end, a negative speed
     // (checksum recomputed, so only the validation can catch them).
     memcpy (bad, buf, n);
-    bad[24] = 9; // element index (offset 24)
-    uint32_t crc = cgs_crc32 (bad, n - 4);
-    for (int i = 0; i < 4; i++)
-        bad[n - 4 + i] = (uint8_t)(crc >> (8 * i));
-    assert_int_equal (uavsim_vehicle_restore (b, bad, n), -EPROTO);
+    bad[CK_ELEMENT] = 9;
+    s_reseal (bad, n);
+    assert_int_equal (uavsim_vehicle_restore (b, bad, n, err, sizeof err), -EINVAL);
+    assert_non_null (strstr (err, "no vehicle on this route can be in"));
     memcpy (bad, buf, n);
-    bad[48 + 7] ^= 0x80; // speed's sign bit (offset 48)
-    crc = cgs_crc32 (bad, n - 4);
-    for (int i = 0; i < 4; i++)
-        bad[n - 4 + i] = (uint8_t)(crc >> (8 * i));
-    assert_int_equal (uavsim_vehicle_restore (b, bad, n), -EPROTO);
+    bad[CK_SPEED + 7] ^= 0x80; // speed's sign bit
+    s_reseal (bad, n);
+    assert_int_equal (uavsim_vehicle_restore (b, bad, n, err, sizeof err), -EINVAL);
     // From a vehicle with other parameters.
     p.seed = 6;
     uavsim_vehicle_t *c = s_new (&p);
-    assert_int_equal (uavsim_vehicle_restore (c, buf, n), -EPROTO);
+    assert_int_equal (uavsim_vehicle_restore (c, buf, n, err, sizeof err), -EPROTO);
+    assert_non_null (strstr (err, "of another vehicle"));
     after = s_state (b);
     assert_true (s_same (&before, &after));
     // The intact checkpoint still restores.
-    assert_int_equal (uavsim_vehicle_restore (b, buf, n), 0);
+    assert_int_equal (uavsim_vehicle_restore (b, buf, n, err, sizeof err), 0);
     uavsim_vehicle_state_t sa = s_state (a), sb = s_state (b);
     assert_true (s_same (&sa, &sb));
     uavsim_vehicle_destroy (&a);
@@ -1250,34 +1280,29 @@ static void test_halt_save_restore (void **state)
     int i = 0;
     for (; (i + 1) * DT_S <= t_in[1]; i++)
         uavsim_vehicle_step (a, i * DT_S, DT_S);
-    uint8_t buf[512], bad[512];
-    size_t n = 0;
-    assert_int_equal (uavsim_vehicle_save (a, buf, sizeof buf, &n), 0);
-    assert_int_equal (n, 188);
+    uint8_t buf[CK_BYTES], bad[CK_BYTES];
+    size_t n = s_save_into (a, buf);
+    char err[256] = "";
     const double bad_left[] = {0, -1, 25.5, NAN};
     for (size_t k = 0; k < sizeof bad_left / sizeof bad_left[0]; k++) {
         memcpy (bad, buf, n);
         uint64_t u;
         memcpy (&u, &bad_left[k], 8);
         for (int j = 0; j < 8; j++)
-            bad[176 + j] = (uint8_t)(u >> (8 * j)); // halt left (offset 176)
-        uint32_t crc = cgs_crc32 (bad, n - 4);
-        for (int j = 0; j < 4; j++)
-            bad[n - 4 + j] = (uint8_t)(crc >> (8 * j));
-        assert_int_equal (uavsim_vehicle_restore (b, bad, n), -EPROTO);
+            bad[CK_HALT + j] = (uint8_t)(u >> (8 * j));
+        s_reseal (bad, n);
+        assert_int_equal (uavsim_vehicle_restore (b, bad, n, err, sizeof err), -EINVAL);
     }
     memcpy (bad, buf, n);
-    bad[16] = 1; // phase: driving, with a halt left
-    uint32_t crc = cgs_crc32 (bad, n - 4);
-    for (int j = 0; j < 4; j++)
-        bad[n - 4 + j] = (uint8_t)(crc >> (8 * j));
-    assert_int_equal (uavsim_vehicle_restore (b, bad, n), -EPROTO);
+    bad[CK_PHASE] = 1; // phase: driving, with a halt left
+    s_reseal (bad, n);
+    assert_int_equal (uavsim_vehicle_restore (b, bad, n, err, sizeof err), -EINVAL);
     assert_false (s_state (b).active); // untouched
     double other[] = {15, 26, 35};
     p.halt_s = other;
     uavsim_vehicle_t *c = s_new (&p);
-    assert_int_equal (uavsim_vehicle_restore (c, buf, n), -EPROTO);
-    assert_int_equal (uavsim_vehicle_restore (b, buf, n), 0);
+    assert_int_equal (uavsim_vehicle_restore (c, buf, n, err, sizeof err), -EPROTO);
+    assert_int_equal (uavsim_vehicle_restore (b, buf, n, err, sizeof err), 0);
     uavsim_vehicle_state_t sa = s_state (a), sb = s_state (b);
     assert_true (s_same (&sa, &sb) && sb.halted);
     uavsim_vehicle_destroy (&a);
@@ -1285,11 +1310,11 @@ static void test_halt_save_restore (void **state)
     uavsim_vehicle_destroy (&c);
 }
 
-/* A checkpoint written before halts existed (format 1, 180 bytes, by the
- * model of commit 564cda9: test_restore_damaged's vehicle after 1234 steps)
- * still restores, to the state the model reaches now; it is saved again in
- * format 2 with the same fields. A format-1 checkpoint cannot be in a halt. */
-static void test_restore_format_1 (void **state)
+/* Checkpoints of the formats before cgs_ckpt (format 1, 180 bytes, by the
+ * model of commit 564cda9: test_restore_damaged's vehicle after 1234 steps;
+ * format 2 the same with a halt) are refused with the reason, not misread,
+ * and leave the vehicle as it was. */
+static void test_restore_old_formats_refused (void **state)
 {
     (void)state;
     static const uint8_t old[180] = {
@@ -1310,49 +1335,25 @@ static void test_restore_format_1 (void **state)
     s_params (&p, s_route, S_ROUTE_N);
     p.deviation_m = 10;
     p.seed = 5;
-    uavsim_vehicle_t *a = s_new (&p), *b = s_new (&p);
-    for (int i = 0; i < 1234; i++)
-        uavsim_vehicle_step (a, i * DT_S, DT_S);
-    assert_int_equal (uavsim_vehicle_restore (b, old, sizeof old), 0);
-    uavsim_vehicle_state_t sa = s_state (a), sb = s_state (b);
-    print_message ("format-1 checkpoint: restored at (%.6f, %.6f) on leg %d, %.3f m/s\n", sb.e_m,
-                   sb.n_m, sb.leg, sb.speed_mps);
-    assert_true (s_same (&sa, &sb));
-    for (int i = 1234; i < 2000; i++) {
-        uavsim_vehicle_step (a, i * DT_S, DT_S);
+    uavsim_vehicle_t *b = s_new (&p);
+    for (int i = 0; i < 77; i++)
         uavsim_vehicle_step (b, i * DT_S, DT_S);
-    }
-    sa = s_state (a);
-    sb = s_state (b);
-    assert_true (s_same (&sa, &sb));
-    // Saved again: format 2, the same fields, no halt.
-    uavsim_vehicle_t *c = s_new (&p);
-    assert_int_equal (uavsim_vehicle_restore (c, old, sizeof old), 0);
-    uint8_t buf[512];
-    size_t n = 0;
-    assert_int_equal (uavsim_vehicle_save (c, buf, sizeof buf, &n), 0);
-    assert_int_equal (n, 188);
-    assert_int_equal (buf[4], 2);
-    assert_memory_equal (buf + 8, old + 8, 176 - 8);
-    for (int j = 0; j < 8; j++)
-        assert_int_equal (buf[176 + j], 0);
-    // Format 1 with the halt phase, or claiming format 2 at 180 bytes: refused.
-    uint8_t bad[180];
-    memcpy (bad, old, sizeof bad);
-    bad[16] = 4;
-    uint32_t crc = cgs_crc32 (bad, 176);
+    uavsim_vehicle_state_t before = s_state (b);
+    char err[256] = "";
+    assert_int_equal (uavsim_vehicle_restore (b, old, sizeof old, err, sizeof err), -EPROTO);
+    assert_string_equal (err, "not a vehicle checkpoint: it begins \"UVEH\", not \"UVHC\" "
+                              "(another kind of file, or one saved before mscgs's common "
+                              "checkpoint format)");
+    uint8_t v2[188] = {0};
+    memcpy (v2, old, 176);
+    v2[4] = 2; // format 2: 8 bytes of halt and the CRC after the same fields
+    uint32_t crc = cgs_crc32 (v2, 184);
     for (int j = 0; j < 4; j++)
-        bad[176 + j] = (uint8_t)(crc >> (8 * j));
-    assert_int_equal (uavsim_vehicle_restore (c, bad, sizeof bad), -EPROTO);
-    memcpy (bad, old, sizeof bad);
-    bad[4] = 2;
-    crc = cgs_crc32 (bad, 176);
-    for (int j = 0; j < 4; j++)
-        bad[176 + j] = (uint8_t)(crc >> (8 * j));
-    assert_int_equal (uavsim_vehicle_restore (c, bad, sizeof bad), -EPROTO);
-    uavsim_vehicle_destroy (&a);
+        v2[184 + j] = (uint8_t)(crc >> (8 * j));
+    assert_int_equal (uavsim_vehicle_restore (b, v2, sizeof v2, err, sizeof err), -EPROTO);
+    uavsim_vehicle_state_t after = s_state (b);
+    assert_true (s_same (&before, &after));
     uavsim_vehicle_destroy (&b);
-    uavsim_vehicle_destroy (&c);
 }
 
 /* Random routes with random halts: the limits hold on every step, every halt
@@ -1458,7 +1459,7 @@ int main (void)
         cmocka_unit_test (test_halt_loop),
         cmocka_unit_test (test_halt_reverse),
         cmocka_unit_test (test_halt_save_restore),
-        cmocka_unit_test (test_restore_format_1),
+        cmocka_unit_test (test_restore_old_formats_refused),
         cmocka_unit_test (test_halt_random),
     };
     return cmocka_run_group_tests (tests, NULL, NULL);

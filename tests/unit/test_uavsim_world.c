@@ -3,6 +3,8 @@
  * damaged checkpoint or one of another scenario is refused and changes
  * nothing; the messages carry what the models say (heights on the terrain,
  * inactive before the start time, batches of UAVSIM_MSGS_BATCH). */
+#include "cgs_ckpt.h"
+#include "cgs_util.h"
 #include "uavsim_msgs.h"
 #include "uavsim_world.h"
 
@@ -56,6 +58,14 @@ static void s_steps (uavsim_world_t *w, int n)
 {
     for (int i = 0; i < n; i++)
         uavsim_world_step (w);
+}
+
+/* Seal a forged frame again: its payload's CRC-32 in the last 4 bytes. */
+static void s_reseal (uint8_t *b, size_t len)
+{
+    uint32_t c = cgs_crc32 (b + CGS_CKPT_HEAD, len - CGS_CKPT_HEAD - CGS_CKPT_TAIL);
+    for (int i = 0; i < 4; i++)
+        b[len - 4 + i] = (uint8_t)(c >> (8 * i));
 }
 
 /* The world's checkpoint bytes: equal bytes, equal worlds. */
@@ -139,11 +149,13 @@ static void test_bad_checkpoints_change_nothing (void **state)
     size_t lb0;
     uint8_t *before = s_save (b, &lb0);
     char err[256];
-    // A flipped byte in each part: header, UAV, a vehicle, the last byte.
-    size_t spots[] = {3, 40, len / 2, len - 1};
-    for (size_t i = 0; i < 4; i++) {
+    // A flipped byte in each part: the magic, the header, the UAV, a
+    // vehicle, the CRC.
+    size_t spots[] = {3, 20, 60, len / 2, len - 1};
+    int want[] = {-EPROTO, -EBADMSG, -EBADMSG, -EBADMSG, -EBADMSG};
+    for (size_t i = 0; i < 5; i++) {
         ck[spots[i]] ^= 0x20;
-        assert_int_equal (uavsim_world_restore (b, ck, len, err, sizeof err), -EPROTO);
+        assert_int_equal (uavsim_world_restore (b, ck, len, err, sizeof err), want[i]);
         ck[spots[i]] ^= 0x20;
         size_t l;
         uint8_t *now = s_save (b, &l);
@@ -151,8 +163,26 @@ static void test_bad_checkpoints_change_nothing (void **state)
         assert_memory_equal (now, before, l);
         free (now);
     }
-    assert_int_equal (uavsim_world_restore (b, ck, len - 5, err, sizeof err), -EPROTO);
+    assert_int_equal (uavsim_world_restore (b, ck, len - 5, err, sizeof err), -EINVAL);
     assert_non_null (strstr (err, "truncated"));
+    // Sealed, but an entity's own frame damaged: refused naming the entity,
+    // and a restore that fails part way leaves the world as it was.
+    uint8_t *forged = malloc (len);
+    memcpy (forged, ck, len);
+    forged[len - CGS_CKPT_TAIL - 10] ^= 0x01; // inside the last vehicle's frame
+    s_reseal (forged, len);
+    assert_int_equal (uavsim_world_restore (b, forged, len, err, sizeof err), -EBADMSG);
+    assert_non_null (strstr (err, "vehicle b: "));
+    size_t lf;
+    uint8_t *now = s_save (b, &lf);
+    assert_int_equal (lf, lb0);
+    assert_memory_equal (now, before, lf);
+    free (now);
+    free (forged);
+    // The world's frame as an older uavsim wrote it ("UAVSIMW1"): refused.
+    uint8_t old[48] = "UAVSIMW1\x01\x00\x00\x00";
+    assert_int_equal (uavsim_world_restore (b, old, sizeof old, err, sizeof err), -EPROTO);
+    assert_non_null (strstr (err, "it begins \"UAVS\""));
     // A checkpoint of another scenario (one vehicle fewer).
     const char *cut = strstr (s_text, "[vehicle b]");
     char other[2048];
