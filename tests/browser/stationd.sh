@@ -59,46 +59,16 @@ PORT_TOK=$(free_port "$PORT") || bail "no second free TCP port"
 
 EX=$TMP/exercise.ini
 {
-    exercise_header 13 stationd-test
-    cat <<EOF
-scenario = scenario.ini
-
-[service uavsim]
-publish = ipc://$TMP/uavsim.pub
-command = ipc://$TMP/uavsim.cmd
-
-[service mtid.uav1]
-publish = ipc://$TMP/mtid.pub
-uav = uav1
-
-[service bcisd.uav1]
-publish = ipc://$TMP/bcisd.pub
-uav = uav1
-
-[service trackerd]
-publish = ipc://$TMP/trackerd.pub
-
-[service guidanced]
-publish = ipc://$TMP/guidanced.pub
-command = ipc://$TMP/guidanced.cmd
-
-[service imagerd.uav1]
-publish = ipc://$TMP/imagerd.pub
-command = ipc://$TMP/imagerd.cmd
-uav = uav1
-params = imager.ini
-
-[service stationd]
-publish = ipc://$TMP/stationd.pub
-
-[service stationd.op]
-publish = ipc://$TMP/stationd-op.pub
-params = token.ini
-
-[service stationd.open]
-publish = ipc://$TMP/stationd-open.pub
-params = open.ini
-EOF
+    exercise_header 13 stationd-test scenario=scenario.ini
+    exercise_service uavsim command
+    exercise_service mtid.uav1 uav=uav1
+    exercise_service bcisd.uav1 uav=uav1
+    exercise_service trackerd
+    exercise_service guidanced command
+    exercise_service imagerd.uav1 command uav=uav1 params=imager.ini
+    exercise_service stationd
+    exercise_service stationd.op publish="ipc://$TMP/stationd-op.pub" params=token.ini
+    exercise_service stationd.open publish="ipc://$TMP/stationd-open.pub" params=open.ini
 } >"$EX"
 # Gentle hills; the UAV circles the origin; hostile and unknown movers 5 to
 # 8 km out, each on its own road far from the others; a friendly truck with

@@ -59,44 +59,15 @@ fault_exercise () {
     local gwport=$((20000 + RANDOM % 20000))
     HTTP_PORT=$((gwport + 1))
     {
-        exercise_header $((40 + RANDOM % 100)) fault-test
-        cat <<EOF
-scenario = scenario.ini
-
-[service uavsim]
-publish = ipc://$TMP/uavsim.pub
-command = ipc://$TMP/uavsim.cmd
-
-[service mtid.uav1]
-publish = ipc://$TMP/mtid.pub
-uav = uav1
-
-[service bcisd.uav1]
-publish = ipc://$TMP/bcisd.pub
-uav = uav1
-
-[service trackerd]
-publish = ipc://$TMP/trackerd.pub
-
-[service guidanced]
-publish = ipc://$TMP/guidanced.pub
-command = ipc://$TMP/guidanced.cmd
-params = guidance.ini
-
-[service imagerd.uav1]
-publish = ipc://$TMP/imagerd.pub
-command = ipc://$TMP/imagerd.cmd
-uav = uav1
-params = imager.ini
-
-[service gateway]
-publish = ipc://$TMP/gateway.pub
-params = gateway.ini
-
-[service stationd]
-publish = ipc://$TMP/stationd.pub
-params = station.ini
-EOF
+        exercise_header $((40 + RANDOM % 100)) fault-test scenario=scenario.ini
+        exercise_service uavsim command
+        exercise_service mtid.uav1 uav=uav1
+        exercise_service bcisd.uav1 uav=uav1
+        exercise_service trackerd
+        exercise_service guidanced command params=guidance.ini
+        exercise_service imagerd.uav1 command uav=uav1 params=imager.ini
+        exercise_service gateway params=gateway.ini
+        exercise_service stationd params=station.ini
     } | sed "s/^time_scale = 1$/time_scale = $SCALE/" >"$EX"
     # Flat ground; the UAV circles the origin; hostile movers go to and fro
     # on four 12 km roads that run out from 2 to 14 km along the axes, and a

@@ -16,19 +16,9 @@ BCISD=$CGS_BUILD/bin/bcisd
 
 EX=$TMP/exercise.ini
 {
-    exercise_header 5 bcisd-test
-    cat <<EOF
-scenario = scenario.ini
-
-[service uavsim]
-publish = ipc://$TMP/uavsim.pub
-command = ipc://$TMP/uavsim.cmd
-
-[service bcisd.uav1]
-publish = ipc://$TMP/bcisd.pub
-uav = uav1
-params = bcis.ini
-EOF
+    exercise_header 5 bcisd-test scenario=scenario.ini
+    exercise_service uavsim command
+    exercise_service bcisd.uav1 uav=uav1 params=bcis.ini
 } >"$EX"
 # Flat open ground. The transmitters are 10 dB weaker than the defaults, so
 # the link closes near 6 km: `near` (3-4 km) answers, `far` (13 km, inside

@@ -12,23 +12,13 @@
 EX=$TMP/exercise.ini
 {
     exercise_header 7 it-bus
-    cat <<EOF
-
-# The test publisher runs as program uavsim, the publisher of \`clock\` in the
-# topic catalogue, so a subscriber to clock connects to it.
-[service peer.pub]
-program = uavsim
-publish = ipc://$TMP/pub.ipc
-
-# The raw sender of malformed messages (peer --send-garbage), also a clock publisher.
-[service peer.bad]
-program = uavsim
-publish = ipc://$TMP/bad.ipc
-
-# The subscriber publishes nothing.
-[service peer.sub]
-publish = ipc://$TMP/sub.pub
-EOF
+    # The test publisher runs as program uavsim, the publisher of `clock` in the
+    # topic catalogue, so a subscriber to clock connects to it.
+    exercise_service peer.pub program=uavsim publish="ipc://$TMP/pub.ipc"
+    # The raw sender of malformed messages (peer --send-garbage), also a clock publisher.
+    exercise_service peer.bad program=uavsim publish="ipc://$TMP/bad.ipc"
+    # The subscriber publishes nothing.
+    exercise_service peer.sub publish="ipc://$TMP/sub.pub"
 } >"$EX"
 
 # start_sub VAR NAME [options]: a subscriber to clock (counted) and health

@@ -14,20 +14,9 @@
 EX=$TMP/exercise.ini
 {
     exercise_header 8 it-commands
-    cat <<EOF
-
-[service peer.cmd]
-publish = ipc://$TMP/cmd.pub
-command = ipc://$TMP/cmd.ipc
-
-[service peer.crash]
-publish = ipc://$TMP/crash.pub
-command = ipc://$TMP/crash.ipc
-
-[service peer.dup]
-publish = ipc://$TMP/dup.pub
-command = ipc://$TMP/dup.ipc
-EOF
+    for s in cmd crash dup; do
+        exercise_service "peer.$s" publish="ipc://$TMP/$s.pub" command="ipc://$TMP/$s.ipc"
+    done
 } >"$EX"
 
 # start_server VAR NAME INSTANCE [options]: a command server whose apply log

@@ -30,17 +30,18 @@ pub () { cat "$K/$1.pub"; }
 # exercise FILE CLIENT: the exercise with every instance's keys, the tools
 # using CLIENT's pair ("" for an exercise without any key).
 exercise () {
+    local uavsim_keys=() mtid_keys=()
+    if [ -n "$2" ]; then
+        uavsim_keys=("public_key=$(pub uavsim)" "secret_key_file=$K/uavsim.key")
+        mtid_keys=("public_key=$(pub mtid)" "secret_key_file=$K/mtid.key")
+    fi
     {
-        exercise_header 13 curve-test
-        echo "scenario = scenario.ini"
+        exercise_header 13 curve-test scenario=scenario.ini
         if [ -n "$2" ]; then
             printf '\n[curve]\nclient_public_key = %s\nclient_secret_key_file = %s\n' "$(pub "$2")" "$K/$2.key"
         fi
-        printf '\n[service uavsim]\npublish = tcp://127.0.0.1:%s\ncommand = tcp://127.0.0.1:%s\n' $P $((P + 1))
-        [ -n "$2" ] && printf 'public_key = %s\nsecret_key_file = %s\n' "$(pub uavsim)" "$K/uavsim.key"
-        printf '\n[service mtid.uav1]\npublish = tcp://127.0.0.1:%s\nuav = uav1\n' $((P + 2))
-        [ -n "$2" ] && printf 'public_key = %s\nsecret_key_file = %s\n' "$(pub mtid)" "$K/mtid.key"
-        true
+        exercise_service uavsim publish="tcp://127.0.0.1:$P" command="tcp://127.0.0.1:$((P + 1))" "${uavsim_keys[@]}"
+        exercise_service mtid.uav1 publish="tcp://127.0.0.1:$((P + 2))" uav=uav1 "${mtid_keys[@]}"
     } >"$1"
 }
 cat >"$TMP/scenario.ini" <<'EOF'

@@ -25,18 +25,9 @@ GWPORT=$((20000 + RANDOM % 20000))
 PEERPORT=$((GWPORT + 1))
 EX=$TMP/exercise.ini
 {
-    exercise_header $EXID distime-test
-    cat <<EOF
-scenario = scenario.ini
-
-[service uavsim]
-publish = ipc://$TMP/uavsim.pub
-command = ipc://$TMP/uavsim.cmd
-
-[service gateway]
-publish = ipc://$TMP/gateway.pub
-params = gateway.ini
-EOF
+    exercise_header $EXID distime-test scenario=scenario.ini
+    exercise_service uavsim command
+    exercise_service gateway params=gateway.ini
 } >"$EX"
 gwparams () {
     cat >"$TMP/gateway.ini" <<EOF

@@ -36,29 +36,12 @@ PEERPORT=$((GWPORT + 1))
 
 EX=$TMP/exercise.ini
 {
-    exercise_header $EXID gateway-test
-    cat <<EOF
-scenario = scenario.ini
-
-[service uavsim]
-publish = ipc://$TMP/uavsim.pub
-command = ipc://$TMP/uavsim.cmd
-
-[service mtid.uav1]
-publish = ipc://$TMP/mtid.pub
-uav = uav1
-
-[service trackerd]
-publish = ipc://$TMP/trackerd.pub
-
-[service guidanced]
-publish = ipc://$TMP/guidanced.pub
-command = ipc://$TMP/guidanced.cmd
-
-[service gateway]
-publish = ipc://$TMP/gateway.pub
-params = gateway.ini
-EOF
+    exercise_header $EXID gateway-test scenario=scenario.ini
+    exercise_service uavsim command
+    exercise_service mtid.uav1 uav=uav1
+    exercise_service trackerd
+    exercise_service guidanced command
+    exercise_service gateway params=gateway.ini
 } >"$EX"
 gwparams () {
     cat >"$TMP/gateway.ini" <<EOF

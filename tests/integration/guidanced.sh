@@ -18,26 +18,11 @@ for b in "$UAVSIM" "$MTID" "$TRACKERD" "$GUIDANCED"; do [ -x "$b" ] || bail "no 
 
 EX=$TMP/exercise.ini
 {
-    exercise_header 7 guidanced-test
-    cat <<EOF
-scenario = scenario.ini
-
-[service uavsim]
-publish = ipc://$TMP/uavsim.pub
-command = ipc://$TMP/uavsim.cmd
-
-[service mtid.uav1]
-publish = ipc://$TMP/mtid.pub
-uav = uav1
-
-[service trackerd]
-publish = ipc://$TMP/trackerd.pub
-
-[service guidanced]
-publish = ipc://$TMP/guidanced.pub
-command = ipc://$TMP/guidanced.cmd
-params = guidance.ini
-EOF
+    exercise_header 7 guidanced-test scenario=scenario.ini
+    exercise_service uavsim command
+    exercise_service mtid.uav1 uav=uav1
+    exercise_service trackerd
+    exercise_service guidanced command params=guidance.ini
 } >"$EX"
 cp "$CGS_ROOT/deploy/params/guidance.ini" "$TMP/guidance.ini"
 # Flat ground; the UAV circles the origin; two movers drive north, 4 km

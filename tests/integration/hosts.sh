@@ -107,35 +107,12 @@ chmod +x "$MSCGS"
 # ---- the exercise ----------------------------------------------------------------------
 EX=$TMP/exercise.ini
 {
-    exercise_header 21 hosts-test
-    cat <<EOF
-scenario = scenario.ini
-
-[service uavsim]
-publish = tcp://$ADDR_A:7101
-command = tcp://$ADDR_A:7102
-host = host-a
-
-[service mtid.uav1]
-publish = tcp://$ADDR_A:7103
-host = host-a
-uav = uav1
-
-[service bcisd.uav1]
-publish = tcp://$ADDR_A:7104
-host = host-a
-uav = uav1
-
-[service trackerd]
-publish = tcp://$ADDR_B:7105
-host = host-b
-
-[service guidanced]
-publish = tcp://$ADDR_B:7106
-command = tcp://$ADDR_B:7107
-params = guidance.ini
-host = host-b
-EOF
+    exercise_header 21 hosts-test scenario=scenario.ini
+    exercise_service uavsim publish="tcp://$ADDR_A:7101" command="tcp://$ADDR_A:7102" host=host-a
+    exercise_service mtid.uav1 publish="tcp://$ADDR_A:7103" host=host-a uav=uav1
+    exercise_service bcisd.uav1 publish="tcp://$ADDR_A:7104" host=host-a uav=uav1
+    exercise_service trackerd publish="tcp://$ADDR_B:7105" host=host-b
+    exercise_service guidanced publish="tcp://$ADDR_B:7106" command="tcp://$ADDR_B:7107" params=guidance.ini host=host-b
 } >"$EX"
 cp "$CGS_ROOT/deploy/params/guidance.ini" "$TMP/guidance.ini"
 # Flat ground; the UAV circles the origin; a hostile mover drives north 5 km

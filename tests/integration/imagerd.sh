@@ -18,20 +18,9 @@ ALT=$(ls "$CGS_BUILD"/bin-*/imagerd 2>/dev/null | head -1)
 
 EX=$TMP/exercise.ini
 {
-    exercise_header 8 imagerd-test
-    cat <<EOF
-scenario = scenario.ini
-
-[service uavsim]
-publish = ipc://$TMP/uavsim.pub
-command = ipc://$TMP/uavsim.cmd
-
-[service imagerd.uav1]
-publish = ipc://$TMP/imagerd.pub
-command = ipc://$TMP/imagerd.cmd
-uav = uav1
-params = imager.ini
-EOF
+    exercise_header 8 imagerd-test scenario=scenario.ini
+    exercise_service uavsim command
+    exercise_service imagerd.uav1 command uav=uav1 params=imager.ini
 } >"$EX"
 cat >"$TMP/scenario.ini" <<'EOF'
 [terrain]

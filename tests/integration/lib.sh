@@ -172,7 +172,27 @@ confirmed_tracks () {
         sed -n 's/^{"track_id":\([0-9]*\),.*"position":{"east_m":\([-0-9.e]*\),"north_m":\([-0-9.e]*\).*/\1 \2 \3/p'
 }
 
-# exercise_header ID NAME: the [exercise] section of a test's exercise file.
+# ---- the exercise file ---------------------------------------------------------------------
+# A test writes it as
+#   {
+#       exercise_header 4 mtid-test scenario=scenario.ini
+#       exercise_service uavsim command
+#       exercise_service mtid.uav1 uav=uav1 params=radar.ini
+#   } >"$EX"
+
+# s_keys KEY=VALUE...: one "KEY = VALUE" line each.
+s_keys () {
+    local kv
+    for kv; do
+        case $kv in
+        *=*) printf '%s = %s\n' "${kv%%=*}" "${kv#*=}" ;;
+        *) echo "exercise file: '$kv' is not KEY=VALUE" >&2; return 1 ;;
+        esac
+    done
+}
+
+# exercise_header ID NAME [KEY=VALUE ...]: the [exercise] section of a
+# test's exercise file; the KEY=VALUEs (scenario=scenario.ini) end it.
 exercise_header () {
     cat <<EOF
 [exercise]
@@ -183,6 +203,28 @@ time_scale = 1
 seed = 1
 state_dir = $TMP/state
 EOF
+    shift 2
+    s_keys "$@"
+}
+
+# exercise_service NAME [command] [KEY=VALUE ...]: a [service NAME] section,
+# after a blank line. It publishes on ipc://$TMP/PROG.pub, PROG being NAME up
+# to its first '.' (mtid for mtid.uav1), unless publish=ENDPOINT is given;
+# the word `command` is command = ipc://$TMP/PROG.cmd; the KEY=VALUEs go in
+# as given, in their order.
+exercise_service () {
+    local name=$1 prog=${1%%.*} kv publish=1
+    shift
+    for kv; do [ "${kv%%=*}" != publish ] || publish=""; done
+    printf '\n[service %s]\n' "$name"
+    [ -z "$publish" ] || s_keys "publish=ipc://$TMP/$prog.pub"
+    for kv; do
+        if [ "$kv" = command ]; then
+            s_keys "command=ipc://$TMP/$prog.cmd"
+        else
+            s_keys "$kv" || return
+        fi
+    done
 }
 
 [ -x "$PEER" ] || bail "no test peer at $PEER (make O=... SAN=1 test-build)"

@@ -15,19 +15,9 @@ MTID=$CGS_BUILD/bin/mtid
 
 EX=$TMP/exercise.ini
 {
-    exercise_header 4 mtid-test
-    cat <<EOF
-scenario = scenario.ini
-
-[service uavsim]
-publish = ipc://$TMP/uavsim.pub
-command = ipc://$TMP/uavsim.cmd
-
-[service mtid.uav1]
-publish = ipc://$TMP/mtid.pub
-uav = uav1
-params = radar.ini
-EOF
+    exercise_header 4 mtid-test scenario=scenario.ini
+    exercise_service uavsim command
+    exercise_service mtid.uav1 uav=uav1 params=radar.ini
 } >"$EX"
 # Flat ground; movers 3-6 km from the UAV driving straight at or away from it
 # (radial speed 8-10 m/s, well clear of the clutter) and one parked.

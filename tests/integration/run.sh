@@ -18,20 +18,17 @@ cp "$MSCGS" "$BIN/mscgs"
 cp "$PEER" "$BIN/uavsim"
 
 EX=$TMP/exercise.ini
-cat >"$EX" <<INI
+{
+    cat <<INI
 [exercise]
 id = 7
 origin = geo 35.96 -121.23 0
 state_dir = $TMP/state
-
-[service uavsim]
-publish = ipc://$TMP/uavsim.pub
-command = ipc://$TMP/uavsim.cmd
-
-; Listed but not built in this folder: mscgs run leaves it out.
-[service trackerd]
-publish = ipc://$TMP/trackerd.pub
 INI
+    exercise_service uavsim command
+    # Listed but not built in this folder: mscgs run leaves it out.
+    exercise_service trackerd
+} >"$EX"
 
 OUT=$TMP/out
 start RUN run "$BIN/mscgs" run --exercise "$EX" --duration 25 --out "$OUT"
@@ -87,16 +84,15 @@ STATIOND=$CGS_BUILD/bin/stationd
 [ -x "$STATIOND" ] || bail "no stationd at $STATIOND"
 command -v curl >/dev/null || bail "no curl"
 EX2=$TMP/exercise-map.ini
-cat >"$EX2" <<INI
+{
+    cat <<INI
 [exercise]
 id = 8
 origin = geo 35.96 -121.23 0
 state_dir = $TMP/state-map
-
-[service stationd]
-publish = ipc://$TMP/stationd.pub
-params = $TMP/station-any.ini
 INI
+    exercise_service stationd params="$TMP/station-any.ini"
+} >"$EX2"
 printf '[http]\nlisten = 127.0.0.1\nport = 0\n' >"$TMP/station-any.ini"
 start RUN2 run-map "$MSCGS" run --exercise "$EX2" --duration 12 --out "$TMP/out-map"
 check "mscgs run says the system chooses the map's port" \

@@ -34,29 +34,12 @@ PORT=$((20000 + RANDOM % 20000))
 TOKEN=s3cret-token-1
 EX=$TMP/exercise.ini
 {
-    exercise_header 12 station-test
-    cat <<EOF
-scenario = scenario.ini
-
-[service uavsim]
-publish = ipc://$TMP/uavsim.pub
-command = ipc://$TMP/uavsim.cmd
-
-[service mtid.uav1]
-publish = ipc://$TMP/mtid.pub
-uav = uav1
-
-[service trackerd]
-publish = ipc://$TMP/trackerd.pub
-
-[service guidanced]
-publish = ipc://$TMP/guidanced.pub
-command = ipc://$TMP/guidanced.cmd
-
-[service stationd]
-publish = ipc://$TMP/stationd.pub
-params = station.ini
-EOF
+    exercise_header 12 station-test scenario=scenario.ini
+    exercise_service uavsim command
+    exercise_service mtid.uav1 uav=uav1
+    exercise_service trackerd
+    exercise_service guidanced command
+    exercise_service stationd params=station.ini
 } >"$EX"
 cat >"$TMP/station.ini" <<EOF
 [http]

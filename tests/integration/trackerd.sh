@@ -18,26 +18,11 @@ for b in "$UAVSIM" "$MTID" "$BCISD" "$TRACKERD"; do [ -x "$b" ] || bail "no $b";
 
 EX=$TMP/exercise.ini
 {
-    exercise_header 6 trackerd-test
-    cat <<EOF
-scenario = scenario.ini
-
-[service uavsim]
-publish = ipc://$TMP/uavsim.pub
-command = ipc://$TMP/uavsim.cmd
-
-[service mtid.uav1]
-publish = ipc://$TMP/mtid.pub
-uav = uav1
-
-[service bcisd.uav1]
-publish = ipc://$TMP/bcisd.pub
-uav = uav1
-
-[service trackerd]
-publish = ipc://$TMP/trackerd.pub
-params = tracker.ini
-EOF
+    exercise_header 6 trackerd-test scenario=scenario.ini
+    exercise_service uavsim command
+    exercise_service mtid.uav1 uav=uav1
+    exercise_service bcisd.uav1 uav=uav1
+    exercise_service trackerd params=tracker.ini
 } >"$EX"
 cp "$CGS_ROOT/deploy/params/tracker.ini" "$TMP/tracker.ini"
 # Flat open ground; the UAV circles the origin. Entity ids: uav1 1, blue 2,

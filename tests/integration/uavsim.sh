@@ -13,14 +13,8 @@ UAVSIM=$CGS_BUILD/bin/uavsim
 
 EX=$TMP/exercise.ini
 {
-    exercise_header 3 uavsim-test
-    cat <<EOF
-scenario = scenario.ini
-
-[service uavsim]
-publish = ipc://$TMP/uavsim.pub
-command = ipc://$TMP/uavsim.cmd
-EOF
+    exercise_header 3 uavsim-test scenario=scenario.ini
+    exercise_service uavsim command
 } >"$EX"
 cat >"$TMP/scenario.ini" <<'EOF'
 [terrain]
