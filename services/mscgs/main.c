@@ -23,9 +23,11 @@
 #include "cgs_util.h"
 #include "cgs_state.h"
 #include "cgs_topics.h"
+#include "ms_health.h"
 #include "ms_metrics.h"
 #include "ms_montecarlo.h"
 #include "ms_observer.h"
+#include "ms_tool.h"
 #include "gw_params.h"
 #include "st_params.h"
 
@@ -46,9 +48,7 @@
 #include <unistd.h>
 #include <zmq.h>
 
-#define S_MAX_INSTANCES 64
-
-static char s_exe_dir[PATH_MAX];
+#define MS_MAX_INSTANCES 64
 
 static void s_usage (FILE *f)
 {
@@ -90,100 +90,6 @@ static void s_usage (FILE *f)
 
 /* ---- shared helpers ------------------------------------------------------------- */
 
-static void s_find_exe_dir (void)
-{
-    ssize_t n = readlink ("/proc/self/exe", s_exe_dir, sizeof s_exe_dir - 1);
-    if (n <= 0) {
-        snprintf (s_exe_dir, sizeof s_exe_dir, ".");
-        return;
-    }
-    s_exe_dir[n] = '\0';
-    char *slash = strrchr (s_exe_dir, '/');
-    if (slash)
-        *slash = '\0';
-}
-
-/* The exercise path from the option, the environment, /etc, or the source tree. */
-static const char *s_exercise_path (const char *given, char *buf, size_t size)
-{
-    if (given)
-        return given;
-    const char *env = getenv ("MSCGS_EXERCISE");
-    if (env && *env)
-        return env;
-    if (access ("/etc/mscgs/exercise.ini", R_OK) == 0)
-        return "/etc/mscgs/exercise.ini";
-    // An install (PREFIX/bin/mscgs: PREFIX/share/mscgs), or a source tree
-    // (build/bin/mscgs or build/<variant>/bin/mscgs).
-    const char *up[] = {"/../share/mscgs/exercises/default.ini",
-                        "/../../deploy/exercises/default.ini",
-                        "/../../../deploy/exercises/default.ini"};
-    for (size_t i = 0; i < sizeof up / sizeof up[0]; i++) {
-        snprintf (buf, size, "%s%s", s_exe_dir, up[i]);
-        char real[PATH_MAX];
-        if (access (buf, R_OK) == 0) {
-            if (realpath (buf, real))
-                snprintf (buf, size, "%s", real);
-            return buf;
-        }
-    }
-    return "/etc/mscgs/exercise.ini";
-}
-
-/* The tools' CURVE keys of the exercise loaded last; NULL without keys. */
-static cgs_curve_t *s_curve;
-
-static cgs_exercise_t *s_load_exercise (const char *given)
-{
-    char buf[PATH_MAX];
-    const char *path = s_exercise_path (given, buf, sizeof buf);
-    char err[1024];
-    cgs_exercise_t *ex = NULL;
-    if (cgs_exercise_load (path, &ex, err, sizeof err) < 0) {
-        fprintf (stderr, "mscgs: %s\n", err);
-        return NULL;
-    }
-    // The tools' CURVE pair, when the exercise names keys.
-    cgs_curve_destroy (&s_curve);
-    if (cgs_curve_load (ex, NULL, &s_curve, err, sizeof err) < 0) {
-        fprintf (stderr, "mscgs: %s\n", err);
-        cgs_exercise_destroy (&ex);
-        return NULL;
-    }
-    return ex;
-}
-
-/* A new ZeroMQ context (in *ret_ctx) and a subscriber that takes only this
- * exercise's messages; NULL after saying why. */
-static cgs_sub_t *s_open_sub (const cgs_exercise_t *ex, void **ret_ctx)
-{
-    void *ctx = zmq_ctx_new ();
-    cgs_sub_t *sub = ctx ? cgs_sub_new (ctx) : NULL;
-    if (!sub) {
-        fprintf (stderr, "mscgs: %s\n", strerror (errno ? errno : ENOMEM));
-        if (ctx)
-            zmq_ctx_term (ctx);
-        return NULL;
-    }
-    cgs_sub_set_exercise (sub, cgs_exercise_id (ex));
-    *ret_ctx = ctx;
-    return sub;
-}
-
-/* Connect sub to every publisher of topic; returns how many. */
-static size_t s_connect_publishers (cgs_sub_t *sub, const cgs_exercise_t *ex, const char *topic)
-{
-    const cgs_instance_t *pubs[S_MAX_INSTANCES];
-    size_t n = cgs_exercise_publishers_of (ex, topic, pubs, S_MAX_INSTANCES);
-    if (n > S_MAX_INSTANCES)
-        n = S_MAX_INSTANCES;
-    for (size_t i = 0; i < n; i++)
-        if (cgs_curve_client (s_curve, cgs_sub_socket (sub), pubs[i]->public_key) < 0 ||
-            cgs_sub_connect (sub, pubs[i]->publish) < 0)
-            fprintf (stderr, "mscgs: cannot connect to %s (%s)\n", pubs[i]->publish, pubs[i]->name);
-    return n;
-}
-
 static double s_parse_positive (const char *opt, const char *text)
 {
     char *end = NULL;
@@ -193,149 +99,6 @@ static double s_parse_positive (const char *opt, const char *text)
         exit (2);
     }
     return v;
-}
-
-/* ---- health table (status and run) ------------------------------------------------ */
-
-typedef struct {
-    char instance[CGS_NAME_MAX];
-    char program[CGS_NAME_MAX];
-    bool enabled;
-    bool seen;
-    double seen_at; // monotonic
-    Cgs__ServiceState state;
-    char host[64];    // where the exercise file puts it
-    char machine[64]; // the machine its health came from
-    uint32_t pid;
-    double uptime_s, in_per_s, out_per_s;
-    uint64_t gaps, drops, malformed, commands;
-    char last_error[256];
-    char counters[512]; // the service's own counts, "name=value ..."
-    uint64_t http_port; // stationd's map port as it reports it (0: not reported)
-} s_row_t;
-
-typedef struct {
-    s_row_t rows[S_MAX_INSTANCES];
-    size_t nrows;
-    double sim_time_s;
-    double time_scale;
-    bool paused;
-    bool have_clock;
-} s_table_t;
-
-static void s_table_init (s_table_t *t, const cgs_exercise_t *ex)
-{
-    memset (t, 0, sizeof *t);
-    for (size_t i = 0; i < cgs_exercise_instance_count (ex) && t->nrows < S_MAX_INSTANCES; i++) {
-        const cgs_instance_t *in = cgs_exercise_instance (ex, i);
-        s_row_t *r = &t->rows[t->nrows++];
-        snprintf (r->instance, sizeof r->instance, "%s", in->name);
-        snprintf (r->program, sizeof r->program, "%s", in->program);
-        snprintf (r->host, sizeof r->host, "%s", in->host);
-        r->enabled = in->enabled;
-    }
-}
-
-static void s_on_health (void *arg, const char *topic, const ProtobufCMessage *msg,
-                         const Cgs__Header *hdr)
-{
-    (void)topic;
-    (void)hdr;
-    s_table_t *t = arg;
-    const Cgs__Health *h = (const Cgs__Health *)msg;
-    s_row_t *r = NULL;
-    for (size_t i = 0; i < t->nrows && !r; i++)
-        if (strcmp (t->rows[i].instance, h->instance) == 0)
-            r = &t->rows[i];
-    if (!r && t->nrows < S_MAX_INSTANCES) { // not in the exercise file: show it anyway
-        r = &t->rows[t->nrows++];
-        snprintf (r->instance, sizeof r->instance, "%s", h->instance);
-        snprintf (r->program, sizeof r->program, "%s", h->program);
-    }
-    if (!r)
-        return;
-    r->seen = true;
-    r->seen_at = cgs_loop_now ();
-    r->state = h->state;
-    if (h->host && *h->host)
-        snprintf (r->host, sizeof r->host, "%s", h->host);
-    snprintf (r->machine, sizeof r->machine, "%s", h->machine ? h->machine : "");
-    r->pid = h->pid;
-    r->uptime_s = h->uptime_s;
-    r->in_per_s = h->msgs_in_per_s;
-    r->out_per_s = h->msgs_out_per_s;
-    r->gaps = h->gaps;
-    r->drops = h->drops;
-    r->malformed = h->malformed;
-    r->commands = h->commands;
-    snprintf (r->last_error, sizeof r->last_error, "%s", h->last_error);
-    size_t used = 0;
-    r->counters[0] = '\0';
-    for (size_t i = 0; i < h->n_counters; i++)
-        if (strcmp (h->counters[i]->name, "http_port") == 0)
-            r->http_port = h->counters[i]->value;
-    for (size_t i = 0; i < h->n_counters && used < sizeof r->counters; i++) {
-        int n = snprintf (r->counters + used, sizeof r->counters - used, "%s%s=%llu", i ? " " : "",
-                          h->counters[i]->name, (unsigned long long)h->counters[i]->value);
-        if (n < 0)
-            break;
-        used += (size_t)n;
-    }
-}
-
-static void s_on_clock (void *arg, const char *topic, const ProtobufCMessage *msg,
-                        const Cgs__Header *hdr)
-{
-    (void)topic;
-    (void)hdr;
-    s_table_t *t = arg;
-    const Cgs__Clock *c = (const Cgs__Clock *)msg;
-    t->sim_time_s = c->sim_time_s;
-    t->time_scale = c->time_scale;
-    t->paused = c->paused;
-    t->have_clock = true;
-}
-
-static const char *s_state_name (const s_row_t *r, double now)
-{
-    if (!r->seen)
-        return "down";
-    if (now - r->seen_at > 3.0)
-        return "silent";
-    switch (r->state) {
-    case CGS__SERVICE_STATE__SERVICE_STATE_STARTING:
-        return "starting";
-    case CGS__SERVICE_STATE__SERVICE_STATE_RUNNING:
-        return "up";
-    case CGS__SERVICE_STATE__SERVICE_STATE_DEGRADED:
-        return "degraded";
-    case CGS__SERVICE_STATE__SERVICE_STATE_STOPPING:
-        return "stopping";
-    default:
-        return "?";
-    }
-}
-
-static void s_table_print (const s_table_t *t, FILE *f)
-{
-    double now = cgs_loop_now ();
-    fprintf (f, "%-16s %-9s %-12s %-12s %8s %9s %9s %9s %7s %7s %9s  %s\n", "INSTANCE", "STATE",
-             "HOST", "MACHINE", "PID", "UPTIME_S", "IN/S", "OUT/S", "GAPS", "DROPS", "MALFORMED",
-             "LAST ERROR");
-    for (size_t i = 0; i < t->nrows; i++) {
-        const s_row_t *r = &t->rows[i];
-        if (!r->seen) {
-            fprintf (f, "%-16s %-9s %-12.12s\n", r->instance, r->enabled ? "down" : "disabled",
-                     r->host);
-            continue;
-        }
-        fprintf (f, "%-16s %-9s %-12.12s %-12.12s %8u %9.1f %9.1f %9.1f %7llu %7llu %9llu  %s\n",
-                 r->instance, s_state_name (r, now), r->host, r->machine, r->pid, r->uptime_s,
-                 r->in_per_s, r->out_per_s, (unsigned long long)r->gaps,
-                 (unsigned long long)r->drops, (unsigned long long)r->malformed, r->last_error);
-        if (*r->counters)
-            fprintf (f, "%-16s %s\n", "", r->counters);
-    }
 }
 
 /* ---- status ------------------------------------------------------------------------ */
@@ -362,19 +125,19 @@ static int s_cmd_status (int argc, char **argv)
             return c == 'h' ? 0 : 2;
         }
     }
-    cgs_exercise_t *ex = s_load_exercise (exercise);
+    cgs_exercise_t *ex = ms_tool_load_exercise (exercise);
     if (!ex)
         return 1;
     void *ctx = NULL;
-    cgs_sub_t *sub = s_open_sub (ex, &ctx);
+    cgs_sub_t *sub = ms_tool_open_sub (ex, &ctx);
     if (!sub) {
         cgs_exercise_destroy (&ex);
         return 1;
     }
-    static s_table_t table;
-    s_table_init (&table, ex);
-    cgs_sub_on (sub, "health", s_on_health, &table);
-    s_connect_publishers (sub, ex, "health");
+    static ms_health_t table;
+    ms_health_init (&table, ex);
+    cgs_sub_on (sub, "health", ms_health_on_health, &table);
+    ms_tool_connect_publishers (sub, ex, "health");
     double end = cgs_loop_now () + wait_s;
     cgs_lifecycle_init ();
     while (cgs_loop_now () < end && !cgs_lifecycle_stopping ()) {
@@ -387,11 +150,11 @@ static int s_cmd_status (int argc, char **argv)
     }
     printf ("exercise %s (id %u), %s\n", cgs_exercise_name (ex), cgs_exercise_id (ex),
             cgs_exercise_path (ex));
-    s_table_print (&table, stdout);
+    ms_health_print (&table, stdout);
     int rc = 0;
     double now = cgs_loop_now ();
     for (size_t i = 0; i < table.nrows; i++)
-        if (table.rows[i].enabled && strcmp (s_state_name (&table.rows[i], now), "up") != 0)
+        if (table.rows[i].enabled && strcmp (ms_health_state (&table.rows[i], now), "up") != 0)
             rc = 3;
     cgs_sub_destroy (&sub);
     zmq_ctx_term (ctx);
@@ -478,17 +241,17 @@ static int s_cmd_echo (int argc, char **argv)
         fprintf (stderr, "\n");
         return 2;
     }
-    cgs_exercise_t *ex = s_load_exercise (exercise);
+    cgs_exercise_t *ex = ms_tool_load_exercise (exercise);
     if (!ex)
         return 1;
     void *ctx = NULL;
-    cgs_sub_t *sub = s_open_sub (ex, &ctx);
+    cgs_sub_t *sub = ms_tool_open_sub (ex, &ctx);
     if (!sub) {
         cgs_exercise_destroy (&ex);
         return 1;
     }
     cgs_sub_on (sub, topic, s_on_echo, &echo);
-    if (s_connect_publishers (sub, ex, topic) == 0)
+    if (ms_tool_connect_publishers (sub, ex, topic) == 0)
         fprintf (stderr, "mscgs echo: no instance in %s publishes %s\n", cgs_exercise_path (ex),
                  topic);
     cgs_lifecycle_init ();
@@ -530,7 +293,7 @@ static int s_cmd_ping (int argc, char **argv)
         fprintf (stderr, "mscgs ping: which instance?\n");
         return 2;
     }
-    cgs_exercise_t *ex = s_load_exercise (exercise);
+    cgs_exercise_t *ex = ms_tool_load_exercise (exercise);
     if (!ex)
         return 1;
     const cgs_instance_t *in = cgs_exercise_find (ex, argv[optind]);
@@ -543,7 +306,7 @@ static int s_cmd_ping (int argc, char **argv)
     void *ctx = zmq_ctx_new ();
     cgs_cmd_client_t *cl = cgs_cmd_client_new (ctx, in->command, NULL);
     if (cl)
-        cgs_curve_protect_client (s_curve, cl, in->public_key);
+        cgs_curve_protect_client (ms_tool_curve (), cl, in->public_key);
     Cgs__Ping ping = CGS__PING__INIT;
     ping.text = "mscgs ping";
     Cgs__Command cmd = CGS__COMMAND__INIT;
@@ -621,7 +384,7 @@ static void s_print_dis_destination (const cgs_instance_t *in)
 static double s_number (const char *what, const char *text);
 
 /* How long a command to a service keeps trying (--wait S): attempts of 1 s. */
-static double s_wait_s = 3;
+static double s_wait_s = MS_TOOL_WAIT_S;
 
 static void s_set_wait (const char *text)
 {
@@ -630,75 +393,6 @@ static void s_set_wait (const char *text)
         fprintf (stderr, "mscgs: --wait: 1 to 3600 seconds, got '%s'\n", text);
         exit (2);
     }
-}
-
-/* Send cmd to the instance named to, or the first instance of program;
- * print the reply. Exit code: 0 ok, 1 refused or no reply, 2 usage. */
-static int s_send (const char *tool, cgs_exercise_t *ex, const char *to, const char *program,
-                   Cgs__Command *cmd)
-{
-    const cgs_instance_t *in =
-        to ? cgs_exercise_find (ex, to) : cgs_exercise_first_of (ex, program);
-    if (!in || !*in->command) {
-        fprintf (stderr, "mscgs %s: %s\n", tool,
-                 !in ? (to ? "no such instance in the exercise"
-                           : "no instance of that program in the exercise")
-                     : "that instance takes no commands (no command endpoint)");
-        return 2;
-    }
-    void *ctx = zmq_ctx_new ();
-    cgs_cmd_client_t *cl = cgs_cmd_client_new (ctx, in->command, "mscgs");
-    if (cl)
-        cgs_curve_protect_client (s_curve, cl, in->public_key);
-    if (!cl) {
-        zmq_ctx_term (ctx);
-        fprintf (stderr, "mscgs %s: %s\n", tool, strerror (errno));
-        return 1;
-    }
-    Cgs__Reply *reply = NULL;
-    char err[512];
-    cgs_lifecycle_init ();
-    int rc = cgs_cmd_client_call (cl, cmd, 1000, (int)ceil (s_wait_s), &reply, err, sizeof err);
-    if (rc < 0) {
-        fprintf (stderr, "mscgs %s: %s\n", tool, err);
-        rc = 1;
-    } else {
-        bool ok = reply->status == CGS__REPLY_STATUS__REPLY_STATUS_OK;
-        fprintf (ok ? stdout : stderr, "%s: %s%s%s\n", reply->server, ok ? "ok" : "refused",
-                 *reply->detail ? ": " : "", *reply->detail ? reply->detail : "");
-        if (*reply->error)
-            fprintf (stderr, "%s: %s\n", reply->server, reply->error);
-        rc = ok ? 0 : 1;
-        cgs_cmd_reply_free (&reply);
-    }
-    cgs_cmd_client_destroy (&cl);
-    zmq_ctx_term (ctx);
-    return rc;
-}
-
-/* A position argument: "E,N" or any form of cgs_config_parse_position. */
-static int s_position (const cgs_exercise_t *ex, const char *text, Cgs__Enu *ret)
-{
-    char buf[256];
-    snprintf (buf, sizeof buf, "%s", text);
-    for (char *c = buf; *c; c++)
-        if (*c == ',')
-            *c = ' ';
-    cgs_geodetic_t o = cgs_exercise_origin (ex);
-    cgs_geo_t *frame = cgs_geo_new (o.lat_deg, o.lon_deg, o.height_m);
-    cgs_enu_t p;
-    char why[256];
-    int rc = frame ? cgs_config_parse_position (buf, frame, &p, why, sizeof why) : -ENOMEM;
-    cgs_geo_destroy (&frame);
-    if (rc < 0) {
-        fprintf (stderr, "mscgs: position '%s': %s\n", text, why);
-        return rc;
-    }
-    cgs__enu__init (ret);
-    ret->east_m = p.e_m;
-    ret->north_m = p.n_m;
-    ret->up_m = p.u_m;
-    return 0;
 }
 
 static double s_number (const char *what, const char *text)
@@ -798,7 +492,7 @@ static int s_cmd_task (const char *tool, int argc, char **argv)
             return c == 'h' ? 0 : 2;
         }
     }
-    cgs_exercise_t *ex = s_load_exercise (exercise);
+    cgs_exercise_t *ex = ms_tool_load_exercise (exercise);
     if (!ex)
         return 1;
     Cgs__Command cmd = CGS__COMMAND__INIT;
@@ -819,7 +513,7 @@ static int s_cmd_task (const char *tool, int argc, char **argv)
             fprintf (stderr, "mscgs loiter: give --here or --at POS\n");
             goto done;
         }
-        if (at && s_position (ex, at, &centre) < 0)
+        if (at && ms_tool_position (ex, at, &centre) < 0)
             goto done;
         loiter.uav_id = uav;
         loiter.center = at ? &centre : NULL;
@@ -833,7 +527,7 @@ static int s_cmd_task (const char *tool, int argc, char **argv)
             fprintf (stderr, "mscgs goto: give one position\n");
             goto done;
         }
-        if (s_position (ex, argv[optind], &centre) < 0)
+        if (ms_tool_position (ex, argv[optind], &centre) < 0)
             goto done;
         go_to.uav_id = uav;
         go_to.point = &centre;
@@ -851,7 +545,7 @@ static int s_cmd_task (const char *tool, int argc, char **argv)
         if (!points || !ptrs)
             goto done;
         for (int i = 0; i < nargs; i++) {
-            if (s_position (ex, argv[optind + i], &points[i]) < 0)
+            if (ms_tool_position (ex, argv[optind + i], &points[i]) < 0)
                 goto done;
             ptrs[i] = &points[i];
         }
@@ -894,7 +588,7 @@ static int s_cmd_task (const char *tool, int argc, char **argv)
         cmd.body_case = CGS__COMMAND__BODY_RESUME;
         cmd.resume = &resume;
     }
-    rc = s_send (tool, ex, to, "uavsim", &cmd);
+    rc = ms_tool_send (tool, ex, to, "uavsim", &cmd, s_wait_s);
 done:
     free (points);
     free (ptrs);
@@ -928,7 +622,7 @@ static int s_guide_designate (const cgs_exercise_t *ex, const char *at, int narg
         return 2;
     }
     if (at) {
-        if (s_position (ex, at, point) < 0)
+        if (ms_tool_position (ex, at, point) < 0)
             return 2;
         des->target_case = CGS__DESIGNATE__TARGET_POINT;
         des->point = point;
@@ -990,7 +684,7 @@ static int s_cmd_guide (const char *tool, int argc, char **argv)
     }
     int nargs = argc - optind;
     char **args = argv + optind;
-    cgs_exercise_t *ex = s_load_exercise (exercise);
+    cgs_exercise_t *ex = ms_tool_load_exercise (exercise);
     if (!ex)
         return 1;
     Cgs__Command cmd = CGS__COMMAND__INIT;
@@ -1033,7 +727,7 @@ static int s_cmd_guide (const char *tool, int argc, char **argv)
         cmd.body_case = CGS__COMMAND__BODY_SET_INTERCEPT_MODE;
         cmd.set_intercept_mode = &mode;
     }
-    rc = s_send (tool, ex, to, "guidanced", &cmd);
+    rc = ms_tool_send (tool, ex, to, "guidanced", &cmd, s_wait_s);
 done:
     cgs_exercise_destroy (&ex);
     return rc;
@@ -1076,13 +770,13 @@ static int s_cmd_snapshot (int argc, char **argv)
                  snap.frames);
         return 2;
     }
-    cgs_exercise_t *ex = s_load_exercise (exercise);
+    cgs_exercise_t *ex = ms_tool_load_exercise (exercise);
     if (!ex)
         return 1;
     Cgs__Command cmd = CGS__COMMAND__INIT;
     cmd.body_case = CGS__COMMAND__BODY_SNAPSHOT;
     cmd.snapshot = &snap;
-    int rc = s_send ("snapshot", ex, to, "imagerd", &cmd);
+    int rc = ms_tool_send ("snapshot", ex, to, "imagerd", &cmd, s_wait_s);
     cgs_exercise_destroy (&ex);
     return rc;
 }
@@ -1149,7 +843,7 @@ static int s_cmd_fault (int argc, char **argv)
         fprintf (stderr, "mscgs fault: %s\n", why);
         return 2;
     }
-    cgs_exercise_t *ex = s_load_exercise (exercise);
+    cgs_exercise_t *ex = ms_tool_load_exercise (exercise);
     if (!ex)
         return 1;
     int rc = 1;
@@ -1297,9 +991,9 @@ typedef struct {
     char out[PATH_MAX];
     char logs[PATH_MAX + 8];
     char state[PATH_MAX + 8];
-    s_child_t children[S_MAX_INSTANCES];
+    s_child_t children[MS_MAX_INSTANCES];
     size_t nchildren;
-    s_table_t table;
+    ms_health_t table;
     ms_icpt_t icpt;
     ms_metrics_t *metrics; // tracking quality against ground truth
     cgs_sub_t *sub;
@@ -1412,7 +1106,7 @@ static void s_tell_map_ports (s_run_t *run)
         if (!ch->map_auto)
             continue;
         for (size_t j = 0; j < run->table.nrows; j++) {
-            const s_row_t *r = &run->table.rows[j];
+            const ms_health_row_t *r = &run->table.rows[j];
             if (strcmp (r->instance, ch->instance->name) != 0 || r->http_port == 0 ||
                 r->http_port > 65535 || r->http_port == ch->map_told)
                 continue;
@@ -1433,7 +1127,7 @@ static void s_progress (s_run_t *run)
     uint64_t gaps = 0, drops = 0, malformed = 0;
     const char *error_from = NULL, *error = NULL;
     for (size_t i = 0; i < run->table.nrows; i++) {
-        const s_row_t *r = &run->table.rows[i];
+        const ms_health_row_t *r = &run->table.rows[i];
         if (r->seen && now - r->seen_at < 3.0) {
             up++;
             in += r->in_per_s;
@@ -1489,7 +1183,7 @@ static int s_write_summary_text (s_run_t *run, const char *path)
                  run->children[i].restarts == 1 ? "" : "s",
                  run->children[i].given_up ? ", gave up" : "");
     fprintf (f, "\nlast health:\n");
-    s_table_print (&run->table, f);
+    ms_health_print (&run->table, f);
     fprintf (f, "\n");
     ms_icpt_print (&run->icpt, f);
     if (run->metrics) {
@@ -1667,12 +1361,12 @@ static int s_cmd_run (int argc, char **argv)
         return 2;
     }
     char buf[PATH_MAX];
-    const char *path = s_exercise_path (exercise, buf, sizeof buf);
+    const char *path = ms_tool_exercise_path (exercise, buf, sizeof buf);
     static char abs_path[PATH_MAX];
     if (!realpath (path, abs_path))
         snprintf (abs_path, sizeof abs_path, "%s", path);
     run.exercise_path = abs_path;
-    run.ex = s_load_exercise (abs_path);
+    run.ex = ms_tool_load_exercise (abs_path);
     if (!run.ex)
         return 1;
     static char abs_scenario[PATH_MAX];
@@ -1690,13 +1384,13 @@ static int s_cmd_run (int argc, char **argv)
     if (!run.resume)
         s_clear_folder (run.state); // a new run starts from the scenario
 
-    for (size_t i = 0; i < cgs_exercise_instance_count (run.ex) && run.nchildren < S_MAX_INSTANCES;
+    for (size_t i = 0; i < cgs_exercise_instance_count (run.ex) && run.nchildren < MS_MAX_INSTANCES;
          i++) {
         const cgs_instance_t *in = cgs_exercise_instance (run.ex, i);
         if (!in->enabled || strcmp (in->program, "mscgs") == 0)
             continue;
         s_child_t *ch = &run.children[run.nchildren];
-        snprintf (ch->binary, sizeof ch->binary, "%s/%s", s_exe_dir, in->program);
+        snprintf (ch->binary, sizeof ch->binary, "%s/%s", ms_tool_exe_dir (), in->program);
         if (access (ch->binary, X_OK) != 0)
             continue; // not built yet
         ch->instance = in;
@@ -1707,7 +1401,7 @@ static int s_cmd_run (int argc, char **argv)
             run.out);
     if (run.nchildren == 0)
         printf ("mscgs run: no service program is built yet in %s; only watching the bus\n",
-                s_exe_dir);
+                ms_tool_exe_dir ());
     for (size_t i = 0; i < run.nchildren; i++)
         if (strcmp (run.children[i].instance->program, "stationd") == 0)
             run.children[i].map_auto = !s_print_map_address (run.children[i].instance, 0);
@@ -1716,19 +1410,19 @@ static int s_cmd_run (int argc, char **argv)
 
     cgs_lifecycle_init ();
     void *ctx = NULL;
-    run.sub = s_open_sub (run.ex, &ctx);
+    run.sub = ms_tool_open_sub (run.ex, &ctx);
     if (!run.sub)
         return 1;
-    s_table_init (&run.table, run.ex);
+    ms_health_init (&run.table, run.ex);
     ms_icpt_init (&run.icpt);
-    cgs_sub_on (run.sub, "health", s_on_health, &run.table);
-    cgs_sub_on (run.sub, "clock", s_on_clock, &run.table);
+    cgs_sub_on (run.sub, "health", ms_health_on_health, &run.table);
+    cgs_sub_on (run.sub, "clock", ms_health_on_clock, &run.table);
     run.metrics = ms_metrics_new (&run.icpt);
     cgs_sub_on (run.sub, "intercept", ms_icpt_on_intercept, &run.icpt);
     cgs_sub_on (run.sub, "track", s_run_on_track, &run);
     cgs_sub_on (run.sub, "mti.truth", s_run_on_mti_truth, &run);
     cgs_sub_on (run.sub, "entity", s_run_on_entity, &run);
-    s_connect_publishers (run.sub, run.ex, "health"); // every service publishes health
+    ms_tool_connect_publishers (run.sub, run.ex, "health"); // every service publishes health
     run.start = cgs_loop_now ();
     run.tty = isatty (STDOUT_FILENO);
     for (size_t i = 0; i < run.nchildren; i++)
@@ -1806,7 +1500,7 @@ static int s_cmd_run (int argc, char **argv)
 
 int main (int argc, char **argv)
 {
-    s_find_exe_dir ();
+    ms_tool_init ();
     if (argc < 2) {
         s_usage (stderr);
         return 2;
