@@ -216,16 +216,23 @@ int ms_opts_read_number (const ms_opt_t *opt, const char *value)
     return ms_opts_number (what, value, opt->arg);
 }
 
-int ms_opts_read_positive (const ms_opt_t *opt, const char *value)
+int ms_opts_positive (const char *what, const char *text, double *ret)
 {
     char *end = NULL;
-    double v = strtod (value, &end);
+    double v = strtod (text, &end);
     if (!end || *end || !(v > 0) || !isfinite (v)) {
-        fprintf (stderr, "mscgs: --%s: expected a positive number, got '%s'\n", opt->name, value);
+        fprintf (stderr, "mscgs: %s: expected a positive number, got '%s'\n", what, text);
         return -EINVAL;
     }
-    *(double *)opt->arg = v;
+    *ret = v;
     return 0;
+}
+
+int ms_opts_read_positive (const ms_opt_t *opt, const char *value)
+{
+    char what[128];
+    snprintf (what, sizeof what, "--%s", opt->name);
+    return ms_opts_positive (what, value, opt->arg);
 }
 
 int ms_opts_read_entity_id (const ms_opt_t *opt, const char *value)

@@ -35,6 +35,12 @@ struct ms_opt_s {
     void *arg;         // for fn
 };
 
+/* The --help entry (also -h) and a table's end. */
+// clang-format off
+#define MS_OPTS_HELP {.name = "help", .letter = 'h'}
+#define MS_OPTS_END  {.name = NULL}
+// clang-format on
+
 /* A command: its name, usage and options. */
 typedef struct {
     const char *name;     // "status": the usage's `mscgs status`
@@ -66,6 +72,10 @@ void ms_opts_list (const ms_opt_t *opts, int indent, FILE *f);
 /* Read text as a finite number into *ret: 0, or -EINVAL after saying
  * "mscgs: WHAT: expected a number, got 'TEXT'". */
 int ms_opts_number (const char *what, const char *text, double *ret);
+
+/* Read text as a positive finite number into *ret: 0, or -EINVAL after
+ * saying "mscgs: WHAT: expected a positive number, got 'TEXT'". */
+int ms_opts_positive (const char *what, const char *text, double *ret);
 
 /* Read text as a whole number in 0 .. UINT32_MAX (an entity or track id):
  * 0, or -EINVAL after saying "mscgs: WHAT: expected EXPECTED, got 'TEXT'". */

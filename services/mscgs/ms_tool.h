@@ -14,6 +14,27 @@
 #define MS_MAX_INSTANCES 64 // instances a command keeps track of
 #define MS_TOOL_WAIT_S   3  // a command to a service tries this long by default, s
 
+/* The options many commands take: --exercise F, --to INSTANCE, --uav ID
+ * (an entity id) and --wait S (ms_tool_read_wait), into ptr. */
+#define MS_TOOL_OPT_EXERCISE(ptr)                                                                  \
+    {                                                                                              \
+        .name = "exercise", .value = "F", .help = "the exercise file", .str = (ptr)                \
+    }
+#define MS_TOOL_OPT_TO(ptr)                                                                        \
+    {                                                                                              \
+        .name = "to", .value = "INSTANCE", .help = "the instance to send to", .str = (ptr)         \
+    }
+#define MS_TOOL_OPT_UAV(ptr)                                                                       \
+    {                                                                                              \
+        .name = "uav", .value = "ID", .help = "the UAV's entity id (default the only UAV)",        \
+        .fn = ms_opts_read_entity_id, .arg = (ptr)                                                 \
+    }
+#define MS_TOOL_OPT_WAIT(ptr)                                                                      \
+    {                                                                                              \
+        .name = "wait", .value = "S", .help = "keep trying S seconds (default 3)",                 \
+        .fn = ms_tool_read_wait, .arg = (ptr)                                                      \
+    }
+
 /* Find the folder of this binary (once, before the rest). */
 void ms_tool_init (void);
 
