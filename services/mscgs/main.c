@@ -23,6 +23,7 @@
 #include "cgs_util.h"
 #include "cgs_state.h"
 #include "cgs_topics.h"
+#include "ms_cmd_operator.h"
 #include "ms_cmd_status.h"
 #include "ms_health.h"
 #include "ms_metrics.h"
@@ -150,28 +151,12 @@ static void s_print_dis_destination (const cgs_instance_t *in)
                                                        : "this machine only");
 }
 
-static double s_number (const char *what, const char *text);
-
-/* How long a command to a service keeps trying (--wait S): attempts of 1 s. */
-static double s_wait_s = MS_TOOL_WAIT_S;
-
-static void s_set_wait (const char *text)
-{
-    s_wait_s = s_number ("--wait", text);
-    if (s_wait_s < 1 || s_wait_s > 3600) {
-        fprintf (stderr, "mscgs: --wait: 1 to 3600 seconds, got '%s'\n", text);
-        exit (2);
-    }
-}
-
+/* A number; exits 2 if not. */
 static double s_number (const char *what, const char *text)
 {
-    char *end = NULL;
-    double v = strtod (text, &end);
-    if (!end || end == text || *end || !isfinite (v)) {
-        fprintf (stderr, "mscgs: %s: expected a number, got '%s'\n", what, text);
+    double v = 0;
+    if (ms_opts_number (what, text, &v) < 0)
         exit (2);
-    }
     return v;
 }
 
@@ -184,322 +169,6 @@ static uint32_t s_id (const char *what, const char *expected, const char *text)
         exit (2);
     }
     return (uint32_t)v;
-}
-
-/* mscgs loiter|route|altitude|speed|pause|resume|time-scale ... */
-static int s_cmd_task (const char *tool, int argc, char **argv)
-{
-    const char *exercise = NULL, *to = NULL;
-    uint32_t uav = 0;
-    double radius = 0, speed = 0, altitude = 0;
-    bool here = false, anticlockwise = false, no_loiter = false;
-    const char *at = NULL;
-    static const struct option opts[] = {{"exercise", required_argument, NULL, 'e'},
-                                         {"to", required_argument, NULL, 't'},
-                                         {"uav", required_argument, NULL, 'u'},
-                                         {"here", no_argument, NULL, 'H'},
-                                         {"at", required_argument, NULL, 'a'},
-                                         {"radius", required_argument, NULL, 'r'},
-                                         {"anticlockwise", no_argument, NULL, 'A'},
-                                         {"speed", required_argument, NULL, 's'},
-                                         {"altitude", required_argument, NULL, 'l'},
-                                         {"no-loiter", no_argument, NULL, 'N'},
-                                         {"wait", required_argument, NULL, 'w'},
-                                         {"help", no_argument, NULL, 'h'},
-                                         {NULL, 0, NULL, 0}};
-    int c;
-    while ((c = getopt_long (argc, argv, "h", opts, NULL)) != -1) {
-        switch (c) {
-        case 'e':
-            exercise = optarg;
-            break;
-        case 't':
-            to = optarg;
-            break;
-        case 'u':
-            uav = s_id ("--uav", "an entity id", optarg);
-            break;
-        case 'H':
-            here = true;
-            break;
-        case 'a':
-            at = optarg;
-            break;
-        case 'r':
-            radius = s_number ("--radius", optarg);
-            break;
-        case 'A':
-            anticlockwise = true;
-            break;
-        case 'w':
-            s_set_wait (optarg);
-            break;
-        case 's':
-            speed = s_number ("--speed", optarg);
-            break;
-        case 'l':
-            altitude = s_number ("--altitude", optarg);
-            break;
-        case 'N':
-            no_loiter = true;
-            break;
-        default:
-            fprintf (c == 'h' ? stdout : stderr,
-                     "usage: mscgs loiter (--here | --at POS) [--radius M] [--anticlockwise]\n"
-                     "       mscgs goto [--radius M] [--anticlockwise] POS   (then loiter there)\n"
-                     "       mscgs route [--speed MPS] [--altitude M] [--no-loiter] [--radius M]\n"
-                     "                   [--anticlockwise] POS [POS ...]   (then loiter above the "
-                     "last)\n"
-                     "       mscgs altitude M          (above ground)\n"
-                     "       mscgs speed MPS           (airspeed)\n"
-                     "       mscgs pause | resume | time-scale X\n"
-                     "Common options: --uav ID (entity id; default the only UAV), --to INSTANCE\n"
-                     "(default the exercise's uavsim; guidanced also takes altitude and speed),\n"
-                     "--wait S (keep trying S seconds, default 3), --exercise F. POS is E,N in "
-                     "local metres, or quoted: 'geo LAT LON',\n"
-                     "'36.6N 121.2W', 'mgrs GRID'.\n");
-            return c == 'h' ? 0 : 2;
-        }
-    }
-    cgs_exercise_t *ex = ms_tool_load_exercise (exercise);
-    if (!ex)
-        return 1;
-    Cgs__Command cmd = CGS__COMMAND__INIT;
-    Cgs__Loiter loiter = CGS__LOITER__INIT;
-    Cgs__GoTo go_to = CGS__GO_TO__INIT;
-    Cgs__TaskRoute route = CGS__TASK_ROUTE__INIT;
-    Cgs__SetAltitude alt = CGS__SET_ALTITUDE__INIT;
-    Cgs__SetSpeed spd = CGS__SET_SPEED__INIT;
-    Cgs__Pause pause = CGS__PAUSE__INIT;
-    Cgs__Resume resume = CGS__RESUME__INIT;
-    Cgs__SetTimeScale scale = CGS__SET_TIME_SCALE__INIT;
-    Cgs__Enu centre, *points = NULL;
-    Cgs__Enu **ptrs = NULL;
-    int rc = 2;
-    int nargs = argc - optind;
-    if (strcmp (tool, "loiter") == 0) {
-        if (nargs != 0 || here == (at != NULL)) {
-            fprintf (stderr, "mscgs loiter: give --here or --at POS\n");
-            goto done;
-        }
-        if (at && ms_tool_position (ex, at, &centre) < 0)
-            goto done;
-        loiter.uav_id = uav;
-        loiter.center = at ? &centre : NULL;
-        loiter.radius_m = radius;
-        loiter.clockwise = !anticlockwise;
-        loiter.at_present_position = here;
-        cmd.body_case = CGS__COMMAND__BODY_LOITER;
-        cmd.loiter = &loiter;
-    } else if (strcmp (tool, "goto") == 0) {
-        if (nargs != 1) {
-            fprintf (stderr, "mscgs goto: give one position\n");
-            goto done;
-        }
-        if (ms_tool_position (ex, argv[optind], &centre) < 0)
-            goto done;
-        go_to.uav_id = uav;
-        go_to.point = &centre;
-        go_to.radius_m = radius;
-        go_to.anticlockwise = anticlockwise;
-        cmd.body_case = CGS__COMMAND__BODY_GO_TO;
-        cmd.go_to = &go_to;
-    } else if (strcmp (tool, "route") == 0) {
-        if (nargs < 1) {
-            fprintf (stderr, "mscgs route: give one or more positions\n");
-            goto done;
-        }
-        points = calloc ((size_t)nargs, sizeof *points);
-        ptrs = calloc ((size_t)nargs, sizeof *ptrs);
-        if (!points || !ptrs)
-            goto done;
-        for (int i = 0; i < nargs; i++) {
-            if (ms_tool_position (ex, argv[optind + i], &points[i]) < 0)
-                goto done;
-            ptrs[i] = &points[i];
-        }
-        route.uav_id = uav;
-        route.n_waypoints = (size_t)nargs;
-        route.waypoints = ptrs;
-        route.airspeed_mps = speed;
-        route.altitude_agl_m = altitude;
-        route.loiter_at_end = !no_loiter;
-        route.loiter_radius_m = radius;
-        route.loiter_anticlockwise = anticlockwise;
-        cmd.body_case = CGS__COMMAND__BODY_TASK_ROUTE;
-        cmd.task_route = &route;
-    } else if (strcmp (tool, "altitude") == 0 || strcmp (tool, "speed") == 0 ||
-               strcmp (tool, "time-scale") == 0) {
-        if (nargs != 1) {
-            fprintf (stderr, "mscgs %s: give one number\n", tool);
-            goto done;
-        }
-        double v = s_number (tool, argv[optind]);
-        if (tool[0] == 'a') {
-            alt.uav_id = uav;
-            alt.altitude_agl_m = v;
-            cmd.body_case = CGS__COMMAND__BODY_SET_ALTITUDE;
-            cmd.set_altitude = &alt;
-        } else if (tool[0] == 's') {
-            spd.uav_id = uav;
-            spd.airspeed_mps = v;
-            cmd.body_case = CGS__COMMAND__BODY_SET_SPEED;
-            cmd.set_speed = &spd;
-        } else {
-            scale.time_scale = v;
-            cmd.body_case = CGS__COMMAND__BODY_SET_TIME_SCALE;
-            cmd.set_time_scale = &scale;
-        }
-    } else if (strcmp (tool, "pause") == 0) {
-        cmd.body_case = CGS__COMMAND__BODY_PAUSE;
-        cmd.pause = &pause;
-    } else {
-        cmd.body_case = CGS__COMMAND__BODY_RESUME;
-        cmd.resume = &resume;
-    }
-    rc = ms_tool_send (tool, ex, to, "uavsim", &cmd, s_wait_s);
-done:
-    free (points);
-    free (ptrs);
-    cgs_exercise_destroy (&ex);
-    return rc;
-}
-
-/* ---- guidanced's operator commands ----------------------------------------------------- */
-
-static void s_guide_usage (FILE *f)
-{
-    fprintf (f, "usage: mscgs designate TRACK_ID      designate a track by its id\n"
-                "       mscgs designate --at POS      the track whose latest hit is nearest POS\n"
-                "       mscgs cancel                  stop the intercept (the UAV loiters)\n"
-                "       mscgs footprint-scale 1|5|10  the footprint's display scale\n"
-                "       mscgs intercept-mode head-on|mti-hits\n"
-                "Common options: --uav ID (entity id; default the only UAV), --to INSTANCE\n"
-                "(default the exercise's guidanced), --wait S (keep trying S seconds, default\n"
-                "3), --exercise F. POS is E,N in local metres,\n"
-                "or quoted: 'geo LAT LON', '36.6N 121.2W', 'mgrs GRID' (or the bare grid,\n"
-                "10SFE5964179460).\n");
-}
-
-/* Fill des from a track id argument, or from --at's position (kept in
- * *point); 0, or 2 (usage) after saying why. */
-static int s_guide_designate (const cgs_exercise_t *ex, const char *at, int nargs, char **args,
-                              Cgs__Designate *des, Cgs__Enu *point)
-{
-    if ((at != NULL) == (nargs == 1) || nargs > 1) {
-        fprintf (stderr, "mscgs designate: give a track id, or --at POS\n");
-        return 2;
-    }
-    if (at) {
-        if (ms_tool_position (ex, at, point) < 0)
-            return 2;
-        des->target_case = CGS__DESIGNATE__TARGET_POINT;
-        des->point = point;
-        return 0;
-    }
-    uint32_t id = s_id ("designate", "a track id (a position needs --at POS)", args[0]);
-    if (id == 0) {
-        fprintf (stderr, "mscgs designate: track ids start at 1\n");
-        return 2;
-    }
-    des->target_case = CGS__DESIGNATE__TARGET_TRACK_ID;
-    des->track_id = id;
-    return 0;
-}
-
-/* The method named on the command line; 0 or -EINVAL. */
-static int s_method (const char *text, Cgs__InterceptMethod *ret)
-{
-    if (strcmp (text, "head-on") == 0)
-        *ret = CGS__INTERCEPT_METHOD__INTERCEPT_METHOD_HEAD_ON;
-    else if (strcmp (text, "mti-hits") == 0)
-        *ret = CGS__INTERCEPT_METHOD__INTERCEPT_METHOD_MTI_HITS;
-    else
-        return -EINVAL;
-    return 0;
-}
-
-/* mscgs designate|cancel|footprint-scale|intercept-mode ... */
-static int s_cmd_guide (const char *tool, int argc, char **argv)
-{
-    const char *exercise = NULL, *to = NULL, *at = NULL;
-    uint32_t uav = 0;
-    static const struct option opts[] = {{"exercise", required_argument, NULL, 'e'},
-                                         {"to", required_argument, NULL, 't'},
-                                         {"uav", required_argument, NULL, 'u'},
-                                         {"at", required_argument, NULL, 'a'},
-                                         {"wait", required_argument, NULL, 'w'},
-                                         {"help", no_argument, NULL, 'h'},
-                                         {NULL, 0, NULL, 0}};
-    int c;
-    while ((c = getopt_long (argc, argv, "h", opts, NULL)) != -1) {
-        if (c == 'e')
-            exercise = optarg;
-        else if (c == 't')
-            to = optarg;
-        else if (c == 'u')
-            uav = s_id ("--uav", "an entity id", optarg);
-        else if (c == 'w')
-            s_set_wait (optarg);
-        else if (c == 'a' && strcmp (tool, "designate") == 0)
-            at = optarg;
-        else if (c == 'a') {
-            fprintf (stderr, "mscgs %s: --at is for designate\n", tool);
-            return 2;
-        } else {
-            s_guide_usage (c == 'h' ? stdout : stderr);
-            return c == 'h' ? 0 : 2;
-        }
-    }
-    int nargs = argc - optind;
-    char **args = argv + optind;
-    cgs_exercise_t *ex = ms_tool_load_exercise (exercise);
-    if (!ex)
-        return 1;
-    Cgs__Command cmd = CGS__COMMAND__INIT;
-    Cgs__Designate des = CGS__DESIGNATE__INIT;
-    Cgs__Cancel cancel = CGS__CANCEL__INIT;
-    Cgs__SetFootprintScale scale = CGS__SET_FOOTPRINT_SCALE__INIT;
-    Cgs__SetInterceptMode mode = CGS__SET_INTERCEPT_MODE__INIT;
-    Cgs__Enu point = CGS__ENU__INIT;
-    int rc = 2;
-    if (strcmp (tool, "designate") == 0) {
-        if (s_guide_designate (ex, at, nargs, args, &des, &point) != 0)
-            goto done;
-        des.uav_id = uav;
-        cmd.body_case = CGS__COMMAND__BODY_DESIGNATE;
-        cmd.designate = &des;
-    } else if (strcmp (tool, "cancel") == 0) {
-        if (nargs != 0) {
-            fprintf (stderr, "mscgs cancel: takes no arguments\n");
-            goto done;
-        }
-        cancel.uav_id = uav;
-        cmd.body_case = CGS__COMMAND__BODY_CANCEL;
-        cmd.cancel = &cancel;
-    } else if (strcmp (tool, "footprint-scale") == 0) {
-        uint32_t k = nargs == 1 ? s_id ("footprint-scale", "1, 5 or 10", args[0]) : 0;
-        if (k != 1 && k != 5 && k != 10) {
-            fprintf (stderr, "mscgs footprint-scale: give 1, 5 or 10\n");
-            goto done;
-        }
-        scale.uav_id = uav;
-        scale.scale = k;
-        cmd.body_case = CGS__COMMAND__BODY_SET_FOOTPRINT_SCALE;
-        cmd.set_footprint_scale = &scale;
-    } else {
-        if (nargs != 1 || s_method (args[0], &mode.method) < 0) {
-            fprintf (stderr, "mscgs intercept-mode: give head-on or mti-hits\n");
-            goto done;
-        }
-        mode.uav_id = uav;
-        cmd.body_case = CGS__COMMAND__BODY_SET_INTERCEPT_MODE;
-        cmd.set_intercept_mode = &mode;
-    }
-    rc = ms_tool_send (tool, ex, to, "guidanced", &cmd, s_wait_s);
-done:
-    cgs_exercise_destroy (&ex);
-    return rc;
 }
 
 /* mscgs snapshot [N]: imagerd writes its next N frames as PNG files. */
@@ -545,7 +214,7 @@ static int s_cmd_snapshot (int argc, char **argv)
     Cgs__Command cmd = CGS__COMMAND__INIT;
     cmd.body_case = CGS__COMMAND__BODY_SNAPSHOT;
     cmd.snapshot = &snap;
-    int rc = ms_tool_send ("snapshot", ex, to, "imagerd", &cmd, s_wait_s);
+    int rc = ms_tool_send ("snapshot", ex, to, "imagerd", &cmd, MS_TOOL_WAIT_S);
     cgs_exercise_destroy (&ex);
     return rc;
 }
@@ -1288,11 +957,11 @@ int main (int argc, char **argv)
                            "speed",  "pause", "resume", "time-scale"};
     for (size_t i = 0; i < sizeof tasks / sizeof tasks[0]; i++)
         if (strcmp (cmd, tasks[i]) == 0)
-            return s_cmd_task (cmd, argc, argv);
+            return ms_task_main (argc, argv);
     const char *guide[] = {"designate", "cancel", "footprint-scale", "intercept-mode"};
     for (size_t i = 0; i < sizeof guide / sizeof guide[0]; i++)
         if (strcmp (cmd, guide[i]) == 0)
-            return s_cmd_guide (cmd, argc, argv);
+            return ms_guide_main (argc, argv);
     if (strcmp (cmd, "help") == 0 || strcmp (cmd, "-h") == 0 || strcmp (cmd, "--help") == 0) {
         s_usage (stdout);
         return 0;
