@@ -23,6 +23,7 @@
 #include "cgs_util.h"
 #include "cgs_state.h"
 #include "cgs_topics.h"
+#include "ms_cmd_admin.h"
 #include "ms_cmd_operator.h"
 #include "ms_cmd_status.h"
 #include "ms_health.h"
@@ -158,235 +159,6 @@ static double s_number (const char *what, const char *text)
     if (ms_opts_number (what, text, &v) < 0)
         exit (2);
     return v;
-}
-
-/* A whole number in 0 .. UINT32_MAX (an entity or track id); exits 2 if not. */
-static uint32_t s_id (const char *what, const char *expected, const char *text)
-{
-    uint64_t v = 0;
-    if (cgs_parse_u64 (text, UINT32_MAX, &v) < 0) {
-        fprintf (stderr, "mscgs: %s: expected %s, got '%s'\n", what, expected, text);
-        exit (2);
-    }
-    return (uint32_t)v;
-}
-
-/* mscgs snapshot [N]: imagerd writes its next N frames as PNG files. */
-static int s_cmd_snapshot (int argc, char **argv)
-{
-    const char *exercise = NULL, *to = NULL;
-    Cgs__Snapshot snap = CGS__SNAPSHOT__INIT;
-    static const struct option opts[] = {{"exercise", required_argument, NULL, 'e'},
-                                         {"to", required_argument, NULL, 't'},
-                                         {"uav", required_argument, NULL, 'u'},
-                                         {"help", no_argument, NULL, 'h'},
-                                         {NULL, 0, NULL, 0}};
-    int c;
-    while ((c = getopt_long (argc, argv, "h", opts, NULL)) != -1) {
-        if (c == 'e')
-            exercise = optarg;
-        else if (c == 't')
-            to = optarg;
-        else if (c == 'u')
-            snap.uav_id = s_id ("--uav", "an entity id", optarg);
-        else {
-            fprintf (c == 'h' ? stdout : stderr,
-                     "usage: mscgs snapshot [N] [--to INSTANCE] [--uav ID] [--exercise F]\n"
-                     "imagerd writes its next N frames (1..1000, default 1) as PNG files\n"
-                     "(snapshot-NNNNNNNN.png) in its output folder.\n");
-            return c == 'h' ? 0 : 2;
-        }
-    }
-    if (argc - optind > 1) {
-        fprintf (stderr, "mscgs snapshot: takes one number of frames at most\n");
-        return 2;
-    }
-    snap.frames = argc - optind == 1 ? s_id ("snapshot", "a number of frames", argv[optind]) : 1;
-    if (snap.frames < 1 || snap.frames > 1000) {
-        fprintf (stderr,
-                 "mscgs snapshot: 1 frame at least, at most 1000 frames a request, got %u\n",
-                 snap.frames);
-        return 2;
-    }
-    cgs_exercise_t *ex = ms_tool_load_exercise (exercise);
-    if (!ex)
-        return 1;
-    Cgs__Command cmd = CGS__COMMAND__INIT;
-    cmd.body_case = CGS__COMMAND__BODY_SNAPSHOT;
-    cmd.snapshot = &snap;
-    int rc = ms_tool_send ("snapshot", ex, to, "imagerd", &cmd, MS_TOOL_WAIT_S);
-    cgs_exercise_destroy (&ex);
-    return rc;
-}
-
-/* ---- fault: the debug-only fault channel ---------------------------------------------- */
-
-/* mscgs fault INSTANCE crash | hang [S] | slow MS [S] (cgs_fault.h). */
-static int s_cmd_fault (int argc, char **argv)
-{
-    const char *usage =
-        "usage: mscgs fault INSTANCE crash | hang [S] | slow MS [S] [--state-dir DIR]\n"
-        "                   [--exercise F]\n"
-        "The debug-only fault channel of a service built with FAULT=1 (the test build):\n"
-        "after its reply the service\n"
-        "  crash        aborts, as a crash would;\n"
-        "  hang [S]     blocks its event loop S seconds (default: until killed);\n"
-        "  slow MS [S]  stalls its event loop MS ms (1..90) in every 100 ms, S seconds\n"
-        "               (default: until it ends).\n"
-        "The channel is ipc://DIR/INSTANCE.fault; DIR is the service's state folder\n"
-        "(default the exercise's state_dir).\n";
-    const char *exercise = NULL, *state_dir = NULL;
-    static const struct option opts[] = {{"exercise", required_argument, NULL, 'e'},
-                                         {"state-dir", required_argument, NULL, 's'},
-                                         {"help", no_argument, NULL, 'h'},
-                                         {NULL, 0, NULL, 0}};
-    int c;
-    while ((c = getopt_long (argc, argv, "h", opts, NULL)) != -1) {
-        if (c == 'e')
-            exercise = optarg;
-        else if (c == 's')
-            state_dir = optarg;
-        else {
-            fputs (usage, c == 'h' ? stdout : stderr);
-            return c == 'h' ? 0 : 2;
-        }
-    }
-#ifndef CGS_FAULT
-    (void)exercise;
-    (void)state_dir;
-    fprintf (stderr, "mscgs fault: this mscgs was built without the fault channel (FAULT=1 "
-                     "builds have it; the test build does)\n");
-    return 2;
-#else
-    int nargs = argc - optind;
-    char **args = argv + optind;
-    Cgs__Fault fault = CGS__FAULT__INIT;
-    const char *action = nargs >= 2 ? args[1] : "";
-    if (strcmp (action, "crash") == 0 && nargs == 2)
-        fault.action = CGS__FAULT_ACTION__FAULT_ACTION_CRASH;
-    else if (strcmp (action, "hang") == 0 && (nargs == 2 || nargs == 3)) {
-        fault.action = CGS__FAULT_ACTION__FAULT_ACTION_HANG;
-        fault.seconds = nargs == 3 ? s_number ("hang", args[2]) : 0;
-    } else if (strcmp (action, "slow") == 0 && (nargs == 3 || nargs == 4)) {
-        fault.action = CGS__FAULT_ACTION__FAULT_ACTION_SLOW;
-        fault.stall_ms = s_id ("slow", "a stall in ms", args[2]);
-        fault.seconds = nargs == 4 ? s_number ("slow", args[3]) : 0;
-    } else {
-        fputs (usage, stderr);
-        return 2;
-    }
-    cgs_fault_t check = {0};
-    char why[256];
-    if (cgs_fault_request (&check, &fault, 0, why, sizeof why) < 0) {
-        fprintf (stderr, "mscgs fault: %s\n", why);
-        return 2;
-    }
-    cgs_exercise_t *ex = ms_tool_load_exercise (exercise);
-    if (!ex)
-        return 1;
-    int rc = 1;
-    char dir[PATH_MAX], path[PATH_MAX + 200], ep[PATH_MAX + 210];
-    if (!cgs_exercise_find (ex, args[0])) {
-        fprintf (stderr, "mscgs fault: %s is not in the exercise\n", args[0]);
-        rc = 2;
-        goto done;
-    }
-    if (!realpath (state_dir ? state_dir : cgs_exercise_state_dir (ex), dir)) {
-        fprintf (stderr, "mscgs fault: state folder %s: %s\n",
-                 state_dir ? state_dir : cgs_exercise_state_dir (ex), strerror (errno));
-        goto done;
-    }
-    snprintf (path, sizeof path, "%s/%s.fault", dir, args[0]);
-    snprintf (ep, sizeof ep, "ipc://%s", path);
-    if (access (path, F_OK) < 0) {
-        fprintf (stderr,
-                 "mscgs fault: no fault channel at %s: is %s running, built with FAULT=1, with "
-                 "state folder %s (--state-dir)?\n",
-                 path, args[0], dir);
-        goto done;
-    }
-    void *ctx = zmq_ctx_new ();
-    cgs_cmd_client_t *cl = cgs_cmd_client_new (ctx, ep, "mscgs-fault");
-    if (!cl) {
-        fprintf (stderr, "mscgs fault: %s\n", strerror (errno));
-        zmq_ctx_term (ctx);
-        goto done;
-    }
-    Cgs__Command cmd = CGS__COMMAND__INIT;
-    cmd.body_case = CGS__COMMAND__BODY_FAULT;
-    cmd.fault = &fault;
-    Cgs__Reply *reply = NULL;
-    char err[512];
-    cgs_lifecycle_init ();
-    // One attempt: a retried crash would crash the restarted service too.
-    if (cgs_cmd_client_call (cl, &cmd, 2000, 1, &reply, err, sizeof err) < 0)
-        fprintf (stderr, "mscgs fault: %s\n", err);
-    else {
-        bool ok = reply->status == CGS__REPLY_STATUS__REPLY_STATUS_OK;
-        fprintf (ok ? stdout : stderr, "%s: %s: %s\n", reply->server, ok ? "ok" : "refused",
-                 ok ? reply->detail : reply->error);
-        rc = ok ? 0 : 1;
-        cgs_cmd_reply_free (&reply);
-    }
-    cgs_cmd_client_destroy (&cl);
-    zmq_ctx_term (ctx);
-done:
-    cgs_exercise_destroy (&ex);
-    return rc;
-#endif
-}
-
-/* mscgs keygen NAME [--dir DIR]: a CURVE key pair, the secret in DIR/NAME.key
- * (mode 0600, never overwritten) and the public key in DIR/NAME.pub and on
- * stdout, as the exercise file's lines. */
-static int s_cmd_keygen (int argc, char **argv)
-{
-    const char *dir = ".";
-    static const struct option opts[] = {{"dir", required_argument, NULL, 'd'}, {0, 0, 0, 0}};
-    int c;
-    while ((c = getopt_long (argc, argv, "", opts, NULL)) != -1) {
-        if (c != 'd') {
-            fprintf (stderr, "usage: mscgs keygen NAME [--dir DIR]\n");
-            return 2;
-        }
-        dir = optarg;
-    }
-    if (optind != argc - 1 || !*argv[optind] || strchr (argv[optind], '/')) {
-        fprintf (stderr, "usage: mscgs keygen NAME [--dir DIR]   (NAME without '/')\n");
-        return 2;
-    }
-    const char *name = argv[optind];
-    char pub[41], secret[41], spath[PATH_MAX], ppath[PATH_MAX];
-    if (zmq_curve_keypair (pub, secret) != 0) {
-        fprintf (stderr, "mscgs keygen: %s (libzmq without CURVE?)\n", zmq_strerror (zmq_errno ()));
-        return 1;
-    }
-    snprintf (spath, sizeof spath, "%s/%s.key", dir, name);
-    snprintf (ppath, sizeof ppath, "%s/%s.pub", dir, name);
-    int fd = open (spath, O_WRONLY | O_CREAT | O_EXCL, 0600);
-    if (fd < 0) {
-        fprintf (stderr, "mscgs keygen: cannot create %s: %s%s\n", spath, strerror (errno),
-                 errno == EEXIST ? " (a key is never overwritten: remove it first)" : "");
-        return 1;
-    }
-    char line[64];
-    int n = snprintf (line, sizeof line, "%s\n", secret);
-    bool ok = write (fd, line, (size_t)n) == n;
-    ok = close (fd) == 0 && ok;
-    FILE *f = ok ? fopen (ppath, "w") : NULL;
-    ok = f && fprintf (f, "%s\n", pub) > 0;
-    ok = f && fclose (f) == 0 && ok;
-    memset (secret, 0, sizeof secret);
-    memset (line, 0, sizeof line);
-    if (!ok) {
-        fprintf (stderr, "mscgs keygen: cannot write the key files in %s\n", dir);
-        return 1;
-    }
-    printf ("; %s: paste into its [service] section (or [curve] for the tools:\n"
-            "; client_public_key / client_secret_key_file)\npublic_key = %s\nsecret_key_file = "
-            "%s\n",
-            name, pub, spath);
-    return 0;
 }
 
 /* ---- run ------------------------------------------------------------------------------ */
@@ -946,11 +718,11 @@ int main (int argc, char **argv)
     if (strcmp (cmd, "topics") == 0)
         return ms_topics_main (argc, argv);
     if (strcmp (cmd, "keygen") == 0)
-        return s_cmd_keygen (argc, argv);
+        return ms_keygen_main (argc, argv);
     if (strcmp (cmd, "snapshot") == 0)
-        return s_cmd_snapshot (argc, argv);
+        return ms_snapshot_main (argc, argv);
     if (strcmp (cmd, "fault") == 0)
-        return s_cmd_fault (argc, argv);
+        return ms_fault_main (argc, argv);
     if (strcmp (cmd, "montecarlo") == 0)
         return ms_montecarlo_main (argc, argv);
     const char *tasks[] = {"loiter", "goto",  "route",  "altitude",
