@@ -18,7 +18,7 @@
  * (an entity id) and --wait S (ms_tool_read_wait), into ptr. */
 #define MS_TOOL_OPT_EXERCISE(ptr)                                                                  \
     {                                                                                              \
-        .name = "exercise", .value = "F", .help = "the exercise file", .str = (ptr)                \
+        .name = "exercise", .value = "F", .help = "exercise file", .str = (ptr)                    \
     }
 #define MS_TOOL_OPT_TO(ptr)                                                                        \
     {                                                                                              \
