@@ -39,10 +39,9 @@ int ms_snapshot_main (int argc, char **argv)
                  "(snapshot-NNNNNNNN.png) in its output folder.\n",
         .opts = opts,
     };
-    int nargs = 0;
-    int rc = ms_opts_parse (&spec, argc, argv, &nargs);
-    if (rc < 0)
-        return ms_opts_exit_code (rc);
+    int nargs = ms_opts_parse (&spec, argc, argv);
+    if (nargs < 0)
+        return ms_opts_exit_code (nargs);
     if (nargs > 1) {
         fprintf (stderr, "mscgs snapshot: takes one number of frames at most\n");
         return 2;
@@ -62,7 +61,7 @@ int ms_snapshot_main (int argc, char **argv)
     Cgs__Command cmd = CGS__COMMAND__INIT;
     cmd.body_case = CGS__COMMAND__BODY_SNAPSHOT;
     cmd.snapshot = &snap;
-    rc = ms_tool_send ("snapshot", ex, to, "imagerd", &cmd, MS_TOOL_WAIT_S);
+    int rc = ms_tool_send ("snapshot", ex, to, "imagerd", &cmd, MS_TOOL_WAIT_S);
     cgs_exercise_destroy (&ex);
     return rc;
 }
@@ -96,10 +95,9 @@ int ms_fault_main (int argc, char **argv)
                  "(default the exercise's state_dir).\n",
         .opts = opts,
     };
-    int nargs = 0;
-    int rc = ms_opts_parse (&spec, argc, argv, &nargs);
-    if (rc < 0)
-        return ms_opts_exit_code (rc);
+    int nargs = ms_opts_parse (&spec, argc, argv);
+    if (nargs < 0)
+        return ms_opts_exit_code (nargs);
 #ifndef CGS_FAULT
     (void)exercise;
     (void)state_dir;
@@ -134,7 +132,7 @@ int ms_fault_main (int argc, char **argv)
     cgs_exercise_t *ex = ms_tool_load_exercise (exercise);
     if (!ex)
         return 1;
-    rc = 1;
+    int rc = 1;
     char dir[PATH_MAX], path[PATH_MAX + 200], ep[PATH_MAX + 210];
     if (!cgs_exercise_find (ex, args[0])) {
         fprintf (stderr, "mscgs fault: %s is not in the exercise\n", args[0]);
@@ -199,10 +197,9 @@ int ms_keygen_main (int argc, char **argv)
         MS_OPTS_END, // no --help: it has never had one
     };
     const ms_cmd_t spec = {.name = "keygen", .operands = "NAME", .opts = opts};
-    int nargs = 0;
-    int rc = ms_opts_parse (&spec, argc, argv, &nargs);
-    if (rc < 0)
-        return ms_opts_exit_code (rc);
+    int nargs = ms_opts_parse (&spec, argc, argv);
+    if (nargs < 0)
+        return ms_opts_exit_code (nargs);
     if (nargs != 1 || !*argv[1] || strchr (argv[1], '/')) {
         fprintf (stderr, "usage: mscgs keygen NAME [--dir DIR]   (NAME without '/')\n");
         return 2;

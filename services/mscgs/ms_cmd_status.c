@@ -40,10 +40,9 @@ int ms_status_main (int argc, char **argv)
                  "print a table. Exit 0 when every enabled instance is up, 3 if not.\n",
         .opts = opts,
     };
-    int nargs = 0;
-    int rc = ms_opts_parse (&spec, argc, argv, &nargs);
-    if (rc < 0)
-        return ms_opts_exit_code (rc);
+    int nargs = ms_opts_parse (&spec, argc, argv);
+    if (nargs < 0)
+        return ms_opts_exit_code (nargs);
     cgs_exercise_t *ex = ms_tool_load_exercise (exercise);
     if (!ex)
         return 1;
@@ -70,7 +69,7 @@ int ms_status_main (int argc, char **argv)
     printf ("exercise %s (id %u), %s\n", cgs_exercise_name (ex), cgs_exercise_id (ex),
             cgs_exercise_path (ex));
     ms_health_print (&table, stdout);
-    rc = 0;
+    int rc = 0;
     double now = cgs_loop_now ();
     for (size_t i = 0; i < table.nrows; i++)
         if (table.rows[i].enabled && strcmp (ms_health_state (&table.rows[i], now), "up") != 0)
@@ -148,19 +147,15 @@ int ms_echo_main (int argc, char **argv)
     const ms_cmd_t spec = {
         .name = "echo",
         .operands = "TOPIC",
+        .missing = "which topic? (`mscgs topics` lists them)",
         .about = "Print each message of TOPIC from every publisher of it, as text with its\n"
                  "header, or as one line of JSON each. Stop after N messages, S seconds\n"
                  "(exit 4 if fewer than N came), or Ctrl-C. `mscgs topics` lists topics.\n",
         .opts = opts,
     };
-    int nargs = 0;
-    int rc = ms_opts_parse (&spec, argc, argv, &nargs);
-    if (rc < 0)
-        return ms_opts_exit_code (rc);
-    if (nargs < 1) {
-        fprintf (stderr, "mscgs echo: which topic? (`mscgs topics` lists them)\n");
-        return 2;
-    }
+    int nargs = ms_opts_parse (&spec, argc, argv);
+    if (nargs < 0)
+        return ms_opts_exit_code (nargs);
     const char *topic = argv[1];
     if (!cgs_topics_find (topic)) {
         fprintf (stderr, "mscgs echo: unknown topic '%s'; the topics are:", topic);
@@ -187,7 +182,7 @@ int ms_echo_main (int argc, char **argv)
     while (!cgs_lifecycle_stopping () && cgs_loop_now () < end &&
            !(echo.count > 0 && echo.seen >= echo.count))
         cgs_sub_poll (sub, 100);
-    rc = echo.count > 0 && echo.seen < echo.count ? 4 : 0;
+    int rc = echo.count > 0 && echo.seen < echo.count ? 4 : 0;
     if (cgs_sub_gaps (sub) || cgs_sub_malformed (sub))
         fprintf (stderr, "mscgs echo: %llu messages missed (gaps), %llu malformed\n",
                  (unsigned long long)cgs_sub_gaps (sub),
@@ -207,17 +202,13 @@ int ms_ping_main (int argc, char **argv)
     const ms_cmd_t spec = {
         .name = "ping",
         .operands = "INSTANCE",
+        .missing = "which instance?",
         .about = "Send a ping command to INSTANCE's command endpoint and print the reply.\n",
         .opts = opts,
     };
-    int nargs = 0;
-    int rc = ms_opts_parse (&spec, argc, argv, &nargs);
-    if (rc < 0)
-        return ms_opts_exit_code (rc);
-    if (nargs < 1) {
-        fprintf (stderr, "mscgs ping: which instance?\n");
-        return 2;
-    }
+    int nargs = ms_opts_parse (&spec, argc, argv);
+    if (nargs < 0)
+        return ms_opts_exit_code (nargs);
     cgs_exercise_t *ex = ms_tool_load_exercise (exercise);
     if (!ex)
         return 1;
@@ -241,7 +232,7 @@ int ms_ping_main (int argc, char **argv)
     char err[512];
     double t0 = cgs_loop_now ();
     cgs_lifecycle_init ();
-    rc = cgs_cmd_client_call (cl, &cmd, 1000, 3, &reply, err, sizeof err);
+    int rc = cgs_cmd_client_call (cl, &cmd, 1000, 3, &reply, err, sizeof err);
     if (rc < 0) {
         fprintf (stderr, "mscgs ping: %s\n", err);
         rc = 1;

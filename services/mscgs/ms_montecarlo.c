@@ -342,10 +342,9 @@ int ms_montecarlo_main (int argc, char **argv)
     };
     const ms_cmd_t spec = {
         .name = "montecarlo", .synopsis = s_synopsis, .about = s_about, .opts = opts};
-    int nargs = 0;
-    int opt_rc = ms_opts_parse (&spec, argc, argv, &nargs);
-    if (opt_rc < 0)
-        return ms_opts_exit_code (opt_rc);
+    int nargs = ms_opts_parse (&spec, argc, argv);
+    if (nargs < 0)
+        return ms_opts_exit_code (nargs);
     if (nargs > 0) {
         fprintf (stderr, "mscgs montecarlo: unexpected argument '%s' (see --help)\n", argv[1]);
         return 2;

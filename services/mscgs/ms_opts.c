@@ -112,7 +112,7 @@ static int s_short (const ms_cmd_t *cmd, int argc, char **argv, int *i)
     return 0;
 }
 
-int ms_opts_parse (const ms_cmd_t *cmd, int argc, char **argv, int *ret_nargs)
+int ms_opts_parse (const ms_cmd_t *cmd, int argc, char **argv)
 {
     int nargs = 0;
     bool options = true;
@@ -130,8 +130,11 @@ int ms_opts_parse (const ms_cmd_t *cmd, int argc, char **argv, int *ret_nargs)
         if (rc < 0)
             return rc;
     }
-    *ret_nargs = nargs;
-    return 0;
+    if (cmd->missing && nargs == 0) {
+        fprintf (stderr, "mscgs %s: %s\n", cmd->name, cmd->missing);
+        return -EINVAL;
+    }
+    return nargs;
 }
 
 int ms_opts_exit_code (int rc)
@@ -186,16 +189,29 @@ void ms_opts_list (const ms_opt_t *opts, int indent, FILE *f)
     }
 }
 
-int ms_opts_number (const char *what, const char *text, double *ret)
+/* Read text as a finite number, positive if asked: 0, or -EINVAL after
+ * saying why. */
+static int s_double (const char *what, const char *text, bool positive, double *ret)
 {
     char *end = NULL;
     double v = strtod (text, &end);
-    if (!end || end == text || *end || !isfinite (v)) {
-        fprintf (stderr, "mscgs: %s: expected a number, got '%s'\n", what, text);
+    if (!end || end == text || *end || !isfinite (v) || (positive && !(v > 0))) {
+        fprintf (stderr, "mscgs: %s: expected a %snumber, got '%s'\n", what,
+                 positive ? "positive " : "", text);
         return -EINVAL;
     }
     *ret = v;
     return 0;
+}
+
+int ms_opts_number (const char *what, const char *text, double *ret)
+{
+    return s_double (what, text, false, ret);
+}
+
+int ms_opts_positive (const char *what, const char *text, double *ret)
+{
+    return s_double (what, text, true, ret);
 }
 
 int ms_opts_u32 (const char *what, const char *expected, const char *text, uint32_t *ret)
@@ -214,18 +230,6 @@ int ms_opts_read_number (const ms_opt_t *opt, const char *value)
     char what[128];
     snprintf (what, sizeof what, "--%s", opt->name);
     return ms_opts_number (what, value, opt->arg);
-}
-
-int ms_opts_positive (const char *what, const char *text, double *ret)
-{
-    char *end = NULL;
-    double v = strtod (text, &end);
-    if (!end || *end || !(v > 0) || !isfinite (v)) {
-        fprintf (stderr, "mscgs: %s: expected a positive number, got '%s'\n", what, text);
-        return -EINVAL;
-    }
-    *ret = v;
-    return 0;
 }
 
 int ms_opts_read_positive (const ms_opt_t *opt, const char *value)

@@ -45,20 +45,21 @@ struct ms_opt_s {
 typedef struct {
     const char *name;     // "status": the usage's `mscgs status`
     const char *operands; // after the name in the usage ("TOPIC"); NULL: none
-    const char
-        *synopsis;     // the usage's first lines when the table cannot say them; NULL: the table's
-    const char *about; // the usage's text after them; NULL: none
+    const char *synopsis; // the usage's first lines, when not the table's; NULL: the table's
+    const char *about;    // the usage's text after them; NULL: none
+    const char *missing;  // said ("mscgs NAME: MISSING") when no operand came; NULL: none needed
     const ms_opt_t *opts; // ends with an entry whose name is NULL
 } ms_cmd_t;
 
 /* Parse argv[1] .. argv[argc - 1] (argv[0] names the command in messages).
- * Each option's value is stored or read as it comes, left to right. Returns
- * 0, the operands, in order, then being argv[1] .. argv[*ret_nargs]; or
- * -ECANCELED after --help printed the usage; or -EINVAL after a bad option
- * or value (said on stderr). argv's order changes in any case. */
-int ms_opts_parse (const ms_cmd_t *cmd, int argc, char **argv, int *ret_nargs);
+ * Each option's value is stored or read as it comes, left to right.
+ * Returns how many operands there are, moved in order to argv[1] ..
+ * argv[n]; or -ECANCELED after --help printed the usage; or -EINVAL after
+ * a bad option or value, or no operand where the command needs one (said on
+ * stderr). argv's order changes in any case. */
+int ms_opts_parse (const ms_cmd_t *cmd, int argc, char **argv);
 
-/* The exit code of a command whose parse failed with rc: 0 after --help, 2. */
+/* The exit code of a command whose parse returned rc < 0: 0 after --help, 2. */
 int ms_opts_exit_code (int rc);
 
 /* Print the command's usage. */

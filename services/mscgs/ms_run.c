@@ -482,10 +482,9 @@ const ms_opt_t *ms_run_options (void)
 int ms_run_main (int argc, char **argv)
 {
     s_run.stop_after_intercept_s = -1;
-    int nargs = 0;
-    int rc = ms_opts_parse (&s_spec, argc, argv, &nargs);
-    if (rc < 0)
-        return ms_opts_exit_code (rc);
+    int nargs = ms_opts_parse (&s_spec, argc, argv);
+    if (nargs < 0)
+        return ms_opts_exit_code (nargs);
     snprintf (s_run.out, sizeof s_run.out, "%s", s_out ? s_out : "out");
     if (s_run.scenario && access (s_run.scenario, R_OK) != 0) {
         fprintf (stderr, "mscgs run: --scenario %s: %s\n", s_run.scenario, strerror (errno));

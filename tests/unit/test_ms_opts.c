@@ -125,8 +125,9 @@ static void s_parse (s_parse_t *p, const ms_cmd_t *cmd, const char *line)
     int saved_out = dup (STDOUT_FILENO), saved_err = dup (STDERR_FILENO);
     dup2 (fileno (out), STDOUT_FILENO);
     dup2 (fileno (err), STDERR_FILENO);
-    p->nargs = -1;
-    p->rc = ms_opts_parse (cmd, argc, p->argv, &p->nargs);
+    int rc = ms_opts_parse (cmd, argc, p->argv);
+    p->rc = rc < 0 ? rc : 0;
+    p->nargs = rc < 0 ? -1 : rc;
     fflush (stdout);
     fflush (stderr);
     dup2 (saved_out, STDOUT_FILENO);
@@ -203,7 +204,7 @@ static void test_errors (void **state)
         s_parse_t p;
         s_parse (&p, &s_cmd, cases[i].line);
         assert_int_equal (p.rc, -EINVAL);
-        assert_int_equal (p.nargs, -1); // not written
+        assert_int_equal (p.nargs, -1);
         assert_int_equal (ms_opts_exit_code (p.rc), 2);
         char want[4096];
         snprintf (want, sizeof want, "%s%s", cases[i].said, S_USAGE);
@@ -239,6 +240,27 @@ static void test_readers_in_order (void **state)
     s_parse (&p, &s_cmd, "--uav 4294967295");
     assert_int_equal (p.rc, 0);
     assert_int_equal (s_v.uav, UINT32_MAX);
+}
+
+/* A command that needs an operand says so when none came, after the
+ * options were read. */
+static void test_missing_operand (void **state)
+{
+    (void)state;
+    ms_cmd_t cmd = s_cmd;
+    cmd.missing = "which topic?";
+    s_parse_t p;
+    s_parse (&p, &cmd, "--json -- ");
+    assert_int_equal (p.rc, -EINVAL);
+    assert_true (s_v.json);
+    assert_string_equal (p.err, "mscgs demo: which topic?\n");
+    s_parse (&p, &cmd, "--json x");
+    assert_int_equal (p.rc, 0);
+    assert_int_equal (p.nargs, 1);
+    s_parse (&p, &cmd, "--bogus");
+    assert_string_equal (p.err, "demo: unrecognized option '--bogus'\n" S_USAGE);
+    s_parse (&p, &cmd, "-h");
+    assert_int_equal (p.rc, -ECANCELED);
 }
 
 /* --help and -h: the usage on stdout, exit code 0, wherever they stand. */
@@ -433,10 +455,15 @@ static void test_same_as_getopt_long (void **state)
 int main (void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test (test_values),         cmocka_unit_test (test_operands),
-        cmocka_unit_test (test_errors),         cmocka_unit_test (test_readers_in_order),
-        cmocka_unit_test (test_help),           cmocka_unit_test (test_usage_and_list),
-        cmocka_unit_test (test_number_readers), cmocka_unit_test (test_same_as_getopt_long),
+        cmocka_unit_test (test_values),
+        cmocka_unit_test (test_operands),
+        cmocka_unit_test (test_errors),
+        cmocka_unit_test (test_readers_in_order),
+        cmocka_unit_test (test_missing_operand),
+        cmocka_unit_test (test_help),
+        cmocka_unit_test (test_usage_and_list),
+        cmocka_unit_test (test_number_readers),
+        cmocka_unit_test (test_same_as_getopt_long),
     };
     return cmocka_run_group_tests (tests, NULL, NULL);
 }
