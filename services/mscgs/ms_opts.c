@@ -6,6 +6,7 @@
 
 #include <errno.h>
 #include <math.h>
+#include <stdarg.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -33,12 +34,17 @@ static int s_apply (const ms_cmd_t *cmd, const ms_opt_t *o, const char *value)
     return 0;
 }
 
-/* Say what is wrong as getopt_long says it (printf-style, after "PROG: "),
- * then the usage. */
-static int s_bad (const ms_cmd_t *cmd, const char *prog, const char *fmt, const char *what)
+/* Say what is wrong as getopt_long says it, after "PROG: ", then the usage. */
+static int s_bad (const ms_cmd_t *cmd, const char *prog, const char *fmt, ...)
+    __attribute__ ((format (printf, 3, 4)));
+
+static int s_bad (const ms_cmd_t *cmd, const char *prog, const char *fmt, ...)
 {
+    va_list ap;
+    va_start (ap, fmt);
     fprintf (stderr, "%s: ", prog);
-    fprintf (stderr, fmt, what);
+    vfprintf (stderr, fmt, ap);
+    va_end (ap);
     ms_opts_usage (cmd, stderr);
     return -EINVAL;
 }
@@ -94,9 +100,8 @@ static int s_short (const ms_cmd_t *cmd, int argc, char **argv, int *i)
         const ms_opt_t *o = cmd->opts;
         while (o->name && o->letter != *p)
             o++;
-        char letter[2] = {*p, '\0'};
         if (!o->name)
-            return s_bad (cmd, argv[0], "invalid option -- '%s'\n", letter);
+            return s_bad (cmd, argv[0], "invalid option -- '%c'\n", *p);
         if (!o->value) {
             int rc = s_apply (cmd, o, NULL);
             if (rc < 0)
@@ -107,7 +112,7 @@ static int s_short (const ms_cmd_t *cmd, int argc, char **argv, int *i)
             return s_apply (cmd, o, p + 1);
         if (*i + 1 < argc)
             return s_apply (cmd, o, argv[++*i]);
-        return s_bad (cmd, argv[0], "option requires an argument -- '%s'\n", letter);
+        return s_bad (cmd, argv[0], "option requires an argument -- '%c'\n", *p);
     }
     return 0;
 }

@@ -6,9 +6,10 @@
  * between and after the options, `--` ending the options (an argument that
  * starts with `-` is an option before it). The first unknown, ambiguous or
  * incomplete option ends the parse with getopt_long's message and the
- * command's usage on stderr; `--help` prints the usage on stdout. The usage
- * is the table's: `usage: mscgs NAME OPERANDS [--name V] ...`, wrapped at
- * 100 columns, then the command's text.
+ * command's usage on stderr; `--help` prints the usage on stdout; a command
+ * that needs an operand says so when none came. The usage is the table's:
+ * `usage: mscgs NAME OPERANDS [--name V] ...`, wrapped at 100 columns, then
+ * the command's text.
  */
 #ifndef MS_OPTS_H
 #define MS_OPTS_H
