@@ -8,9 +8,9 @@
 #include "cgs_json.h"
 #include "cgs_util.h"
 #include "ls_mc.h"
+#include "ms_opts.h"
 
 #include <errno.h>
-#include <getopt.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -19,34 +19,33 @@
 
 #define S_DEFAULT_EXERCISE "deploy/exercises/default.ini"
 
-static void s_usage (FILE *f)
-{
-    fprintf (f,
-             "usage: mscgs montecarlo [--scenario F] [--exercise F] [--runs N] [--seed S]\n"
-             "                        [--jobs J] [--spread S] [--limit S] [--json F] [--csv F]\n"
-             "                        [--trace RUN [--timeline F]] [--seeds-only] [--quiet]\n"
-             "Runs N whole exercises (default 100) in lockstep, in this process and J-1\n"
-             "others: the adapters of uavsim, mtid, bcisd, trackerd and guidanced over an\n"
-             "in-process bus, every vehicle, the terrain, the BCIS and the scenario's\n"
-             "[operator] designation. Run i varies, from the seed and i alone: the exercise\n"
-             "seed (radar noise, vehicle wander), the designation time (uniform in\n"
-             "+-spread s, default 30) and the UAV's start point on its loiter orbit\n"
-             "(--seeds-only: run i is the scene as it stands with exercise seed S + i, as\n"
-             "`mscgs run` runs it with that seed). A run\n"
-             "images when the designated vehicle (the one the designated track followed\n"
-             "first) is inside the true footprint at least once, as `mscgs run` judges it.\n"
-             "Prints each run that did not image, with the command that replays it\n"
-             "(--trace RUN: that run alone, with every service's log lines; --timeline F\n"
-             "writes its vehicles, radar truth, tracks and intercept states to F as CSV,\n"
-             "to see why it missed), then one JSON\n"
-             "object: runs, imaged, imaged_pct and its 95%% interval, wrong_vehicle, lost,\n"
-             "miss and time-to-image quantiles, GOSPA, SIAP and identification figures.\n"
-             "--json and --csv write every run. Exit code 0, 1 when a run reported bad\n"
-             "input or an error (a defect), 2 for bad options.\n"
-             "Defaults: --exercise %s, the exercise's scenario, seed 1, 1 job, --limit:\n"
-             "1500 s after the last designation.\n",
-             S_DEFAULT_EXERCISE);
-}
+static const char s_synopsis[] =
+    "usage: mscgs montecarlo [--scenario F] [--exercise F] [--runs N] [--seed S]\n"
+    "                        [--jobs J] [--spread S] [--limit S] [--json F] [--csv F]\n"
+    "                        [--trace RUN [--timeline F]] [--seeds-only] [--quiet]\n";
+
+static const char s_about[] =
+    "Runs N whole exercises (default 100) in lockstep, in this process and J-1\n"
+    "others: the adapters of uavsim, mtid, bcisd, trackerd and guidanced over an\n"
+    "in-process bus, every vehicle, the terrain, the BCIS and the scenario's\n"
+    "[operator] designation. Run i varies, from the seed and i alone: the exercise\n"
+    "seed (radar noise, vehicle wander), the designation time (uniform in\n"
+    "+-spread s, default 30) and the UAV's start point on its loiter orbit\n"
+    "(--seeds-only: run i is the scene as it stands with exercise seed S + i, as\n"
+    "`mscgs run` runs it with that seed). A run\n"
+    "images when the designated vehicle (the one the designated track followed\n"
+    "first) is inside the true footprint at least once, as `mscgs run` judges it.\n"
+    "Prints each run that did not image, with the command that replays it\n"
+    "(--trace RUN: that run alone, with every service's log lines; --timeline F\n"
+    "writes its vehicles, radar truth, tracks and intercept states to F as CSV,\n"
+    "to see why it missed), then one JSON\n"
+    "object: runs, imaged, imaged_pct and its 95% interval, wrong_vehicle, lost,\n"
+    "miss and time-to-image quantiles, GOSPA, SIAP and identification figures.\n"
+    "--json and --csv write every run. Exit code 0, 1 when a run reported bad\n"
+    "input or an error (a defect), 2 for bad options.\n"
+    "Defaults: --exercise " S_DEFAULT_EXERCISE
+    ", the exercise's scenario, seed 1, 1 job, --limit:\n"
+    "1500 s after the last designation.\n";
 
 static int s_number (const char *what, const char *text, double lo, double hi, double *ret)
 {
@@ -71,6 +70,30 @@ static int s_count (const char *what, const char *text, uint64_t lo, uint64_t hi
     }
     *ret = v;
     return 0;
+}
+
+/* A number option's range, and where its value goes. */
+typedef struct {
+    double lo, hi;
+    double *ret;
+} s_number_opt_t;
+
+static int s_read_number (const ms_opt_t *opt, const char *value)
+{
+    const s_number_opt_t *n = opt->arg;
+    return s_number (opt->name, value, n->lo, n->hi, n->ret);
+}
+
+/* A whole-number option's range, and where its value goes. */
+typedef struct {
+    uint64_t lo, hi;
+    uint64_t *ret;
+} s_count_opt_t;
+
+static int s_read_count (const ms_opt_t *opt, const char *value)
+{
+    const s_count_opt_t *n = opt->arg;
+    return s_count (opt->name, value, n->lo, n->hi, n->ret);
 }
 
 /* ---- output ------------------------------------------------------------------------- */
@@ -265,93 +288,71 @@ int ms_montecarlo_main (int argc, char **argv)
         .jobs = 1,
     };
     const char *json = NULL, *csv = NULL, *timeline = NULL;
-    long trace = -1;
+    uint64_t nruns = c.runs, seed = c.seed, jobs = (uint64_t)c.jobs, trace_run = UINT64_MAX;
     bool quiet = false;
-    static const struct option opts[] = {
-        {"scenario", required_argument, NULL, 's'},
-        {"exercise", required_argument, NULL, 'e'},
-        {"runs", required_argument, NULL, 'n'},
-        {"seed", required_argument, NULL, 'S'},
-        {"jobs", required_argument, NULL, 'j'},
-        {"spread", required_argument, NULL, 'p'},
-        {"limit", required_argument, NULL, 'l'},
-        {"json", required_argument, NULL, 'J'},
-        {"csv", required_argument, NULL, 'C'},
-        {"trace", required_argument, NULL, 't'},
-        {"quiet", no_argument, NULL, 'q'},
-        {"help", no_argument, NULL, 'h'},
-        {"seeds-only", no_argument, NULL, 'O'},
-        {"timeline", required_argument, NULL, 'T'},
-        {NULL, 0, NULL, 0},
+    s_count_opt_t runs_opt = {1, 1000000, &nruns}, seed_opt = {0, UINT64_MAX / 2, &seed},
+                  jobs_opt = {1, 64, &jobs}, trace_opt = {0, 999999, &trace_run};
+    s_number_opt_t spread_opt = {0, 3600, &c.spread_s}, limit_opt = {1, 1e6, &c.limit_s};
+    const ms_opt_t opts[] = {
+        {.name = "scenario",
+         .value = "F",
+         .help = "scenario file (default: the exercise's)",
+         .str = &c.scenario_path},
+        {.name = "exercise", .value = "F", .help = "exercise file", .str = &c.exercise_path},
+        {.name = "runs",
+         .value = "N",
+         .help = "runs (default 100)",
+         .fn = s_read_count,
+         .arg = &runs_opt},
+        {.name = "seed",
+         .value = "S",
+         .help = "the set's seed (default 1)",
+         .fn = s_read_count,
+         .arg = &seed_opt},
+        {.name = "jobs",
+         .value = "J",
+         .help = "processes (default 1)",
+         .fn = s_read_count,
+         .arg = &jobs_opt},
+        {.name = "spread",
+         .value = "S",
+         .help = "designation time shift, uniform in +-S s (default 30)",
+         .fn = s_read_number,
+         .arg = &spread_opt},
+        {.name = "limit",
+         .value = "S",
+         .help = "a run's end, simulation seconds",
+         .fn = s_read_number,
+         .arg = &limit_opt},
+        {.name = "json", .value = "F", .help = "every run as JSON to F", .str = &json},
+        {.name = "csv", .value = "F", .help = "every run as CSV to F", .str = &csv},
+        {.name = "trace",
+         .value = "RUN",
+         .help = "that run alone, with every service's log lines",
+         .fn = s_read_count,
+         .arg = &trace_opt},
+        {.name = "quiet", .help = "no progress shown", .flag = &quiet},
+        MS_OPTS_HELP,
+        {.name = "seeds-only", .help = "exercise seeds S, S+1, ...", .flag = &c.seeds_only},
+        {.name = "timeline",
+         .value = "F",
+         .help = "with --trace: the run's entities, truth, tracks and states to F",
+         .str = &timeline},
+        MS_OPTS_END,
     };
-    int o;
-    uint64_t u;
-    double v;
-    optind = 1;
-    while ((o = getopt_long (argc, argv, "h", opts, NULL)) != -1) {
-        switch (o) {
-        case 's':
-            c.scenario_path = optarg;
-            break;
-        case 'e':
-            c.exercise_path = optarg;
-            break;
-        case 'n':
-            if (s_count ("runs", optarg, 1, 1000000, &u) < 0)
-                return 2;
-            c.runs = (size_t)u;
-            break;
-        case 'S':
-            if (s_count ("seed", optarg, 0, UINT64_MAX / 2, &u) < 0)
-                return 2;
-            c.seed = u;
-            break;
-        case 'j':
-            if (s_count ("jobs", optarg, 1, 64, &u) < 0)
-                return 2;
-            c.jobs = (int)u;
-            break;
-        case 'p':
-            if (s_number ("spread", optarg, 0, 3600, &c.spread_s) < 0)
-                return 2;
-            break;
-        case 'l':
-            if (s_number ("limit", optarg, 1, 1e6, &v) < 0)
-                return 2;
-            c.limit_s = v;
-            break;
-        case 'J':
-            json = optarg;
-            break;
-        case 'C':
-            csv = optarg;
-            break;
-        case 't':
-            if (s_count ("trace", optarg, 0, 999999, &u) < 0)
-                return 2;
-            trace = (long)u;
-            break;
-        case 'T':
-            timeline = optarg;
-            break;
-        case 'q':
-            quiet = true;
-            break;
-        case 'O':
-            c.seeds_only = true;
-            break;
-        case 'h':
-            s_usage (stdout);
-            return 0;
-        default:
-            s_usage (stderr);
-            return 2;
-        }
-    }
-    if (optind < argc) {
-        fprintf (stderr, "mscgs montecarlo: unexpected argument '%s' (see --help)\n", argv[optind]);
+    const ms_cmd_t spec = {
+        .name = "montecarlo", .synopsis = s_synopsis, .about = s_about, .opts = opts};
+    int nargs = ms_opts_parse (&spec, argc, argv);
+    if (nargs < 0)
+        return ms_opts_exit_code (nargs);
+    if (nargs > 0) {
+        fprintf (stderr, "mscgs montecarlo: unexpected argument '%s' (see --help)\n", argv[1]);
         return 2;
     }
+    c.runs = (size_t)nruns;
+    c.seed = seed;
+    c.jobs = (int)jobs;
+    long trace = trace_run == UINT64_MAX ? -1 : (long)trace_run;
     if (timeline && trace < 0) {
         fprintf (stderr, "mscgs montecarlo: --timeline needs --trace RUN\n");
         return 2;
