@@ -22,6 +22,15 @@ is "$?" 1 "and it refuses a cross-service include planted in a copy"
 check "naming the file, the line and the owner" \
     grep -q '^services/guidanced/gd_adapter.c:1: includes "trk_tracker.h" of services/trackerd' "$TMP/planted.out"
 
+# A service may not include a header private to a module of common/.
+mkdir -p "$TMP/tree2"
+cp -r "$CGS_ROOT/common" "$CGS_ROOT/services" "$TMP/tree2/"
+sed -i '1i #include "cgs_terrain_impl.h"' "$TMP/tree2/services/mtid/mti_radar.c"
+"$CGS_ROOT/scripts/check-layering" "$TMP/tree2" >"$TMP/planted2.out" 2>&1
+is "$?" 1 "and it refuses a service including common/'s private cgs_terrain_impl.h"
+check "naming the file and the header" \
+    grep -q '^services/mtid/mti_radar.c:1: includes "cgs_terrain_impl.h", private' "$TMP/planted2.out"
+
 # Every service binary links its own code and common/ only.
 "$CGS_ROOT/scripts/check-layering" "$CGS_ROOT" "$CGS_BUILD" >"$TMP/links.out" 2>&1
 rc=$?
