@@ -1229,7 +1229,9 @@ static void s_continue_new (trk_tracker_t *self, trk_track_t *t, trk_scan_out_t 
         return;
     t->continues = self->lost[bi].id;
     t->continues_p = pb;
-    if (t->friendly == false && self->lost[bi].friendly) { // BCIS said who it is
+    // BCIS said who it was: the identity passes on only with a link as
+    // likely as a reply needs to mark a track.
+    if (t->friendly == false && self->lost[bi].friendly && pb >= self->p.identity_min_probability) {
         t->friendly = true;
         t->friendly_id = self->lost[bi].friendly_id;
         t->friendly_s = self->lost[bi].friendly_s;

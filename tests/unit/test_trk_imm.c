@@ -620,15 +620,13 @@ static void test_nees_nis_straight (void **state)
 
 /* A vehicle halts long enough for its track to be deleted, then drives on
  * from where it stood: the new track says it continues the old one. A
- * vehicle elsewhere starts a track that continues nothing. */
-static void test_continuation (void **state)
+ * vehicle elsewhere starts a track that continues nothing. With friendly,
+ * a BCIS fix marks the old track friendly before the halt. Returns the
+ * tracker, the old track's id and the new one's. */
+static trk_tracker_t *s_halt_and_go (const trk_params_t *p, bool friendly, uint32_t *ret_old,
+                                     uint32_t *ret_fresh)
 {
-    (void)state;
-    trk_params_t p = s_defaults ();
-    // A stopped vehicle the radar cannot see is believed there for
-    // stopped_lifetime_s: shortened here so the track dies within the halt.
-    p.stopped_lifetime_s = 10;
-    trk_tracker_t *t = trk_tracker_new (&p);
+    trk_tracker_t *t = trk_tracker_new (p);
     uint64_t rng = 3;
     uint32_t k = 0, hid = 1;
     double n = 6000;
@@ -637,6 +635,12 @@ static void test_continuation (void **state)
         s_run (t, k, &h, 1);
     }
     uint32_t old = trk_tracker_at (t, 0)->id;
+    if (friendly) {
+        trk_bcis_reply_t r = {
+            .t_s = 76, .z = {3000, n - 108}, .R = {100, 0, 0, 100}, .responder_id = 5};
+        assert_int_equal (trk_tracker_bcis (t, &r), 1);
+        assert_true (trk_tracker_find (t, old)->friendly);
+    }
     bool deleted = false;
     n -= 60; // stands where it braked to
     for (int j = 0; j < 10; j++, k++) {
@@ -661,12 +665,26 @@ static void test_continuation (void **state)
             print_message ("track %u continues %u with probability %.3f\n", tr->id, tr->continues,
                            tr->continues_p);
             assert_int_equal (tr->continues, old);
-            assert_true (tr->continues_p >= p.continue_probability);
+            assert_true (tr->continues_p >= p->continue_probability);
         } else {
             assert_int_equal (tr->continues, 0);
         }
     }
     assert_true (fresh != 0 && fresh != old);
+    *ret_old = old;
+    *ret_fresh = fresh;
+    return t;
+}
+
+static void test_continuation (void **state)
+{
+    (void)state;
+    trk_params_t p = s_defaults ();
+    // A stopped vehicle the radar cannot see is believed there for
+    // stopped_lifetime_s: shortened here so the track dies within the halt.
+    p.stopped_lifetime_s = 10;
+    uint32_t old, fresh;
+    trk_tracker_t *t = s_halt_and_go (&p, false, &old, &fresh);
     // The checkpoint keeps the models, the existence and the link.
     uint8_t *buf = NULL;
     size_t len = 0;
@@ -795,6 +813,34 @@ static void test_shared_hit_existence (void **state)
     assert_true (soft[1] - soft[0] < 0.1);
 }
 
+/* A continuing track takes the friendly identity of the one it continues
+ * only when the link is at least identity_min_probability likely: an
+ * identity is not handed on a coin toss. */
+static void test_continuation_identity (void **state)
+{
+    (void)state;
+    trk_params_t p = s_defaults ();
+    p.stopped_lifetime_s = 10;
+    p.identity_timeout_s = 1000; // the identity would otherwise age out in the halt
+    uint32_t old, fresh;
+    trk_tracker_t *t = s_halt_and_go (&p, true, &old, &fresh);
+    double pc = trk_tracker_find (t, fresh)->continues_p;
+    trk_tracker_destroy (&t);
+    const double below = pc - 0.01, above = pc + 0.01;
+    p.identity_min_probability = below; // the link is likely enough
+    t = s_halt_and_go (&p, true, &old, &fresh);
+    assert_true (trk_tracker_find (t, fresh)->friendly);
+    assert_int_equal (trk_tracker_find (t, fresh)->friendly_id, 5);
+    trk_tracker_destroy (&t);
+    if (above <= 1) {
+        p.identity_min_probability = above; // not likely enough: unknown
+        t = s_halt_and_go (&p, true, &old, &fresh);
+        assert_true (trk_tracker_find (t, fresh)->continues == old);
+        assert_false (trk_tracker_find (t, fresh)->friendly);
+        trk_tracker_destroy (&t);
+    }
+}
+
 int main (void)
 {
     const struct CMUnitTest tests[] = {
@@ -807,6 +853,7 @@ int main (void)
         cmocka_unit_test (test_notch_crossing_coasts),
         cmocka_unit_test (test_nees_nis_straight),
         cmocka_unit_test (test_continuation),
+        cmocka_unit_test (test_continuation_identity),
         cmocka_unit_test (test_crossing_keeps_ids),
         cmocka_unit_test (test_shared_hit_existence),
     };
