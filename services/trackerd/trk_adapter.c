@@ -40,6 +40,7 @@ struct trk_adapter {
     bool verbose;          // a log line per scan, not only the first
     char params_path[256]; // where the parameters came from ("": the defaults)
     bool dirty;            // tracks changed since the last trk_adapter_take_dirty
+    bool greedy_said;      // the warning of a greedily assigned cluster was logged
     s_radar_t radars[TRK_ADAPTER_RADARS_MAX];
     size_t radar_count;
     trk_adapter_stats_t stats;
@@ -400,6 +401,15 @@ static void s_run_scan (trk_adapter_t *self, s_radar_t *r, const trk_scan_t *sca
     for (size_t i = 0; i < out.turn_count; i++)
         s_publish_turn (self, &out.turns[i], scan->uav_id, scan->end_s);
     self->dirty = true;
+    if (out.greedy_clusters && !self->greedy_said) {
+        // Said once: crowding is a property of the scene, not of one scan.
+        cgs_port_log (&self->port, LOG_WARNING,
+                      "radar %u scan %u: %zu clusters of more than 400 tracks (largest %zu) "
+                      "assigned greedily, not optimally: the targets are too crowded for the "
+                      "gates",
+                      scan->uav_id, scan->scan_number, out.greedy_clusters, out.largest_cluster);
+        self->greedy_said = true;
+    }
     if (st->scans == 1 || self->verbose)
         cgs_port_log (&self->port, LOG_INFO,
                       "radar %u scan %u: %zu hits, %zu updated, %zu missed, %zu new, %zu "

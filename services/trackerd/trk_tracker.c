@@ -40,6 +40,7 @@
 #define S_CLOSE_GATE2  9.2103 // IMM: χ²₂ at 0.99: a hit this close to a confirmed track starts none
 #define S_CLOSE_GATE3  11.345 // χ²₃ at 0.99, with the radial velocity
 #define S_KBEST_TRACKS 12     // IMM: a cluster of more tracks weighs its best hypothesis alone
+#define S_CLUSTER_MAX  400    // a cluster of more tracks is assigned greedily (see s_solve_greedy)
 
 /* A hit of the scan being processed. */
 typedef struct {
@@ -692,11 +693,58 @@ static int s_solve_cluster_imm (trk_tracker_t *self, const double *c, size_t k, 
     return 0;
 }
 
+static int s_cmp_cost (const void *a, const void *b)
+{
+    const s_pair_t *x = a, *y = b;
+    if (x->cost != y->cost)
+        return x->cost < y->cost ? -1 : 1;
+    if (x->track != y->track)
+        return x->track < y->track ? -1 : 1;
+    return x->hit < y->hit ? -1 : x->hit > y->hit;
+}
+
+/* A cluster of more than S_CLUSTER_MAX tracks (targets so crowded that the
+ * gates chain thousands of them together): the optimal assignment's dense
+ * matrix would take gigabytes and its solve minutes, so the pairs are taken
+ * cheapest first, each track and hit once, a pair only when it costs less
+ * than leaving its track without a hit. Each track's chance of no hit is
+ * that of this one hypothesis (0 or 1). Counted in out->greedy_clusters. */
+static void s_solve_greedy (trk_tracker_t *self, size_t lo, size_t hi, size_t tracks,
+                            trk_scan_out_t *out)
+{
+    s_pair_t *w = self->work + lo;
+    size_t np = hi - lo;
+    qsort (w, np, sizeof *w, s_cmp_cost);
+    for (size_t q = 0; q < np; q++)
+        self->miss_beta[w[q].track] = 1;
+    if (out->largest_cluster < tracks)
+        out->largest_cluster = tracks;
+    for (size_t q = 0; q < np; q++) {
+        const s_pair_t *pp = &w[q];
+        if (self->assigned[pp->track] != SIZE_MAX || self->hits[pp->hit].track != SIZE_MAX)
+            continue;
+        double miss = isfinite (pp->miss) ? pp->miss : pp->gate + 1 + pp->log_det;
+        if (!(pp->cost < miss))
+            continue;
+        self->assigned[pp->track] = pp->hit;
+        self->hits[pp->hit].track = pp->track;
+        self->miss_beta[pp->track] = 0;
+    }
+    out->greedy_clusters++;
+}
+
 /* Solve one cluster: work[lo..hi). */
 static int s_solve_cluster (trk_tracker_t *self, size_t lo, size_t hi, trk_scan_out_t *out)
 {
     size_t np = hi - lo;
     bool imm = self->p.filter.mode == TRK_FILTER_IMM;
+    size_t tracks = 0; // pairs come sorted by track
+    for (size_t q = lo; q < hi; q++)
+        tracks += q == lo || self->work[q].track != self->work[q - 1].track;
+    if (tracks > S_CLUSTER_MAX) {
+        s_solve_greedy (self, lo, hi, tracks, out);
+        return 0;
+    }
     if (np == 1 && !imm) { // one track, one hit
         const s_pair_t *pp = &self->work[lo];
         if (isfinite (pp->miss) && !(pp->cost < pp->miss))

@@ -16,6 +16,7 @@
 #include "trk_params.h"
 #include "trk_tracker.h"
 
+#include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -43,9 +44,11 @@ typedef struct {
     double scan_cpu_s;   // median
     size_t tracks, hits; // in the timed scans (last one)
     size_t largest;      // largest cluster
+    size_t greedy;       // clusters assigned greedily (too large to solve optimally)
 } s_result_t;
 
-/* One configuration: n targets over a square of side side_m. */
+/* One configuration: n targets over a square of side side_m. 0, -ENOMEM, or
+ * what trk_tracker_scan returned. */
 static int s_run (const trk_params_t *p, size_t n, double side_m, int runs, s_result_t *ret)
 {
     trk_tracker_t *trk = trk_tracker_new (p);
@@ -53,8 +56,11 @@ static int s_run (const trk_params_t *p, size_t n, double side_m, int runs, s_re
     s_target_t *tg = calloc (n, sizeof *tg);
     trk_hit_t *hits = calloc (n + nfa, sizeof *hits);
     double *times = calloc ((size_t)runs, sizeof *times);
-    if (!trk || !tg || !hits || !times)
-        return -1;
+    int rc = 0;
+    if (!trk || !tg || !hits || !times) {
+        rc = -ENOMEM;
+        goto done;
+    }
     double radar[2] = {side_m / 2, -5000};
     for (size_t i = 0; i < n; i++) {
         double h = 2 * S_PI * s_uniform (), s = 5 + 15 * s_uniform ();
@@ -98,8 +104,9 @@ static int s_run (const trk_params_t *p, size_t n, double side_m, int runs, s_re
                            .platform = {radar[0], radar[1]}};
         trk_scan_out_t out;
         double t0 = bench_cpu_s ();
-        if (trk_tracker_scan (trk, &scan, hits, m, &out) < 0)
-            return -1;
+        rc = trk_tracker_scan (trk, &scan, hits, m, &out);
+        if (rc < 0)
+            goto done;
         double dt = bench_cpu_s () - t0;
         if (k >= warm) {
             times[k - warm] = dt;
@@ -107,15 +114,17 @@ static int s_run (const trk_params_t *p, size_t n, double side_m, int runs, s_re
             r.hits = m;
             if (out.largest_cluster > r.largest)
                 r.largest = out.largest_cluster;
+            r.greedy += out.greedy_clusters;
         }
     }
     r.scan_cpu_s = bench_median (times, runs);
     *ret = r;
+done:
     trk_tracker_destroy (&trk);
     free (tg);
     free (hits);
     free (times);
-    return 0;
+    return rc;
 }
 
 int main (int argc, char **argv)
@@ -150,14 +159,19 @@ int main (int argc, char **argv)
             // Constant density: 1 per km²; fixed area: the radar's 20 km disc as a square.
             double side = d == 0 ? sqrt ((double)n) * 1000 : sqrt (S_PI) * 20000;
             s_result_t r;
-            if (s_run (&p, n, side, runs, &r) < 0) {
-                fprintf (stderr, "bench_trackerd: out of memory\n");
+            int rc = s_run (&p, n, side, runs, &r);
+            if (rc < 0) {
+                fprintf (stderr, "bench_trackerd: %s N=%zu: the scan failed: %s\n", dens[d], n,
+                         strerror (-rc));
+                printf ("verdict=FAIL: the scan of %zu targets (%s) failed: %s\n", n, dens[d],
+                        strerror (-rc));
                 return 1;
             }
             per_track[d][i] = r.scan_cpu_s / (double)n;
-            printf ("  %-7s N=%5zu over %6.0f km2: %zu hits, %zu tracks, largest cluster %zu: "
+            printf ("  %-7s N=%5zu over %6.0f km2: %zu hits, %zu tracks, largest cluster %zu%s: "
                     "%.2f ms a scan (%.2f us a track)\n",
-                    dens[d], n, side * side / 1e6, r.hits, r.tracks, r.largest, r.scan_cpu_s * 1e3,
+                    dens[d], n, side * side / 1e6, r.hits, r.tracks, r.largest,
+                    r.greedy ? " (assigned greedily)" : "", r.scan_cpu_s * 1e3,
                     per_track[d][i] * 1e6);
             printf ("trackerd_%s_%zu_scan_ms=%.3f\n", dens[d], n, r.scan_cpu_s * 1e3);
         }

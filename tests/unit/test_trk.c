@@ -656,6 +656,43 @@ static void test_gnn_not_greedy (void **state)
     trk_tracker_destroy (&t);
 }
 
+/* Targets so crowded that the gates chain 600 tracks into one cluster: the
+ * optimal assignment's dense matrix would be hundreds of megabytes (and the
+ * k best sixteen times that), so the cluster is assigned greedily, cheapest
+ * pair first; every target keeps its own track, in both trackers. */
+static void test_crowded_cluster_greedy (void **state)
+{
+    (void)state;
+    enum { N = 600 };
+    for (int imm = 0; imm < 2; imm++) {
+        trk_params_t p = s_defaults ();
+        if (imm)
+            trk_params_defaults (&p);
+        trk_tracker_t *t = trk_tracker_new (&p);
+        static trk_hit_t h[N];
+        for (uint32_t k = 0; k < 2; k++) {
+            for (uint32_t i = 0; i < N; i++) // 40 m apart, 5 km north of the radar
+                h[i] = s_hit (1000 * (k + 1) + i, 10.0 * k + 1, 40.0 * i - 12000, 5000);
+            trk_scan_out_t o = s_scan (t, k, h, N);
+            if (k == 0) {
+                assert_int_equal (o.born, N);
+                continue;
+            }
+            assert_int_equal (o.greedy_clusters, 1);
+            assert_int_equal (o.largest_cluster, N);
+            assert_int_equal (o.born, 0);
+        }
+        assert_int_equal (trk_tracker_count (t), N);
+        for (uint32_t i = 0; i < N; i++) {
+            const trk_track_t *tr = s_track_of_hit (t, 2000 + i);
+            assert_non_null (tr);
+            assert_int_equal (tr->history_count, 2);
+            assert_int_equal (tr->history[0].hit_id, 1000 + i);
+        }
+        trk_tracker_destroy (&t);
+    }
+}
+
 /* A sector scan that did not cover a track is not a miss for it. */
 static void test_sector_coverage (void **state)
 {
@@ -1156,6 +1193,7 @@ int main (void)
         cmocka_unit_test (test_identity_ambiguous),
         cmocka_unit_test (test_identity_per_radar),
         cmocka_unit_test (test_checkpoint_keeps_ids),
+        cmocka_unit_test (test_crowded_cluster_greedy),
         cmocka_unit_test (test_params),
         cmocka_unit_test (test_polar_covariance),
     };
