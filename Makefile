@@ -11,6 +11,7 @@
 #   make validate-lockstep  the lockstep against the live system, 20 seeds
 #   make soak       long fault injection: 30+ trials a service, a long exercise
 #   make install    install binaries, the page, systemd units, configs (PREFIX, DESTDIR)
+#   make install-built  the same, of a build already made (O=...), building nothing
 #   make clean      remove build/
 #   make format     clang-format every C, C++ and header file
 #
@@ -139,7 +140,7 @@ JOBS    ?= $(shell nproc 2>/dev/null || echo 2)
 # Keep objects that pattern chains would otherwise delete as intermediates.
 .SECONDARY:
 
-.PHONY: all run test test-systemd test-build check-layers bench montecarlo validate-lockstep soak fault-build fuzz fuzz-build install clean format deps help
+.PHONY: all run test test-systemd test-build check-layers bench montecarlo validate-lockstep soak fault-build fuzz fuzz-build install install-built clean format deps help
 .DEFAULT_GOAL := all
 
 all: $(BINS) $(WEB_FILES)
@@ -226,6 +227,13 @@ fuzz:
 fuzz-build: $(FUZZ_BINS)
 
 install: all
+	@$(MAKE) --no-print-directory install-built
+
+# What install copies, without building first: the tests install the build
+# they were given (a build from sources edited since would not be the one
+# under test).
+install-built:
+	@for b in $(BINS); do [ -x $$b ] || { echo "install-built: $$b is not built (make O=$(O) SAN=$(SAN) all)" >&2; exit 1; }; done
 	install -d $(DESTDIR)$(PREFIX)/bin $(DESTDIR)$(PREFIX)/share/mscgs
 	install -m 0755 $(BINS) $(DESTDIR)$(PREFIX)/bin/
 	install -d $(DESTDIR)$(PREFIX)/share/mscgs/web/js $(DESTDIR)$(PREFIX)/share/mscgs/web/vendor

@@ -13,10 +13,10 @@
 
 command -v systemd-analyze >/dev/null || bail "no systemd-analyze"
 ROOT=$TMP/root
-# The build's own flags, should make have anything to relink.
+# The build under test, installed as built (install-built builds nothing).
 SAN=0
 ldd "$CGS_BUILD/bin/mtid" 2>/dev/null | grep -q libasan && SAN=1
-make -s -C "$CGS_ROOT" install O="$CGS_BUILD" SAN=$SAN PREFIX="$ROOT/usr/local" SYSCONFDIR="$ROOT/etc" \
+make -s -C "$CGS_ROOT" install-built O="$CGS_BUILD" SAN=$SAN PREFIX="$ROOT/usr/local" SYSCONFDIR="$ROOT/etc" \
     >"$TMP/install.out" 2>&1 || { cat "$TMP/install.out"; bail "make install failed"; }
 UNITS=$ROOT/usr/local/lib/systemd/system
 check "make install puts the units, the binaries, the page and the exercise in place" bash -c \
@@ -53,7 +53,7 @@ check "they broadcast on an interface named explicitly" bash -c \
     "grep -q '^mode = broadcast' '$GWP' && grep -qE '^interface = [a-z]' '$GWP'"
 echo "; the admin's own" >>"$EX"
 echo "; the admin's own" >>"$GWP"
-make -s -C "$CGS_ROOT" install O="$CGS_BUILD" SAN=$SAN PREFIX="$ROOT/usr/local" SYSCONFDIR="$ROOT/etc" >"$TMP/install2.out" 2>&1
+make -s -C "$CGS_ROOT" install-built O="$CGS_BUILD" SAN=$SAN PREFIX="$ROOT/usr/local" SYSCONFDIR="$ROOT/etc" >"$TMP/install2.out" 2>&1
 check "a second make install leaves an existing exercise file alone" bash -c \
     "tail -1 '$EX' | grep -q \"the admin's own\" && grep -q 'exercise.ini exists: left as it is' '$TMP/install2.out'"
 check "and an existing gateway parameter file" bash -c \

@@ -190,7 +190,7 @@ else
     cp -a "$IMAGE/." "$ROOT/" || bail "copy $IMAGE to $ROOT"
 fi
 
-make -s -C "$CGS_ROOT" install O="$CGS_BUILD" PREFIX=/usr DESTDIR="$ROOT" >"$TMP/install.out" 2>&1 ||
+make -s -C "$CGS_ROOT" install-built O="$CGS_BUILD" PREFIX=/usr DESTDIR="$ROOT" >"$TMP/install.out" 2>&1 ||
     { cat "$TMP/install.out"; bail "make install into the container's root failed"; }
 check "make install puts the units, the programs and the lab exercise into the container" bash -c \
     "[ -f '$ROOT/usr/lib/systemd/system/mscgs.target' ] && [ -x '$ROOT/usr/bin/mtid' ] && [ -f '$ROOT$EXERCISE' ]"
