@@ -1,5 +1,6 @@
 /* mti_mc — Monte Carlo of the detector in one Doppler cell (see mti_mc.h). */
 #include "mti_mc.h"
+#include "cgs_stats.h"
 #include "cgs_util.h"
 #include "mti_dsp.h"
 #include "mti_theory.h"
@@ -73,14 +74,14 @@ int mti_mc_run (const mti_mc_config_t *c, mti_mc_result_t *ret, char *err, size_
     r.cell_snr_db = 10.0 * log10 (eff);
     r.pd = (double)r.detections / c->trials;
     r.pd_interval_ok =
-        mti_theory_binomial_interval (r.detections, c->trials, 0.99, &r.pd_lo, &r.pd_hi) == 0;
+        cgs_binomial_interval (r.detections, c->trials, 0.99, &r.pd_lo, &r.pd_hi) == 0;
     r.pd_theory = c->swerling == MTI_SWERLING_0
                       ? mti_theory_pd_constant_cacfar (eff, r.threshold, c->ref_cells)
                       : mti_theory_pd_swerling_cacfar (eff, r.threshold, c->ref_cells);
     r.fa_cells = c->trials * (unsigned long)c->fft_size;
     r.pfa_measured = (double)r.false_alarms / r.fa_cells;
     r.fa_interval_ok =
-        mti_theory_binomial_count_interval (c->pfa, r.fa_cells, 0.99, &r.fa_lo, &r.fa_hi) == 0;
+        cgs_binomial_count_interval (c->pfa, r.fa_cells, 0.99, &r.fa_lo, &r.fa_hi) == 0;
     mti_dsp_destroy (&dsp);
     free (cnr);
     free (x);

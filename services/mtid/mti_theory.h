@@ -54,17 +54,4 @@ double mti_theory_m_of_n (double p, int m, int n);
 /* Pd of an m-of-n dwell under CA-CFAR (multiplier t, n_ref cells) of a
  * Swerling I target constant over the dwell, mean SNR snr per interval. */
 double mti_theory_pd_swerling1_m_of_n (double snr, double t, int n_ref, int m, int n);
-/* The two-sided 99% (or any level) Clopper-Pearson interval for k successes
- * in n trials: *ret_lo, *ret_hi. 0, -EINVAL for k > n or a level outside
- * (0, 1), -ERANGE where GSL cannot evaluate the beta distribution (counts with
- * k (n - k) / n beyond about 5e5); outputs are written only on success. */
-int mti_theory_binomial_interval (unsigned long k, unsigned long n, double level, double *ret_lo,
-                                  double *ret_hi);
-/* The interval [lo, hi] of success counts that holds probability >= level
- * for n trials of probability p (equal tails): is a measured count
- * consistent with p? 0, -EINVAL for p outside [0, 1] or a level outside
- * (0, 1), -ERANGE for n beyond UINT_MAX or n p (1 - p) beyond about 5e5. */
-int mti_theory_binomial_count_interval (double p, unsigned long n, double level,
-                                        unsigned long *ret_lo, unsigned long *ret_hi);
-
 #endif

@@ -8,6 +8,7 @@
  * processing of a strip of range cells. Each Monte Carlo figure is compared
  * with the closed form written out here or in mti_theory (itself checked
  * against published values in test_mti_theory). */
+#include "cgs_stats.h"
 #include "mti_dsp.h"
 #include "mti_mc.h"
 #include "mti_params.h"
@@ -200,8 +201,8 @@ static void test_m_of_n_binomial (void **state)
         pmn += (k == 2 ? 6 : k == 3 ? 4 : 1) * pow (p_cpi, k) * pow (1 - p_cpi, 4 - k);
     assert_near (mti_theory_m_of_n (p_cpi, 2, 4), pmn, 1e-12);
     unsigned long lo, hi, clo, chi;
-    assert_int_equal (mti_theory_binomial_count_interval (pmn, dwells, 0.99, &lo, &hi), 0);
-    assert_int_equal (mti_theory_binomial_count_interval (p_cpi, dwells * 4, 0.99, &clo, &chi), 0);
+    assert_int_equal (cgs_binomial_count_interval (pmn, dwells, 0.99, &lo, &hi), 0);
+    assert_int_equal (cgs_binomial_count_interval (p_cpi, dwells * 4, 0.99, &clo, &chi), 0);
     print_message ("# per CPI %.4f (theory %.4f), 2 of 4: %.4f (binomial sum %.4f, 99%% "
                    "[%.4f, %.4f])\n",
                    (double)cross / (dwells * 4), p_cpi, (double)det / dwells, pmn,
@@ -248,7 +249,7 @@ static void test_dwell_fluctuation_m_of_n (void **state)
             double th = k ? mti_theory_m_of_n (s_pd_sw (snr, t, 16), 2, 4)
                           : mti_theory_pd_swerling1_m_of_n (snr, t, 16, 2, 4);
             unsigned long lo, hi;
-            assert_int_equal (mti_theory_binomial_count_interval (th, dwells, 0.99, &lo, &hi), 0);
+            assert_int_equal (cgs_binomial_count_interval (th, dwells, 0.99, &lo, &hi), 0);
             print_message ("# %4.1f dB, 2 of 4, Swerling %s: Pd %.4f, theory %.4f (99%% "
                            "[%.4f, %.4f])\n",
                            snrs_db[i], k ? "II (interval)" : "I (dwell)", (double)det / dwells, th,
@@ -357,7 +358,7 @@ static void test_strip_matches_statistical_rate (void **state)
         }
         double pg = mti_theory_m_of_n (mti_dsp_any_bin_probability (dsp, 4000), p.m, p.n);
         unsigned long lo, hi;
-        assert_int_equal (mti_theory_binomial_count_interval (pg, tested, 0.99, &lo, &hi), 0);
+        assert_int_equal (cgs_binomial_count_interval (pg, tested, 0.99, &lo, &hi), 0);
         print_message ("# strip %s: %lu false dwells in %lu gate-dwells, statistical model "
                        "expects %.1f (99%% [%lu, %lu])\n",
                        with_clutter ? "in clutter (CNR 25 dB)" : "in noise", fa, tested,
@@ -392,7 +393,7 @@ static void test_any_bin_probability (void **state)
             any += a;
         }
         unsigned long lo, hi;
-        assert_int_equal (mti_theory_binomial_count_interval (est, trials, 0.99, &lo, &hi), 0);
+        assert_int_equal (cgs_binomial_count_interval (est, trials, 0.99, &lo, &hi), 0);
         double indep = 1 - pow (1 - p.pfa, 16);
         print_message ("# %s: any-bin crossing %.4f counted, %.4f estimated, %.4f if the bins "
                        "were independent\n",

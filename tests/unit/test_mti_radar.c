@@ -3,6 +3,7 @@
  * hand-worked numbers, the clutter spread terms, terrain masking, hit
  * measurement noise against the sigmas it reports, and the drawn false
  * alarms against their binomial rate. */
+#include "cgs_stats.h"
 #include "cgs_terrain.h"
 #include "mti_params.h"
 #include "mti_radar.h"
@@ -300,7 +301,7 @@ static void test_false_alarm_rate (void **state)
     }
     unsigned long lo, hi;
     unsigned long reach = mti_radar_gates (r) - (unsigned long)ceil ((1500.0 - 500) / 30);
-    assert_int_equal (mti_theory_binomial_count_interval (pg, dwells * reach, 0.99, &lo, &hi), 0);
+    assert_int_equal (cgs_binomial_count_interval (pg, dwells * reach, 0.99, &lo, &hi), 0);
     print_message ("# %lu false alarms in %lu dwells of %lu gates beyond the height (expected "
                    "%.1f, 99%% [%lu, %lu])\n",
                    total, dwells, reach, pg * dwells * reach, lo, hi);

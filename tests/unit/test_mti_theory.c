@@ -7,6 +7,7 @@
  * direct binomial sums. Reference values marked "mpmath" were computed to 40
  * digits with mpmath 1.3 by adaptive quadrature of the Rice density, checked
  * against its Bessel series. Every GSL error fails the test (see main). */
+#include "cgs_stats.h"
 #include "mti_theory.h"
 
 #include <complex.h>
@@ -563,26 +564,26 @@ static void test_binomial_interval (void **state)
     (void)state;
     double lo, hi;
     // Published: 5 of 10 at 95% is [0.187086, 0.812914] (R binom.test).
-    assert_int_equal (mti_theory_binomial_interval (5, 10, 0.95, &lo, &hi), 0);
+    assert_int_equal (cgs_binomial_interval (5, 10, 0.95, &lo, &hi), 0);
     assert_near (lo, 0.187086, 5e-7);
     assert_near (hi, 0.812914, 5e-7);
     // Ends in closed form: k = 0 gives [0, 1 - (alpha/2)^(1/n)], k = n gives
     // [(alpha/2)^(1/n), 1].
-    assert_int_equal (mti_theory_binomial_interval (0, 20, 0.99, &lo, &hi), 0);
+    assert_int_equal (cgs_binomial_interval (0, 20, 0.99, &lo, &hi), 0);
     assert_near (lo, 0.0, 0.0);
     assert_rel (hi, 1.0 - pow (0.005, 1.0 / 20), 1e-12);
-    assert_int_equal (mti_theory_binomial_interval (20, 20, 0.99, &lo, &hi), 0);
+    assert_int_equal (cgs_binomial_interval (20, 20, 0.99, &lo, &hi), 0);
     assert_rel (lo, pow (0.005, 1.0 / 20), 1e-12);
     assert_near (hi, 1.0, 0.0);
     // No trials: no information.
-    assert_int_equal (mti_theory_binomial_interval (0, 0, 0.99, &lo, &hi), 0);
+    assert_int_equal (cgs_binomial_interval (0, 0, 0.99, &lo, &hi), 0);
     assert_true (lo == 0.0 && hi == 1.0);
 
     // The defining tails, by direct sums: P(X >= k | lo) = P(X <= k | hi) = alpha/2.
     const unsigned ns[] = {1, 2, 7, 30, 100, 400};
     for (size_t i = 0; i < sizeof ns / sizeof ns[0]; i++)
         for (unsigned k = 0; k <= ns[i]; k += 1 + ns[i] / 25) {
-            assert_int_equal (mti_theory_binomial_interval (k, ns[i], 0.99, &lo, &hi), 0);
+            assert_int_equal (cgs_binomial_interval (k, ns[i], 0.99, &lo, &hi), 0);
             assert_true (lo <= (double)k / ns[i] && (double)k / ns[i] <= hi);
             if (k > 0)
                 assert_rel (s_binomial_at_least (lo, k, ns[i]), 0.005, 1e-9);
@@ -598,7 +599,7 @@ static void test_binomial_interval (void **state)
     } big[] = {{1, 1000000}, {1000, 1000000}, {500000, 1000000}, {10, 100000000}, {0, 100000000}};
     for (size_t i = 0; i < sizeof big / sizeof big[0]; i++) {
         unsigned k = (unsigned)big[i].k, n = (unsigned)big[i].n;
-        assert_int_equal (mti_theory_binomial_interval (k, n, 0.99, &lo, &hi), 0);
+        assert_int_equal (cgs_binomial_interval (k, n, 0.99, &lo, &hi), 0);
         if (k > 0)
             assert_rel (gsl_cdf_binomial_Q (k - 1, lo, n), 0.005, 1e-8);
         assert_rel (gsl_cdf_binomial_P (k, hi, n), 0.005, 1e-8);
@@ -606,11 +607,11 @@ static void test_binomial_interval (void **state)
 
     // Bad arguments, and counts beyond GSL's continued fraction; outputs untouched.
     lo = hi = -1.0;
-    assert_int_equal (mti_theory_binomial_interval (11, 10, 0.95, &lo, &hi), -EINVAL);
-    assert_int_equal (mti_theory_binomial_interval (5, 10, 1.0, &lo, &hi), -EINVAL);
-    assert_int_equal (mti_theory_binomial_interval (5, 10, 0.0, &lo, &hi), -EINVAL);
-    assert_int_equal (mti_theory_binomial_interval (5, 10, NAN, &lo, &hi), -EINVAL);
-    assert_int_equal (mti_theory_binomial_interval (50000000, 100000000, 0.99, &lo, &hi), -ERANGE);
+    assert_int_equal (cgs_binomial_interval (11, 10, 0.95, &lo, &hi), -EINVAL);
+    assert_int_equal (cgs_binomial_interval (5, 10, 1.0, &lo, &hi), -EINVAL);
+    assert_int_equal (cgs_binomial_interval (5, 10, 0.0, &lo, &hi), -EINVAL);
+    assert_int_equal (cgs_binomial_interval (5, 10, NAN, &lo, &hi), -EINVAL);
+    assert_int_equal (cgs_binomial_interval (50000000, 100000000, 0.99, &lo, &hi), -ERANGE);
     assert_true (lo == -1.0 && hi == -1.0);
 }
 
@@ -620,7 +621,7 @@ static void test_binomial_interval (void **state)
 static void s_check_count_interval (double p, unsigned n, double level)
 {
     unsigned long lo, hi;
-    assert_int_equal (mti_theory_binomial_count_interval (p, n, level, &lo, &hi), 0);
+    assert_int_equal (cgs_binomial_count_interval (p, n, level, &lo, &hi), 0);
     assert_true (lo <= hi && hi <= n);
     double tail = 0.5 * (1.0 - level);
     double below = lo == 0 ? 0.0 : gsl_cdf_binomial_P ((unsigned)lo - 1, p, n); // P(X < lo)
@@ -639,15 +640,15 @@ static void test_binomial_count_interval (void **state)
     unsigned long lo, hi;
     // 10 fair coins at 95%: P(X <= 1) = 11/1024 <= 0.025 < P(X <= 2) = 56/1024,
     // so [2, 8], holding 1 - 22/1024 = 0.9785; [3, 8] holds 0.9346.
-    assert_int_equal (mti_theory_binomial_count_interval (0.5, 10, 0.95, &lo, &hi), 0);
+    assert_int_equal (cgs_binomial_count_interval (0.5, 10, 0.95, &lo, &hi), 0);
     assert_int_equal (lo, 2);
     assert_int_equal (hi, 8);
     // Certain and impossible trials; no trials.
-    assert_int_equal (mti_theory_binomial_count_interval (0.0, 50, 0.99, &lo, &hi), 0);
+    assert_int_equal (cgs_binomial_count_interval (0.0, 50, 0.99, &lo, &hi), 0);
     assert_true (lo == 0 && hi == 0);
-    assert_int_equal (mti_theory_binomial_count_interval (1.0, 50, 0.99, &lo, &hi), 0);
+    assert_int_equal (cgs_binomial_count_interval (1.0, 50, 0.99, &lo, &hi), 0);
     assert_true (lo == 50 && hi == 50);
-    assert_int_equal (mti_theory_binomial_count_interval (0.3, 0, 0.99, &lo, &hi), 0);
+    assert_int_equal (cgs_binomial_count_interval (0.3, 0, 0.99, &lo, &hi), 0);
     assert_true (lo == 0 && hi == 0);
 
     const double ps[] = {1e-6, 1e-3, 0.05, 0.3, 0.5, 0.9, 0.999};
@@ -662,12 +663,12 @@ static void test_binomial_count_interval (void **state)
     s_check_count_interval (1e-6, 100000000, 0.99);
 
     lo = hi = 7;
-    assert_int_equal (mti_theory_binomial_count_interval (-0.1, 10, 0.95, &lo, &hi), -EINVAL);
-    assert_int_equal (mti_theory_binomial_count_interval (0.5, 10, 1.0, &lo, &hi), -EINVAL);
-    assert_int_equal (mti_theory_binomial_count_interval (0.5, 100000000, 0.99, &lo, &hi), -ERANGE);
+    assert_int_equal (cgs_binomial_count_interval (-0.1, 10, 0.95, &lo, &hi), -EINVAL);
+    assert_int_equal (cgs_binomial_count_interval (0.5, 10, 1.0, &lo, &hi), -EINVAL);
+    assert_int_equal (cgs_binomial_count_interval (0.5, 100000000, 0.99, &lo, &hi), -ERANGE);
     if (ULONG_MAX > UINT_MAX)
         assert_int_equal (
-            mti_theory_binomial_count_interval (1e-12, (unsigned long)UINT_MAX + 1, 0.99, &lo, &hi),
+            cgs_binomial_count_interval (1e-12, (unsigned long)UINT_MAX + 1, 0.99, &lo, &hi),
             -ERANGE);
     assert_true (lo == 7 && hi == 7);
 }

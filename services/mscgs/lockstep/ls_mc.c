@@ -1,12 +1,12 @@
 /* ls_mc — Monte Carlo runs of one scene in lockstep (see ls_mc.h). */
 #include "ls_mc.h"
 
+#include "cgs_stats.h"
 #include "cgs_util.h"
 #include "ls_run.h"
 #include "ms_metrics.h"
 
 #include <errno.h>
-#include <gsl/gsl_cdf.h>
 #include <math.h>
 #include <signal.h>
 #include <stdlib.h>
@@ -245,8 +245,13 @@ static int s_pool (const ls_mc_config_t *c, const ls_mc_run_t *runs, ls_mc_resul
     // Imaged out of every run: a run without a designation counts as a miss.
     double n = (double)r.runs, k = (double)r.imaged;
     r.imaged_pct = 100 * k / n;
-    r.imaged_lo_pct = k > 0 ? 100 * gsl_cdf_beta_Pinv (0.025, k, n - k + 1) : 0;
-    r.imaged_hi_pct = k < n ? 100 * gsl_cdf_beta_Pinv (0.975, k + 1, n - k) : 100;
+    double lo = NAN, hi = NAN; // left NAN (null in the JSON) where no interval can be had
+    if (cgs_binomial_interval (r.imaged, r.runs, 0.95, &lo, &hi) == 0) {
+        r.imaged_lo_pct = 100 * lo;
+        r.imaged_hi_pct = 100 * hi;
+    } else {
+        r.imaged_lo_pct = r.imaged_hi_pct = NAN;
+    }
     r.miss_p50_m = s_quantile (miss, nm, 0.5);
     r.miss_p95_m = s_quantile (miss, nm, 0.95);
     r.time_to_image_p50_s = s_quantile (tti, nt, 0.5);
