@@ -41,6 +41,8 @@
 #define S_CLOSE_GATE3  11.345 // χ²₃ at 0.99, with the radial velocity
 #define S_KBEST_TRACKS 12     // IMM: a cluster of more tracks weighs its best hypothesis alone
 #define S_CLUSTER_MAX  400    // a cluster of more tracks is assigned greedily (see s_solve_greedy)
+#define S_ALT_SCANS    3      // IMM: scans a track keeps its other branch (N-scan pruning)
+#define S_ALT_MIN      1e-3   // IMM: least probability a branch is kept with
 
 /* A hit of the scan being processed. */
 typedef struct {
@@ -64,6 +66,23 @@ typedef struct {
     double miss;                      // IMM: the cost of leaving the track without a hit (NaN:
                                       // G + 1 + ln|S| of its worst-conditioned pair)
 } s_pair_t;
+
+/* One branch's cost of a hit (s_imm_cost). */
+typedef struct {
+    double cost, miss, log_det, gate;
+    bool close;
+} s_imm_cost_t;
+
+/* The other branch of a track that took a hit after a coast (a two-branch,
+ * track-oriented hypothesis tree, pruned after S_ALT_SCANS scans): the
+ * track as it would be had that hit been a false alarm or another
+ * vehicle's. Same id; ln_odds is ln P(this branch)/P(the track's). */
+typedef struct {
+    uint32_t id;
+    uint32_t born_scan; // the scan that branched
+    double ln_odds;
+    trk_track_t t;
+} s_alt_t;
 
 #define S_GAIN_CACHE 16 // the paper's gains of recent update intervals (dt_auto)
 
@@ -119,7 +138,12 @@ struct trk_tracker {
     // IMM: confirmed tracks deleted lately, which a new track may continue.
     trk_track_t *lost;
     size_t lost_count, lost_cap;
-    trk_pd_radar_t radar;         // the radar during the scan being processed
+    trk_pd_radar_t radar; // the radar during the scan being processed
+    // IMM: the other branch of tracks that took a hit after a coast.
+    s_alt_t *alts;
+    size_t alt_count, alt_cap;
+    size_t *alt_of; // per scanned track: its branch in alts, or SIZE_MAX
+    size_t alt_of_cap;
     const cgs_terrain_t *terrain; // borrowed: what the radars look over (NULL: none)
     double clutter_ln;            // ln of its false alarm density per m² (IMM costs)
 };
@@ -187,6 +211,8 @@ void trk_tracker_destroy (trk_tracker_t **self_p)
     free (self->turns);
     free (self->dead);
     free (self->lost);
+    free (self->alts);
+    free (self->alt_of);
     free (self);
     *self_p = NULL;
 }
@@ -456,10 +482,29 @@ static void s_model_pd (const trk_tracker_t *self, const trk_pd_radar_t *r, cons
  * probability; so a model the radar could not have seen (stopped, in the
  * notch) takes no hit it could not have made, and a track the radar could
  * hardly see is better left without a hit than given a stranger's. */
-static void s_try_pair_imm (trk_tracker_t *self, size_t ti, size_t hi)
+/* Whether t could be the source of h. The hit must come after the track's
+ * estimate, and must not imply a speed above the fastest target's since
+ * then (with three standard deviations of both positions to spare). For a
+ * track of one hit this is its whole gate; for a coasting one it bounds the
+ * manoeuvre allowance, which grows as dt² and would otherwise take in
+ * clutter kilometres away. */
+static bool s_reachable (const trk_tracker_t *self, const trk_track_t *t, const s_hit_t *h)
 {
-    const trk_track_t *t = &self->tracks[self->act[ti]];
-    s_hit_t *h = &self->hits[hi];
+    double dt = h->h.t_s - t->est.t_s;
+    if (!(dt > 0))
+        return false; // not after the track's estimate: it cannot be its next hit
+    double de = h->h.z[0] - t->est.x[0], dn = h->h.z[1] - t->est.x[1];
+    double slack = 3 * sqrt (t->est.P[0] + t->est.P[5] + h->R[0] + h->R[3]);
+    return hypot (de, dn) <= self->p.max_speed_mps * dt + slack;
+}
+
+/* The IMM cost of hit h for track t (one branch of it): false when the hit
+ * lies in none of its likely models' gates. */
+static bool s_imm_cost (const trk_tracker_t *self, const trk_track_t *t, const s_hit_t *h,
+                        s_imm_cost_t *ret)
+{
+    if (!s_reachable (self, t, h))
+        return false;
     const trk_params_t *p = &self->p;
     trk_meas_t m;
     s_meas (self, h, p->radial_velocity, &m);
@@ -476,7 +521,7 @@ static void s_try_pair_imm (trk_tracker_t *self, size_t ti, size_t hi)
         trk_tracker_predict (self, t, h->h.t_s, &pr);
         d2 = trk_meas_distance (&pr, &m, &ld);
         if (d2 < 0 || d2 > gate)
-            return;
+            return false;
         cost = d2 + ld + k_ln_2pi - 2 * log (r * pd0) + 2 * ln_lambda;
         miss = -2 * log (1 - r * pd0);
     } else {
@@ -485,7 +530,7 @@ static void s_try_pair_imm (trk_tracker_t *self, size_t ti, size_t hi)
         trk_imm_combine (&mp, &pr);
         d2 = trk_meas_distance (&pr, &m, &ld);
         if (d2 < 0)
-            return;
+            return false;
         double pd[TRK_IMM_MODELS], pd_all = 0, best = INFINITY, lj[TRK_IMM_MODELS];
         double d2v[TRK_IMM_MODELS];
         bool inside = false;
@@ -501,7 +546,7 @@ static void s_try_pair_imm (trk_tracker_t *self, size_t ti, size_t hi)
                 likeliest = j;
         }
         if (!inside)
-            return;
+            return false;
         // Close to where the likeliest model puts the target: a hit the
         // track leaves is a second look at it or clutter about it, not a
         // new target (a neighbour in a column lies further out).
@@ -514,15 +559,86 @@ static void s_try_pair_imm (trk_tracker_t *self, size_t ti, size_t hi)
         cost = best + k_ln_2pi - 2 * log (fmax (r * sum, 1e-300)) + 2 * ln_lambda;
         miss = -2 * log (1 - r * pd_all);
     }
+    *ret = (s_imm_cost_t){.cost = cost, .miss = miss, .log_det = ld, .gate = gate, .close = close};
+    return true;
+}
+
+/* ln of the chance that branch t of a track has no hit at time t_s:
+ * 1 − r·Pd (−miss/2 of its cost). */
+static double s_imm_miss_ln (const trk_tracker_t *self, const trk_track_t *t, double t_s)
+{
+    double r = fmin (fmax (t->existence, 1e-6), 0.999), pd_all = 0;
+    if (!s_imm (self, t)) {
+        const double *ra = self->radar.position;
+        return log (1 - r * trk_pd_at_range (&self->p.detection, hypot (hypot (t->est.x[0] - ra[0],
+                                                                               t->est.x[1] - ra[1]),
+                                                                        t->up_m - ra[2])));
+    }
+    trk_imm_t mp;
+    s_imm_predict (self, t, fmax (t_s, t->est.t_s), &mp);
+    double pd[TRK_IMM_MODELS];
+    s_model_pd (self, &self->radar, &mp, t->up_m, pd);
+    for (int j = 0; j < TRK_IMM_MODELS; j++)
+        pd_all += mp.mu[j] * pd[j];
+    return log (1 - r * pd_all);
+}
+
+/* ln(e^a + e^b), either may be -INFINITY. */
+static double s_log_add (double a, double b)
+{
+    double m = fmax (a, b);
+    return m == -INFINITY ? -INFINITY : m + log (exp (a - m) + exp (b - m));
+}
+
+/* The IMM tracker's pair. The hit must lie in the gate of one of the
+ * models the target may be in (not of their moment-matched mixture, which is
+ * no Gaussian: a stopped model here, a moving one far on, and the gate of
+ * the mixture would take in what lies between); position and radial
+ * velocity are gated together, with their covariance, and nothing is added
+ * for manoeuvres: the manoeuvre model is there for them. The costs are
+ * likelihood ratios against the radar's false alarm density λ (Bar-Shalom's
+ * assignment costs, with the track's existence probability r as in JIPDA):
+ * −2 ln(r Σ_j c_j pd_j N(ν_j; S_j) / λ) for the pair, −2 ln(1 − r Pd) for
+ * leaving the track without a hit, Pd = Σ_j c_j pd_j its detection
+ * probability; so a model the radar could not have seen (stopped, in the
+ * notch) takes no hit it could not have made, and a track the radar could
+ * hardly see is better left without a hit than given a stranger's. A track
+ * with two branches (s_alt_t) weighs both: the pair's likelihood ratio and
+ * the miss's chance are their mixtures by the branches' probabilities. */
+static void s_try_pair_imm (trk_tracker_t *self, size_t ti, size_t hi)
+{
+    const trk_track_t *t = &self->tracks[self->act[ti]];
+    s_hit_t *h = &self->hits[hi];
+    s_imm_cost_t c, ca;
+    bool in = s_imm_cost (self, t, h, &c);
+    const s_alt_t *a = self->alt_of[ti] == SIZE_MAX ? NULL : &self->alts[self->alt_of[ti]];
+    if (a) {
+        bool in_alt = s_imm_cost (self, &a->t, h, &ca);
+        if (!in && !in_alt)
+            return;
+        // P(alt) = 1/(1 + e^-odds): the ln of each branch's weight.
+        double lwa = -log1p (exp (-a->ln_odds)), lwp = -log1p (exp (a->ln_odds));
+        double lp = in ? -c.cost / 2 : -INFINITY, la = in_alt ? -ca.cost / 2 : -INFINITY;
+        double cost = -2 * s_log_add (lwp + lp, lwa + la);
+        double miss = -2 * s_log_add (lwp + s_imm_miss_ln (self, t, h->h.t_s),
+                                      lwa + s_imm_miss_ln (self, &a->t, h->h.t_s));
+        if (!in)
+            c = ca;
+        c.cost = cost;
+        c.miss = miss;
+        c.close = c.close || (in_alt && ca.close);
+    } else if (!in) {
+        return;
+    }
     s_pair_t *pp = &self->pairs[self->pair_count++];
     pp->track = ti;
     pp->hit = hi;
-    pp->gate = gate;
+    pp->gate = c.gate;
     pp->plain = true;
-    pp->cost_plain = pp->cost_wide = cost;
-    pp->log_det_plain = pp->log_det_wide = ld;
-    pp->miss = miss;
-    if (t->status != TRK_TENTATIVE && close)
+    pp->cost_plain = pp->cost_wide = c.cost;
+    pp->log_det_plain = pp->log_det_wide = c.log_det;
+    pp->miss = c.miss;
+    if (t->status != TRK_TENTATIVE && c.close)
         h->in_confirmed = true;
 }
 
@@ -534,24 +650,13 @@ static void s_try_pair (trk_tracker_t *self, size_t ti, size_t hi)
 {
     const trk_track_t *t = &self->tracks[self->act[ti]];
     s_hit_t *h = &self->hits[hi];
-    double dt = h->h.t_s - t->est.t_s;
-    if (!(dt > 0))
-        return; // not after the track's estimate: it cannot be its next hit
-    {
-        // The hit must not imply a speed above the fastest target's since the
-        // track's estimate (with three standard deviations of both positions
-        // to spare). For a track of one hit this is its whole gate; for a
-        // coasting one it bounds the manoeuvre allowance, which grows as dt²
-        // and would otherwise take in clutter kilometres away.
-        double de = h->h.z[0] - t->est.x[0], dn = h->h.z[1] - t->est.x[1];
-        double slack = 3 * sqrt (t->est.P[0] + t->est.P[5] + h->R[0] + h->R[3]);
-        if (hypot (de, dn) > self->p.max_speed_mps * dt + slack)
-            return;
-    }
     if (self->p.filter.mode == TRK_FILTER_IMM) {
-        s_try_pair_imm (self, ti, hi);
+        s_try_pair_imm (self, ti, hi); // each branch checks s_reachable
         return;
     }
+    if (!s_reachable (self, t, h))
+        return;
+    double dt = h->h.t_s - t->est.t_s;
     trk_estimate_t pr;
     trk_filter_predict (&t->est, &self->p.filter, h->h.t_s, &pr);
     // Only a confirmed target is followed through a manoeuvre: tentative
@@ -596,58 +701,77 @@ static void s_try_pair (trk_tracker_t *self, size_t ti, size_t hi)
         h->in_confirmed = true;
 }
 
+/* Where a track's candidates can lie over the scan: the centre (ce, cn)
+ * where it is mid-scan and the half side of the square about it; its
+ * largest gate at the latest hit time, plus its motion either way. */
+static double s_reach (const trk_tracker_t *self, const trk_track_t *t, double t_lo, double t_hi,
+                       double r_max, double *ce, double *cn)
+{
+    double t_end = fmax (t_hi, t->est.t_s), t_mid = fmax ((t_lo + t_hi) / 2, t->est.t_s);
+    trk_estimate_t pe;
+    trk_tracker_predict (self, t, t_end, &pe);
+    double lam = s_lambda_max (pe.P[0], pe.P[1], pe.P[5]) + r_max +
+                 (t->status == TRK_TENTATIVE ? 0 : s_maneuver_var (self, t_end - t->est.t_s));
+    double speed = hypot (t->est.x[2], t->est.x[3]);
+    double reach = sqrt (self->gate3 * lam) + speed * (t_hi - t_lo) / 2 + 1;
+    if (s_imm (self, t)) {
+        // Each model's own gate, wherever its prediction lies: a hit in
+        // any of them is a candidate (s_try_pair_imm).
+        trk_imm_t mp;
+        s_imm_predict (self, t, t_end, &mp);
+        for (int j = 0; j < TRK_IMM_MODELS; j++) {
+            if (mp.mu[j] < S_MODEL_MIN_MU)
+                continue;
+            const double *P = mp.m[j].P;
+            double off = hypot (mp.m[j].x[0] - pe.x[0], mp.m[j].x[1] - pe.x[1]);
+            double sp = hypot (mp.m[j].x[2], mp.m[j].x[3]);
+            reach =
+                fmax (reach, off + sqrt (self->gate3 * (s_lambda_max (P[0], P[1], P[5]) + r_max)) +
+                                 fmax (speed, sp) * (t_hi - t_lo) / 2 + 1);
+        }
+    }
+    *ce = t->est.x[0] + t->est.x[2] * (t_mid - t->est.t_s);
+    *cn = t->est.x[1] + t->est.x[3] * (t_mid - t->est.t_s);
+    return reach;
+}
+
 static int s_gate (trk_tracker_t *self, size_t nt, size_t nh, double t_lo, double t_hi,
                    double r_max)
 {
     for (size_t ti = 0; ti < nt; ti++) {
         const trk_track_t *t = &self->tracks[self->act[ti]];
-        // The gate's reach over the scan: its largest extent at the latest hit
-        // time, centred where the track is mid-scan, plus its motion either way.
-        double t_end = fmax (t_hi, t->est.t_s), t_mid = fmax ((t_lo + t_hi) / 2, t->est.t_s);
-        trk_estimate_t pe;
-        trk_tracker_predict (self, t, t_end, &pe);
-        double lam = s_lambda_max (pe.P[0], pe.P[1], pe.P[5]) + r_max +
-                     (t->status == TRK_TENTATIVE ? 0 : s_maneuver_var (self, t_end - t->est.t_s));
-        double speed = hypot (t->est.x[2], t->est.x[3]);
-        double reach = sqrt (self->gate3 * lam) + speed * (t_hi - t_lo) / 2 + 1;
-        if (s_imm (self, t)) {
-            // Each model's own gate, wherever its prediction lies: a hit in
-            // any of them is a candidate (s_try_pair_imm).
-            trk_imm_t mp;
-            s_imm_predict (self, t, t_end, &mp);
-            for (int j = 0; j < TRK_IMM_MODELS; j++) {
-                if (mp.mu[j] < S_MODEL_MIN_MU)
-                    continue;
-                const double *P = mp.m[j].P;
-                double off = hypot (mp.m[j].x[0] - pe.x[0], mp.m[j].x[1] - pe.x[1]);
-                double sp = hypot (mp.m[j].x[2], mp.m[j].x[3]);
-                reach = fmax (reach,
-                              off + sqrt (self->gate3 * (s_lambda_max (P[0], P[1], P[5]) + r_max)) +
-                                  fmax (speed, sp) * (t_hi - t_lo) / 2 + 1);
-            }
+        double ce, cn, reach = s_reach (self, t, t_lo, t_hi, r_max, &ce, &cn);
+        // The box [x0, x1] × [y0, y1] holds every candidate; a track with two
+        // branches looks in the box that holds both.
+        double bx0 = ce - reach, bx1 = ce + reach, by0 = cn - reach, by1 = cn + reach;
+        if (self->alt_of[ti] != SIZE_MAX) {
+            double ae, an,
+                ar = s_reach (self, &self->alts[self->alt_of[ti]].t, t_lo, t_hi, r_max, &ae, &an);
+            bx0 = fmin (bx0, ae - ar);
+            bx1 = fmax (bx1, ae + ar);
+            by0 = fmin (by0, an - ar);
+            by1 = fmax (by1, an + ar);
         }
-        double ce = t->est.x[0] + t->est.x[2] * (t_mid - t->est.t_s);
-        double cn = t->est.x[1] + t->est.x[3] * (t_mid - t->est.t_s);
         // Pairs: at most one per hit for this track.
         if (cgs_grow ((void **)&self->pairs, &self->pair_cap, self->pair_count + nh,
                       sizeof *self->pairs) < 0)
             return -ENOMEM;
-        double span_cells = 2 * reach / S_CELL_M + 2;
-        if (!isfinite (reach) || !isfinite (ce) || !isfinite (cn) ||
-            span_cells * span_cells > (double)nh || fabs (ce) + reach > 1e12 ||
-            fabs (cn) + reach > 1e12) { // a huge gate: every hit is a candidate
+        double span_cells = fmax (bx1 - bx0, by1 - by0) / S_CELL_M + 2;
+        if (!isfinite (bx0) || !isfinite (bx1) || !isfinite (by0) || !isfinite (by1) ||
+            span_cells * span_cells > (double)nh || fmax (fabs (bx0), fabs (bx1)) > 1e12 ||
+            fmax (fabs (by0), fabs (by1)) > 1e12) { // a huge gate: every hit is a candidate
             for (size_t hi = 0; hi < nh; hi++)
                 s_try_pair (self, ti, hi);
             continue;
         }
-        int64_t x0 = s_cell_of (ce - reach), x1 = s_cell_of (ce + reach);
-        int64_t y0 = s_cell_of (cn - reach), y1 = s_cell_of (cn + reach);
+        int64_t x0 = s_cell_of (bx0), x1 = s_cell_of (bx1);
+        int64_t y0 = s_cell_of (by0), y1 = s_cell_of (by1);
         for (int64_t ix = x0; ix <= x1; ix++)
             for (int64_t iy = y0; iy <= y1; iy++)
                 for (size_t hi = s_grid_first (self, ix, iy); hi != SIZE_MAX;
                      hi = self->hit_next[hi]) {
                     const trk_hit_t *h = &self->hits[hi].h;
-                    if (fabs (h->z[0] - ce) <= reach && fabs (h->z[1] - cn) <= reach)
+                    if (h->z[0] >= bx0 && h->z[0] <= bx1 && h->z[1] >= by0 && h->z[1] <= by1)
                         s_try_pair (self, ti, hi);
                 }
     }
@@ -1380,6 +1504,104 @@ static bool s_upkeep (trk_tracker_t *self, trk_track_t *t, const s_hit_t *h, dou
     return true;
 }
 
+/* The scanned tracks' branches into alt_of; the branches of tracks gone
+ * are dropped. */
+static void s_alt_index (trk_tracker_t *self, size_t nt)
+{
+    for (size_t ti = 0; ti < nt; ti++)
+        self->alt_of[ti] = SIZE_MAX;
+    size_t kept = 0;
+    for (size_t a = 0; a < self->alt_count; a++) {
+        size_t where = SIZE_MAX;
+        for (size_t i = 0; i < self->count && where == SIZE_MAX && self->alts[a].id; i++)
+            if (self->tracks[i].id == self->alts[a].id)
+                where = i;
+        if (where == SIZE_MAX)
+            continue; // its track is gone
+        if (kept != a)
+            self->alts[kept] = self->alts[a];
+        for (size_t ti = 0; ti < nt; ti++)
+            if (self->act[ti] == where) {
+                self->alt_of[ti] = kept;
+                break;
+            }
+        kept++;
+    }
+    self->alt_count = kept;
+}
+
+/* The IMM tracker's upkeep of track t (scanned as ti) with its branches.
+ *
+ * A confirmed track that takes a hit after a coast of two scans or more
+ * (a vehicle that halted, crossed the notch or was hidden, and whose hit
+ * now moves a velocity the models only predicted) may have taken a false
+ * alarm or another vehicle's hit: one far from where it stopped, say,
+ * which the manoeuvre model's spread after a long coast lets in. Rather
+ * than stake the track on it, the tracker keeps the track both ways: as
+ * updated with the hit, and as it would be had the hit not been its
+ * target's (a miss), each with its probability. Their odds start at the
+ * association's own β₀ (the weighed joint hypotheses' chance that the
+ * track had no hit), and each later scan multiplies them by each branch's
+ * likelihood of what it brought: the hit's likelihood ratio (s_imm_cost)
+ * or, for no hit, 1 − r·Pd. The likelier branch is the track (same id);
+ * the other is dropped below S_ALT_MIN or after S_ALT_SCANS scans (N-scan
+ * pruning), or when either dies. Returns whether the track lives on. */
+static bool s_upkeep_branches (trk_tracker_t *self, size_t ti, trk_track_t *t, const s_hit_t *h,
+                               double mb, const trk_scan_t *scan, trk_scan_out_t *out)
+{
+    s_alt_t *a = self->alt_of[ti] == SIZE_MAX ? NULL : &self->alts[self->alt_of[ti]];
+    bool branch = false;
+    if (!a && h && t->status != TRK_TENTATIVE && t->hits > 1 && t->misses >= 2 && mb >= S_ALT_MIN &&
+        mb <= 1 - S_ALT_MIN) {
+        a = &self->alts[self->alt_count++]; // room reserved by s_reserve
+        *a = (s_alt_t){
+            .id = t->id, .born_scan = scan->scan_number, .ln_odds = log (mb / (1 - mb)), .t = *t};
+        self->alt_of[ti] = (size_t)(a - self->alts);
+        branch = true;
+        out->branched++;
+    } else if (a) {
+        double lp, la;
+        if (h) {
+            s_imm_cost_t c;
+            lp = s_imm_cost (self, t, h, &c) ? -c.cost / 2 : -INFINITY;
+            la = s_imm_cost (self, &a->t, h, &c) ? -c.cost / 2 : -INFINITY;
+        } else {
+            double mid = (scan->start_s + scan->end_s) / 2;
+            lp = s_imm_miss_ln (self, t, mid);
+            la = s_imm_miss_ln (self, &a->t, mid);
+        }
+        if (lp > -INFINITY || la > -INFINITY)
+            a->ln_odds += la - lp;
+    }
+    bool alive = s_upkeep (self, t, h, mb, scan, out);
+    if (!a)
+        return alive;
+    // The other branch: had the branching hit not been its target's, this
+    // scan was a miss for it; later, the scan's hit (or none) is the same.
+    trk_scan_out_t scratch = {0};
+    size_t turns = self->turn_count; // its turn events are not the track's
+    bool alt_alive = s_upkeep (self, &a->t, branch ? NULL : h, branch ? 1 : mb, scan, &scratch);
+    self->turn_count = turns;
+    bool keep = alt_alive;
+    if (alt_alive && (!alive || a->ln_odds > 0)) {
+        trk_track_t other = *t; // the likelier branch becomes the track
+        *t = a->t;
+        a->t = other;
+        a->ln_odds = -a->ln_odds;
+        keep = alive;
+        alive = true;
+        out->alt_swaps++;
+    }
+    if (!alive || a->ln_odds < log (S_ALT_MIN / (1 - S_ALT_MIN)) ||
+        scan->scan_number - a->born_scan >= S_ALT_SCANS)
+        keep = false;
+    if (!keep) {
+        a->id = 0; // dropped by the next s_alt_index
+        self->alt_of[ti] = SIZE_MAX;
+    }
+    return alive;
+}
+
 static void s_kill (trk_tracker_t *self, size_t i, trk_scan_out_t *out)
 {
     trk_track_t *d = &self->dead[self->dead_count++];
@@ -1435,7 +1657,10 @@ static int s_reserve (trk_tracker_t *self, size_t nh)
         cgs_grow ((void **)&self->assigned, &self->assigned_cap, nt + 1, sizeof *self->assigned) <
             0 ||
         cgs_grow ((void **)&self->miss_beta, &self->miss_beta_cap, nt + 1,
-                  sizeof *self->miss_beta) < 0)
+                  sizeof *self->miss_beta) < 0 ||
+        cgs_grow ((void **)&self->alt_of, &self->alt_of_cap, nt + 1, sizeof *self->alt_of) < 0 ||
+        cgs_grow ((void **)&self->alts, &self->alt_cap, self->alt_count + nt + 1,
+                  sizeof *self->alts) < 0)
         return -ENOMEM;
     if (cgs_grow ((void **)&self->tracks, &self->cap, nt + nh, sizeof *self->tracks) < 0 ||
         cgs_grow ((void **)&self->turns, &self->turn_cap, nt + 1, sizeof *self->turns) < 0 ||
@@ -1505,6 +1730,7 @@ int trk_tracker_scan (trk_tracker_t *self, const trk_scan_t *scan, const trk_hit
         self->assigned[i] = SIZE_MAX;
         self->miss_beta[i] = 1; // no hit in its gate
     }
+    s_alt_index (self, nt);
     s_grid_build (self, nh);
     if ((rc = s_gate (self, nt, nh, t_lo, t_hi, r_max)) < 0)
         goto nomem;
@@ -1516,7 +1742,11 @@ int trk_tracker_scan (trk_tracker_t *self, const trk_scan_t *scan, const trk_hit
     for (size_t ti = nt; ti-- > 0;) { // backwards: a death moves the last track into its slot
         size_t idx = self->act[ti];
         const s_hit_t *h = self->assigned[ti] == SIZE_MAX ? NULL : &self->hits[self->assigned[ti]];
-        if (!s_upkeep (self, &self->tracks[idx], h, self->miss_beta[ti], scan, &out)) {
+        bool alive = self->p.filter.mode == TRK_FILTER_IMM
+                         ? s_upkeep_branches (self, ti, &self->tracks[idx], h, self->miss_beta[ti],
+                                              scan, &out)
+                         : s_upkeep (self, &self->tracks[idx], h, self->miss_beta[ti], scan, &out);
+        if (!alive) {
             bool was_confirmed = self->tracks[idx].status != TRK_TENTATIVE;
             s_kill (self, idx, &out);
             if (was_confirmed && self->p.filter.mode == TRK_FILTER_IMM)
@@ -1677,6 +1907,7 @@ int trk_tracker_replace (trk_tracker_t *self, const trk_track_t *tracks, size_t 
         memcpy (self->tracks, tracks, count * sizeof *tracks);
     self->count = count;
     self->next_id = next_id;
+    self->alt_count = 0; // a checkpoint keeps each track's likelier branch only
     uint32_t max = (uint32_t)self->p.history_scans;
     for (size_t i = 0; i < count; i++) { // keep the newest history_scans points
         trk_track_t *t = &self->tracks[i];

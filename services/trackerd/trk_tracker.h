@@ -142,6 +142,8 @@ typedef struct {
     size_t clusters;        // groups solved as one assignment
     size_t largest_cluster; // tracks in the largest
     size_t greedy_clusters; // of more than 400 tracks, assigned greedily, not optimally
+    size_t branched;        // IMM: tracks that took a hit after a coast and kept both branches
+    size_t alt_swaps;       // IMM: tracks whose other branch became the likelier
     size_t updated, missed, born, confirmed, deleted;
     size_t unused_hits; // in a confirmed track's gate but not assigned: start nothing
     size_t time_reset;  // tracks deleted because the scan came before their time

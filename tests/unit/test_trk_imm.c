@@ -497,6 +497,62 @@ static void test_notch_crossing_coasts (void **state)
     }
 }
 
+/* The stop-go family's lost intercepts: a vehicle halts, its track coasts
+ * believing it stopped, and a false alarm 600 m off (moving, as the
+ * manoeuvre model's spread after a long coast allows) comes before the
+ * vehicle drives on. The track takes it, but keeps the branch in which it
+ * was not its target's; the vehicle's next hits, where it stopped, make
+ * that branch the likelier, and the track (same id, the false alarm gone
+ * from its history) follows the vehicle: no new track is born for it. */
+static void test_false_alarm_after_halt_branches (void **state)
+{
+    (void)state;
+    trk_params_t p = s_defaults ();
+    trk_tracker_t *t = trk_tracker_new (&p);
+    uint64_t rng = 11;
+    double n = 6000;
+    uint32_t k = 0, hid = 1;
+    for (; k < 12; k++, n += 100) {
+        trk_hit_t h = s_hit (hid++, 10.0 * k + 5, 2000, n, 0, 10, 20, &rng);
+        s_run (t, k, &h, 1);
+    }
+    uint32_t id = trk_tracker_at (t, 0)->id;
+    n -= 50; // halted here
+    size_t branched = 0, swaps = 0;
+    for (uint32_t j = 1; j <= 6; j++, k++)
+        s_run (t, k, NULL, 0);
+    // The false alarm: 600 m south-west of the halt, moving south-west.
+    uint32_t fa = hid++;
+    trk_hit_t hf = s_hit (fa, 10.0 * k + 5, 2000 - 420, n - 430, -7, -7, 0, &rng);
+    trk_scan_out_t o = s_run (t, k++, &hf, 1);
+    const trk_track_t *tr = trk_tracker_find (t, id);
+    assert_non_null (tr);
+    print_message ("false alarm: branched %zu, born %zu; the track at %.0f m from the halt, "
+                   "last hit %u\n",
+                   o.branched, o.born, hypot (tr->est.x[0] - 2000, tr->est.x[1] - n),
+                   tr->history[tr->history_count - 1].hit_id);
+    assert_int_equal (tr->history[tr->history_count - 1].hit_id, fa); // it took it
+    branched += o.branched;
+    assert_int_equal (branched, 1);
+    // Off again, north, from the halt.
+    for (uint32_t j = 0; j < 5; j++, k++, n += 100) {
+        trk_hit_t h = s_hit (hid++, 10.0 * k + 5, 2000, n + 50, 0, 10, 20, &rng);
+        o = s_run (t, k, &h, 1);
+        swaps += o.alt_swaps;
+        assert_int_equal (o.born, 0);
+    }
+    tr = trk_tracker_find (t, id);
+    assert_non_null (tr);
+    assert_int_equal (swaps, 1);
+    assert_int_equal (tr->status, TRK_CONFIRMED);
+    assert_true (hypot (tr->est.x[0] - 2000, tr->est.x[1] - (n - 50)) < 100);
+    for (uint32_t i = 0; i < tr->history_count; i++)
+        assert_int_not_equal (tr->history[i].hit_id, fa);
+    assert_int_equal (tr->history[tr->history_count - 1].hit_id, hid - 1);
+    assert_int_equal (trk_tracker_count (t), 1);
+    trk_tracker_destroy (&t);
+}
+
 /* The filter's consistency on straight legs (Monte Carlo, Bar-Shalom's
  * tests): N runs of a target moving at constant velocity with the CV
  * model's own process noise; at each scan after the first few, the average
@@ -851,6 +907,7 @@ int main (void)
         cmocka_unit_test (test_imm_update),
         cmocka_unit_test (test_halt_switches_to_stopped),
         cmocka_unit_test (test_notch_crossing_coasts),
+        cmocka_unit_test (test_false_alarm_after_halt_branches),
         cmocka_unit_test (test_nees_nis_straight),
         cmocka_unit_test (test_continuation),
         cmocka_unit_test (test_continuation_identity),
