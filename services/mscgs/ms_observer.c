@@ -194,15 +194,16 @@ void ms_icpt_on_track (void *arg, const char *topic, const ProtobufCMessage *msg
         if (tr->track_id != ic->desig_track_id)
             continue;
         // The designated target is the vehicle the designated track followed
-        // first; a track that took over and follows another vehicle is
-        // reported, and the score stays with the designated one.
+        // first; a track that follows another vehicle since (the designated
+        // one, which changed vehicle, or one that took over) is reported, and
+        // the score stays with the designated one.
         uint32_t e = ms_icpt_track_entity (ic, tr->uav_id ? tr->uav_id : b->uav_id, tr);
         if (e != 0 && ic->entity_id == 0) {
             ic->entity_id = e;
             ic->marking[0] = '\0';
         } else if (e != 0 && e == ic->entity_id) {
             ic->other_entity_id = 0; // the track follows the designated vehicle (again)
-        } else if (e != 0 && tr->track_id != ic->first_track_id && e != ic->other_entity_id) {
+        } else if (e != 0 && e != ic->other_entity_id) {
             ic->other_entity_id = e;
             ic->other_marking[0] = '\0';
         }
@@ -255,9 +256,9 @@ void ms_icpt_print (const ms_icpt_t *ic, FILE *f)
     else
         fprintf (f, "  true target       unknown (no MTI truth for the track's hits)\n");
     if (ic->other_entity_id)
-        fprintf (f,
-                 "  hand-over         track %u now follows entity %u \"%s\", not the designated "
-                 "target\n",
+        fprintf (f, "  %s track %u now follows entity %u \"%s\", not the designated target\n",
+                 ic->desig_track_id != ic->first_track_id ? "hand-over        "
+                                                          : "changed vehicle  ",
                  ic->desig_track_id, ic->other_entity_id, ic->other_marking);
     fprintf (f, "  state             %s", ms_icpt_state_name (ic->desig_state));
     if (ic->final)
@@ -324,8 +325,11 @@ json_object *ms_icpt_json (const ms_icpt_t *ic)
     cgs_json_add (o, "track_id", s_json_id (d, ic->desig_track_id));
     cgs_json_add (o, "target_entity_id", s_json_id (target, ic->entity_id));
     cgs_json_add (o, "target_marking", target ? s_json_marking (ic->marking) : NULL);
-    cgs_json_add (o, "handed_over_to_entity_id",
-                  s_json_id (d && ic->other_entity_id, ic->other_entity_id));
+    bool other = d && ic->other_entity_id;
+    cgs_json_add (o, "follows_entity_id", s_json_id (other, ic->other_entity_id));
+    cgs_json_add (
+        o, "handed_over_to_entity_id",
+        s_json_id (other && ic->desig_track_id != ic->first_track_id, ic->other_entity_id));
     cgs_json_add (o, "designation_time_s", cgs_json_fixed (d ? sc->designation_s : NAN, 3));
     cgs_json_add (o, "final_state",
                   d ? json_object_new_string (ms_icpt_state_name (ic->desig_state)) : NULL);

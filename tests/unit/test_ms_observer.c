@@ -46,7 +46,8 @@ static void test_nothing_designated (void **state)
     char *text = s_text (s_icpt ());
     assert_string_equal (
         text, "{\"designated\":false,\"track_id\":null,\"target_entity_id\":null,"
-              "\"target_marking\":null,\"handed_over_to_entity_id\":null,"
+              "\"target_marking\":null,\"follows_entity_id\":null,"
+              "\"handed_over_to_entity_id\":null,"
               "\"designation_time_s\":null,\"final_state\":null,\"replans\":null,"
               "\"imaged\":false,\"time_in_footprint_s\":null,\"closest_approach_m\":null,"
               "\"closest_approach_time_s\":null,\"designation_to_overflight_s\":null}");
@@ -74,7 +75,8 @@ static void test_designated_and_imaged (void **state)
     char *text = s_text (ic);
     assert_string_equal (
         text, "{\"designated\":true,\"track_id\":12,\"target_entity_id\":4,"
-              "\"target_marking\":\"U3 \\\"\xc3\xa9\\\"\",\"handed_over_to_entity_id\":null,"
+              "\"target_marking\":\"U3 \\\"\xc3\xa9\\\"\",\"follows_entity_id\":null,"
+              "\"handed_over_to_entity_id\":null,"
               "\"designation_time_s\":120.000,\"final_state\":\"DONE\",\"replans\":2,"
               "\"imaged\":true,\"time_in_footprint_s\":3.250,\"closest_approach_m\":1.235,"
               "\"closest_approach_time_s\":251.000,\"designation_to_overflight_s\":130.123}");
@@ -94,10 +96,12 @@ static void test_hand_over_and_numbers (void **state)
     (void)state;
     ms_icpt_t *ic = s_icpt ();
     ic->designated = true;
+    ic->first_track_id = 7;
+    ic->desig_track_id = 8; // track 8 took over from 7
     ic->other_entity_id = 9;
     char *text = s_text (ic);
     assert_non_null (strstr (text, "\"target_entity_id\":null,\"target_marking\":null,"
-                                   "\"handed_over_to_entity_id\":9,"));
+                                   "\"follows_entity_id\":9,\"handed_over_to_entity_id\":9,"));
     free (text);
     assert_null (cgs_json_fixed (NAN, 2));
     assert_null (cgs_json_fixed (-INFINITY, 2));
@@ -106,12 +110,95 @@ static void test_hand_over_and_numbers (void **state)
     json_object_put (n);
 }
 
+/* One scan's truth of radar 1: hit 100 + i came from entity[i]. */
+static void s_feed_truth (ms_icpt_t *ic, const uint32_t *entity, size_t n)
+{
+    Cgs__MtiTruthItem it[8], *ip[8];
+    for (size_t i = 0; i < n; i++) {
+        cgs__mti_truth_item__init (&it[i]);
+        it[i].entity_id = entity[i];
+        it[i].detected = true;
+        it[i].hit_id = (uint32_t)(100 + i);
+        ip[i] = &it[i];
+    }
+    Cgs__MtiTruth t = CGS__MTI_TRUTH__INIT;
+    t.uav_id = 1;
+    t.n_items = n;
+    t.items = ip;
+    Cgs__Header h = CGS__HEADER__INIT;
+    h.sim_time_s = 10;
+    h.epoch = 1;
+    ms_icpt_on_mti_truth (ic, "mti.truth", &t.base, &h);
+}
+
+/* Track `id` of radar 1 whose history holds hits 100 + first .. 100 + last. */
+static void s_feed_track (ms_icpt_t *ic, uint32_t id, uint32_t first, uint32_t last, double t_s)
+{
+    Cgs__TrackHistoryPoint hp[8], *hpp[8];
+    size_t n = 0;
+    for (uint32_t k = first; k <= last; k++, n++) {
+        cgs__track_history_point__init (&hp[n]);
+        hp[n].hit_id = 100 + k;
+        hpp[n] = &hp[n];
+    }
+    Cgs__Track tr = CGS__TRACK__INIT, *trp = &tr;
+    tr.track_id = id;
+    tr.uav_id = 1;
+    tr.n_history = n;
+    tr.history = hpp;
+    Cgs__TrackBatch b = CGS__TRACK_BATCH__INIT;
+    b.uav_id = 1;
+    b.n_tracks = 1;
+    b.tracks = &trp;
+    Cgs__Header h = CGS__HEADER__INIT;
+    h.sim_time_s = t_s;
+    ms_icpt_on_track (ic, "track", &b.base, &h);
+}
+
+/* The designated track itself changes vehicle (most of its kept hits come
+ * from another): the run is on the wrong vehicle as much as after a
+ * hand-over (mscgs montecarlo counted only hand-overs), and the summary
+ * says which; when its hits are the designated vehicle's again, it is not. */
+static void test_track_changes_vehicle (void **state)
+{
+    (void)state;
+    ms_icpt_t *ic = s_icpt ();
+    const uint32_t entity[6] = {5, 5, 5, 6, 6, 6}; // hits 100-102 of 5, 103-105 of 6
+    s_feed_truth (ic, entity, 6);
+    Cgs__Intercept m = CGS__INTERCEPT__INIT;
+    m.track_id = 10;
+    m.designation_number = 1;
+    Cgs__Header h = CGS__HEADER__INIT;
+    h.sim_time_s = 11;
+    ms_icpt_on_intercept (ic, "intercept", &m.base, &h);
+    s_feed_track (ic, 10, 0, 2, 11);
+    assert_int_equal (ic->entity_id, 5);
+    assert_int_equal (ic->other_entity_id, 0);
+    s_feed_track (ic, 10, 1, 5, 12); // two hits of 5, three of 6
+    assert_int_equal (ic->other_entity_id, 6);
+    char *line = NULL;
+    size_t len = 0;
+    FILE *f = open_memstream (&line, &len);
+    assert_non_null (f);
+    ms_icpt_print (ic, f);
+    fclose (f);
+    assert_non_null (strstr (line, "changed vehicle   track 10 now follows entity 6"));
+    free (line);
+    s_feed_track (ic, 10, 0, 4, 13); // three of 5, two of 6: back on it
+    assert_int_equal (ic->other_entity_id, 0);
+    s_feed_track (ic, 10, 3, 5, 14);
+    char *text = s_text (ic);
+    assert_non_null (strstr (text, "\"follows_entity_id\":6,\"handed_over_to_entity_id\":null,"));
+    free (text);
+}
+
 int main (void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test (test_nothing_designated),
         cmocka_unit_test (test_designated_and_imaged),
         cmocka_unit_test (test_hand_over_and_numbers),
+        cmocka_unit_test (test_track_changes_vehicle),
     };
     return cmocka_run_group_tests (tests, NULL, NULL);
 }
