@@ -77,59 +77,15 @@ fault_exercise () {
     # services' recovery, and a mover driving across the radar's line of
     # sight (in its Doppler notch for minutes while the UAV flies abeam of
     # it) is a tracking case, measured by make montecarlo's notch family.
-    cat >"$TMP/scenario.ini" <<'EOF'
-[terrain]
-size_m = 40000
-resolution_m = 100
-relief_m = 0
-
-[uav uav1]
-position = 0 0
-altitude_agl_m = 1200
-airspeed_mps = 38
-loiter_radius_m = 1500
-
-[vehicle east]
-force = hostile
-marking = EAST
-point = 2000 0
-point = 14000 0
-speed_mps = 9
-end = reverse
-
-[vehicle west]
-force = hostile
-marking = WEST
-point = -14000 0
-point = -2000 0
-speed_mps = 7
-end = reverse
-
-[vehicle north]
-force = hostile
-marking = NORTH
-point = 0 2000
-point = 0 14000
-speed_mps = 8
-end = reverse
-
-[vehicle south]
-force = hostile
-marking = SOUTH
-point = 0 -14000
-point = 0 -2000
-speed_mps = 6
-end = reverse
-
-[vehicle truck]
-force = friendly
-kind = wheeled
-marking = FRIEND TRK
-point = -3000 -7000
-point = -7000 -3000
-speed_mps = 9
-end = reverse
-EOF
+    {
+        scenario_ground
+        scenario_uav
+        scenario_vehicle east hostile EAST "2000 0" "14000 0" 9 end=reverse
+        scenario_vehicle west hostile WEST "-14000 0" "-2000 0" 7 end=reverse
+        scenario_vehicle north hostile NORTH "0 2000" "0 14000" 8 end=reverse
+        scenario_vehicle south hostile SOUTH "0 -14000" "0 -2000" 6 end=reverse
+        scenario_vehicle truck friendly "FRIEND TRK" "-3000 -7000" "-7000 -3000" 9 kind=wheeled end=reverse
+    } >"$TMP/scenario.ini"
     sed -e 's/^width_px = 640$/width_px = 320/' -e 's/^height_px = 480$/height_px = 240/' \
         -e 's/^frame_rate_hz = 5$/frame_rate_hz = 1/' \
         "$CGS_ROOT/deploy/params/imager.ini" >"$TMP/imager.ini"

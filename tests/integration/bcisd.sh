@@ -24,25 +24,11 @@ EX=$TMP/exercise.ini
 # the link closes near 6 km: `near` (3-4 km) answers, `far` (13 km, inside
 # max_range_m) does not; `foe` is hostile with a transponder, `stranger` an
 # unknown without one, both 3 km out.
-cat >"$TMP/scenario.ini" <<'EOF'
-[terrain]
-size_m = 32000
-resolution_m = 100
-relief_m = 0
-
-[uav uav1]
-position = 0 0
-altitude_agl_m = 1200
-airspeed_mps = 30
-loiter_radius_m = 900
-
-[vehicle near]
-force = friendly
-marking = NEAR
-point = 3000 0
-point = 4000 0
-speed_mps = 8
-end = reverse
+{
+    scenario_ground size_m=32000
+    scenario_uav airspeed_mps=30 loiter_radius_m=900
+    scenario_vehicle near friendly NEAR "3000 0" "4000 0" 8 end=reverse
+    cat <<'EOF'
 
 [vehicle far]
 force = friendly
@@ -66,6 +52,7 @@ point = 0 3500
 speed_mps = 5
 end = reverse
 EOF
+} >"$TMP/scenario.ini"
 sed -e 's/^transmit_power_w = 1$/transmit_power_w = 0.1/' \
     -e 's/^transmit_power_w = 0.5$/transmit_power_w = 0.05/' \
     "$CGS_ROOT/deploy/params/bcis.ini" >"$TMP/bcis.ini"

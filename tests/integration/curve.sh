@@ -44,17 +44,10 @@ exercise () {
         exercise_service mtid.uav1 publish="tcp://127.0.0.1:$((P + 2))" uav=uav1 "${mtid_keys[@]}"
     } >"$1"
 }
-cat >"$TMP/scenario.ini" <<'EOF'
-[terrain]
-size_m = 20000
-resolution_m = 100
-relief_m = 0
-
-[uav uav1]
-position = 0 0
-altitude_agl_m = 1200
-airspeed_mps = 38
-loiter_radius_m = 1500
+{
+    scenario_ground size_m=20000
+    scenario_uav
+    cat <<'EOF'
 
 [vehicle target]
 force = hostile
@@ -62,6 +55,7 @@ point = 4000 -3000
 point = 4000 8000
 speed_mps = 10
 EOF
+} >"$TMP/scenario.ini"
 exercise "$TMP/ok.ini" ops
 exercise "$TMP/intruder.ini" intruder
 exercise "$TMP/plain.ini" ""

@@ -42,17 +42,10 @@ EOF
 }
 # Flat ground; the UAV circles (always turning: every PDU's acceleration
 # matters); a vehicle drives a square (corners to dead-reckon through).
-cat >"$TMP/scenario.ini" <<'EOF'
-[terrain]
-size_m = 40000
-resolution_m = 100
-relief_m = 0
-
-[uav uav1]
-position = 0 0
-altitude_agl_m = 1200
-airspeed_mps = 38
-loiter_radius_m = 800
+{
+    scenario_ground
+    scenario_uav loiter_radius_m=800
+    cat <<'EOF'
 
 [vehicle car]
 force = neutral
@@ -64,6 +57,7 @@ point = 2000 2600
 end = loop
 speed_mps = 15
 EOF
+} >"$TMP/scenario.ini"
 
 # The dead-reckoning error of consecutive PDUs of each entity in a JSONL
 # file: "id pairs max_ts max_wall heartbeat_gap_max": DR by the timestamps

@@ -55,40 +55,13 @@ EOF
 }
 # Flat ground; the UAV circles the origin; two movers drive north 5 km
 # either side of it; a friendly truck drives east.
-cat >"$TMP/scenario.ini" <<'EOF'
-[terrain]
-size_m = 40000
-resolution_m = 100
-relief_m = 0
-
-[uav uav1]
-position = 0 0
-altitude_agl_m = 1200
-airspeed_mps = 38
-loiter_radius_m = 1500
-
-[vehicle target]
-force = hostile
-marking = TARGET
-point = 5000 -4000
-point = 5000 16000
-speed_mps = 10
-
-[vehicle other]
-force = unknown
-marking = OTHER
-point = -5000 -4000
-point = -5000 16000
-speed_mps = 8
-
-[vehicle truck]
-force = friendly
-kind = wheeled
-marking = FRIEND TRK
-point = -2000 3000
-point = 8000 3000
-speed_mps = 12
-EOF
+{
+    scenario_ground
+    scenario_uav
+    scenario_vehicle target hostile TARGET "5000 -4000" "5000 16000" 10
+    scenario_vehicle other unknown OTHER "-5000 -4000" "-5000 16000" 8
+    scenario_vehicle truck friendly "FRIEND TRK" "-2000 3000" "8000 3000" 12 kind=wheeled
+} >"$TMP/scenario.ini"
 
 M () { "$MSCGS" "$@" --exercise "$EX"; }
 JSONL=$TMP/dis.jsonl

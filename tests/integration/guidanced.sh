@@ -27,34 +27,12 @@ EX=$TMP/exercise.ini
 cp "$CGS_ROOT/deploy/params/guidance.ini" "$TMP/guidance.ini"
 # Flat ground; the UAV circles the origin; two movers drive north, 4 km
 # apart, 5 to 6 km from it.
-cat >"$TMP/scenario.ini" <<'EOF'
-[terrain]
-size_m = 40000
-resolution_m = 100
-relief_m = 0
-
-[uav uav1]
-position = 0 0
-altitude_agl_m = 1200
-airspeed_mps = 38
-loiter_radius_m = 1500
-
-[vehicle target]
-force = hostile
-marking = TARGET
-point = 5000 -4000
-point = 5000 16000
-speed_mps = 10
-end = stop
-
-[vehicle other]
-force = unknown
-marking = OTHER
-point = -5000 -4000
-point = -5000 16000
-speed_mps = 8
-end = stop
-EOF
+{
+    scenario_ground
+    scenario_uav
+    scenario_vehicle target hostile TARGET "5000 -4000" "5000 16000" 10 end=stop
+    scenario_vehicle other unknown OTHER "-5000 -4000" "-5000 16000" 8 end=stop
+} >"$TMP/scenario.ini"
 
 M () { "$MSCGS" "$@" --exercise "$EX"; }
 # The latest intercept message as JSON.

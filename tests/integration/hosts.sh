@@ -118,43 +118,13 @@ cp "$CGS_ROOT/deploy/params/guidance.ini" "$TMP/guidance.ini"
 # Flat ground; the UAV circles the origin; a hostile mover drives north 5 km
 # east of it, an unknown one 7 km west, and a friendly one (with a BCIS
 # transponder) back and forth 7 km south.
-cat >"$TMP/scenario.ini" <<'EOF'
-[terrain]
-size_m = 40000
-resolution_m = 100
-relief_m = 0
-
-[uav uav1]
-position = 0 0
-altitude_agl_m = 1200
-airspeed_mps = 38
-loiter_radius_m = 1500
-
-[vehicle target]
-force = hostile
-marking = TARGET
-point = 5000 -4000
-point = 5000 16000
-speed_mps = 10
-end = stop
-
-[vehicle other]
-force = unknown
-marking = OTHER
-point = -7000 -4000
-point = -7000 16000
-speed_mps = 6
-end = stop
-
-[vehicle friend]
-force = friendly
-marking = FRIEND
-bcis_transponder = yes
-point = -6000 -7000
-point = 6000 -7000
-speed_mps = 7
-end = reverse
-EOF
+{
+    scenario_ground
+    scenario_uav
+    scenario_vehicle target hostile TARGET "5000 -4000" "5000 16000" 10 end=stop
+    scenario_vehicle other unknown OTHER "-7000 -4000" "-7000 16000" 6 end=stop
+    scenario_vehicle friend friendly FRIEND "-6000 -7000" "6000 -7000" 7 bcis_transponder=yes end=reverse
+} >"$TMP/scenario.ini"
 
 # ---- services --------------------------------------------------------------------------
 start U uavsim ip netns exec "$NS_A" "$UAVSIM" --exercise "$EX" --instance uavsim --time-scale "$SCALE" --state-dir "$TMP/state-a"

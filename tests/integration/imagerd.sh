@@ -22,17 +22,10 @@ EX=$TMP/exercise.ini
     exercise_service uavsim command
     exercise_service imagerd.uav1 command uav=uav1 params=imager.ini
 } >"$EX"
-cat >"$TMP/scenario.ini" <<'EOF'
-[terrain]
-size_m = 12000
-resolution_m = 50
-relief_m = 150
-
-[uav uav1]
-position = 0 0
-altitude_agl_m = 1000
-airspeed_mps = 30
-loiter_radius_m = 900
+{
+    scenario_ground size_m=12000 resolution_m=50 relief_m=150
+    scenario_uav altitude_agl_m=1000 airspeed_mps=30 loiter_radius_m=900
+    cat <<'EOF'
 
 [vehicle apc]
 force = hostile
@@ -42,6 +35,7 @@ point = 0 3000
 speed_mps = 8
 end = reverse
 EOF
+} >"$TMP/scenario.ini"
 sed -e 's/^width_px = 640$/width_px = 320/' -e 's/^height_px = 480$/height_px = 240/' \
     "$CGS_ROOT/deploy/params/imager.ini" >"$TMP/imager.ini"
 

@@ -227,4 +227,53 @@ exercise_service () {
     done
 }
 
+# ---- the scenario file ---------------------------------------------------------------------
+# A test writes it as
+#   {
+#       scenario_ground relief_m=300
+#       scenario_uav loiter_radius_m=900
+#       scenario_vehicle target hostile TARGET "5000 -4000" "5000 16000" 10 end=stop
+#   } >"$TMP/scenario.ini"
+
+# s_merged N DEFAULT... OVERRIDE...: "KEY = VALUE" lines of the N defaults,
+# each replaced by an override of its key, then the other overrides.
+s_merged () {
+    local n=$1 d o k found out=()
+    shift
+    local defaults=("${@:1:n}") over=("${@:n+1}")
+    for d in "${defaults[@]}"; do
+        for o in "${over[@]}"; do [ "${o%%=*}" != "${d%%=*}" ] || d=$o; done
+        out+=("$d")
+    done
+    for o in "${over[@]}"; do
+        k=${o%%=*} found=""
+        for d in "${defaults[@]}"; do [ "${d%%=*}" != "$k" ] || found=1; done
+        [ -n "$found" ] || out+=("$o")
+    done
+    s_keys "${out[@]}"
+}
+
+# scenario_ground [KEY=VALUE ...]: the [terrain] section: flat ground, a
+# 40 km square on a 100 m grid, unless the KEY=VALUEs say otherwise.
+scenario_ground () {
+    echo '[terrain]'
+    s_merged 3 size_m=40000 resolution_m=100 relief_m=0 "$@"
+}
+
+# scenario_uav [KEY=VALUE ...]: [uav uav1], after a blank line: it circles
+# the origin 1500 m out, 1200 m up, at 38 m/s, unless the KEY=VALUEs say
+# otherwise.
+scenario_uav () {
+    printf '\n[uav uav1]\n'
+    s_merged 4 'position=0 0' altitude_agl_m=1200 airspeed_mps=38 loiter_radius_m=1500 "$@"
+}
+
+# scenario_vehicle NAME FORCE MARKING "E N" "E N" SPEED [KEY=VALUE ...]: a
+# [vehicle NAME] section, after a blank line, driving from the first point
+# to the second at SPEED m/s; the KEY=VALUEs (end=stop, kind=wheeled) after.
+scenario_vehicle () {
+    printf '\n[vehicle %s]\n' "$1"
+    s_keys "force=$2" "marking=$3" "point=$4" "point=$5" "speed_mps=$6" "${@:7}"
+}
+
 [ -x "$PEER" ] || bail "no test peer at $PEER (make O=... SAN=1 test-build)"

@@ -21,17 +21,10 @@ EX=$TMP/exercise.ini
 } >"$EX"
 # Flat ground; movers 3-6 km from the UAV driving straight at or away from it
 # (radial speed 8-10 m/s, well clear of the clutter) and one parked.
-cat >"$TMP/scenario.ini" <<'EOF'
-[terrain]
-size_m = 16000
-resolution_m = 100
-relief_m = 0
-
-[uav uav1]
-position = 0 0
-altitude_agl_m = 1500
-airspeed_mps = 30
-loiter_radius_m = 900
+{
+    scenario_ground size_m=16000
+    scenario_uav altitude_agl_m=1500 airspeed_mps=30 loiter_radius_m=900
+    cat <<'EOF'
 
 [vehicle east]
 force = unknown
@@ -54,6 +47,7 @@ point = -4001 -1000
 speed_mps = 1
 end = stop
 EOF
+} >"$TMP/scenario.ini"
 cp "$CGS_ROOT/deploy/params/radar.ini" "$TMP/radar.ini"
 
 M () { "$MSCGS" "$@" --exercise "$EX"; }

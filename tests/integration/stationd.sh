@@ -48,25 +48,11 @@ token = $TOKEN
 ; at most 4 pages at once
 threads = 6
 EOF
-cat >"$TMP/scenario.ini" <<'EOF'
-[terrain]
-size_m = 40000
-resolution_m = 100
-relief_m = 300
-
-[uav uav1]
-position = 0 0
-altitude_agl_m = 1200
-airspeed_mps = 38
-loiter_radius_m = 1500
-
-[vehicle target]
-force = hostile
-marking = TARGET
-point = 5000 -4000
-point = 5000 16000
-speed_mps = 10
-EOF
+{
+    scenario_ground relief_m=300
+    scenario_uav
+    scenario_vehicle target hostile TARGET "5000 -4000" "5000 16000" 10
+} >"$TMP/scenario.ini"
 
 M () { "$MSCGS" "$@" --exercise "$EX"; }
 URL=http://127.0.0.1:$PORT

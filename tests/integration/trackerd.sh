@@ -27,33 +27,12 @@ EX=$TMP/exercise.ini
 cp "$CGS_ROOT/deploy/params/tracker.ini" "$TMP/tracker.ini"
 # Flat open ground; the UAV circles the origin. Entity ids: uav1 1, blue 2,
 # red 3, turner 4.
-cat >"$TMP/scenario.ini" <<'EOF'
-[terrain]
-size_m = 32000
-resolution_m = 100
-relief_m = 0
-
-[uav uav1]
-position = 0 0
-altitude_agl_m = 1500
-airspeed_mps = 30
-loiter_radius_m = 800
-
-[vehicle blue]
-force = friendly
-marking = BLUE
-point = 4000 -3000
-point = 4000 6000
-speed_mps = 12
-end = reverse
-
-[vehicle red]
-force = hostile
-marking = RED
-point = -5000 3000
-point = 4000 3000
-speed_mps = 12
-end = reverse
+{
+    scenario_ground size_m=32000
+    scenario_uav altitude_agl_m=1500 airspeed_mps=30 loiter_radius_m=800
+    scenario_vehicle blue friendly BLUE "4000 -3000" "4000 6000" 12 end=reverse
+    scenario_vehicle red hostile RED "-5000 3000" "4000 3000" 12 end=reverse
+    cat <<'EOF'
 
 [vehicle turner]
 force = hostile
@@ -64,6 +43,7 @@ point = -3000 3000
 speed_mps = 15
 end = stop
 EOF
+} >"$TMP/scenario.ini"
 
 M () { "$MSCGS" "$@" --exercise "$EX"; }
 

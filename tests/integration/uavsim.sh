@@ -16,17 +16,10 @@ EX=$TMP/exercise.ini
     exercise_header 3 uavsim-test scenario=scenario.ini
     exercise_service uavsim command
 } >"$EX"
-cat >"$TMP/scenario.ini" <<'EOF'
-[terrain]
-size_m = 8000
-resolution_m = 50
-relief_m = 120
-
-[uav uav1]
-position = -2500 -2500
-altitude_agl_m = 800
-airspeed_mps = 30
-loiter_radius_m = 900
+{
+    scenario_ground size_m=8000 resolution_m=50 relief_m=120
+    scenario_uav "position=-2500 -2500" altitude_agl_m=800 airspeed_mps=30 loiter_radius_m=900
+    cat <<'EOF'
 
 [vehicle t1]
 force = unknown
@@ -44,6 +37,7 @@ end = reverse
 [uavsim]
 checkpoint_interval_s = 0.5
 EOF
+} >"$TMP/scenario.ini"
 
 M () { "$MSCGS" "$@" --exercise "$EX"; }
 # json TOPIC: one message of TOPIC as JSON (within 10 s).
