@@ -80,6 +80,7 @@ typedef struct {
 typedef struct {
     uint32_t id;
     uint32_t born_scan; // the scan that branched
+    bool live;          // s_alt_index's mark: its track still exists
     double ln_odds;
     trk_track_t t;
 } s_alt_t;
@@ -469,19 +470,6 @@ static double s_maneuver_var (const trk_tracker_t *self, double dt)
 static void s_model_pd (const trk_tracker_t *self, const trk_pd_radar_t *r, const trk_imm_t *s,
                         double up_m, double pd[TRK_IMM_MODELS]);
 
-/* The IMM tracker's pair. The hit must lie in the gate of one of the
- * models the target may be in (not of their moment-matched mixture, which is
- * no Gaussian: a stopped model here, a moving one far on, and the gate of
- * the mixture would take in what lies between); position and radial
- * velocity are gated together, with their covariance, and nothing is added
- * for manoeuvres: the manoeuvre model is there for them. The costs are
- * likelihood ratios against the radar's false alarm density λ (Bar-Shalom's
- * assignment costs, with the track's existence probability r as in JIPDA):
- * −2 ln(r Σ_j c_j pd_j N(ν_j; S_j) / λ) for the pair, −2 ln(1 − r Pd) for
- * leaving the track without a hit, Pd = Σ_j c_j pd_j its detection
- * probability; so a model the radar could not have seen (stopped, in the
- * notch) takes no hit it could not have made, and a track the radar could
- * hardly see is better left without a hit than given a stranger's. */
 /* Whether t could be the source of h. The hit must come after the track's
  * estimate, and must not imply a speed above the fastest target's since
  * then (with three standard deviations of both positions to spare). For a
@@ -1504,30 +1492,55 @@ static bool s_upkeep (trk_tracker_t *self, trk_track_t *t, const s_hit_t *h, dou
     return true;
 }
 
-/* The scanned tracks' branches into alt_of; the branches of tracks gone
- * are dropped. */
+static int s_cmp_alt_id (const void *a, const void *b)
+{
+    uint32_t x = ((const s_alt_t *)a)->id, y = ((const s_alt_t *)b)->id;
+    return x < y ? -1 : x > y;
+}
+
+/* The branch of track id in alts (sorted by id), or SIZE_MAX. */
+static size_t s_alt_find (const trk_tracker_t *self, uint32_t id)
+{
+    size_t lo = 0, hi = self->alt_count;
+    while (lo < hi) {
+        size_t mid = lo + (hi - lo) / 2;
+        if (self->alts[mid].id < id)
+            lo = mid + 1;
+        else
+            hi = mid;
+    }
+    return lo < self->alt_count && self->alts[lo].id == id ? lo : SIZE_MAX;
+}
+
+/* The scanned tracks' branches into alt_of; the branches dropped last scan
+ * (id 0) and those of tracks gone are dropped. O((tracks + branches)
+ * log branches): a scene of thousands of tracks has few branches at once,
+ * and no track is looked for once per branch. */
 static void s_alt_index (trk_tracker_t *self, size_t nt)
 {
     for (size_t ti = 0; ti < nt; ti++)
         self->alt_of[ti] = SIZE_MAX;
+    if (self->alt_count == 0)
+        return;
+    qsort (self->alts, self->alt_count, sizeof *self->alts, s_cmp_alt_id);
+    for (size_t a = 0; a < self->alt_count; a++)
+        self->alts[a].live = false;
+    for (size_t i = 0; i < self->count; i++) {
+        size_t a = self->tracks[i].id ? s_alt_find (self, self->tracks[i].id) : SIZE_MAX;
+        if (a != SIZE_MAX)
+            self->alts[a].live = true;
+    }
     size_t kept = 0;
     for (size_t a = 0; a < self->alt_count; a++) {
-        size_t where = SIZE_MAX;
-        for (size_t i = 0; i < self->count && where == SIZE_MAX && self->alts[a].id; i++)
-            if (self->tracks[i].id == self->alts[a].id)
-                where = i;
-        if (where == SIZE_MAX)
-            continue; // its track is gone
+        if (!self->alts[a].live)
+            continue; // dropped (id 0), or its track is gone
         if (kept != a)
             self->alts[kept] = self->alts[a];
-        for (size_t ti = 0; ti < nt; ti++)
-            if (self->act[ti] == where) {
-                self->alt_of[ti] = kept;
-                break;
-            }
         kept++;
     }
     self->alt_count = kept;
+    for (size_t ti = 0; ti < nt; ti++)
+        self->alt_of[ti] = s_alt_find (self, self->tracks[self->act[ti]].id);
 }
 
 /* The IMM tracker's upkeep of track t (scanned as ti) with its branches.
