@@ -53,8 +53,7 @@ typedef struct {
     double final_s;     // simulation time it did
     uint32_t entity_id; // the designated target's true entity, 0 until known
     char marking[32];
-    uint32_t
-        other_entity_id; // the designated track (or one that took over) follows this one instead
+    uint32_t other_entity_id; // the designated track, or one that took over, follows it instead
     char other_marking[32];
     cgs_score_t score;
     // Which entity produced each recent hit, per radar.

@@ -404,10 +404,11 @@ static void s_run_scan (trk_adapter_t *self, s_radar_t *r, const trk_scan_t *sca
     if (out.greedy_clusters && !self->greedy_said) {
         // Said once: crowding is a property of the scene, not of one scan.
         cgs_port_log (&self->port, LOG_WARNING,
-                      "radar %u scan %u: %zu clusters of more than 400 tracks (largest %zu) "
+                      "radar %u scan %u: %zu clusters of more than %d tracks (largest %zu) "
                       "assigned greedily, not optimally: the targets are too crowded for the "
                       "gates",
-                      scan->uav_id, scan->scan_number, out.greedy_clusters, out.largest_cluster);
+                      scan->uav_id, scan->scan_number, out.greedy_clusters, TRK_CLUSTER_MAX,
+                      out.largest_cluster);
         self->greedy_said = true;
     }
     if (st->scans == 1 || self->verbose)

@@ -40,7 +40,6 @@
 #define S_CLOSE_GATE2  9.2103 // IMM: χ²₂ at 0.99: a hit this close to a confirmed track starts none
 #define S_CLOSE_GATE3  11.345 // χ²₃ at 0.99, with the radial velocity
 #define S_KBEST_TRACKS 12     // IMM: a cluster of more tracks weighs its best hypothesis alone
-#define S_CLUSTER_MAX  400    // a cluster of more tracks is assigned greedily (see s_solve_greedy)
 #define S_ALT_SCANS    3      // IMM: scans a track keeps its other branch (N-scan pruning)
 #define S_ALT_MIN      1e-3   // IMM: least probability a branch is kept with
 
@@ -815,7 +814,7 @@ static int s_cmp_cost (const void *a, const void *b)
     return x->hit < y->hit ? -1 : x->hit > y->hit;
 }
 
-/* A cluster of more than S_CLUSTER_MAX tracks (targets so crowded that the
+/* A cluster of more than TRK_CLUSTER_MAX tracks (targets so crowded that the
  * gates chain thousands of them together): the optimal assignment's dense
  * matrix would take gigabytes and its solve minutes, so the pairs are taken
  * cheapest first, each track and hit once, a pair only when it costs less
@@ -853,7 +852,7 @@ static int s_solve_cluster (trk_tracker_t *self, size_t lo, size_t hi, trk_scan_
     size_t tracks = 0; // pairs come sorted by track
     for (size_t q = lo; q < hi; q++)
         tracks += q == lo || self->work[q].track != self->work[q - 1].track;
-    if (tracks > S_CLUSTER_MAX) {
+    if (tracks > TRK_CLUSTER_MAX) {
         s_solve_greedy (self, lo, hi, tracks, out);
         return 0;
     }

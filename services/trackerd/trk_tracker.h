@@ -135,13 +135,17 @@ typedef struct {
     double v_after[2];  // velocity now
 } trk_turn_t;
 
+/* A cluster of more tracks than this (targets so crowded that the gates
+ * chain them together) is assigned greedily, not optimally. */
+#define TRK_CLUSTER_MAX 400
+
 /* What one scan did. Pointers stay valid until the next call on the tracker. */
 typedef struct {
     size_t hits;            // hits of the scan
     size_t pairs;           // track-hit pairs inside a gate
     size_t clusters;        // groups solved as one assignment
     size_t largest_cluster; // tracks in the largest
-    size_t greedy_clusters; // of more than 400 tracks, assigned greedily, not optimally
+    size_t greedy_clusters; // of more than TRK_CLUSTER_MAX tracks, assigned greedily
     size_t branched;        // IMM: tracks that took a hit after a coast and kept both branches
     size_t alt_swaps;       // IMM: tracks whose other branch became the likelier
     size_t updated, missed, born, confirmed, deleted;
