@@ -414,11 +414,12 @@ static void s_run_scan (trk_adapter_t *self, s_radar_t *r, const trk_scan_t *sca
     if (st->scans == 1 || self->verbose)
         cgs_port_log (&self->port, LOG_INFO,
                       "radar %u scan %u: %zu hits, %zu updated, %zu missed, %zu new, %zu "
-                      "confirmed, %zu deleted, %zu clusters (largest %zu), %zu branched, %zu "
-                      "switched branch; %zu tracks",
+                      "confirmed, %zu deleted, %zu continued (%zu of a coasting track), %zu "
+                      "clusters (largest %zu), %zu branched, %zu switched branch; %zu tracks",
                       scan->uav_id, scan->scan_number, out.hits, out.updated, out.missed, out.born,
-                      out.confirmed, out.deleted, out.clusters, out.largest_cluster, out.branched,
-                      out.alt_swaps, trk_tracker_count (self->trk));
+                      out.confirmed, out.deleted, out.continued, out.reacquired, out.clusters,
+                      out.largest_cluster, out.branched, out.alt_swaps,
+                      trk_tracker_count (self->trk));
 }
 
 /* A scan whose end marker never came (lost, or its radar restarted): closed

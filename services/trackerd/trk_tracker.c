@@ -138,6 +138,8 @@ struct trk_tracker {
     // IMM: confirmed tracks deleted lately, which a new track may continue.
     trk_track_t *lost;
     size_t lost_count, lost_cap;
+    uint32_t *fresh; // IMM: ids of the tracks confirmed in the scan
+    size_t fresh_count, fresh_cap;
     trk_pd_radar_t radar; // the radar during the scan being processed
     // IMM: the other branch of tracks that took a hit after a coast.
     s_alt_t *alts;
@@ -211,6 +213,7 @@ void trk_tracker_destroy (trk_tracker_t **self_p)
     free (self->turns);
     free (self->dead);
     free (self->lost);
+    free (self->fresh);
     free (self->alts);
     free (self->alt_of);
     free (self);
@@ -1143,8 +1146,6 @@ static int s_count (trk_tracker_t *self, trk_track_t *t, const s_hit_t *h, const
 
 /* ---- the IMM tracker's upkeep ------------------------------------------------------ */
 
-static void s_continue_new (trk_tracker_t *self, trk_track_t *t, trk_scan_out_t *out);
-
 /* The detection probability the radar had of each model's state. */
 static void s_model_pd (const trk_tracker_t *self, const trk_pd_radar_t *r, const trk_imm_t *s,
                         double up_m, double pd[TRK_IMM_MODELS])
@@ -1249,7 +1250,7 @@ static bool s_upkeep_imm (trk_tracker_t *self, trk_track_t *t, const s_hit_t *h,
             t->status = TRK_CONFIRMED;
             t->existence = fmax (t->existence, 0.9);
             out->confirmed++;
-            s_continue_new (self, t, out);
+            self->fresh[self->fresh_count++] = t->id; // s_continue_new after the upkeep
         } else {
             uint32_t n = (uint32_t)p->confirm_n, seen = t->scans < n ? t->scans : n;
             if (got + (int)(n - seen) < p->confirm_m)
@@ -1362,41 +1363,84 @@ static void s_lost_expire (trk_tracker_t *self, double t_s)
     }
 }
 
-/* A track just confirmed: the deleted track its target probably is. */
-static void s_continue_new (trk_tracker_t *self, trk_track_t *t, trk_scan_out_t *out)
+/* Could live track o have lost young's target since young's first hit?
+ * One of young's radar, confirmed once, coasting since before young's first
+ * hit (young's history whole, so its first hit is known), near enough for
+ * a ground vehicle to have driven there. */
+static void s_kill (trk_tracker_t *self, size_t i, trk_scan_out_t *out);
+
+static bool s_reacquire_candidate (const trk_tracker_t *self, const trk_track_t *o,
+                                   const trk_track_t *young)
 {
+    if (o == young || o->uav_id != young->uav_id || o->status != TRK_COASTING || o->misses < 1 ||
+        young->history_count == 0 || young->history_count < young->hits ||
+        !(young->history[0].t_s > o->last_hit_s))
+        return false;
+    double reach = self->p.max_speed_mps * fmax (0.0, young->est.t_s - o->last_hit_s) +
+                   5 * s_sigma_max (&o->est) + 5 * s_sigma_max (&young->est);
+    return hypot (young->est.x[0] - o->est.x[0], young->est.x[1] - o->est.x[1]) <= reach;
+}
+
+/* A track just confirmed (tracks[yi]): whose target it probably is. Either
+ * a confirmed track deleted lately (the lost list), or one of its radar's
+ * tracks still coasting since before its first hit: a target that left its
+ * track's gate (a turn sharper than the manoeuvre model expected, a false
+ * velocity) and that the radar has seen since as a new track, while the
+ * old one coasts on believing it halted. Each candidate's likelihood is
+ * s_same_target's, a coasting one's times 1 − r (r its existence: the
+ * chance that its target is where it coasts, and so not young's), against
+ * a new target's birth density. A coasting track chosen is deleted, and
+ * the new one continues it: its target's identity goes on under one link,
+ * where guidanced follows it. */
+static void s_continue_new (trk_tracker_t *self, size_t yi, trk_scan_out_t *out)
+{
+    trk_track_t *t = &self->tracks[yi];
     s_lost_expire (self, t->est.t_s);
-    double birth = s_birth_ll (self), best = -INFINITY, sum = 0;
+    double birth = s_birth_ll (self), best = -INFINITY, sum = birth;
     size_t bi = SIZE_MAX;
+    bool live = false;
     for (size_t i = 0; i < self->lost_count; i++) {
         double ll = s_same_target (self, &self->lost[i], t);
+        sum = s_log_add (sum, ll);
         if (ll > best) {
             best = ll;
             bi = i;
         }
     }
+    for (size_t i = 0; i < self->count; i++) {
+        const trk_track_t *o = &self->tracks[i];
+        if (!s_reacquire_candidate (self, o, t))
+            continue;
+        double ll = s_same_target (self, o, t) + log1p (-fmin (o->existence, 0.999));
+        sum = s_log_add (sum, ll);
+        if (ll > best) {
+            best = ll;
+            bi = i;
+            live = true;
+        }
+    }
     if (bi == SIZE_MAX || !isfinite (best))
         return;
-    double top = fmax (best, birth);
-    for (size_t i = 0; i < self->lost_count; i++) {
-        double ll = s_same_target (self, &self->lost[i], t);
-        if (isfinite (ll))
-            sum += exp (ll - top);
-    }
-    double pb = exp (best - top) / (sum + exp (birth - top));
+    double pb = exp (best - sum);
     if (pb < self->p.continue_probability)
         return;
-    t->continues = self->lost[bi].id;
+    const trk_track_t *old = live ? &self->tracks[bi] : &self->lost[bi];
+    t->continues = old->id;
     t->continues_p = pb;
     // BCIS said who it was: the identity passes on only with a link as
     // likely as a reply needs to mark a track.
-    if (t->friendly == false && self->lost[bi].friendly && pb >= self->p.identity_min_probability) {
+    if (t->friendly == false && old->friendly && pb >= self->p.identity_min_probability) {
         t->friendly = true;
-        t->friendly_id = self->lost[bi].friendly_id;
-        t->friendly_s = self->lost[bi].friendly_s;
+        t->friendly_id = old->friendly_id;
+        t->friendly_s = old->friendly_s;
     }
-    self->lost[bi] = self->lost[--self->lost_count]; // one successor each
     out->continued++;
+    if (live) {
+        s_kill (self, bi, out); // t may have moved: not used after this
+        out->reacquired++;
+    } else {
+        self->lost[bi] = self->lost[--self->lost_count]; // one successor each
+    }
 }
 
 /* A confirmed track just deleted: a confirmed track born after its last
@@ -1676,7 +1720,8 @@ static int s_reserve (trk_tracker_t *self, size_t nh)
         return -ENOMEM;
     if (cgs_grow ((void **)&self->tracks, &self->cap, nt + nh, sizeof *self->tracks) < 0 ||
         cgs_grow ((void **)&self->turns, &self->turn_cap, nt + 1, sizeof *self->turns) < 0 ||
-        cgs_grow ((void **)&self->dead, &self->dead_cap, nt + 1, sizeof *self->dead) < 0)
+        cgs_grow ((void **)&self->dead, &self->dead_cap, nt + 1, sizeof *self->dead) < 0 ||
+        cgs_grow ((void **)&self->fresh, &self->fresh_cap, nt + 1, sizeof *self->fresh) < 0)
         return -ENOMEM;
     return 0;
 }
@@ -1706,6 +1751,7 @@ int trk_tracker_scan (trk_tracker_t *self, const trk_scan_t *scan, const trk_hit
     }
     self->turn_count = 0;
     self->dead_count = 0;
+    self->fresh_count = 0;
     self->pair_count = 0;
     int rc = s_reserve (self, n);
     if (rc < 0)
@@ -1765,6 +1811,14 @@ int trk_tracker_scan (trk_tracker_t *self, const trk_scan_t *scan, const trk_hit
                 s_continue_old (self, &self->dead[self->dead_count - 1], &out);
         }
     }
+    // 5b. The tracks just confirmed: whose target each probably is.
+    for (size_t f = 0; f < self->fresh_count; f++)
+        for (size_t i = 0; i < self->count; i++)
+            if (self->tracks[i].id == self->fresh[f]) {
+                if (self->tracks[i].continues == 0)
+                    s_continue_new (self, i, &out);
+                break;
+            }
     for (size_t i = 0; i < self->count;) {
         const trk_track_t *t = &self->tracks[i];
         if (t->uav_id == scan->uav_id && t->est.t_s > scan_end + S_TIME_SLACK_S) {

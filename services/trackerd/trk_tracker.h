@@ -152,6 +152,7 @@ typedef struct {
     size_t unused_hits; // in a confirmed track's gate but not assigned: start nothing
     size_t time_reset;  // tracks deleted because the scan came before their time
     size_t continued;   // tracks found to continue a deleted one
+    size_t reacquired;  // of those, continuing one that was coasting (deleted for it)
     const trk_turn_t *turns;
     size_t turn_count;
     const trk_track_t *deleted_tracks; // copies, status TRK_DELETED

@@ -553,6 +553,81 @@ static void test_false_alarm_after_halt_branches (void **state)
     trk_tracker_destroy (&t);
 }
 
+/* The default scene's lost intercepts: an APC turns back on its zig-zag
+ * route sharper than the manoeuvre model expects; its hits fall outside
+ * its track's gate (the radial velocity changed sign) and start a new
+ * track, while the old one coasts on, believing its target halted. When
+ * the new track is confirmed, it continues the coasting one (whose
+ * existence fell with the misses), and that one is deleted in the same
+ * scan: the target's identity goes on under one link. A vehicle that
+ * crosses the MTI notch is not expected to be seen: its track keeps its
+ * existence, and a stranger's new track near it continues nothing. */
+static void test_turn_reacquired (void **state)
+{
+    (void)state;
+    trk_params_t p = s_defaults ();
+    // A manoeuvre model of gentler turns: the U-turn below is sharper.
+    p.imm.sigma_mps2[1] = 0.5;
+    trk_tracker_t *t = trk_tracker_new (&p);
+    uint64_t rng = 21;
+    uint32_t k = 0, hid = 1;
+    double e = 3000, n = 6000;
+    for (; k < 12; k++, n += 100) {
+        trk_hit_t h = s_hit (hid++, 10.0 * k + 5, e, n, 0, 10, 20, &rng);
+        s_run (t, k, &h, 1);
+    }
+    assert_int_equal (trk_tracker_count (t), 1);
+    uint32_t old = trk_tracker_at (t, 0)->id;
+    n -= 200; // turned back at the last hit: south, 10 m/s
+    uint32_t fresh = 0;
+    size_t reacquired = 0, deleted_old = 0;
+    for (uint32_t j = 0; j < 6; j++, k++, n -= 100) {
+        trk_hit_t h = s_hit (hid++, 10.0 * k + 5, e, n, 0, -10, 20, &rng);
+        trk_scan_out_t o = s_run (t, k, &h, 1);
+        reacquired += o.reacquired;
+        for (size_t d = 0; d < o.deleted_count; d++)
+            if (o.deleted_tracks[d].id == old) {
+                deleted_old++;
+                assert_int_equal (o.reacquired, 1);
+            }
+    }
+    assert_int_equal (reacquired, 1);
+    assert_int_equal (deleted_old, 1);
+    assert_int_equal (trk_tracker_count (t), 1);
+    const trk_track_t *tr = trk_tracker_at (t, 0);
+    fresh = tr->id;
+    print_message ("after the turn: track %u continues %u with probability %.3f\n", fresh,
+                   tr->continues, tr->continues_p);
+    assert_int_not_equal (fresh, old);
+    assert_int_equal (tr->continues, old);
+    assert_true (tr->continues_p >= p.continue_probability);
+    assert_true (hypot (tr->est.x[0] - e, tr->est.x[1] - (n + 100)) < 100);
+    trk_tracker_destroy (&t);
+
+    // In the notch: east at 10 m/s, due north of a radar flying east.
+    t = trk_tracker_new (&p);
+    e = 0, n = 8000, k = 0;
+    for (; k < 10; k++, e += 100) {
+        trk_hit_t h = s_hit (hid++, 10.0 * k + 5, e, n, 10, 0, 20, &rng);
+        s_run (t, k, &h, 1);
+    }
+    old = trk_tracker_at (t, 0)->id;
+    // Unseen; a stranger 300 m south of it drives east too, seen every scan.
+    for (uint32_t j = 0; j < 5; j++, k++, e += 100) {
+        trk_hit_t h = s_hit (hid++, 10.0 * k + 5, e - 100, n - 300, 10, 0, 20, &rng);
+        trk_scan_out_t o = s_run (t, k, &h, 1);
+        assert_int_equal (o.reacquired, 0);
+    }
+    tr = trk_tracker_find (t, old);
+    assert_non_null (tr);
+    print_message ("in the notch: existence %.3f; %zu tracks\n", tr->existence,
+                   trk_tracker_count (t));
+    assert_int_equal (trk_tracker_count (t), 2);
+    for (size_t i = 0; i < trk_tracker_count (t); i++)
+        assert_int_equal (trk_tracker_at (t, i)->continues, 0);
+    trk_tracker_destroy (&t);
+}
+
 /* The filter's consistency on straight legs (Monte Carlo, Bar-Shalom's
  * tests): N runs of a target moving at constant velocity with the CV
  * model's own process noise; at each scan after the first few, the average
@@ -908,6 +983,7 @@ int main (void)
         cmocka_unit_test (test_halt_switches_to_stopped),
         cmocka_unit_test (test_notch_crossing_coasts),
         cmocka_unit_test (test_false_alarm_after_halt_branches),
+        cmocka_unit_test (test_turn_reacquired),
         cmocka_unit_test (test_nees_nis_straight),
         cmocka_unit_test (test_continuation),
         cmocka_unit_test (test_continuation_identity),
