@@ -155,6 +155,11 @@ static json_object *s_run_json (const ls_mc_run_t *r)
     cgs_json_add (o, "end_s", cgs_json_fixed (r->end_s, 2));
     cgs_json_add (o, "replans", json_object_new_int64 (r->replans));
     cgs_json_add (o, "target_entity_id", json_object_new_int64 (r->target_entity_id));
+    cgs_json_add (o, "follows_entity_id",
+                  r->other_entity_id ? json_object_new_int64 (r->other_entity_id) : NULL);
+    cgs_json_add (o, "follows_since_s", cgs_json_fixed (r->other_since_s, 2));
+    cgs_json_add (o, "follows_after_unseen_s", cgs_json_fixed (r->other_unseen_s, 2));
+    cgs_json_add (o, "follows_gap_m", cgs_json_fixed (r->other_gap_m, 1));
     cgs_json_add (o, "bad_inputs", json_object_new_uint64 (r->bad_inputs));
     cgs_json_add (o, "errors", json_object_new_uint64 (r->errors));
     return o;
@@ -198,14 +203,17 @@ static int s_write_runs (const char *json, const char *csv, const ls_mc_run_t *r
             return -errno;
         }
         fputs ("run,exercise_seed,designation_shift_s,uav_phase_deg,outcome,final_state,imaged,"
-               "miss_m,closest_m,time_to_image_s,end_s,replans,target_entity_id\n",
+               "miss_m,closest_m,time_to_image_s,end_s,replans,target_entity_id,follows_entity_id,"
+               "follows_since_s,follows_after_unseen_s,follows_gap_m\n",
                f);
         for (size_t i = 0; i < n; i++) {
             const ls_mc_run_t *r = &runs[i];
-            fprintf (f, "%zu,%llu,%.3f,%.3f,%s,%s,%d,%.2f,%.2f,%.2f,%.2f,%u,%u\n", r->index,
-                     (unsigned long long)r->exercise_seed, r->designation_shift_s, r->uav_phase_deg,
-                     ls_mc_outcome_name (r->outcome), r->final_state, r->imaged, r->miss_m,
-                     r->closest_m, r->time_to_image_s, r->end_s, r->replans, r->target_entity_id);
+            fprintf (f, "%zu,%llu,%.3f,%.3f,%s,%s,%d,%.2f,%.2f,%.2f,%.2f,%u,%u,%u,%.2f,%.2f,%.1f\n",
+                     r->index, (unsigned long long)r->exercise_seed, r->designation_shift_s,
+                     r->uav_phase_deg, ls_mc_outcome_name (r->outcome), r->final_state, r->imaged,
+                     r->miss_m, r->closest_m, r->time_to_image_s, r->end_s, r->replans,
+                     r->target_entity_id, r->other_entity_id, r->other_since_s, r->other_unseen_s,
+                     r->other_gap_m);
         }
         if (fclose (f) != 0)
             return -errno;
@@ -405,6 +413,16 @@ int ms_montecarlo_main (int argc, char **argv)
         printf ("run %zu: %s (final state %s", i, ls_mc_outcome_name (o->outcome), o->final_state);
         if (o->designated && isfinite (o->miss_m))
             printf (", %.0f m from the footprint at closest", o->miss_m);
+        if (o->other_entity_id) {
+            printf ("; the track follows entity %u, not %u", o->other_entity_id,
+                    o->target_entity_id);
+            if (isfinite (o->other_since_s))
+                printf (", since %.0f s", o->other_since_s);
+            if (isfinite (o->other_unseen_s))
+                printf (" after %.0f s without a hit", o->other_unseen_s);
+            if (isfinite (o->other_gap_m))
+                printf (", %.0f m apart", o->other_gap_m);
+        }
         printf ("); replay: ");
         s_replay (stdout, &c, i);
         printf ("\n");

@@ -8,6 +8,8 @@ void ms_icpt_init (ms_icpt_t *ic)
 {
     memset (ic, 0, sizeof *ic);
     ic->final_s = NAN;
+    ic->other_since_s = ic->other_unseen_s = ic->other_gap_m = NAN;
+    ic->target_pos_s = ic->other_pos_s = NAN;
     cgs_score_init (&ic->score);
 }
 
@@ -84,6 +86,35 @@ uint32_t ms_icpt_track_entity (ms_icpt_t *ic, uint32_t radar, const Cgs__Track *
     return n ? entity[best] : 0;
 }
 
+/* The track follows the designated vehicle (again), or nothing is known yet. */
+static void s_other_clear (ms_icpt_t *ic)
+{
+    ic->other_entity_id = 0;
+    ic->other_marking[0] = '\0';
+    ic->other_since_s = ic->other_unseen_s = ic->other_gap_m = NAN;
+    ic->other_pos_s = NAN;
+}
+
+/* The track tr now follows entity e of radar h, not the designated one: when
+ * its hits of e began (its latest hits that are e's, back to the first that
+ * is not), and how long it had gone without a hit before. */
+static void s_other_begin (ms_icpt_t *ic, const ms_icpt_hits_t *h, const Cgs__Track *tr, uint32_t e,
+                           double t_s)
+{
+    s_other_clear (ic);
+    ic->other_entity_id = e;
+    ic->other_since_s = t_s;
+    size_t k = tr->n_history;
+    while (k > 0 && tr->history[k - 1]->hit_id &&
+           s_hits_entity (h, tr->history[k - 1]->hit_id) == e)
+        k--;
+    if (k < tr->n_history) {
+        ic->other_since_s = tr->history[k]->sim_time_s;
+        if (k > 0)
+            ic->other_unseen_s = tr->history[k]->sim_time_s - tr->history[k - 1]->sim_time_s;
+    }
+}
+
 /* A new designation: the score starts again. */
 static void s_icpt_designate (ms_icpt_t *ic, const Cgs__Intercept *m, double t_s)
 {
@@ -97,8 +128,8 @@ static void s_icpt_designate (ms_icpt_t *ic, const Cgs__Intercept *m, double t_s
     ic->final_s = NAN;
     ic->entity_id = 0;
     ic->marking[0] = '\0';
-    ic->other_entity_id = 0;
-    ic->other_marking[0] = '\0';
+    s_other_clear (ic);
+    ic->target_pos_s = NAN;
     cgs_score_init (&ic->score);
     cgs_score_designated (&ic->score, t_s);
 }
@@ -184,7 +215,6 @@ void ms_icpt_on_track (void *arg, const char *topic, const ProtobufCMessage *msg
                        const Cgs__Header *hdr)
 {
     (void)topic;
-    (void)hdr;
     ms_icpt_t *ic = arg;
     const Cgs__TrackBatch *b = (const Cgs__TrackBatch *)msg;
     if (!ic->designated)
@@ -197,15 +227,15 @@ void ms_icpt_on_track (void *arg, const char *topic, const ProtobufCMessage *msg
         // first; a track that follows another vehicle since (the designated
         // one, which changed vehicle, or one that took over) is reported, and
         // the score stays with the designated one.
-        uint32_t e = ms_icpt_track_entity (ic, tr->uav_id ? tr->uav_id : b->uav_id, tr);
+        uint32_t radar = tr->uav_id ? tr->uav_id : b->uav_id;
+        uint32_t e = ms_icpt_track_entity (ic, radar, tr);
         if (e != 0 && ic->entity_id == 0) {
             ic->entity_id = e;
             ic->marking[0] = '\0';
         } else if (e != 0 && e == ic->entity_id) {
-            ic->other_entity_id = 0; // the track follows the designated vehicle (again)
+            s_other_clear (ic); // the track follows the designated vehicle (again)
         } else if (e != 0 && e != ic->other_entity_id) {
-            ic->other_entity_id = e;
-            ic->other_marking[0] = '\0';
+            s_other_begin (ic, s_icpt_radar (ic, radar, false), tr, e, hdr->sim_time_s);
         }
     }
 }
@@ -225,18 +255,36 @@ void ms_icpt_on_entity (void *arg, const char *topic, const ProtobufCMessage *ms
         return;
     for (size_t i = 0; i < b->n_entities; i++) {
         const Cgs__Entity *en = b->entities[i];
-        if (ic->other_entity_id && en->entity_id == ic->other_entity_id)
+        bool at = en->active && en->position && isfinite (en->position->east_m) &&
+                  isfinite (en->position->north_m);
+        if (ic->other_entity_id && en->entity_id == ic->other_entity_id) {
             snprintf (ic->other_marking, sizeof ic->other_marking, "%s", en->marking);
+            if (at) {
+                ic->other_pos[0] = en->position->east_m;
+                ic->other_pos[1] = en->position->north_m;
+                ic->other_pos_s = hdr->sim_time_s;
+            }
+        }
         if (en->entity_id != ic->entity_id)
             continue;
         snprintf (ic->marking, sizeof ic->marking, "%s", en->marking);
-        if (en->active && en->position &&
-            !(isfinite (en->position->east_m) && isfinite (en->position->north_m)))
+        if (en->active && en->position && !at) {
             ic->malformed++;
-        else if (en->active && en->position)
+        } else if (at) {
             cgs_score_target (&ic->score, hdr->sim_time_s,
                               (cgs_v2_t){en->position->east_m, en->position->north_m});
+            ic->target_pos[0] = en->position->east_m;
+            ic->target_pos[1] = en->position->north_m;
+            ic->target_pos_s = hdr->sim_time_s;
+        }
     }
+    // The two vehicles' distance when the track changed vehicle: at the
+    // first time both are known after it was seen (the track's message
+    // comes up to a scan after the hit).
+    if (ic->other_entity_id && isnan (ic->other_gap_m) && ic->other_pos_s == ic->target_pos_s &&
+        isfinite (ic->other_pos_s))
+        ic->other_gap_m =
+            hypot (ic->other_pos[0] - ic->target_pos[0], ic->other_pos[1] - ic->target_pos[1]);
 }
 
 /* The intercept section of the summary, for a person. */
@@ -260,6 +308,14 @@ void ms_icpt_print (const ms_icpt_t *ic, FILE *f)
                  ic->desig_track_id != ic->first_track_id ? "hand-over        "
                                                           : "changed vehicle  ",
                  ic->desig_track_id, ic->other_entity_id, ic->other_marking);
+    if (ic->other_entity_id && isfinite (ic->other_since_s)) {
+        fprintf (f, "                    its hits of it since sim %.1f s", ic->other_since_s);
+        if (isfinite (ic->other_unseen_s))
+            fprintf (f, " (the first after %.0f s without a hit)", ic->other_unseen_s);
+        if (isfinite (ic->other_gap_m))
+            fprintf (f, ", %.0f m from the designated target", ic->other_gap_m);
+        fprintf (f, "\n");
+    }
     fprintf (f, "  state             %s", ms_icpt_state_name (ic->desig_state));
     if (ic->final)
         fprintf (f, " at sim %.1f s", ic->final_s);
@@ -330,6 +386,10 @@ json_object *ms_icpt_json (const ms_icpt_t *ic)
     cgs_json_add (
         o, "handed_over_to_entity_id",
         s_json_id (other && ic->desig_track_id != ic->first_track_id, ic->other_entity_id));
+    cgs_json_add (o, "follows_since_s", cgs_json_fixed (other ? ic->other_since_s : NAN, 3));
+    cgs_json_add (o, "follows_after_unseen_s",
+                  cgs_json_fixed (other ? ic->other_unseen_s : NAN, 3));
+    cgs_json_add (o, "follows_gap_m", cgs_json_fixed (other ? ic->other_gap_m : NAN, 1));
     cgs_json_add (o, "designation_time_s", cgs_json_fixed (d ? sc->designation_s : NAN, 3));
     cgs_json_add (o, "final_state",
                   d ? json_object_new_string (ms_icpt_state_name (ic->desig_state)) : NULL);

@@ -55,6 +55,15 @@ typedef struct {
     char marking[32];
     uint32_t other_entity_id; // the designated track, or one that took over, follows it instead
     char other_marking[32];
+    // How it came to: when (the time of the first of the track's latest hits
+    // that are the other vehicle's), how long the track had gone without a
+    // hit before it, and how far apart the two vehicles were then (from the
+    // next entity message; NAN until known).
+    double other_since_s;
+    double other_unseen_s;
+    double other_gap_m;
+    double target_pos[2], target_pos_s; // the designated vehicle's latest true position
+    double other_pos[2], other_pos_s;   // and the other's
     cgs_score_t score;
     // Which entity produced each recent hit, per radar.
     ms_icpt_hits_t radars[MS_ICPT_RADARS_MAX];

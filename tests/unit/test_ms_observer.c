@@ -47,7 +47,8 @@ static void test_nothing_designated (void **state)
     assert_string_equal (
         text, "{\"designated\":false,\"track_id\":null,\"target_entity_id\":null,"
               "\"target_marking\":null,\"follows_entity_id\":null,"
-              "\"handed_over_to_entity_id\":null,"
+              "\"handed_over_to_entity_id\":null,\"follows_since_s\":null,"
+              "\"follows_after_unseen_s\":null,\"follows_gap_m\":null,"
               "\"designation_time_s\":null,\"final_state\":null,\"replans\":null,"
               "\"imaged\":false,\"time_in_footprint_s\":null,\"closest_approach_m\":null,"
               "\"closest_approach_time_s\":null,\"designation_to_overflight_s\":null}");
@@ -76,7 +77,8 @@ static void test_designated_and_imaged (void **state)
     assert_string_equal (
         text, "{\"designated\":true,\"track_id\":12,\"target_entity_id\":4,"
               "\"target_marking\":\"U3 \\\"\xc3\xa9\\\"\",\"follows_entity_id\":null,"
-              "\"handed_over_to_entity_id\":null,"
+              "\"handed_over_to_entity_id\":null,\"follows_since_s\":null,"
+              "\"follows_after_unseen_s\":null,\"follows_gap_m\":null,"
               "\"designation_time_s\":120.000,\"final_state\":\"DONE\",\"replans\":2,"
               "\"imaged\":true,\"time_in_footprint_s\":3.250,\"closest_approach_m\":1.235,"
               "\"closest_approach_time_s\":251.000,\"designation_to_overflight_s\":130.123}");
@@ -131,7 +133,8 @@ static void s_feed_truth (ms_icpt_t *ic, const uint32_t *entity, size_t n)
     ms_icpt_on_mti_truth (ic, "mti.truth", &t.base, &h);
 }
 
-/* Track `id` of radar 1 whose history holds hits 100 + first .. 100 + last. */
+/* Track `id` of radar 1 whose history holds hits 100 + first .. 100 + last,
+ * hit 100 + k at 10·k s. */
 static void s_feed_track (ms_icpt_t *ic, uint32_t id, uint32_t first, uint32_t last, double t_s)
 {
     Cgs__TrackHistoryPoint hp[8], *hpp[8];
@@ -139,6 +142,7 @@ static void s_feed_track (ms_icpt_t *ic, uint32_t id, uint32_t first, uint32_t l
     for (uint32_t k = first; k <= last; k++, n++) {
         cgs__track_history_point__init (&hp[n]);
         hp[n].hit_id = 100 + k;
+        hp[n].sim_time_s = 10.0 * k;
         hpp[n] = &hp[n];
     }
     Cgs__Track tr = CGS__TRACK__INIT, *trp = &tr;
@@ -153,6 +157,31 @@ static void s_feed_track (ms_icpt_t *ic, uint32_t id, uint32_t first, uint32_t l
     Cgs__Header h = CGS__HEADER__INIT;
     h.sim_time_s = t_s;
     ms_icpt_on_track (ic, "track", &b.base, &h);
+}
+
+/* Entities 5 and 6 at time t_s, at (0, 0) and (e6, n6). */
+static void s_feed_entities (ms_icpt_t *ic, double t_s, double e6, double n6)
+{
+    Cgs__Entity en[2], *enp[2];
+    Cgs__Enu pos[2];
+    static char *marking[2] = {"U APC1", "U APC2"};
+    for (int i = 0; i < 2; i++) {
+        cgs__entity__init (&en[i]);
+        cgs__enu__init (&pos[i]);
+        en[i].entity_id = (uint32_t)(5 + i);
+        en[i].active = true;
+        en[i].position = &pos[i];
+        en[i].marking = marking[i];
+        enp[i] = &en[i];
+    }
+    pos[1].east_m = e6;
+    pos[1].north_m = n6;
+    Cgs__EntityBatch b = CGS__ENTITY_BATCH__INIT;
+    b.n_entities = 2;
+    b.entities = enp;
+    Cgs__Header h = CGS__HEADER__INIT;
+    h.sim_time_s = t_s;
+    ms_icpt_on_entity (ic, "entity", &b.base, &h);
 }
 
 /* The designated track itself changes vehicle (most of its kept hits come
@@ -174,21 +203,35 @@ static void test_track_changes_vehicle (void **state)
     s_feed_track (ic, 10, 0, 2, 11);
     assert_int_equal (ic->entity_id, 5);
     assert_int_equal (ic->other_entity_id, 0);
-    s_feed_track (ic, 10, 1, 5, 12); // two hits of 5, three of 6
+    s_feed_track (ic, 10, 1, 5, 52); // two hits of 5, three of 6
     assert_int_equal (ic->other_entity_id, 6);
+    // Its hits of 6 since the first of them (hit 103 at 30 s), 10 s after
+    // its hit before (of 5); the two vehicles 150 m apart at the next
+    // entity message, not before.
+    assert_true (ic->other_since_s == 30 && ic->other_unseen_s == 10);
+    assert_true (isnan (ic->other_gap_m));
+    s_feed_entities (ic, 53, 90, -120);
+    assert_true (fabs (ic->other_gap_m - 150) < 1e-9);
+    s_feed_entities (ic, 54, 900, -1200); // kept from the change
+    assert_true (fabs (ic->other_gap_m - 150) < 1e-9);
     char *line = NULL;
     size_t len = 0;
     FILE *f = open_memstream (&line, &len);
     assert_non_null (f);
     ms_icpt_print (ic, f);
     fclose (f);
-    assert_non_null (strstr (line, "changed vehicle   track 10 now follows entity 6"));
+    assert_non_null (strstr (line, "changed vehicle   track 10 now follows entity 6 \"U APC2\""));
+    assert_non_null (strstr (line, "its hits of it since sim 30.0 s (the first after 10 s without "
+                                   "a hit), 150 m from the designated target"));
     free (line);
     s_feed_track (ic, 10, 0, 4, 13); // three of 5, two of 6: back on it
     assert_int_equal (ic->other_entity_id, 0);
+    assert_true (isnan (ic->other_since_s) && isnan (ic->other_gap_m));
     s_feed_track (ic, 10, 3, 5, 14);
     char *text = s_text (ic);
-    assert_non_null (strstr (text, "\"follows_entity_id\":6,\"handed_over_to_entity_id\":null,"));
+    assert_non_null (strstr (text, "\"follows_entity_id\":6,\"handed_over_to_entity_id\":null,"
+                                   "\"follows_since_s\":30.000,\"follows_after_unseen_s\":null,"
+                                   "\"follows_gap_m\":null,"));
     free (text);
 }
 

@@ -172,6 +172,10 @@ int ls_mc_one (const ls_mc_config_t *c, size_t i, FILE *log, ls_mc_run_t *ret, c
         out.end_s = res->end_s;
         out.replans = ic->replans;
         out.target_entity_id = ic->entity_id;
+        out.other_entity_id = out.wrong_vehicle ? ic->other_entity_id : 0;
+        out.other_since_s = out.wrong_vehicle ? ic->other_since_s : NAN;
+        out.other_unseen_s = out.wrong_vehicle ? ic->other_unseen_s : NAN;
+        out.other_gap_m = out.wrong_vehicle ? ic->other_gap_m : NAN;
         snprintf (out.final_state, sizeof out.final_state, "%s",
                   ic->designated ? ms_icpt_state_name (ic->desig_state) : "NONE");
         out.outcome = !ic->designated     ? LS_MC_NOT_DESIGNATED
