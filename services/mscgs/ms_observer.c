@@ -9,7 +9,6 @@ void ms_icpt_init (ms_icpt_t *ic)
     memset (ic, 0, sizeof *ic);
     ic->final_s = NAN;
     ic->other_since_s = ic->other_unseen_s = ic->other_gap_m = NAN;
-    ic->target_pos_s = ic->other_pos_s = NAN;
     cgs_score_init (&ic->score);
 }
 
@@ -92,7 +91,22 @@ static void s_other_clear (ms_icpt_t *ic)
     ic->other_entity_id = 0;
     ic->other_marking[0] = '\0';
     ic->other_since_s = ic->other_unseen_s = ic->other_gap_m = NAN;
-    ic->other_pos_s = NAN;
+}
+
+/* The designated vehicle's remembered position nearest in time to t_s
+ * (within MS_ICPT_TRAIL_DT_S); false when none is. */
+static bool s_trail_at (const ms_icpt_t *ic, double t_s, double *e, double *n)
+{
+    double best = MS_ICPT_TRAIL_DT_S;
+    bool found = false;
+    for (size_t k = 0; k < ic->trail_count; k++)
+        if (fabs (ic->trail_t[k] - t_s) <= best) {
+            best = fabs (ic->trail_t[k] - t_s);
+            *e = ic->trail_e[k];
+            *n = ic->trail_n[k];
+            found = true;
+        }
+    return found;
 }
 
 /* The track tr now follows entity e of radar h, not the designated one: when
@@ -109,9 +123,13 @@ static void s_other_begin (ms_icpt_t *ic, const ms_icpt_hits_t *h, const Cgs__Tr
            s_hits_entity (h, tr->history[k - 1]->hit_id) == e)
         k--;
     if (k < tr->n_history) {
-        ic->other_since_s = tr->history[k]->sim_time_s;
+        const Cgs__TrackHistoryPoint *hp = tr->history[k];
+        ic->other_since_s = hp->sim_time_s;
         if (k > 0)
-            ic->other_unseen_s = tr->history[k]->sim_time_s - tr->history[k - 1]->sim_time_s;
+            ic->other_unseen_s = hp->sim_time_s - tr->history[k - 1]->sim_time_s;
+        double de, dn;
+        if (hp->position && s_trail_at (ic, hp->sim_time_s, &de, &dn))
+            ic->other_gap_m = hypot (hp->position->east_m - de, hp->position->north_m - dn);
     }
 }
 
@@ -129,7 +147,7 @@ static void s_icpt_designate (ms_icpt_t *ic, const Cgs__Intercept *m, double t_s
     ic->entity_id = 0;
     ic->marking[0] = '\0';
     s_other_clear (ic);
-    ic->target_pos_s = NAN;
+    ic->trail_next = ic->trail_count = 0;
     cgs_score_init (&ic->score);
     cgs_score_designated (&ic->score, t_s);
 }
@@ -257,14 +275,8 @@ void ms_icpt_on_entity (void *arg, const char *topic, const ProtobufCMessage *ms
         const Cgs__Entity *en = b->entities[i];
         bool at = en->active && en->position && isfinite (en->position->east_m) &&
                   isfinite (en->position->north_m);
-        if (ic->other_entity_id && en->entity_id == ic->other_entity_id) {
+        if (ic->other_entity_id && en->entity_id == ic->other_entity_id)
             snprintf (ic->other_marking, sizeof ic->other_marking, "%s", en->marking);
-            if (at) {
-                ic->other_pos[0] = en->position->east_m;
-                ic->other_pos[1] = en->position->north_m;
-                ic->other_pos_s = hdr->sim_time_s;
-            }
-        }
         if (en->entity_id != ic->entity_id)
             continue;
         snprintf (ic->marking, sizeof ic->marking, "%s", en->marking);
@@ -273,18 +285,18 @@ void ms_icpt_on_entity (void *arg, const char *topic, const ProtobufCMessage *ms
         } else if (at) {
             cgs_score_target (&ic->score, hdr->sim_time_s,
                               (cgs_v2_t){en->position->east_m, en->position->north_m});
-            ic->target_pos[0] = en->position->east_m;
-            ic->target_pos[1] = en->position->north_m;
-            ic->target_pos_s = hdr->sim_time_s;
+            size_t last = (ic->trail_next + MS_ICPT_TRAIL - 1) % MS_ICPT_TRAIL;
+            if (ic->trail_count == 0 ||
+                !(hdr->sim_time_s - ic->trail_t[last] < MS_ICPT_TRAIL_DT_S)) {
+                ic->trail_t[ic->trail_next] = hdr->sim_time_s;
+                ic->trail_e[ic->trail_next] = en->position->east_m;
+                ic->trail_n[ic->trail_next] = en->position->north_m;
+                ic->trail_next = (ic->trail_next + 1) % MS_ICPT_TRAIL;
+                if (ic->trail_count < MS_ICPT_TRAIL)
+                    ic->trail_count++;
+            }
         }
     }
-    // The two vehicles' distance when the track changed vehicle: at the
-    // first time both are known after it was seen (the track's message
-    // comes up to a scan after the hit).
-    if (ic->other_entity_id && isnan (ic->other_gap_m) && ic->other_pos_s == ic->target_pos_s &&
-        isfinite (ic->other_pos_s))
-        ic->other_gap_m =
-            hypot (ic->other_pos[0] - ic->target_pos[0], ic->other_pos[1] - ic->target_pos[1]);
 }
 
 /* The intercept section of the summary, for a person. */
@@ -313,7 +325,7 @@ void ms_icpt_print (const ms_icpt_t *ic, FILE *f)
         if (isfinite (ic->other_unseen_s))
             fprintf (f, " (the first after %.0f s without a hit)", ic->other_unseen_s);
         if (isfinite (ic->other_gap_m))
-            fprintf (f, ", %.0f m from the designated target", ic->other_gap_m);
+            fprintf (f, ", the first %.0f m from the designated target", ic->other_gap_m);
         fprintf (f, "\n");
     }
     fprintf (f, "  state             %s", ms_icpt_state_name (ic->desig_state));

@@ -23,6 +23,8 @@
 #define MS_ICPT_HITS_MAX   4096 // hits remembered per radar (from mti.truth), the newest
 #define MS_ICPT_RADARS_MAX 8    // radars whose hits are remembered
 #define MS_ICPT_VOTES_MAX  32   // distinct entities counted among a track's hits
+#define MS_ICPT_TRAIL      2048 // the designated vehicle's positions remembered...
+#define MS_ICPT_TRAIL_DT_S 0.5  // ...at most one in this many seconds
 
 /* The entity that produced each recent hit of one radar: a ring, oldest
  * overwritten first. */
@@ -57,13 +59,15 @@ typedef struct {
     char other_marking[32];
     // How it came to: when (the time of the first of the track's latest hits
     // that are the other vehicle's), how long the track had gone without a
-    // hit before it, and how far apart the two vehicles were then (from the
-    // next entity message; NAN until known).
+    // hit before it, and how far that hit lay from the designated vehicle's
+    // true position at its time (NAN when not known).
     double other_since_s;
     double other_unseen_s;
     double other_gap_m;
-    double target_pos[2], target_pos_s; // the designated vehicle's latest true position
-    double other_pos[2], other_pos_s;   // and the other's
+    // The designated vehicle's true positions, one every MS_ICPT_TRAIL_DT_S
+    // at most, the newest MS_ICPT_TRAIL (a ring).
+    double trail_t[MS_ICPT_TRAIL], trail_e[MS_ICPT_TRAIL], trail_n[MS_ICPT_TRAIL];
+    size_t trail_next, trail_count;
     cgs_score_t score;
     // Which entity produced each recent hit, per radar.
     ms_icpt_hits_t radars[MS_ICPT_RADARS_MAX];

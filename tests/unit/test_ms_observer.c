@@ -134,15 +134,19 @@ static void s_feed_truth (ms_icpt_t *ic, const uint32_t *entity, size_t n)
 }
 
 /* Track `id` of radar 1 whose history holds hits 100 + first .. 100 + last,
- * hit 100 + k at 10·k s. */
+ * hit 100 + k at 10·k s, 50·k m east of the origin. */
 static void s_feed_track (ms_icpt_t *ic, uint32_t id, uint32_t first, uint32_t last, double t_s)
 {
     Cgs__TrackHistoryPoint hp[8], *hpp[8];
+    Cgs__Enu at[8];
     size_t n = 0;
     for (uint32_t k = first; k <= last; k++, n++) {
         cgs__track_history_point__init (&hp[n]);
+        cgs__enu__init (&at[n]);
+        at[n].east_m = 50.0 * k;
         hp[n].hit_id = 100 + k;
         hp[n].sim_time_s = 10.0 * k;
+        hp[n].position = &at[n];
         hpp[n] = &hp[n];
     }
     Cgs__Track tr = CGS__TRACK__INIT, *trp = &tr;
@@ -203,16 +207,17 @@ static void test_track_changes_vehicle (void **state)
     s_feed_track (ic, 10, 0, 2, 11);
     assert_int_equal (ic->entity_id, 5);
     assert_int_equal (ic->other_entity_id, 0);
+    // The designated vehicle (5) stands at the origin from 20 s on (once
+    // every half second remembered), 6 drives.
+    for (int k = 0; k <= 40; k++)
+        s_feed_entities (ic, 20 + 0.25 * k, 30 + k, 0);
     s_feed_track (ic, 10, 1, 5, 52); // two hits of 5, three of 6
     assert_int_equal (ic->other_entity_id, 6);
-    // Its hits of 6 since the first of them (hit 103 at 30 s), 10 s after
-    // its hit before (of 5); the two vehicles 150 m apart at the next
-    // entity message, not before.
+    // Its hits of 6 since the first of them (hit 103 at 30 s, 150 m east),
+    // 10 s after its hit before (of 5), 150 m from where 5 was then.
     assert_true (ic->other_since_s == 30 && ic->other_unseen_s == 10);
-    assert_true (isnan (ic->other_gap_m));
-    s_feed_entities (ic, 53, 90, -120);
     assert_true (fabs (ic->other_gap_m - 150) < 1e-9);
-    s_feed_entities (ic, 54, 900, -1200); // kept from the change
+    s_feed_entities (ic, 53, 300, 0); // its marking, and nothing else changes
     assert_true (fabs (ic->other_gap_m - 150) < 1e-9);
     char *line = NULL;
     size_t len = 0;
@@ -222,7 +227,7 @@ static void test_track_changes_vehicle (void **state)
     fclose (f);
     assert_non_null (strstr (line, "changed vehicle   track 10 now follows entity 6 \"U APC2\""));
     assert_non_null (strstr (line, "its hits of it since sim 30.0 s (the first after 10 s without "
-                                   "a hit), 150 m from the designated target"));
+                                   "a hit), the first 150 m from the designated target"));
     free (line);
     s_feed_track (ic, 10, 0, 4, 13); // three of 5, two of 6: back on it
     assert_int_equal (ic->other_entity_id, 0);
@@ -231,7 +236,7 @@ static void test_track_changes_vehicle (void **state)
     char *text = s_text (ic);
     assert_non_null (strstr (text, "\"follows_entity_id\":6,\"handed_over_to_entity_id\":null,"
                                    "\"follows_since_s\":30.000,\"follows_after_unseen_s\":null,"
-                                   "\"follows_gap_m\":null,"));
+                                   "\"follows_gap_m\":150.0,"));
     free (text);
 }
 
