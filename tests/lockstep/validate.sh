@@ -3,8 +3,12 @@
 # exercise runs live (`mscgs run`, every service, the real bus) at time scale
 # SCALE over exercise seeds 1..N, and in lockstep (`mscgs montecarlo
 # --seeds-only`) over the same seeds; each side's imaged rate comes with its
-# 95% Wilson interval, and the two agree when each rate lies inside the other
-# side's interval. Opt-in (make validate-lockstep): minutes, not a CI test.
+# 95% Wilson interval, and the two agree when the intervals overlap (Fisher's
+# exact test of the two counts is printed beside). Not "each rate inside the
+# other's interval": that fails for 20 of 20 against 19 of 20 (100% lies
+# above 19/20's upper bound of 99%), which two samples of one system at 97%
+# give more than a third of the time. Opt-in (make validate-lockstep):
+# minutes, not a CI test.
 # Prints a table, per seed and in all; exit 0 when they agree.
 #
 # Usage: tests/lockstep/validate.sh BUILD_DIR [N] [SCALE]   (defaults 20 seeds, 20x)
@@ -68,12 +72,27 @@ awk -F, -v n="$n" '
         h = z * sqrt (p * (1 - p) / n + z * z / (4 * n * n)) / (1 + z * z / n)
         return side < 0 ? c - h : c + h
     }
+    function lfact (k,   r, i) { r = 0; for (i = 2; i <= k; i++) r += log (i); return r }
+    # ln P(X = k) of the hypergeometric law: k of n draws among N with K marked.
+    function lhyp (k, n, K, N) {
+        return lfact (K) - lfact (k) - lfact (K - k) + lfact (N - K) - lfact (n - k) - \
+               lfact (N - K - n + k) - lfact (N) + lfact (n) + lfact (N - n)
+    }
+    # Fisher'"'"'s exact test, two-sided: live of n against ls of n.
+    function fisher (a, b, n,   K, N, lo, hi, k, p0, p) {
+        K = a + b; N = 2 * n; lo = K > n ? K - n : 0; hi = K < n ? K : n
+        p0 = lhyp (a, n, K, N); p = 0
+        for (k = lo; k <= hi; k++)
+            if (lhyp (k, n, K, N) <= p0 + 1e-9)
+                p += exp (lhyp (k, n, K, N))
+        return p > 1 ? 1 : p
+    }
     END {
         pl = live / n; ps = ls / n
         ll = wilson (live, n, -1); lh = wilson (live, n, 1)
         sl = wilson (ls, n, -1); sh = wilson (ls, n, 1)
-        printf "\nimaged: live %d/%d = %.0f%% [%.0f%%, %.0f%%]; lockstep %d/%d = %.0f%% [%.0f%%, %.0f%%] (95%% Wilson)\n", live, n, 100 * pl, 100 * ll, 100 * lh, ls, n, 100 * ps, 100 * sl, 100 * sh
-        ok = ps >= ll && ps <= lh && pl >= sl && pl <= sh
-        printf "%s\n", ok ? "agree: each rate lies inside the other side'"'"'s interval" : "DISAGREE: a rate lies outside the other side'"'"'s interval"
+        printf "\nimaged: live %d/%d = %.0f%% [%.0f%%, %.0f%%]; lockstep %d/%d = %.0f%% [%.0f%%, %.0f%%] (95%% Wilson); Fisher'"'"'s exact test p = %.3f\n", live, n, 100 * pl, 100 * ll, 100 * lh, ls, n, 100 * ps, 100 * sl, 100 * sh, fisher (live, ls, n)
+        ok = ll <= sh && sl <= lh
+        printf "%s\n", ok ? "agree: the two intervals overlap" : "DISAGREE: the two intervals do not overlap"
         exit !ok
     }' "$tmp/live.csv" "$tmp/lockstep.csv"
