@@ -421,7 +421,7 @@ int ms_montecarlo_main (int argc, char **argv)
             if (isfinite (o->other_unseen_s))
                 printf (" after %.0f s without a hit", o->other_unseen_s);
             if (isfinite (o->other_gap_m))
-                printf (", %.0f m apart", o->other_gap_m);
+                printf (", its first hit of it %.0f m from the designated one", o->other_gap_m);
         }
         printf ("); replay: ");
         s_replay (stdout, &c, i);

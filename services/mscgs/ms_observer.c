@@ -109,20 +109,29 @@ static bool s_trail_at (const ms_icpt_t *ic, double t_s, double *e, double *n)
     return found;
 }
 
+/* The entity of the i-th hit of tr's history (0: not known). */
+static uint32_t s_history_entity (const ms_icpt_hits_t *h, const Cgs__Track *tr, size_t i)
+{
+    return h && tr->history[i]->hit_id ? s_hits_entity (h, tr->history[i]->hit_id) : 0;
+}
+
 /* The track tr now follows entity e of radar h, not the designated one: when
- * its hits of e began (its latest hits that are e's, back to the first that
- * is not), and how long it had gone without a hit before. */
+ * its hits of e began (the latest run of its hits that are e's, back to the
+ * first that is not; later hits of others may follow it), and how long it
+ * had gone without a hit before. */
 static void s_other_begin (ms_icpt_t *ic, const ms_icpt_hits_t *h, const Cgs__Track *tr, uint32_t e,
                            double t_s)
 {
     s_other_clear (ic);
     ic->other_entity_id = e;
     ic->other_since_s = t_s;
-    size_t k = tr->n_history;
-    while (k > 0 && tr->history[k - 1]->hit_id &&
-           s_hits_entity (h, tr->history[k - 1]->hit_id) == e)
+    size_t end = tr->n_history;
+    while (end > 0 && s_history_entity (h, tr, end - 1) != e)
+        end--;
+    size_t k = end;
+    while (k > 0 && s_history_entity (h, tr, k - 1) == e)
         k--;
-    if (k < tr->n_history) {
+    if (k < end) {
         const Cgs__TrackHistoryPoint *hp = tr->history[k];
         ic->other_since_s = hp->sim_time_s;
         if (k > 0)

@@ -1363,12 +1363,12 @@ static void s_lost_expire (trk_tracker_t *self, double t_s)
     }
 }
 
+static void s_kill (trk_tracker_t *self, size_t i, trk_scan_out_t *out);
+
 /* Could live track o have lost young's target since young's first hit?
  * One of young's radar, confirmed once, coasting since before young's first
  * hit (young's history whole, so its first hit is known), near enough for
  * a ground vehicle to have driven there. */
-static void s_kill (trk_tracker_t *self, size_t i, trk_scan_out_t *out);
-
 static bool s_reacquire_candidate (const trk_tracker_t *self, const trk_track_t *o,
                                    const trk_track_t *young)
 {

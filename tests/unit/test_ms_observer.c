@@ -163,6 +163,17 @@ static void s_feed_track (ms_icpt_t *ic, uint32_t id, uint32_t first, uint32_t l
     ms_icpt_on_track (ic, "track", &b.base, &h);
 }
 
+/* The operator designates track `id` at t_s. */
+static void s_designate (ms_icpt_t *ic, uint32_t id, double t_s)
+{
+    Cgs__Intercept m = CGS__INTERCEPT__INIT;
+    m.track_id = id;
+    m.designation_number = 1;
+    Cgs__Header h = CGS__HEADER__INIT;
+    h.sim_time_s = t_s;
+    ms_icpt_on_intercept (ic, "intercept", &m.base, &h);
+}
+
 /* Entities 5 and 6 at time t_s, at (0, 0) and (e6, n6). */
 static void s_feed_entities (ms_icpt_t *ic, double t_s, double e6, double n6)
 {
@@ -198,12 +209,7 @@ static void test_track_changes_vehicle (void **state)
     ms_icpt_t *ic = s_icpt ();
     const uint32_t entity[6] = {5, 5, 5, 6, 6, 6}; // hits 100-102 of 5, 103-105 of 6
     s_feed_truth (ic, entity, 6);
-    Cgs__Intercept m = CGS__INTERCEPT__INIT;
-    m.track_id = 10;
-    m.designation_number = 1;
-    Cgs__Header h = CGS__HEADER__INIT;
-    h.sim_time_s = 11;
-    ms_icpt_on_intercept (ic, "intercept", &m.base, &h);
+    s_designate (ic, 10, 11);
     s_feed_track (ic, 10, 0, 2, 11);
     assert_int_equal (ic->entity_id, 5);
     assert_int_equal (ic->other_entity_id, 0);
@@ -240,6 +246,26 @@ static void test_track_changes_vehicle (void **state)
     free (text);
 }
 
+/* The track's hits turned to another vehicle and its newest hit is the
+ * designated one's again (most are still the other's): the change is dated
+ * from the first hit of the latest run of the other's, not the message. */
+static void test_changed_vehicle_then_a_hit_back (void **state)
+{
+    (void)state;
+    ms_icpt_t *ic = s_icpt ();
+    const uint32_t entity[6] = {5, 5, 6, 6, 6, 5}; // hits 100-101 of 5, 102-104 of 6, 105 of 5
+    s_feed_truth (ic, entity, 6);
+    s_designate (ic, 10, 11);
+    s_feed_track (ic, 10, 0, 1, 11);
+    assert_int_equal (ic->entity_id, 5);
+    s_feed_track (ic, 10, 1, 5, 60); // one of 5, three of 6, then one of 5
+    assert_int_equal (ic->other_entity_id, 6);
+    // Since hit 102 at 20 s, 10 s after hit 101 (before, its message's
+    // time and no interval: the newest hit is not 6's).
+    assert_true (ic->other_since_s == 20 && ic->other_unseen_s == 10);
+    free (ic);
+}
+
 int main (void)
 {
     const struct CMUnitTest tests[] = {
@@ -247,6 +273,7 @@ int main (void)
         cmocka_unit_test (test_designated_and_imaged),
         cmocka_unit_test (test_hand_over_and_numbers),
         cmocka_unit_test (test_track_changes_vehicle),
+        cmocka_unit_test (test_changed_vehicle_then_a_hit_back),
     };
     return cmocka_run_group_tests (tests, NULL, NULL);
 }

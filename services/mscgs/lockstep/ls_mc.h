@@ -70,7 +70,7 @@ typedef struct {
     uint32_t other_entity_id; // wrong vehicle: the one the designated track follows instead
     double other_since_s;     // its hits of that vehicle since (NaN when none)
     double other_unseen_s;    // the track's time without a hit before the first of them
-    double other_gap_m;       // the two vehicles' distance then
+    double other_gap_m;       // that first hit's distance from the designated vehicle
     char final_state[16];
     uint64_t bad_inputs, errors, failures; // 0 in a sound run
     char first_error[128];
