@@ -194,6 +194,19 @@ static int s_reserve (ms_metrics_t *self, size_t n)
     return 0;
 }
 
+/* The vehicle tr follows is present but the radar could not see it in this
+ * scan (outside the swept beam, or hidden by the terrain), and tr lies
+ * within the gate of it: a track holding an unseen vehicle. */
+static bool s_unseen (ms_metrics_t *self, const s_radar_t *r, const ms_siap_track_t *tr, double t_s)
+{
+    const s_truth_t *t = s_truth (self, tr->truth_id, false);
+    if (!t || !t->ground || !t->active || !t->detected ||
+        (t->visible_radar == r->uav_id && t->visible_scan == r->scan))
+        return false;
+    double dt = t_s - t->t_s;
+    return hypot (t->e + t->ve * dt - tr->pos.e, t->n + t->vn * dt - tr->pos.n) <= MS_METRICS_C_M;
+}
+
 /* The radar's scan is complete: its truths and tracks to the figures. */
 static void s_scan (ms_metrics_t *self, s_radar_t *r, double t_s)
 {
@@ -228,6 +241,7 @@ static void s_scan (ms_metrics_t *self, s_radar_t *r, double t_s)
             ok = self->st[i].id == tr->truth_id &&
                  hypot (self->st[i].pos.e - tr->pos.e, self->st[i].pos.n - tr->pos.n) <=
                      MS_METRICS_C_M;
+        tr->truth_unseen = !ok && tr->truth_id && s_unseen (self, r, tr, t_s);
         if (!ok)
             tr->truth_id = 0;
     }
@@ -295,8 +309,10 @@ void ms_metrics_print (ms_metrics_t *self, FILE *f)
              "  GOSPA             %.1f m mean per scan (c = %.0f m, p = 2): localisation %.0f, "
              "missed %.0f, false %.0f m^2\n",
              g.distance, MS_METRICS_C_M, g.localisation, g.missed, g.false_);
-    fprintf (f, "  completeness      %.3f  ambiguity %.3f  spuriousness %.3f\n", r.completeness,
-             r.ambiguity, r.spuriousness);
+    fprintf (f,
+             "  completeness      %.3f  ambiguity %.3f  spuriousness %.3f (%.3f tracks of "
+             "vehicles the radar could not see)\n",
+             r.completeness, r.ambiguity, r.spuriousness, r.spuriousness_unseen);
     fprintf (f, "  position accuracy %.1f m (mean, associated tracks)\n", r.position_accuracy_m);
     fprintf (f,
              "  continuity        %.2f id swaps and %.2f breaks per truth-hour; %.2f false "
@@ -329,6 +345,7 @@ json_object *ms_metrics_json (ms_metrics_t *self)
         {"completeness", r.completeness},
         {"ambiguity", r.ambiguity},
         {"spuriousness", r.spuriousness},
+        {"spuriousness_unseen", r.spuriousness_unseen},
         {"position_accuracy_m", r.position_accuracy_m},
         {"swaps_per_truth_hour", r.swaps_per_truth_hour},
         {"breaks_per_truth_hour", r.breaks_per_truth_hour},

@@ -267,6 +267,7 @@ static json_object *s_summary_json (const ls_mc_config_t *c, const ls_mc_result_
         {"completeness", r->siap.completeness, 4},
         {"ambiguity", r->siap.ambiguity, 4},
         {"spuriousness", r->siap.spuriousness, 4},
+        {"spuriousness_unseen", r->siap.spuriousness_unseen, 4},
         {"position_accuracy_m", r->siap.position_accuracy_m, 2},
         {"swaps_per_truth_hour", r->siap.swaps_per_truth_hour, 3},
         {"breaks_per_truth_hour", r->siap.breaks_per_truth_hour, 3},

@@ -34,7 +34,7 @@ typedef struct {
 /* The sums merge pools. */
 typedef struct {
     size_t scans, truth_scans, tracked_truth_scans, track_scans, associated_track_scans;
-    size_t unknown_truth_scans, swaps, breaks;
+    size_t unknown_truth_scans, unseen_track_scans, swaps, breaks;
     size_t runs, tracks, false_tracks; // of closed runs only
     double position_error_m, truth_time_s, run_time_s;
     ms_siap_id_t id;
@@ -258,6 +258,8 @@ int ms_siap_add (ms_siap_t *self, double t_s, const ms_siap_truth_t *truths, siz
         } else if (k->truth_id) {
             s->unknown_truth_scans++;
         }
+        if (!associated && k->truth_unseen)
+            s->unseen_track_scans++;
         s_rec_t *tr = s_insert (&self->tracks, k->id);
         tr->tracked = tr->tracked || associated;
     }
@@ -312,6 +314,7 @@ int ms_siap_merge (ms_siap_t *dst, const ms_siap_t *src)
     d->track_scans += s->track_scans;
     d->associated_track_scans += s->associated_track_scans;
     d->unknown_truth_scans += s->unknown_truth_scans;
+    d->unseen_track_scans += s->unseen_track_scans;
     d->swaps += s->swaps;
     d->breaks += s->breaks;
     s_identity_pool (&d->id, &s->id);
@@ -339,6 +342,7 @@ static void s_figures (ms_siap_result_t *r)
     r->ambiguity = s_ratio ((double)r->associated_track_scans, (double)r->tracked_truth_scans);
     r->spuriousness =
         s_ratio ((double)(r->track_scans - r->associated_track_scans), (double)r->track_scans);
+    r->spuriousness_unseen = s_ratio ((double)r->unseen_track_scans, (double)r->track_scans);
     r->position_accuracy_m = s_ratio (r->position_error_m, (double)r->associated_track_scans);
     r->swaps_per_truth_hour = s_ratio ((double)r->swaps, truth_h);
     r->breaks_per_truth_hour = s_ratio ((double)r->breaks, truth_h);
@@ -357,6 +361,7 @@ void ms_siap_result_pool (ms_siap_result_t *dst, const ms_siap_result_t *src)
     dst->track_scans += src->track_scans;
     dst->associated_track_scans += src->associated_track_scans;
     dst->unknown_truth_scans += src->unknown_truth_scans;
+    dst->unseen_track_scans += src->unseen_track_scans;
     dst->position_error_m += src->position_error_m;
     dst->truth_time_s += src->truth_time_s;
     dst->run_time_s += src->run_time_s;
@@ -380,6 +385,7 @@ void ms_siap_result (const ms_siap_t *self, ms_siap_result_t *ret)
         .track_scans = s->track_scans,
         .associated_track_scans = s->associated_track_scans,
         .unknown_truth_scans = s->unknown_truth_scans,
+        .unseen_track_scans = s->unseen_track_scans,
         .position_error_m = s->position_error_m,
         .truth_time_s = s->truth_time_s,
         .run_time_s = s->run_time_s,

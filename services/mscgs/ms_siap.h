@@ -16,6 +16,10 @@
  *   completeness  C  = Σ JT(k) / Σ J(k)            ("JT_sum / J_sum")
  *   ambiguity     A  = Σ NA(k) / Σ JT(k)           ("NA_sum / JT_sum")
  *   spuriousness  S  = Σ [N(k) − NA(k)] / Σ N(k)   ("(N_sum - NA_sum) / N_sum")
+ *                 and, ours, the part of it made of tracks the caller flags
+ *                 truth_unseen (a vehicle present but not among the scan's
+ *                 truths, within the gate: a track holding a vehicle the
+ *                 radar could not see): Σ unseen(k) / Σ N(k)
  *   position accuracy PA = Σ_k Σ_associated |track − truth| / Σ NA(k):
  *                 the MEAN distance (not RMS), as Stone Soup's
  *                 accuracy_at_time ("error_sum += measure(track[timestamp],
@@ -104,6 +108,8 @@ typedef struct {
     uint32_t truth_id;   // the truth the caller associated it with, 0: none
     ms_point_t pos;      // metres
     uint32_t claimed_id; // the identity it claims for its target, 0: none
+    bool truth_unseen;   // the caller's: it follows a vehicle present but not among the
+                         // scan's truths (the radar could not see it), within the gate
 } ms_siap_track_t;
 
 /* The identification counts, over associated track-scans (see above). */
@@ -125,6 +131,7 @@ typedef struct {
     size_t track_scans;            // Σ N(k)
     size_t associated_track_scans; // Σ NA(k)
     size_t unknown_truth_scans;    // track-scans naming a truth absent at k (unassociated)
+    size_t unseen_track_scans;     // unassociated track-scans flagged truth_unseen
     double position_error_m;       // Σ distance over associated track-scans, metres
     double truth_time_s;           // Σ dt_k · J(k), seconds
     double run_time_s;             // Σ dt_k, seconds
@@ -137,6 +144,7 @@ typedef struct {
     double completeness;          // Σ JT / Σ J, 0..1
     double ambiguity;             // Σ NA / Σ JT, >= 1
     double spuriousness;          // Σ (N − NA) / Σ N, 0..1
+    double spuriousness_unseen;   // Σ unseen / Σ N: the part of it holding unseen vehicles
     double position_accuracy_m;   // mean distance track to truth, metres
     double swaps_per_truth_hour;  // swaps / truth hours
     double breaks_per_truth_hour; // breaks / truth hours

@@ -22,7 +22,7 @@ check "its last line is one JSON object with runs 3" bash -c "node -e '
     const r = JSON.parse(process.argv[1]);
     const keys = [\"runs\", \"imaged\", \"imaged_pct\", \"imaged_pct_ci95\", \"wrong_vehicle\", \"lost\",
         \"miss_p50_m\", \"miss_p95_m\", \"time_to_image_p50_s\", \"gospa_m\", \"completeness\",
-        \"ambiguity\", \"spuriousness\", \"position_accuracy_m\", \"swaps_per_truth_hour\",
+        \"ambiguity\", \"spuriousness\", \"spuriousness_unseen\", \"position_accuracy_m\", \"swaps_per_truth_hour\",
         \"breaks_per_truth_hour\", \"false_tracks_per_hour\", \"id_completeness\",
         \"id_correctness\", \"id_wrong_fraction\", \"id_hostile_marked\"];
     for (const k of keys) if (!(k in r)) throw new Error(\"no \" + k);

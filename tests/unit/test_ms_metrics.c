@@ -466,6 +466,7 @@ static void s_result_equal (const ms_siap_result_t *a, const ms_siap_result_t *b
     S_SAME (track_scans);
     S_SAME (associated_track_scans);
     S_SAME (unknown_truth_scans);
+    S_SAME (unseen_track_scans);
     S_SAME (position_error_m);
     S_SAME (truth_time_s);
     S_SAME (run_time_s);
@@ -476,6 +477,7 @@ static void s_result_equal (const ms_siap_result_t *a, const ms_siap_result_t *b
     S_SAME (completeness);
     S_SAME (ambiguity);
     S_SAME (spuriousness);
+    S_SAME (spuriousness_unseen);
     S_SAME (position_accuracy_m);
     S_SAME (swaps_per_truth_hour);
     S_SAME (breaks_per_truth_hour);
@@ -513,7 +515,10 @@ static void s_result_equal (const ms_siap_result_t *a, const ms_siap_result_t *b
  *  swaps 1       → 1 / 0.116667 h = 8.571429 per truth-hour
  *  breaks 2      → 2 / 0.116667 h = 17.142857 per truth-hour
  *  false tracks  12 only (10 and 11 were associated): 1 in 240 s = 1/15 h → 15 per hour
- *  tracks 3, unknown-truth track-scans 1, runs 1, scans 5. */
+ *  tracks 3, unknown-truth track-scans 1, runs 1, scans 5.
+ *  The caller flags two tracks as holding an unseen vehicle: 10 at scan 5
+ *  (unassociated: counted) and 10 at scan 1 (associated: not counted):
+ *  unseen track-scans 1, spuriousness_unseen 1 / 13. */
 static ms_siap_truth_t s_t (uint32_t id, double e, double n)
 {
     return (ms_siap_truth_t){.id = id, .pos = {e, n}};
@@ -522,6 +527,11 @@ static ms_siap_truth_t s_t (uint32_t id, double e, double n)
 static ms_siap_track_t s_k (uint32_t id, uint32_t truth, double e, double n)
 {
     return (ms_siap_track_t){.id = id, .truth_id = truth, .pos = {e, n}};
+}
+
+static ms_siap_track_t s_ku (uint32_t id, uint32_t truth, double e, double n)
+{
+    return (ms_siap_track_t){.id = id, .truth_id = truth, .pos = {e, n}, .truth_unseen = true};
 }
 
 static void s_feed_run (ms_siap_t *acc, int first_scan, int last_scan)
@@ -535,11 +545,11 @@ static void s_feed_run (ms_siap_t *acc, int first_scan, int last_scan)
     };
     size_t n_tr[5] = {2, 2, 2, 2, 1};
     ms_siap_track_t tk[5][3] = {
-        {s_k (10, 1, 3, 4), s_k (11, 2, 1006, 8)},
+        {s_ku (10, 1, 3, 4), s_k (11, 2, 1006, 8)},
         {s_k (10, 1, 100, 5), s_k (11, 2, 1100, 10), s_k (12, 0, 500, 500)},
         {s_k (10, 0, 260, 0), s_k (11, 1, 206, 8), s_k (12, 0, 600, 600)},
         {s_k (10, 1, 300, 20), s_k (11, 1, 303, 4), s_k (12, 0, 700, 700)},
-        {s_k (10, 2, 400, 30), s_k (11, 0, 450, 0)},
+        {s_ku (10, 2, 400, 30), s_k (11, 0, 450, 0)},
     };
     size_t n_tk[5] = {2, 3, 3, 3, 2};
     for (int k = first_scan; k <= last_scan; k++)
@@ -572,6 +582,8 @@ static void test_siap_scripted (void **state)
     assert_near (r.completeness, 6.0 / 9, 1e-15);
     assert_near (r.ambiguity, 7.0 / 6, 1e-15);
     assert_near (r.spuriousness, 6.0 / 13, 1e-15);
+    assert_int_equal (r.unseen_track_scans, 1);
+    assert_near (r.spuriousness_unseen, 1.0 / 13, 1e-15);
     assert_near (r.position_accuracy_m, 65.0 / 7, 1e-12);
     assert_near (r.swaps_per_truth_hour, 60.0 / 7, 1e-12);
     assert_near (r.breaks_per_truth_hour, 120.0 / 7, 1e-12);

@@ -23,7 +23,14 @@
  * (no identity) and track 10 still marked 5: identifiable 0, marked 1,
  * wrong 1, hostile marked 1: ID completeness NaN (null in JSON), ID
  * correctness 0, ID wrong 1. Track 11 (unassociated) marked friendly counts
- * in neither. */
+ * in neither.
+ *
+ * A track holding an unseen vehicle: vehicle 7 (detected, masked in scan 1)
+ * stands at (5000, 0). Track 14 at (5000, 100) has hit 102 of vehicle 7:
+ * unassociated (7 is no truth of the scan), and within the gate (100 m of
+ * 500) of a vehicle the radar could not see: unseen. Track 15 at
+ * (5600, 0), also with hit 102, is 600 m from it: not unseen. With track
+ * 10 (vehicle 5): N = 3, NA = 1, spuriousness 2/3, of it unseen 1/3. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -178,7 +185,7 @@ static void test_one_scan (void **state)
     assert_non_null (o);
     const char *json = json_object_to_json_string_ext (o, JSON_C_TO_STRING_PLAIN);
     assert_non_null (strstr (json, "{\"scans\":1,\"gospa_m\":354.8239,"));
-    assert_non_null (strstr (json, "\"spuriousness\":0.5000"));
+    assert_non_null (strstr (json, "\"spuriousness\":0.5000,\"spuriousness_unseen\":0.0000,"));
     assert_non_null (strstr (json, "\"false_tracks_per_hour\":null,\"id_completeness\":1.0000,"
                                    "\"id_correctness\":1.0000,\"id_wrong_fraction\":0.0000,"
                                    "\"id_hostile_marked\":0}"));
@@ -216,7 +223,8 @@ static void test_hostile_marked (void **state)
     ms_metrics_print (m, f);
     assert_int_equal (fclose (f), 0);
     assert_non_null (
-        strstr (text, "\n  completeness      1.000  ambiguity 1.000  spuriousness 0.500\n"));
+        strstr (text, "\n  completeness      1.000  ambiguity 1.000  spuriousness 0.500 (0.000 "
+                      "tracks of vehicles the radar could not see)\n"));
     assert_non_null (strstr (text,
                              "\n  identification    ID completeness nan  ID correctness 0.000  "
                              "ID wrong 1.000; hostile marked friendly 1 (track-scans)\n"));
@@ -225,9 +233,95 @@ static void test_hostile_marked (void **state)
     free (ic);
 }
 
+/* A confirmed track of radar 1's scan 1 at (e, n) whose history holds hit_id. */
+static void s_track_at (Cgs__Track *t, Cgs__Enu *pos, Cgs__TrackHistoryPoint *hp,
+                        Cgs__TrackHistoryPoint **hpp, uint32_t id, double e, double n,
+                        uint32_t hit_id)
+{
+    cgs__track__init (t);
+    cgs__enu__init (pos);
+    cgs__track_history_point__init (hp);
+    pos->east_m = e;
+    pos->north_m = n;
+    hp->hit_id = hit_id;
+    *hpp = hp;
+    t->track_id = id;
+    t->uav_id = 1;
+    t->position = pos;
+    t->status = CGS__TRACK_STATUS__TRACK_STATUS_COASTING;
+    t->n_history = 1;
+    t->history = hpp;
+}
+
+static void test_unseen_vehicle (void **state)
+{
+    (void)state;
+    ms_icpt_t *ic;
+    ms_metrics_t *m = s_metrics (&ic, CGS__FORCE__FORCE_HOSTILE, false);
+    Cgs__Enu p = CGS__ENU__INIT;
+    Cgs__EnuVelocity v = CGS__ENU_VELOCITY__INIT;
+    p.east_m = 5000;
+    Cgs__Entity en = CGS__ENTITY__INIT, *ep = &en;
+    en.entity_id = 7;
+    en.position = &p;
+    en.velocity = &v;
+    en.active = true;
+    en.kind = CGS__ENTITY_KIND__ENTITY_KIND_TRACKED;
+    en.force = CGS__FORCE__FORCE_HOSTILE;
+    Cgs__EntityBatch eb = CGS__ENTITY_BATCH__INIT;
+    eb.n_entities = 1;
+    eb.entities = &ep;
+    Cgs__Header h = CGS__HEADER__INIT;
+    h.sim_time_s = 9.5;
+    ms_metrics_on_entity (m, "entity", &eb.base, &h);
+
+    Cgs__Track t[3], *tp[3];
+    Cgs__Enu pos[3];
+    Cgs__TrackHistoryPoint hp[3], *hpp[3];
+    s_track_at (&t[0], &pos[0], &hp[0], &hpp[0], 10, 1005, 30, 101);
+    s_track_at (&t[1], &pos[1], &hp[1], &hpp[1], 14, 5000, 100, 102);
+    s_track_at (&t[2], &pos[2], &hp[2], &hpp[2], 15, 5600, 0, 102);
+    for (int i = 0; i < 3; i++)
+        tp[i] = &t[i];
+    Cgs__TrackBatch b = CGS__TRACK_BATCH__INIT;
+    b.uav_id = 1;
+    b.scan_number = 1;
+    b.batch_count = 1;
+    b.n_tracks = 3;
+    b.tracks = tp;
+    h.sim_time_s = 10.0;
+    ms_metrics_on_track (m, "track", &b.base, &h);
+
+    ms_siap_result_t r;
+    ms_siap_result (ms_metrics_siap (m), &r);
+    assert_int_equal (r.track_scans, 3);
+    assert_int_equal (r.associated_track_scans, 1);
+    assert_int_equal (r.unseen_track_scans, 1);
+    assert_true (fabs (r.spuriousness - 2.0 / 3) < 1e-12);
+    assert_true (fabs (r.spuriousness_unseen - 1.0 / 3) < 1e-12);
+    json_object *o = ms_metrics_json (m);
+    assert_non_null (o);
+    assert_non_null (strstr (json_object_to_json_string_ext (o, JSON_C_TO_STRING_PLAIN),
+                             "\"spuriousness\":0.6667,\"spuriousness_unseen\":0.3333,"));
+    json_object_put (o);
+    char *text = NULL;
+    size_t len = 0;
+    FILE *f = open_memstream (&text, &len);
+    assert_non_null (f);
+    ms_metrics_print (m, f);
+    assert_int_equal (fclose (f), 0);
+    assert_non_null (strstr (text, "  spuriousness 0.667 (0.333 tracks of vehicles the radar "
+                                   "could not see)\n"));
+    free (text);
+    assert_int_equal (ms_metrics_failures (m), 0);
+    ms_metrics_destroy (&m);
+    free (ic);
+}
+
 int main (void)
 {
     const struct CMUnitTest tests[] = {cmocka_unit_test (test_one_scan),
-                                       cmocka_unit_test (test_hostile_marked)};
+                                       cmocka_unit_test (test_hostile_marked),
+                                       cmocka_unit_test (test_unseen_vehicle)};
     return cmocka_run_group_tests (tests, NULL, NULL);
 }
