@@ -4,6 +4,7 @@
 #include "cgs_topics.h"
 
 #include <errno.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -170,6 +171,9 @@ struct cgs_pub {
     size_t last;  // index of the last topic used (cache)
     uint8_t *buf; // encode buffer, grown as needed
     size_t bufcap;
+    cgs_seal_key_t *seal; // the group key, NULL: in the clear
+    uint8_t *sbuf;        // sealing buffer, grown as needed
+    size_t sbufcap;
     uint64_t sent, drops;
 };
 
@@ -213,8 +217,49 @@ void cgs_pub_destroy (cgs_pub_t **self_p)
         zmq_close (self->socket);
     free (self->topics);
     free (self->buf);
+    free (self->sbuf);
+    if (self->seal)
+        explicit_bzero (self->seal, sizeof *self->seal);
+    free (self->seal);
     free (self);
     *self_p = NULL;
+}
+
+/* A copy of key in *slot (freed and cleared when key is NULL); 0 or -ENOMEM. */
+static int s_set_key (cgs_seal_key_t **slot, const cgs_seal_key_t *key)
+{
+    if (!key) {
+        if (*slot)
+            explicit_bzero (*slot, sizeof **slot);
+        free (*slot);
+        *slot = NULL;
+        return 0;
+    }
+    if (!*slot && !(*slot = malloc (sizeof **slot)))
+        return -ENOMEM;
+    **slot = *key;
+    return 0;
+}
+
+/* Grow *buf to at least n bytes; 0 or -ENOMEM. */
+static int s_grow (uint8_t **buf, size_t *cap, size_t n)
+{
+    if (n <= *cap)
+        return 0;
+    size_t c = *cap ? *cap : 4096;
+    while (c < n)
+        c *= 2;
+    uint8_t *b = realloc (*buf, c);
+    if (!b)
+        return -ENOMEM;
+    *buf = b;
+    *cap = c;
+    return 0;
+}
+
+int cgs_pub_set_seal (cgs_pub_t *self, const cgs_seal_key_t *key)
+{
+    return s_set_key (&self->seal, key);
 }
 
 void cgs_pub_set_hwm (cgs_pub_t *self, int messages)
@@ -318,6 +363,21 @@ int cgs_pub_send (cgs_pub_t *self, const char *topic, ProtobufCMessage *msg, dou
     int rc = cgs_msg_encode_stamped_grow (msg, &h, &self->buf, &self->bufcap, &len);
     if (rc < 0)
         return rc;
+    const uint8_t *out = self->buf;
+    if (self->seal) {
+        cgs_seal_header_t sh = {.exercise_id = h.exercise_id,
+                                .epoch = h.epoch,
+                                .seq = h.seq,
+                                .wall_time_s = h.wall_time_s};
+        snprintf (sh.source, sizeof sh.source, "%s", self->source);
+        size_t sealed = 0;
+        if ((rc = s_grow (&self->sbuf, &self->sbufcap, cgs_seal_size (len, sh.source))) < 0 ||
+            (rc = cgs_seal (self->seal, topic, &sh, self->buf, len, self->sbuf, self->sbufcap,
+                            &sealed)) < 0)
+            return rc;
+        out = self->sbuf;
+        len = sealed;
+    }
 
     size_t tlen = strlen (topic);
     int flags = self->block_ms > 0 ? 0 : ZMQ_DONTWAIT;
@@ -330,7 +390,7 @@ int cgs_pub_send (cgs_pub_t *self, const char *topic, ProtobufCMessage *msg, dou
         return -e;
     }
     // The first frame was accepted, so the rest of the message will be too.
-    if (zmq_send (self->socket, self->buf, len, 0) < 0)
+    if (zmq_send (self->socket, out, len, 0) < 0)
         return -zmq_errno ();
     t->stats.messages++;
     self->sent++;
@@ -339,10 +399,14 @@ int cgs_pub_send (cgs_pub_t *self, const char *topic, ProtobufCMessage *msg, dou
 
 /* ---- subscriber ----------------------------------------------------------------- */
 
+#define S_RETIRED 4 // epochs a source has left, remembered to refuse their replay
+
 typedef struct {
     char source[S_SOURCE_MAX];
     uint64_t epoch;
     uint64_t seq;
+    uint64_t retired[S_RETIRED]; // epochs it has left, newest at retired[(nretired-1) % S_RETIRED]
+    size_t nretired;
 } s_source_t;
 
 typedef struct {
@@ -365,6 +429,10 @@ struct cgs_sub {
     Cgs__Header hdr;      // header of the message being handled
     char hdr_source[S_SOURCE_MAX];
     uint64_t received, malformed_unrouted;
+    cgs_seal_key_t *seal;   // the group key: only sealed payloads; NULL: only clear ones
+    double replay_window_s; // sealed: refuse what was sent longer ago than this (0: no limit)
+    uint8_t *obuf;          // opened payloads, grown as needed
+    size_t obufcap;
 };
 
 cgs_sub_t *cgs_sub_new (void *ctx)
@@ -405,6 +473,8 @@ void cgs_sub_destroy (cgs_sub_t **self_p)
         free (self->topics[i].sources);
     free (self->topics);
     cgs_msg_arena_destroy (&self->arena);
+    s_set_key (&self->seal, NULL);
+    free (self->obuf);
     free (self);
     *self_p = NULL;
 }
@@ -425,6 +495,12 @@ uint64_t cgs_sub_foreign (const cgs_sub_t *self)
     for (size_t i = 0; i < self->ntopics; i++)
         n += self->topics[i].stats.foreign;
     return n;
+}
+
+int cgs_sub_set_seal (cgs_sub_t *self, const cgs_seal_key_t *key, double replay_window_s)
+{
+    self->replay_window_s = replay_window_s > 0 ? replay_window_s : 0;
+    return s_set_key (&self->seal, key);
 }
 
 int cgs_sub_connect (cgs_sub_t *self, const char *endpoint)
@@ -504,6 +580,14 @@ uint64_t cgs_sub_restarts (const cgs_sub_t *self)
 {
     S_SUM (restarts);
 }
+uint64_t cgs_sub_unauthenticated (const cgs_sub_t *self)
+{
+    S_SUM (unauthenticated);
+}
+uint64_t cgs_sub_replayed (const cgs_sub_t *self)
+{
+    S_SUM (replayed);
+}
 uint64_t cgs_sub_malformed (const cgs_sub_t *self)
 {
     uint64_t n = self->malformed_unrouted;
@@ -520,7 +604,44 @@ static s_sub_topic_t *s_sub_route (cgs_sub_t *self, const void *data, size_t len
     return NULL;
 }
 
-typedef enum { S_SEQ_DELIVER, S_SEQ_STALE, S_SEQ_FAIL, S_SEQ_FOREIGN } s_seq_t;
+typedef enum { S_SEQ_DELIVER, S_SEQ_STALE, S_SEQ_FAIL, S_SEQ_FOREIGN, S_SEQ_FORGED } s_seq_t;
+
+/* On a sealed bus, open *data[*size] in place of it (into self->obuf), its
+ * clear header into *sh; a payload that is not sealed, fails authentication
+ * or was sent outside the replay window is counted and refused (-1). On a
+ * clear bus a sealed payload cannot be read: counted and refused. */
+static int s_sub_open (cgs_sub_t *self, s_sub_topic_t *t, const uint8_t **data, size_t *size,
+                       cgs_seal_header_t *sh)
+{
+    bool sealed = cgs_seal_is_sealed (*data, *size);
+    if (!self->seal) {
+        if (sealed)
+            t->stats.unauthenticated++;
+        return sealed ? -1 : 0;
+    }
+    size_t n = 0;
+    if (!sealed || s_grow (&self->obuf, &self->obufcap, *size) < 0 ||
+        cgs_seal_open (self->seal, t->stats.topic, *data, *size, sh, self->obuf, self->obufcap,
+                       &n) < 0) {
+        t->stats.unauthenticated++;
+        return -1;
+    }
+    if (self->replay_window_s > 0 &&
+        !(fabs (cgs_bus_wall_time () - sh->wall_time_s) <= self->replay_window_s)) {
+        t->stats.replayed++;
+        return -1;
+    }
+    *data = self->obuf;
+    *size = n;
+    return 0;
+}
+
+/* The decoded header says what the authenticated clear one says. */
+static bool s_same_header (const Cgs__Header *h, const cgs_seal_header_t *sh)
+{
+    return h->exercise_id == sh->exercise_id && h->epoch == sh->epoch && h->seq == sh->seq &&
+           strcmp (h->source ? h->source : "", sh->source) == 0;
+}
 
 /* Account for a header's sequence number: deliver, drop a repeat, or fail. */
 static s_seq_t s_sub_sequence (s_sub_topic_t *t, const Cgs__Header *h)
@@ -551,6 +672,13 @@ static s_seq_t s_sub_sequence (s_sub_topic_t *t, const Cgs__Header *h)
         return S_SEQ_DELIVER;
     }
     if (s->epoch != h->epoch) {
+        // An epoch the source has left: an old message repeated, not a restart.
+        for (size_t i = 0; i < s->nretired && i < S_RETIRED; i++)
+            if (s->retired[i] == h->epoch) {
+                t->stats.stale++;
+                return S_SEQ_STALE;
+            }
+        s->retired[s->nretired++ % S_RETIRED] = s->epoch;
         // A restarted publisher numbers from 1: what came before this one was missed.
         t->stats.restarts++;
         if (h->seq > 1)
@@ -592,19 +720,33 @@ int cgs_sub_dispatch (cgs_sub_t *self, int max)
         s_sub_topic_t *t = s_sub_route (self, zmq_msg_data (&topic), zmq_msg_size (&topic));
         if (!t)
             continue; // a longer topic that shares our prefix
+        const uint8_t *data = zmq_msg_data (&payload);
+        size_t size = zmq_msg_size (&payload);
+        cgs_seal_header_t sh;
+        if (!extra && s_sub_open (self, t, &data, &size, &sh) < 0)
+            continue; // counted
         ProtobufCMessage *m = NULL;
         const Cgs__Header *h = NULL;
         s_seq_t verdict = S_SEQ_FAIL;
         if (!extra &&
-            cgs_msg_decode_stamped (t->desc, zmq_msg_data (&payload), zmq_msg_size (&payload),
-                                    self->arena, &self->hdr, self->hdr_source,
+            cgs_msg_decode_stamped (t->desc, data, size, self->arena, &self->hdr, self->hdr_source,
                                     sizeof self->hdr_source, &m) == 0 &&
-            (h = cgs_msg_header (m)) != NULL)
-            verdict = self->exercise_id && h->exercise_id != self->exercise_id
-                          ? S_SEQ_FOREIGN
-                          : s_sub_sequence (t, h);
+            (h = cgs_msg_header (m)) != NULL) {
+            if (self->seal && !s_same_header (h, &sh))
+                verdict = S_SEQ_FORGED;
+            else if (self->exercise_id && h->exercise_id != self->exercise_id)
+                verdict = S_SEQ_FOREIGN;
+            else
+                verdict = s_sub_sequence (t, h);
+        }
         if (verdict == S_SEQ_FOREIGN)
             t->stats.foreign++;
+        if (verdict == S_SEQ_FORGED)
+            t->stats.unauthenticated++;
+        if (verdict == S_SEQ_STALE && self->seal) {
+            t->stats.stale--; // counted as what it is on a sealed bus
+            t->stats.replayed++;
+        }
         if (verdict != S_SEQ_DELIVER) {
             if (verdict == S_SEQ_FAIL)
                 t->stats.malformed++;

@@ -9,6 +9,7 @@
 #define CGS_BUS_H
 
 #include "cgs_msg.h"
+#include "cgs_seal.h"
 #include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
@@ -20,13 +21,16 @@
 /* Traffic on one topic. */
 typedef struct {
     char topic[CGS_TOPIC_MAX];
-    uint64_t messages;  // sent, or received and handled
-    uint64_t drops;     // outbound: refused at the high-water mark
-    uint64_t gaps;      // inbound: messages missed, by sequence number
-    uint64_t malformed; // inbound: payloads that failed to decode
-    uint64_t restarts;  // inbound: publisher epochs that changed
-    uint64_t stale;     // inbound: repeated or out-of-order sequence numbers
-    uint64_t foreign;   // inbound: from another exercise (dropped)
+    uint64_t messages;        // sent, or received and handled
+    uint64_t drops;           // outbound: refused at the high-water mark
+    uint64_t gaps;            // inbound: messages missed, by sequence number
+    uint64_t malformed;       // inbound: payloads that failed to decode
+    uint64_t restarts;        // inbound: publisher epochs that changed
+    uint64_t stale;           // inbound: repeated or out-of-order sequence numbers
+    uint64_t foreign;         // inbound: from another exercise (dropped)
+    uint64_t unauthenticated; // inbound, sealed bus: failed authentication, or not sealed
+    uint64_t replayed;        // inbound, sealed bus: an (epoch, seq) seen before, a retired
+                              // epoch, or sent longer ago than the replay window (dropped)
 } cgs_topic_stats_t;
 
 /* ---- publisher ------------------------------------------------------------------ */
@@ -54,6 +58,9 @@ int cgs_pub_bind (cgs_pub_t *self, const char *endpoint);
  * in blocking mode (counted; the sequence number is used, so subscribers see
  * the gap); -EINVAL if the type has no header or the topic is bad. */
 int cgs_pub_send (cgs_pub_t *self, const char *topic, ProtobufCMessage *msg, double sim_time_s);
+/* Seal every payload from now on under key (cgs_seal: XChaCha20-Poly1305,
+ * the header as associated data); NULL: send in the clear. 0 or -ENOMEM. */
+int cgs_pub_set_seal (cgs_pub_t *self, const cgs_seal_key_t *key);
 /* The publisher's epoch. */
 uint64_t cgs_pub_epoch (const cgs_pub_t *self);
 /* The underlying socket, for options such as CURVE before bind. */
@@ -85,6 +92,16 @@ void cgs_sub_set_hwm (cgs_sub_t *self, int messages);
 void cgs_sub_set_exercise (cgs_sub_t *self, uint32_t exercise_id);
 /* Messages dropped because they came from another exercise. */
 uint64_t cgs_sub_foreign (const cgs_sub_t *self);
+/* Accept only payloads sealed under key (NULL: only clear ones; a sealed
+ * payload is then unreadable and counted as unauthenticated), and, when
+ * replay_window_s > 0, only those sent at most that long before (or after)
+ * this machine's clock says (their wall time is authenticated). Whatever
+ * fails authentication, or repeats an (epoch, seq) of its source and topic,
+ * or belongs to an epoch that source has left, is dropped and counted
+ * (unauthenticated, replayed); no handler sees it. 0 or -ENOMEM. */
+int cgs_sub_set_seal (cgs_sub_t *self, const cgs_seal_key_t *key, double replay_window_s);
+uint64_t cgs_sub_unauthenticated (const cgs_sub_t *self);
+uint64_t cgs_sub_replayed (const cgs_sub_t *self);
 /* Connect to one more publisher; 0 or -errno. */
 int cgs_sub_connect (cgs_sub_t *self, const char *endpoint);
 /* Subscribe to a catalogue topic (cgs_topics) with its handler; 0, -ENOENT for

@@ -1,5 +1,6 @@
 /* Unit tests of cgs_msg and cgs_bus: JSON printing, the arena, header
- * stamping, exact topic routing, gap and restart counting, malformed payloads. */
+ * stamping, exact topic routing, gap and restart counting, malformed payloads,
+ * the sealed bus (forgery and replay refused). */
 #include "cgs_bus.h"
 #include "cgs_topics.h"
 
@@ -452,6 +453,184 @@ static void test_slow_subscriber_counts_its_losses (void **state)
     zmq_ctx_term (ctx);
 }
 
+/* One message a raw socket received: its topic and payload. */
+typedef struct {
+    char topic[32];
+    uint8_t data[512];
+    size_t len;
+} s_frame_t;
+
+static void s_tap (void *tap, s_frame_t *f, size_t n)
+{
+    for (size_t i = 0; i < n; i++) {
+        int t = zmq_recv (tap, f[i].topic, sizeof f[i].topic - 1, 0);
+        assert_true (t > 0);
+        f[i].topic[t] = '\0';
+        int len = zmq_recv (tap, f[i].data, sizeof f[i].data, 0);
+        assert_true (len > 0);
+        f[i].len = (size_t)len;
+    }
+}
+
+static void s_raw_send (void *raw, const s_frame_t *f)
+{
+    zmq_send (raw, f->topic, strlen (f->topic), ZMQ_SNDMORE);
+    zmq_send (raw, f->data, f->len, 0);
+}
+
+/* Poll sub until its count *counter reaches want (or 1 s). */
+static void s_until (cgs_sub_t *sub, uint64_t (*counter) (const cgs_sub_t *), uint64_t want)
+{
+    for (int i = 0; i < 100 && counter (sub) < want; i++)
+        cgs_sub_poll (sub, 10);
+}
+
+/* A sealed bus: the subscriber with the group key gets every message; one
+ * without a key, or with another key, gets none and counts each as
+ * unauthenticated; a captured message sent again (a replay), a changed
+ * byte, a clear payload, a message of an epoch its source has left and one
+ * sent outside the replay window are dropped and counted, and none reaches
+ * a handler. The wire never carries the payload in the clear. */
+static void test_sealed_bus_refuses_forgery_and_replay (void **state)
+{
+    (void)state;
+    cgs_seal_key_t key, other;
+    assert_int_equal (cgs_seal_key_new (&key), 0);
+    assert_int_equal (cgs_seal_key_new (&other), 0);
+    void *ctx = zmq_ctx_new ();
+    cgs_pub_t *pub = cgs_pub_new (ctx, "uavsim", 5);
+    assert_int_equal (cgs_pub_set_seal (pub, &key), 0);
+    assert_int_equal (cgs_pub_bind (pub, "inproc://s1"), 0);
+    void *tap = zmq_socket (ctx, ZMQ_SUB);
+    assert_int_equal (zmq_connect (tap, "inproc://s1"), 0);
+    zmq_setsockopt (tap, ZMQ_SUBSCRIBE, "clock", 5);
+    void *raw = zmq_socket (ctx, ZMQ_PUB);
+    assert_int_equal (zmq_bind (raw, "inproc://s2"), 0);
+    cgs_sub_t *good = cgs_sub_new (ctx), *clear = cgs_sub_new (ctx), *wrong = cgs_sub_new (ctx);
+    assert_int_equal (cgs_sub_set_seal (good, &key, 30), 0);
+    assert_int_equal (cgs_sub_set_seal (wrong, &other, 30), 0);
+    s_rx_t rx = {0}, rx_clear = {0}, rx_wrong = {0};
+    assert_int_equal (cgs_sub_on (good, "clock", s_on_clock, &rx), 0);
+    assert_int_equal (cgs_sub_on (clear, "clock", s_on_clock, &rx_clear), 0);
+    assert_int_equal (cgs_sub_on (wrong, "clock", s_on_clock, &rx_wrong), 0);
+    cgs_sub_set_exercise (good, 5);
+    assert_int_equal (cgs_sub_connect (good, "inproc://s1"), 0);
+    assert_int_equal (cgs_sub_connect (good, "inproc://s2"), 0);
+    assert_int_equal (cgs_sub_connect (clear, "inproc://s1"), 0);
+    assert_int_equal (cgs_sub_connect (wrong, "inproc://s1"), 0);
+    usleep (50000);
+
+    Cgs__Clock c = CGS__CLOCK__INIT;
+    s_frame_t f[10];
+    for (int i = 1; i <= 10; i++) {
+        c.tick = (uint64_t)i;
+        assert_int_equal (cgs_pub_send (pub, "clock", &c.base, i), 0);
+    }
+    s_tap (tap, f, 10);
+    s_drain (good, 10, &rx);
+    assert_int_equal (rx.n, 10);
+    assert_int_equal (rx.tick_sum, 55);
+    assert_string_equal (rx.source, "uavsim");
+    s_until (clear, cgs_sub_unauthenticated, 10);
+    s_until (wrong, cgs_sub_unauthenticated, 10);
+    assert_int_equal (cgs_sub_unauthenticated (clear), 10);
+    assert_int_equal (cgs_sub_unauthenticated (wrong), 10);
+    assert_int_equal (rx_clear.n + rx_wrong.n, 0);
+    assert_int_equal (cgs_sub_malformed (clear) + cgs_sub_malformed (wrong), 0);
+    for (int i = 0; i < 10; i++)
+        assert_true (cgs_seal_is_sealed (f[i].data, f[i].len));
+
+    // A replay of message 5, then of message 10 (the newest): both refused.
+    s_raw_send (raw, &f[4]);
+    s_raw_send (raw, &f[9]);
+    s_until (good, cgs_sub_replayed, 2);
+    assert_int_equal (cgs_sub_replayed (good), 2);
+    // A changed byte (in the ciphertext, in the clear sequence number).
+    s_frame_t t = f[9];
+    t.data[t.len - 20] ^= 1;
+    s_raw_send (raw, &t);
+    t = f[9];
+    t.data[24] ^= 1; // the sequence number's low byte: 10 becomes 11
+    s_raw_send (raw, &t);
+    // A clear payload with a fresh header.
+    Cgs__Header h = CGS__HEADER__INIT;
+    h.source = "uavsim";
+    h.exercise_id = 5;
+    h.epoch = cgs_pub_epoch (pub);
+    h.seq = 11;
+    c.header = &h;
+    s_frame_t plain = {.topic = "clock"};
+    plain.len = cgs_msg_encode (&c.base, plain.data);
+    c.header = NULL;
+    s_raw_send (raw, &plain);
+    s_until (good, cgs_sub_unauthenticated, 3);
+    assert_int_equal (cgs_sub_unauthenticated (good), 3);
+    assert_int_equal (rx.n, 10);
+
+    // The publisher restarts (a new epoch); then its old epoch's messages
+    // come again, the newest first: refused as replays, not a restart.
+    cgs_pub_destroy (&pub);
+    pub = cgs_pub_new (ctx, "uavsim", 5);
+    assert_int_equal (cgs_pub_set_seal (pub, &key), 0);
+    assert_int_equal (cgs_pub_bind (pub, "inproc://s3"), 0);
+    assert_int_equal (cgs_sub_connect (good, "inproc://s3"), 0);
+    usleep (50000);
+    for (int i = 0; i < 200 && rx.n < 11; i++) {
+        cgs_pub_send (pub, "clock", &c.base, 0);
+        cgs_sub_poll (good, 5);
+    }
+    cgs_sub_poll (good, 20);
+    uint64_t delivered = rx.n;
+    assert_true (delivered >= 11);
+    assert_int_equal (cgs_sub_restarts (good), 1);
+    s_raw_send (raw, &f[9]);
+    s_raw_send (raw, &f[2]);
+    s_until (good, cgs_sub_replayed, 4);
+    assert_int_equal (cgs_sub_replayed (good), 4);
+    assert_int_equal (cgs_sub_restarts (good), 1);
+
+    // Sealed with the key but sent 100 s ago (another source, so no sequence
+    // rule applies): outside the 30 s window.
+    cgs_seal_header_t sh = {
+        .exercise_id = 5, .epoch = 77, .seq = 1, .wall_time_s = cgs_bus_wall_time () - 100};
+    snprintf (sh.source, sizeof sh.source, "bcisd.uav1");
+    h.source = sh.source;
+    h.epoch = 77;
+    h.seq = 1;
+    h.wall_time_s = sh.wall_time_s;
+    c.header = &h;
+    uint8_t inner[256];
+    size_t n = cgs_msg_encode (&c.base, inner);
+    c.header = NULL;
+    s_frame_t old = {.topic = "clock"};
+    assert_int_equal (cgs_seal (&key, "clock", &sh, inner, n, old.data, sizeof old.data, &old.len),
+                      0);
+    s_raw_send (raw, &old);
+    s_until (good, cgs_sub_replayed, 5);
+    assert_int_equal (cgs_sub_replayed (good), 5);
+    // The same, sent now: taken.
+    sh.wall_time_s = h.wall_time_s = cgs_bus_wall_time ();
+    c.header = &h;
+    n = cgs_msg_encode (&c.base, inner);
+    c.header = NULL;
+    assert_int_equal (cgs_seal (&key, "clock", &sh, inner, n, old.data, sizeof old.data, &old.len),
+                      0);
+    s_raw_send (raw, &old);
+    s_drain (good, (int)delivered + 1, &rx);
+    assert_int_equal (rx.n, delivered + 1);
+    assert_string_equal (rx.source, "bcisd.uav1");
+    assert_int_equal (cgs_sub_malformed (good), 0);
+    assert_int_equal (cgs_sub_unauthenticated (good), 3);
+
+    cgs_sub_destroy (&good);
+    cgs_sub_destroy (&clear);
+    cgs_sub_destroy (&wrong);
+    cgs_pub_destroy (&pub);
+    zmq_close (tap);
+    zmq_close (raw);
+    zmq_ctx_term (ctx);
+}
+
 static void test_prepare_endpoint_creates_ipc_folder (void **state)
 {
     (void)state;
@@ -489,6 +668,7 @@ int main (void)
         cmocka_unit_test (test_malformed_payloads_are_counted_and_dropped),
         cmocka_unit_test (test_gaps_and_restarts_are_counted),
         cmocka_unit_test (test_slow_subscriber_counts_its_losses),
+        cmocka_unit_test (test_sealed_bus_refuses_forgery_and_replay),
         cmocka_unit_test (test_prepare_endpoint_creates_ipc_folder),
     };
     return cmocka_run_group_tests (tests, NULL, NULL);
