@@ -139,6 +139,19 @@ int cgs_bus_set_liveness (void *socket)
     return 0;
 }
 
+int cgs_bus_set_multicast (void *socket, int rate_kbps, int recovery_ms, int hops)
+{
+    const int opts[][2] = {
+        {ZMQ_RATE, rate_kbps},
+        {ZMQ_RECOVERY_IVL, recovery_ms},
+        {ZMQ_MULTICAST_HOPS, hops},
+    };
+    for (size_t i = 0; i < sizeof opts / sizeof opts[0]; i++)
+        if (zmq_setsockopt (socket, opts[i][0], &opts[i][1], sizeof opts[i][1]) < 0)
+            return -zmq_errno ();
+    return 0;
+}
+
 /* A new epoch: 32 random bits (a short varint on the wire; two starts of one
  * publisher share an epoch with odds of one in four billion). */
 static uint64_t s_new_epoch (void)

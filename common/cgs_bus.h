@@ -133,6 +133,11 @@ uint64_t cgs_sub_restarts (const cgs_sub_t *self);
  * before bind or connect. Every publisher and subscriber has them, and
  * every command client and server (cgs_cmd); 0 or -errno. */
 int cgs_bus_set_liveness (void *socket);
+/* The epgm transport's options on a socket, before it binds or connects a
+ * multicast endpoint: ZMQ_RATE (kbit/s), ZMQ_RECOVERY_IVL (ms),
+ * ZMQ_MULTICAST_HOPS. NORM takes none of them in libzmq 4.3 (it runs its
+ * own congestion control, with a TTL of 255). 0 or -errno. */
+int cgs_bus_set_multicast (void *socket, int rate_kbps, int recovery_ms, int hops);
 /* Wall-clock time now, Unix seconds. */
 double cgs_bus_wall_time (void);
 /* Create the folder an ipc:// endpoint's path lives in; 0 or -errno. */

@@ -13,6 +13,7 @@
 
 #include "cgs_topics.h"
 
+#include <arpa/inet.h>
 #include <assert.h>
 #include <ctype.h>
 #include <errno.h>
@@ -38,6 +39,8 @@ struct cgs_exercise {
     char *scenario;  // absolute, "" when none
     cgs_instance_t *instances;
     size_t count;
+    cgs_bus_params_t bus; // [bus]
+    bool multicast;       // some instance publishes on multicast
 };
 
 #define S_SERVICE  "service"
@@ -232,6 +235,83 @@ static int s_load_exercise (cgs_exercise_t *self, char *err, size_t errlen)
     return 0;
 }
 
+// An interface name or address: no spaces, ';' or ','; "" when absent.
+static int s_get_interface (cgs_exercise_t *self, const char *section, char *buf, char *err,
+                            size_t errlen)
+{
+    const char *v;
+    int rc = cgs_config_get_string (self->config, section, "interface", "", &v, err, errlen);
+    if (rc < 0)
+        return rc;
+    if (strlen (v) >= CGS_NAME_MAX || strcspn (v, " \t;,:/") != strlen (v))
+        return cgs_config_error (self->config, section, "interface", 0, err, errlen,
+                                 "expected a network interface's name (eth0) or IPv4 address, "
+                                 "got '%s'",
+                                 v);
+    strcpy (buf, v);
+    return 0;
+}
+
+/* "A.B.C.D:PORT" with A.B.C.D an IPv4 multicast group (224.0.0.0/4) and PORT
+ * 1..65535; into *group (host order) and *port. */
+static bool s_parse_group (const char *s, uint32_t *group, long *port)
+{
+    const char *colon = strrchr (s, ':');
+    char addr[32];
+    if (!colon || (size_t)(colon - s) >= sizeof addr)
+        return false;
+    memcpy (addr, s, (size_t)(colon - s));
+    addr[colon - s] = '\0';
+    struct in_addr in;
+    char *end;
+    long p = strtol (colon + 1, &end, 10);
+    if (inet_pton (AF_INET, addr, &in) != 1 || *end || end == colon + 1 || p < 1 || p > 65535)
+        return false;
+    *group = ntohl (in.s_addr);
+    *port = p;
+    return (*group >> 28) == 0xE;
+}
+
+/* `multicast = SCHEME://[IFACE;]GROUP:PORT` or `no` (no multicast even when
+ * [bus] transport gives one). The interface, when given, is this instance's. */
+static int s_get_multicast (cgs_exercise_t *self, const char *sec, cgs_instance_t *inst, char *err,
+                            size_t errlen)
+{
+    const char *v;
+    int rc = cgs_config_get_string (self->config, sec, "multicast", "", &v, err, errlen);
+    if (rc < 0 || !*v)
+        return rc;
+    if (strcmp (v, "no") == 0) {
+        strcpy (inst->mcast_scheme, "no");
+        return 0;
+    }
+    static const char *const schemes[] = {"norm", "epgm"};
+    for (size_t i = 0; i < 2; i++) {
+        size_t n = strlen (schemes[i]);
+        if (strncmp (v, schemes[i], n) != 0 || strncmp (v + n, "://", 3) != 0)
+            continue;
+        const char *rest = v + n + 3, *semi = strchr (rest, ';');
+        if (semi) {
+            if ((size_t)(semi - rest) >= sizeof inst->interface || semi == rest)
+                break;
+            snprintf (inst->interface, sizeof inst->interface, "%.*s", (int)(semi - rest), rest);
+            rest = semi + 1;
+        }
+        uint32_t g;
+        long port;
+        if (!s_parse_group (rest, &g, &port))
+            break;
+        strcpy (inst->mcast_scheme, schemes[i]);
+        snprintf (inst->mcast_group, sizeof inst->mcast_group, "%s", rest);
+        return 0;
+    }
+    return cgs_config_error (self->config, sec, "multicast", 0, err, errlen,
+                             "expected norm://[IFACE;]GROUP:PORT, epgm://[IFACE;]GROUP:PORT "
+                             "(GROUP an IPv4 multicast address, 224.0.0.0 to 239.255.255.255) "
+                             "or no, got '%s'",
+                             v);
+}
+
 // One [service NAME] section, the i-th of the file, into inst.
 static int s_load_instance (cgs_exercise_t *self, size_t i, cgs_instance_t *inst, char *err,
                             size_t errlen)
@@ -302,6 +382,12 @@ static int s_load_instance (cgs_exercise_t *self, size_t i, cgs_instance_t *inst
         return rc;
     inst->hwm = (int)hwm;
     rc = cgs_config_get_bool (cfg, sec, "enabled", true, &inst->enabled, err, errlen);
+    if (rc < 0)
+        return rc;
+    rc = s_get_interface (self, sec, inst->interface, err, errlen);
+    if (rc < 0)
+        return rc;
+    rc = s_get_multicast (self, sec, inst, err, errlen);
     if (rc < 0)
         return rc;
     if (!*inst->publish)
@@ -437,6 +523,127 @@ static int s_load_curve (cgs_exercise_t *self, char *err, size_t errlen)
     return 0;
 }
 
+/* The [bus] section, then each instance's multicast endpoint (derived from
+ * transport, group and port where the instance gives none) and interface. */
+static int s_load_bus (cgs_exercise_t *self, char *err, size_t errlen)
+{
+    cgs_config_t *cfg = self->config;
+    const char *sec = "bus";
+    cgs_bus_params_t *b = &self->bus;
+    const char *v;
+    int rc = cgs_config_get_string (cfg, sec, "transport", "tcp", &v, err, errlen);
+    if (rc < 0)
+        return rc;
+    if (strcmp (v, "norm") && strcmp (v, "epgm") && strcmp (v, "tcp") && strcmp (v, "ipc"))
+        return cgs_config_error (cfg, sec, "transport", 0, err, errlen,
+                                 "expected norm, epgm, tcp or ipc, got '%s'", v);
+    snprintf (b->transport, sizeof b->transport, "%s", v);
+    bool derive = strcmp (v, "norm") == 0 || strcmp (v, "epgm") == 0;
+    rc = cgs_config_get_string (cfg, sec, "group", CGS_BUS_DEFAULT_GROUP, &v, err, errlen);
+    if (rc < 0)
+        return rc;
+    char gp[80];
+    snprintf (gp, sizeof gp, "%s:1", v);
+    uint32_t group;
+    long port;
+    if (!s_parse_group (gp, &group, &port))
+        return cgs_config_error (cfg, sec, "group", 0, err, errlen,
+                                 "expected an IPv4 multicast group (224.0.0.0 to "
+                                 "239.255.255.255), got '%s'",
+                                 v);
+    rc = cgs_config_get_int (cfg, sec, "port", CGS_BUS_DEFAULT_PORT, 1, 65535, &port, err, errlen);
+    if (rc < 0)
+        return rc;
+    char iface[CGS_NAME_MAX];
+    if ((rc = s_get_interface (self, sec, iface, err, errlen)) < 0 ||
+        (rc = s_get_path (self, sec, "key_file", b->key_file, sizeof b->key_file, err, errlen)) <
+            0 ||
+        (rc = cgs_config_get_double (cfg, sec, "replay_window_s", CGS_BUS_DEFAULT_WINDOW_S, 0,
+                                     86400, &b->replay_window_s, err, errlen)) < 0)
+        return rc;
+    long rate, recovery, hops;
+    if ((rc = cgs_config_get_int (cfg, sec, "rate_kbps", CGS_BUS_DEFAULT_RATE_KBPS, 10, 10000000,
+                                  &rate, err, errlen)) < 0 ||
+        (rc = cgs_config_get_int (cfg, sec, "recovery_ms", CGS_BUS_DEFAULT_RECOVERY, 100, 600000,
+                                  &recovery, err, errlen)) < 0 ||
+        (rc = cgs_config_get_int (cfg, sec, "hops", CGS_BUS_DEFAULT_HOPS, 1, 255, &hops, err,
+                                  errlen)) < 0)
+        return rc;
+    b->rate_kbps = (int)rate;
+    b->recovery_ms = (int)recovery;
+    b->hops = (int)hops;
+
+    size_t k = 0; // publishers given a derived endpoint so far
+    for (size_t i = 0; i < self->count; i++) {
+        cgs_instance_t *in = &self->instances[i];
+        char isec[CGS_NAME_MAX + 16];
+        snprintf (isec, sizeof isec, S_SERVICE " %s", in->name);
+        if (!*in->interface)
+            strcpy (in->interface, iface);
+        if (strcmp (in->mcast_scheme, "no") == 0) {
+            in->mcast_scheme[0] = '\0';
+            continue;
+        }
+        if (!*in->mcast_scheme && derive) {
+            uint32_t g = group + (uint32_t)k;
+            long p = port + (long)k;
+            if ((g >> 28) != 0xE || p > 65535)
+                return cgs_config_error (cfg, sec, "group", 0, err, errlen,
+                                         "too few groups or ports from here for %zu publishers "
+                                         "([service %s] is the %zu-th)",
+                                         k + 1, in->name, k + 1);
+            struct in_addr a = {.s_addr = htonl (g)};
+            char addr[INET_ADDRSTRLEN];
+            inet_ntop (AF_INET, &a, addr, sizeof addr);
+            snprintf (in->mcast_group, sizeof in->mcast_group, "%s:%ld", addr, p);
+            snprintf (in->mcast_scheme, sizeof in->mcast_scheme, "%s", b->transport);
+            k++;
+        }
+        if (!*in->mcast_scheme)
+            continue;
+        self->multicast = true;
+        for (size_t j = 0; j < i; j++)
+            if (strcmp (self->instances[j].mcast_group, in->mcast_group) == 0)
+                return cgs_config_error (cfg, isec, NULL, 0, err, errlen,
+                                         "multicast group and port %s are already [service %s]'s",
+                                         in->mcast_group, self->instances[j].name);
+    }
+    // Every instance of a multicast exercise joins groups: it needs an interface.
+    for (size_t i = 0; self->multicast && i < self->count; i++) {
+        const cgs_instance_t *in = &self->instances[i];
+        if (*in->interface)
+            continue;
+        char isec[CGS_NAME_MAX + 16];
+        snprintf (isec, sizeof isec, S_SERVICE " %s", in->name);
+        return cgs_config_error (cfg, isec, NULL, 0, err, errlen,
+                                 "the bus uses multicast but this instance has no interface "
+                                 "(give `interface =` here, or in [bus] for every instance)");
+    }
+    return 0;
+}
+
+const cgs_bus_params_t *cgs_exercise_bus (const cgs_exercise_t *self)
+{
+    return &self->bus;
+}
+
+bool cgs_exercise_uses_multicast (const cgs_exercise_t *self)
+{
+    return self->multicast;
+}
+
+bool cgs_exercise_endpoint_for (const cgs_instance_t *pub, const cgs_instance_t *local, char *buf,
+                                size_t len)
+{
+    bool mc = *pub->mcast_scheme && local && *local->interface &&
+              (local == pub || strcmp (local->host, pub->host) != 0);
+    if (mc)
+        snprintf (buf, len, "%s://%s;%s", pub->mcast_scheme, local->interface, pub->mcast_group);
+    else
+        snprintf (buf, len, "%s", pub->publish);
+    return mc;
+}
+
 int cgs_exercise_load (const char *path, cgs_exercise_t **ret_ex, char *err, size_t errlen)
 {
     assert (path && ret_ex);
@@ -455,6 +662,9 @@ int cgs_exercise_load (const char *path, cgs_exercise_t **ret_ex, char *err, siz
     if (rc < 0)
         goto fail;
     rc = s_load_curve (self, err, errlen);
+    if (rc < 0)
+        goto fail;
+    rc = s_load_bus (self, err, errlen);
     if (rc < 0)
         goto fail;
     rc = cgs_config_check_unused (self->config, err, errlen);

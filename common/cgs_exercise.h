@@ -16,6 +16,25 @@
  *   command = ipc:///tmp/mscgs/uavsim.cmd
  *   host = localhost             ; where it runs (used by deploy tooling)
  *   hwm = 100000                 ; messages queued per subscriber before loss
+ *   multicast = norm://eth0;239.192.77.1:7400   ; optional: also publish on UDP multicast
+ *   interface = eth0             ; its multicast interface (else [bus] interface)
+ *
+ *   [bus]                        ; optional: the bus over UDP multicast, and sealing
+ *   transport = norm             ; norm | epgm: every publisher gets a multicast endpoint
+ *                                ; (group + k, port + k for the k-th); tcp | ipc: none
+ *   group = 239.192.77.1         ; the first publisher's group
+ *   port = 7400                  ; the first publisher's port
+ *   interface = eth0             ; the multicast interface of every instance without one
+ *   key_file = group.key         ; seal every payload (mscgs keygen --group); none: clear
+ *   replay_window_s = 30         ; refuse sealed messages sent longer ago (0: no limit)
+ *   rate_kbps = 100000           ; epgm: the sender's rate limit
+ *   recovery_ms = 5000           ; epgm: how long a sender keeps data for repairs
+ *   hops = 1                     ; epgm: multicast TTL
+ *
+ * A subscriber takes a publisher's multicast endpoint (on its own interface)
+ * when the publisher runs on another host, and its `publish` endpoint when
+ * both run on the same host (PGM never loops back to its own host); the
+ * tools (mscgs) always take `publish`.
  *
  * Pure: no logging. */
 #ifndef CGS_EXERCISE_H
@@ -44,7 +63,27 @@ typedef struct {
     char secret_key_file[4096];     // file holding its secret key ("" without CURVE)
     int hwm;                        // high-water mark of its PUB and SUB sockets, messages
     bool enabled;                   // `enabled = no` leaves it out of `mscgs run`
+    char mcast_scheme[8];           // "norm" or "epgm": it also publishes on multicast; "" not
+    char mcast_group[64];           // its multicast GROUP:PORT ("" without multicast)
+    char interface[CGS_NAME_MAX];   // its multicast interface ("" when none is given)
 } cgs_instance_t;
+
+/* [bus]: the multicast transport's parameters and the sealing key. */
+typedef struct {
+    char transport[8];      // "norm", "epgm", "tcp" or "ipc" (the default: tcp)
+    char key_file[4096];    // absolute; "" runs in the clear
+    double replay_window_s; // sealed: refuse messages sent longer ago than this; 0: no limit
+    int rate_kbps;          // epgm: ZMQ_RATE
+    int recovery_ms;        // epgm: ZMQ_RECOVERY_IVL
+    int hops;               // epgm: ZMQ_MULTICAST_HOPS
+} cgs_bus_params_t;
+
+#define CGS_BUS_DEFAULT_GROUP     "239.192.77.1"
+#define CGS_BUS_DEFAULT_PORT      7400
+#define CGS_BUS_DEFAULT_WINDOW_S  30
+#define CGS_BUS_DEFAULT_RATE_KBPS 100000
+#define CGS_BUS_DEFAULT_RECOVERY  5000
+#define CGS_BUS_DEFAULT_HOPS      1
 
 typedef struct cgs_exercise cgs_exercise_t;
 
@@ -77,6 +116,19 @@ const char *cgs_exercise_client_public_key (const cgs_exercise_t *self);
 const char *cgs_exercise_client_secret_key_file (const cgs_exercise_t *self);
 size_t cgs_exercise_allowed_count (const cgs_exercise_t *self);
 const char *cgs_exercise_allowed (const cgs_exercise_t *self, size_t i);
+/* The [bus] section (defaults when absent). */
+const cgs_bus_params_t *cgs_exercise_bus (const cgs_exercise_t *self);
+/* Whether any instance publishes on multicast. */
+bool cgs_exercise_uses_multicast (const cgs_exercise_t *self);
+/* The endpoint through which `local` (an instance of the exercise, or NULL
+ * for a tool) reaches publisher pub: its multicast endpoint on local's
+ * interface ("norm://IFACE;GROUP:PORT") when pub has one and runs on
+ * another host than local, else pub's `publish`. Pass pub as local for the
+ * endpoint pub binds on multicast (use_multicast forced). buf holds
+ * CGS_ENDPOINT_MAX bytes. Returns whether the endpoint is multicast. */
+bool cgs_exercise_endpoint_for (const cgs_instance_t *pub, const cgs_instance_t *local, char *buf,
+                                size_t len);
+
 /* The first instance of program (in the file's order), or NULL. */
 const cgs_instance_t *cgs_exercise_first_of (const cgs_exercise_t *self, const char *program);
 

@@ -22,6 +22,7 @@ struct cgs_health {
     size_t nsubs;
     const cgs_cmd_server_t *cmd;
     uint64_t extra_malformed;
+    bool sealed;
     char counter_names[S_MAX_COUNTERS][32];
     uint64_t counter_values[S_MAX_COUNTERS];
     size_t ncounters;
@@ -78,6 +79,11 @@ void cgs_health_set_state (cgs_health_t *self, Cgs__ServiceState state)
 {
     self->state = state;
 }
+void cgs_health_set_sealed (cgs_health_t *self, bool sealed)
+{
+    self->sealed = sealed;
+}
+
 void cgs_health_add_malformed (cgs_health_t *self, uint64_t n)
 {
     self->extra_malformed += n;
@@ -121,6 +127,7 @@ int cgs_health_publish (cgs_health_t *self, cgs_pub_t *pub, double sim_time_s)
     size_t nt = 0;
     uint64_t foreign = 0;
     uint64_t in = 0, out = 0, gaps = 0, malformed = self->extra_malformed, restarts = 0, drops = 0;
+    uint64_t unauthenticated = 0, replayed = 0;
 
     if (self->pub) {
         for (size_t i = 0; i < cgs_pub_topic_count (self->pub) && nt < S_MAX_TOPICS; i++) {
@@ -149,6 +156,8 @@ int cgs_health_publish (cgs_health_t *self, cgs_pub_t *pub, double sim_time_s)
             t->messages = s->messages;
             t->gaps = s->gaps;
             t->malformed = s->malformed;
+            t->unauthenticated = s->unauthenticated;
+            t->replayed = s->replayed;
             if (i < S_MAX_TOPICS) {
                 t->rate_hz = s_rate (s->messages, self->prev_sub[k][i], dt);
                 self->prev_sub[k][i] = s->messages;
@@ -161,6 +170,8 @@ int cgs_health_publish (cgs_health_t *self, cgs_pub_t *pub, double sim_time_s)
         malformed += cgs_sub_malformed (sub);
         restarts += cgs_sub_restarts (sub);
         foreign += cgs_sub_foreign (sub);
+        unauthenticated += cgs_sub_unauthenticated (sub);
+        replayed += cgs_sub_replayed (sub);
     }
     h.program = self->program;
     h.instance = self->instance;
@@ -179,6 +190,9 @@ int cgs_health_publish (cgs_health_t *self, cgs_pub_t *pub, double sim_time_s)
     h.malformed = malformed;
     h.restarts_seen = restarts;
     h.foreign = foreign;
+    h.sealed = self->sealed;
+    h.unauthenticated = unauthenticated;
+    h.replayed = replayed;
     if (self->cmd) {
         h.commands = cgs_cmd_server_applied (self->cmd) + cgs_cmd_server_duplicates (self->cmd);
         h.malformed += cgs_cmd_server_malformed (self->cmd);

@@ -24,6 +24,8 @@ int cgs_health_watch_sub (cgs_health_t *self, const cgs_sub_t *sub);
 void cgs_health_watch_cmd (cgs_health_t *self, const cgs_cmd_server_t *cmd);
 /* Set the state (CGS__SERVICE_STATE__SERVICE_STATE_RUNNING, ...). */
 void cgs_health_set_state (cgs_health_t *self, Cgs__ServiceState state);
+/* Whether the service's bus payloads are sealed (reported as `sealed`). */
+void cgs_health_set_sealed (cgs_health_t *self, bool sealed);
 /* Record the last error (copied), with the wall time. */
 void cgs_health_set_error (cgs_health_t *self, const char *error);
 /* Count malformed inputs the service found itself (beyond the bus's own). */

@@ -47,6 +47,8 @@ struct cgs_service {
     cgs_fault_t fault;           // its requests and schedule
     bool cmd_held;               // cgs_service_hold_commands
     size_t nconnected;
+    cgs_seal_key_t seal; // the exercise's group key ([bus] key_file)
+    bool sealed;         // every payload is sealed with it
 };
 
 #ifdef CGS_FAULT
@@ -360,6 +362,15 @@ static int s_init (cgs_service_t *svc, const cgs_service_info_t *info, int argc,
         }
         cgs_log (LOG_INFO, "CURVE on every socket, as %s", cgs_curve_public_key (svc->curve));
     }
+    const cgs_bus_params_t *bus = cgs_exercise_bus (svc->exercise);
+    if (*bus->key_file) {
+        if ((rc = cgs_seal_key_load (bus->key_file, &svc->seal, why, sizeof why)) < 0) {
+            cgs_log (LOG_ERR, "the bus's group key: %s", why);
+            return rc;
+        }
+        svc->sealed = true;
+    }
+    cgs_health_set_sealed (svc->health, svc->sealed);
     if (*svc->instance->publish) {
         svc->pub = cgs_pub_new (svc->ctx, svc->instance_name, cgs_exercise_id (svc->exercise));
         if (!svc->pub)
@@ -374,8 +385,24 @@ static int s_init (cgs_service_t *svc, const cgs_service_info_t *info, int argc,
             cgs_log (LOG_ERR, "cannot bind %s: %s", svc->instance->publish, zmq_strerror (-rc));
             return rc;
         }
+        char mc[CGS_ENDPOINT_MAX];
+        if (cgs_exercise_endpoint_for (svc->instance, svc->instance, mc, sizeof mc)) {
+            if ((rc = cgs_bus_set_multicast (cgs_pub_socket (svc->pub), bus->rate_kbps,
+                                             bus->recovery_ms, bus->hops)) < 0 ||
+                (rc = cgs_pub_bind (svc->pub, mc)) < 0) {
+                cgs_log (LOG_ERR, "cannot bind %s: %s", mc, zmq_strerror (-rc));
+                return rc;
+            }
+            cgs_log (LOG_INFO, "also publishing on %s", mc);
+        }
+        if (svc->sealed && (rc = cgs_pub_set_seal (svc->pub, &svc->seal)) < 0)
+            return rc;
         cgs_health_watch_pub (svc->health, svc->pub);
     }
+    if (svc->sealed)
+        cgs_log (LOG_INFO, "bus: every payload sealed with the group key of %s", bus->key_file);
+    else if (cgs_exercise_uses_multicast (svc->exercise))
+        cgs_log (LOG_WARNING, "bus: multicast in the clear ([bus] key_file names no group key)");
 #ifdef CGS_FAULT
     if ((rc = s_fault_open (svc)) < 0)
         return rc;
@@ -417,6 +444,13 @@ int cgs_service_subscribe (cgs_service_t *svc, const char *topic, cgs_sub_fn *fn
             return -errno;
         cgs_sub_set_hwm (svc->sub, svc->instance->hwm);
         cgs_sub_set_exercise (svc->sub, cgs_exercise_id (svc->exercise));
+        const cgs_bus_params_t *bus = cgs_exercise_bus (svc->exercise);
+        int rc = svc->sealed ? cgs_sub_set_seal (svc->sub, &svc->seal, bus->replay_window_s) : 0;
+        if (rc == 0 && cgs_exercise_uses_multicast (svc->exercise))
+            rc = cgs_bus_set_multicast (cgs_sub_socket (svc->sub), bus->rate_kbps, bus->recovery_ms,
+                                        bus->hops);
+        if (rc < 0)
+            return rc;
         cgs_health_watch_sub (svc->health, svc->sub);
         cgs_loop_add_socket (svc->loop, cgs_sub_socket (svc->sub), s_on_sub, svc);
     }
@@ -430,7 +464,8 @@ int cgs_service_subscribe (cgs_service_t *svc, const char *topic, cgs_sub_fn *fn
     if (n > 64)
         n = 64;
     for (size_t i = 0; i < n; i++) {
-        const char *ep = pubs[i]->publish;
+        char ep[CGS_ENDPOINT_MAX];
+        cgs_exercise_endpoint_for (pubs[i], svc->instance, ep, sizeof ep);
         if (!*ep)
             continue;
         bool seen = false;
@@ -665,6 +700,7 @@ void cgs_service_destroy (cgs_service_t **self_p)
     cgs_sub_destroy (&svc->sub);
     cgs_pub_destroy (&svc->pub);
     cgs_curve_destroy (&svc->curve);
+    explicit_bzero (&svc->seal, sizeof svc->seal);
     cgs_health_destroy (&svc->health);
     cgs_loop_destroy (&svc->loop);
     cgs_exercise_destroy (&svc->exercise);

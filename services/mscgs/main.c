@@ -9,7 +9,7 @@
  *   mscgs status [--wait S] [--exercise F]
  *   mscgs ping INSTANCE [--exercise F]
  *   mscgs topics
- *   mscgs keygen NAME [--dir DIR]
+ *   mscgs keygen NAME [--dir DIR] | keygen --group [NAME] [--dir DIR]
  *   mscgs loiter|goto|route|altitude|speed|pause|resume|time-scale ...   (uavsim)
  *   mscgs designate|cancel|footprint-scale|intercept-mode ...            (guidanced)
  *   mscgs snapshot [N], mscgs fault INSTANCE ..., mscgs montecarlo ...
@@ -39,7 +39,8 @@ static void s_usage (FILE *f)
                 "  status   a table of every service's health [--wait S]\n"
                 "  ping     ask a service's command endpoint for a reply: ping INSTANCE\n"
                 "  topics   list the bus topics\n"
-                "  keygen   make a CURVE key pair: keygen NAME [--dir DIR]\n"
+                "  keygen   make a CURVE key pair: keygen NAME [--dir DIR]; or the bus's\n"
+                "           group key: keygen --group [NAME] [--dir DIR]\n"
                 "  loiter, goto, route, altitude, speed task a UAV (uavsim); --help for each\n"
                 "  pause, resume, time-scale X          the simulation clock (uavsim)\n"
                 "  designate TRACK_ID | designate --at POS, cancel, footprint-scale 1|5|10,\n"

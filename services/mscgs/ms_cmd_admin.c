@@ -7,6 +7,7 @@
 #include "cgs_cmd.h"
 #include "cgs_fault.h"
 #include "cgs_lifecycle.h"
+#include "cgs_seal.h"
 #include "ms_opts.h"
 #include "ms_tool.h"
 
@@ -186,22 +187,66 @@ done:
 
 /* ---- keygen ---------------------------------------------------------------------------- */
 
+/* mscgs keygen --group [NAME]: the exercise's group key for a sealed bus
+ * in DIR/NAME.key (default group.key; mode 0600, never overwritten), and
+ * the [bus] line that names it. */
+static int s_keygen_group (const char *dir, const char *name)
+{
+    char path[PATH_MAX], text[CGS_SEAL_KEY_TEXT_MAX];
+    snprintf (path, sizeof path, "%s/%s.key", dir, name);
+    cgs_seal_key_t key;
+    if (cgs_seal_key_new (&key) < 0) {
+        fprintf (stderr, "mscgs keygen: libsodium failed to start\n");
+        return 1;
+    }
+    cgs_seal_key_format (&key, text, sizeof text);
+    explicit_bzero (&key, sizeof key);
+    int fd = open (path, O_WRONLY | O_CREAT | O_EXCL, 0600);
+    if (fd < 0) {
+        fprintf (stderr, "mscgs keygen: cannot create %s: %s%s\n", path, strerror (errno),
+                 errno == EEXIST ? " (a key is never overwritten: remove it first)" : "");
+        explicit_bzero (text, sizeof text);
+        return 1;
+    }
+    size_t n = strlen (text);
+    bool ok = write (fd, text, n) == (ssize_t)n;
+    ok = close (fd) == 0 && ok;
+    explicit_bzero (text, sizeof text);
+    if (!ok) {
+        fprintf (stderr, "mscgs keygen: cannot write %s\n", path);
+        return 1;
+    }
+    printf ("; the exercise's group key: copy %s to every host, then paste into [bus]\n"
+            "key_file = %s\n",
+            path, path);
+    return 0;
+}
+
 /* mscgs keygen NAME [--dir DIR]: a CURVE key pair, the secret in DIR/NAME.key
  * (mode 0600, never overwritten) and the public key in DIR/NAME.pub and on
- * stdout, as the exercise file's lines. */
+ * stdout, as the exercise file's lines. With --group, the group key of a
+ * sealed bus instead (s_keygen_group). */
 int ms_keygen_main (int argc, char **argv)
 {
     const char *dir = ".";
+    bool group = false;
     const ms_opt_t opts[] = {
         {.name = "dir", .value = "DIR", .help = "where the key files go (default .)", .str = &dir},
+        {.name = "group",
+         .help = "the exercise's group key that seals the bus ([bus] key_file), in\n"
+                 "DIR/NAME.key (NAME default group)",
+         .flag = &group},
         MS_OPTS_END, // no --help: it has never had one
     };
     const ms_cmd_t spec = {.name = "keygen", .operands = "NAME", .opts = opts};
     int nargs = ms_opts_parse (&spec, argc, argv);
     if (nargs < 0)
         return ms_opts_exit_code (nargs);
+    if (group && nargs <= 1 && (nargs == 0 || (*argv[1] && !strchr (argv[1], '/'))))
+        return s_keygen_group (dir, nargs ? argv[1] : "group");
     if (nargs != 1 || !*argv[1] || strchr (argv[1], '/')) {
-        fprintf (stderr, "usage: mscgs keygen NAME [--dir DIR]   (NAME without '/')\n");
+        fprintf (stderr, "usage: mscgs keygen NAME [--dir DIR]   (NAME without '/')\n"
+                         "       mscgs keygen --group [NAME] [--dir DIR]\n");
         return 2;
     }
     const char *name = argv[1];

@@ -127,6 +127,7 @@ int ms_echo_main (int argc, char **argv)
     const char *exercise = NULL;
     s_echo_t echo = {0};
     double timeout_s = 0;
+    const char *multicast = NULL;
     const ms_opt_t opts[] = {
         {.name = "json", .letter = 'j', .help = "one JSON object a line", .flag = &echo.json},
         {.name = "count",
@@ -140,6 +141,11 @@ int ms_echo_main (int argc, char **argv)
          .help = "stop after S seconds",
          .fn = ms_opts_read_positive,
          .arg = &timeout_s},
+        {.name = "multicast",
+         .value = "IFACE",
+         .help = "receive over the publishers' multicast endpoints ([bus]),\n"
+                 "joining on IFACE, where they have one",
+         .str = &multicast},
         MS_TOOL_OPT_EXERCISE (&exercise),
         MS_OPTS_HELP,
         MS_OPTS_END,
@@ -174,6 +180,7 @@ int ms_echo_main (int argc, char **argv)
         return 1;
     }
     cgs_sub_on (sub, topic, s_on_echo, &echo);
+    ms_tool_set_multicast (multicast);
     if (ms_tool_connect_publishers (sub, ex, topic) == 0)
         fprintf (stderr, "mscgs echo: no instance in %s publishes %s\n", cgs_exercise_path (ex),
                  topic);
@@ -187,6 +194,10 @@ int ms_echo_main (int argc, char **argv)
         fprintf (stderr, "mscgs echo: %llu messages missed (gaps), %llu malformed\n",
                  (unsigned long long)cgs_sub_gaps (sub),
                  (unsigned long long)cgs_sub_malformed (sub));
+    if (cgs_sub_unauthenticated (sub) || cgs_sub_replayed (sub))
+        fprintf (stderr, "mscgs echo: %llu unauthenticated, %llu replayed: dropped\n",
+                 (unsigned long long)cgs_sub_unauthenticated (sub),
+                 (unsigned long long)cgs_sub_replayed (sub));
     cgs_sub_destroy (&sub);
     zmq_ctx_term (ctx);
     cgs_exercise_destroy (&ex);

@@ -17,6 +17,12 @@ void ms_health_init (ms_health_t *t, const cgs_exercise_t *ex)
         snprintf (r->host, sizeof r->host, "%s", in->host);
         r->enabled = in->enabled;
     }
+    const cgs_bus_params_t *b = cgs_exercise_bus (ex);
+    t->sealed = *b->key_file != '\0';
+    snprintf (t->bus, sizeof t->bus, "%s%s, %s",
+              cgs_exercise_uses_multicast (ex) ? "multicast " : "",
+              cgs_exercise_uses_multicast (ex) ? b->transport : "tcp/ipc",
+              t->sealed ? "sealed (group key)" : "in the clear");
 }
 
 void ms_health_on_health (void *arg, const char *topic, const ProtobufCMessage *msg,
@@ -51,6 +57,9 @@ void ms_health_on_health (void *arg, const char *topic, const ProtobufCMessage *
     r->drops = h->drops;
     r->malformed = h->malformed;
     r->commands = h->commands;
+    r->sealed = h->sealed;
+    r->unauthenticated = h->unauthenticated;
+    r->replayed = h->replayed;
     snprintf (r->last_error, sizeof r->last_error, "%s", h->last_error);
     size_t used = 0;
     r->counters[0] = '\0';
@@ -102,6 +111,7 @@ const char *ms_health_state (const ms_health_row_t *r, double now)
 void ms_health_print (const ms_health_t *t, FILE *f)
 {
     double now = cgs_loop_now ();
+    fprintf (f, "bus: %s\n", t->bus);
     fprintf (f, "%-16s %-9s %-12s %-12s %8s %9s %9s %9s %7s %7s %9s  %s\n", "INSTANCE", "STATE",
              "HOST", "MACHINE", "PID", "UPTIME_S", "IN/S", "OUT/S", "GAPS", "DROPS", "MALFORMED",
              "LAST ERROR");
@@ -116,7 +126,13 @@ void ms_health_print (const ms_health_t *t, FILE *f)
                  r->instance, ms_health_state (r, now), r->host, r->machine, r->pid, r->uptime_s,
                  r->in_per_s, r->out_per_s, (unsigned long long)r->gaps,
                  (unsigned long long)r->drops, (unsigned long long)r->malformed, r->last_error);
-        if (*r->counters)
-            fprintf (f, "%-16s %s\n", "", r->counters);
+        char extra[128] = "";
+        if (r->unauthenticated || r->replayed || r->sealed != t->sealed)
+            snprintf (extra, sizeof extra, "%sunauthenticated=%llu replayed=%llu%s",
+                      *r->counters ? " " : "", (unsigned long long)r->unauthenticated,
+                      (unsigned long long)r->replayed,
+                      r->sealed == t->sealed ? "" : (r->sealed ? " sealed" : " in-the-clear"));
+        if (*r->counters || *extra)
+            fprintf (f, "%-16s %s%s\n", "", r->counters, extra);
     }
 }

@@ -27,6 +27,8 @@ typedef struct {
     char last_error[256];
     char counters[512]; // the service's own counts, "name=value ..."
     uint64_t http_port; // stationd's map port as it reports it (0: not reported)
+    bool sealed;        // its bus payloads are sealed
+    uint64_t unauthenticated, replayed;
 } ms_health_row_t;
 
 typedef struct {
@@ -36,6 +38,8 @@ typedef struct {
     double time_scale;
     bool paused;
     bool have_clock;
+    char bus[160]; // the exercise's bus: transport and sealing
+    bool sealed;   // the exercise names a group key
 } ms_health_t;
 
 /* A row per instance of the exercise, none seen yet, no clock. */
@@ -51,7 +55,9 @@ void ms_health_on_clock (void *arg, const char *topic, const ProtobufCMessage *m
  * 3 s), "starting", "up", "degraded", "stopping". */
 const char *ms_health_state (const ms_health_row_t *r, double now);
 
-/* The table, a line per instance and one of its counters under it. */
+/* The table: the bus's line, a line per instance and one of its counters
+ * (and its sealing counts, and its sealing when that is not the
+ * exercise's) under it. */
 void ms_health_print (const ms_health_t *t, FILE *f);
 
 #endif

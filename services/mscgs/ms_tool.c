@@ -101,20 +101,52 @@ cgs_sub_t *ms_tool_open_sub (const cgs_exercise_t *ex, void **ret_ctx)
         return NULL;
     }
     cgs_sub_set_exercise (sub, cgs_exercise_id (ex));
+    // A sealed bus: the tools read it with the group key too.
+    const cgs_bus_params_t *bus = cgs_exercise_bus (ex);
+    if (*bus->key_file) {
+        cgs_seal_key_t key;
+        char err[1024];
+        int rc = cgs_seal_key_load (bus->key_file, &key, err, sizeof err);
+        if (rc == 0)
+            rc = cgs_sub_set_seal (sub, &key, bus->replay_window_s);
+        explicit_bzero (&key, sizeof key);
+        if (rc < 0) {
+            fprintf (stderr, "mscgs: the bus's group key: %s\n", *err ? err : strerror (-rc));
+            cgs_sub_destroy (&sub);
+            zmq_ctx_term (ctx);
+            return NULL;
+        }
+    }
     *ret_ctx = ctx;
     return sub;
 }
 
+static char s_multicast_iface[CGS_NAME_MAX]; // --multicast IFACE, "" when not given
+
+void ms_tool_set_multicast (const char *iface)
+{
+    snprintf (s_multicast_iface, sizeof s_multicast_iface, "%s", iface ? iface : "");
+}
+
 size_t ms_tool_connect_publishers (cgs_sub_t *sub, const cgs_exercise_t *ex, const char *topic)
 {
+    // With --multicast, the tool joins like an instance on a host of its own.
+    cgs_instance_t self = {.host = "(the tool)"};
+    snprintf (self.interface, sizeof self.interface, "%s", s_multicast_iface);
+    const cgs_bus_params_t *bus = cgs_exercise_bus (ex);
+    if (*s_multicast_iface)
+        cgs_bus_set_multicast (cgs_sub_socket (sub), bus->rate_kbps, bus->recovery_ms, bus->hops);
     const cgs_instance_t *pubs[MS_MAX_INSTANCES];
     size_t n = cgs_exercise_publishers_of (ex, topic, pubs, MS_MAX_INSTANCES);
     if (n > MS_MAX_INSTANCES)
         n = MS_MAX_INSTANCES;
-    for (size_t i = 0; i < n; i++)
+    for (size_t i = 0; i < n; i++) {
+        char ep[CGS_ENDPOINT_MAX];
+        cgs_exercise_endpoint_for (pubs[i], *s_multicast_iface ? &self : NULL, ep, sizeof ep);
         if (cgs_curve_client (s_curve, cgs_sub_socket (sub), pubs[i]->public_key) < 0 ||
-            cgs_sub_connect (sub, pubs[i]->publish) < 0)
-            fprintf (stderr, "mscgs: cannot connect to %s (%s)\n", pubs[i]->publish, pubs[i]->name);
+            cgs_sub_connect (sub, ep) < 0)
+            fprintf (stderr, "mscgs: cannot connect to %s (%s)\n", ep, pubs[i]->name);
+    }
     return n;
 }
 

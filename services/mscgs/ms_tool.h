@@ -56,6 +56,11 @@ cgs_curve_t *ms_tool_curve (void);
  * exercise's messages; NULL after saying why. */
 cgs_sub_t *ms_tool_open_sub (const cgs_exercise_t *ex, void **ret_ctx);
 
+/* --multicast IFACE: ms_tool_connect_publishers joins the publishers'
+ * multicast endpoints on IFACE (the tool's own host's interface) where they
+ * have one, as an instance on a host of its own would; NULL or "": their
+ * `publish` endpoints (the default). */
+void ms_tool_set_multicast (const char *iface);
 /* Connect sub to every publisher of topic; returns how many. */
 size_t ms_tool_connect_publishers (cgs_sub_t *sub, const cgs_exercise_t *ex, const char *topic);
 

@@ -479,6 +479,120 @@ static void test_unknown (void **state)
     assert_string_equal (err, want);
 }
 
+/* [bus] transport = norm: every publisher gets group + k and port + k,
+ * except one that gives its own endpoint (not counted in k) and one that
+ * says `multicast = no`; the interface is [bus]'s unless the instance gives
+ * one. A subscriber on another host reaches a publisher over multicast on
+ * its own interface; on the same host, and a tool, over `publish`. */
+static void test_bus_multicast (void **state)
+{
+    s_tmp_t *t = *state;
+    cgs_exercise_t *ex = NULL;
+    char err[512] = "";
+    const char *text = S_HEAD "[bus]\ntransport = norm\ngroup = 239.1.2.250\nport = 7000\n"
+                              "interface = eth0\nkey_file = keys/group.key\nreplay_window_s = 5\n"
+                              "[service uavsim]\npublish = tcp://10.0.0.1:7100\nhost = a\n"
+                              "[service mtid.uav1]\npublish = tcp://10.0.0.2:7101\nhost = b\n"
+                              "interface = 10.0.0.2\n"
+                              "[service trackerd]\npublish = tcp://10.0.0.2:7102\nhost = b\n"
+                              "multicast = epgm://10.0.0.2;239.9.9.9:9000\n"
+                              "[service stationd]\npublish = tcp://10.0.0.3:7103\nhost = c\n"
+                              "multicast = no\n"
+                              "[service gateway]\npublish = tcp://10.0.0.3:7104\nhost = c\n";
+    if (s_load (t, text, &ex, err, sizeof err) != 0)
+        fail_msg ("%s", err);
+    const cgs_bus_params_t *b = cgs_exercise_bus (ex);
+    assert_string_equal (b->transport, "norm");
+    char want[256];
+    snprintf (want, sizeof want, "%s/keys/group.key", t->dir);
+    assert_string_equal (b->key_file, want);
+    assert_true (b->replay_window_s == 5);
+    assert_int_equal (b->rate_kbps, CGS_BUS_DEFAULT_RATE_KBPS);
+    assert_int_equal (b->recovery_ms, CGS_BUS_DEFAULT_RECOVERY);
+    assert_int_equal (b->hops, 1);
+    assert_true (cgs_exercise_uses_multicast (ex));
+    const cgs_instance_t *u = cgs_exercise_find (ex, "uavsim"),
+                         *m = cgs_exercise_find (ex, "mtid.uav1"),
+                         *k = cgs_exercise_find (ex, "trackerd"),
+                         *s = cgs_exercise_find (ex, "stationd"),
+                         *g = cgs_exercise_find (ex, "gateway");
+    assert_string_equal (u->mcast_group, "239.1.2.250:7000");
+    assert_string_equal (m->mcast_group, "239.1.2.251:7001");
+    assert_string_equal (k->mcast_scheme, "epgm");
+    assert_string_equal (k->mcast_group, "239.9.9.9:9000");
+    assert_string_equal (s->mcast_scheme, "");
+    assert_string_equal (g->mcast_scheme, "norm");
+    assert_string_equal (g->mcast_group, "239.1.2.252:7002");
+    assert_string_equal (u->interface, "eth0");
+    assert_string_equal (m->interface, "10.0.0.2");
+    assert_string_equal (k->interface, "10.0.0.2");
+
+    char ep[CGS_ENDPOINT_MAX];
+    // uavsim binds its own multicast endpoint on its interface.
+    assert_true (cgs_exercise_endpoint_for (u, u, ep, sizeof ep));
+    assert_string_equal (ep, "norm://eth0;239.1.2.250:7000");
+    // mtid (host b) reaches uavsim (host a) over multicast, on b's interface.
+    assert_true (cgs_exercise_endpoint_for (u, m, ep, sizeof ep));
+    assert_string_equal (ep, "norm://10.0.0.2;239.1.2.250:7000");
+    // trackerd (host b) reaches mtid (host b) over tcp.
+    assert_false (cgs_exercise_endpoint_for (m, k, ep, sizeof ep));
+    assert_string_equal (ep, "tcp://10.0.0.2:7101");
+    // stationd reaches trackerd over epgm; anyone reaches stationd over tcp.
+    assert_true (cgs_exercise_endpoint_for (k, s, ep, sizeof ep));
+    assert_string_equal (ep, "epgm://eth0;239.9.9.9:9000");
+    assert_false (cgs_exercise_endpoint_for (s, u, ep, sizeof ep));
+    assert_string_equal (ep, "tcp://10.0.0.3:7103");
+    // A tool takes publish.
+    assert_false (cgs_exercise_endpoint_for (u, NULL, ep, sizeof ep));
+    assert_string_equal (ep, "tcp://10.0.0.1:7100");
+    cgs_exercise_destroy (&ex);
+
+    // Without [bus]: tcp, in the clear, no multicast.
+    if (s_load (t, S_HEAD "[service a]\npublish = inproc://a\n", &ex, err, sizeof err) != 0)
+        fail_msg ("%s", err);
+    assert_string_equal (cgs_exercise_bus (ex)->transport, "tcp");
+    assert_string_equal (cgs_exercise_bus (ex)->key_file, "");
+    assert_false (cgs_exercise_uses_multicast (ex));
+    assert_false (cgs_exercise_endpoint_for (cgs_exercise_find (ex, "a"),
+                                             cgs_exercise_find (ex, "a"), ep, sizeof ep));
+    assert_string_equal (ep, "inproc://a");
+    cgs_exercise_destroy (&ex);
+}
+
+static void test_bus_refused (void **state)
+{
+    s_tmp_t *t = *state;
+    s_load_fails (t, S_HEAD "[bus]\ntransport = udp\n",
+                  ":4: [bus] transport: expected norm, epgm, tcp or ipc, got 'udp'");
+    s_load_fails (t, S_HEAD "[bus]\ngroup = 10.0.0.1\n",
+                  ":4: [bus] group: expected an IPv4 multicast group (224.0.0.0 to "
+                  "239.255.255.255), got '10.0.0.1'");
+    s_load_fails (t, S_HEAD "[bus]\ntransport = norm\n[service a]\npublish = inproc://a\n",
+                  ":5: [service a] the bus uses multicast but this instance has no interface "
+                  "(give `interface =` here, or in [bus] for every instance)");
+    s_load_fails (t,
+                  S_HEAD "[bus]\ntransport = epgm\ngroup = 239.255.255.255\ninterface = lo\n"
+                         "[service a]\npublish = inproc://a\n[service b]\npublish = inproc://b\n",
+                  ":5: [bus] group: too few groups or ports from here for 2 publishers "
+                  "([service b] is the 2-th)");
+    s_load_fails (t,
+                  S_HEAD "[service a]\npublish = inproc://a\nmulticast = norm://lo;239.1.1.1:80\n"
+                         "[service b]\npublish = inproc://b\nmulticast = norm://lo;239.1.1.1:80\n",
+                  ":6: [service b] multicast group and port 239.1.1.1:80 are already [service "
+                  "a]'s");
+    s_load_fails (t, S_HEAD "[service a]\npublish = inproc://a\nmulticast = udp://239.1.1.1:80\n",
+                  ":5: [service a] multicast: expected norm://[IFACE;]GROUP:PORT, "
+                  "epgm://[IFACE;]GROUP:PORT (GROUP an IPv4 multicast address, 224.0.0.0 to "
+                  "239.255.255.255) or no, got 'udp://239.1.1.1:80'");
+    s_load_fails (t, S_HEAD "[service a]\npublish = inproc://a\nmulticast = norm://239.1.1.1:0\n",
+                  ":5: [service a] multicast: expected norm://[IFACE;]GROUP:PORT, "
+                  "epgm://[IFACE;]GROUP:PORT (GROUP an IPv4 multicast address, 224.0.0.0 to "
+                  "239.255.255.255) or no, got 'norm://239.1.1.1:0'");
+    s_load_fails (t, S_HEAD "[bus]\ninterface = eth 0\n",
+                  ":4: [bus] interface: expected a network interface's name (eth0) or IPv4 "
+                  "address, got 'eth 0'");
+}
+
 int main (void)
 {
     const struct CMUnitTest tests[] = {
@@ -492,6 +606,8 @@ int main (void)
         cmocka_unit_test_setup_teardown (test_bad_instance_name, s_setup, s_teardown),
         cmocka_unit_test_setup_teardown (test_curve, s_setup, s_teardown),
         cmocka_unit_test_setup_teardown (test_unknown, s_setup, s_teardown),
+        cmocka_unit_test_setup_teardown (test_bus_multicast, s_setup, s_teardown),
+        cmocka_unit_test_setup_teardown (test_bus_refused, s_setup, s_teardown),
     };
     return cmocka_run_group_tests (tests, NULL, NULL);
 }
