@@ -16,11 +16,11 @@
  *   command = ipc:///tmp/mscgs/uavsim.cmd
  *   host = localhost             ; where it runs (used by deploy tooling)
  *   hwm = 100000                 ; messages queued per subscriber before loss
- *   multicast = norm://eth0;239.192.77.1:7400   ; optional: also publish on UDP multicast
+ *   multicast = epgm://10.0.0.2;239.192.77.1:7400 ; optional: also publish on UDP multicast
  *   interface = eth0             ; its multicast interface (else [bus] interface)
  *
  *   [bus]                        ; optional: the bus over UDP multicast, and sealing
- *   transport = norm             ; norm | epgm: every publisher gets a multicast endpoint
+ *   transport = epgm             ; epgm | norm: every publisher gets a multicast endpoint
  *                                ; (group + k, port + k for the k-th); tcp | ipc: none
  *   group = 239.192.77.1         ; the first publisher's group
  *   port = 7400                  ; the first publisher's port
@@ -118,6 +118,10 @@ size_t cgs_exercise_allowed_count (const cgs_exercise_t *self);
 const char *cgs_exercise_allowed (const cgs_exercise_t *self, size_t i);
 /* The [bus] section (defaults when absent). */
 const cgs_bus_params_t *cgs_exercise_bus (const cgs_exercise_t *self);
+/* Whether the linked libzmq carries the bus over NORM (newer than 4.3.4,
+ * whose NORM engine stops on a message over 2038 bytes); its version in
+ * the three. A norm transport is refused at load when it does not. */
+bool cgs_exercise_norm_usable (int *major, int *minor, int *patch);
 /* Whether any instance publishes on multicast. */
 bool cgs_exercise_uses_multicast (const cgs_exercise_t *self);
 /* The endpoint through which `local` (an instance of the exercise, or NULL
