@@ -6,6 +6,7 @@
 #   make test-systemd  only the units under a real systemd in a container
 #   make check-layers  no service includes or links another service's code
 #   make bench      build optimised, run the benchmarks
+#   make bench-multicast  the bus over multicast against tcp, and under loss (root)
 #   make montecarlo whole scenes in lockstep: every scenario family, the table
 #                   (MC_RUNS, MC_SEED, MC_JOBS, MC_FAMILIES)
 #   make validate-lockstep  the lockstep against the live system, 20 seeds
@@ -140,7 +141,7 @@ JOBS    ?= $(shell nproc 2>/dev/null || echo 2)
 # Keep objects that pattern chains would otherwise delete as intermediates.
 .SECONDARY:
 
-.PHONY: all run test test-systemd test-build check-layers bench montecarlo validate-lockstep soak fault-build fuzz fuzz-build install install-built clean format deps help
+.PHONY: all run test test-systemd test-build check-layers bench bench-multicast montecarlo validate-lockstep soak fault-build fuzz fuzz-build install install-built clean format deps help
 .DEFAULT_GOAL := all
 
 all: $(BINS) $(WEB_FILES)
@@ -185,6 +186,12 @@ test-build: $(BINS) $(WEB_FILES) $(UNIT_BINS) $(INTEG_BINS) $(FAULT_BINS) $(ALT_
 bench: deps
 	@$(MAKE) --no-print-directory -j$(JOBS) O=build/release SAN=0 all $(addprefix build/release/bench/,$(notdir $(BENCH_BINS)))
 	@tests/bench/run build/release
+
+# The bus over UDP multicast against TCP, and under loss, between network
+# namespaces (root): opt-in, about 4 minutes.
+bench-multicast: deps
+	@$(MAKE) --no-print-directory -j$(JOBS) O=build/release SAN=0 all build/release/bench/bench_mcast
+	@tests/bench/multicast.sh build/release
 
 # Whole scenes in lockstep (opt-in): every scenario family of
 # deploy/scenarios/, MC_RUNS runs each, the table of imaged rates and

@@ -50,42 +50,9 @@ LOSS_PCT=20              # packets host B loses, percent
 RESUME_LIMIT_US=2000000  # the requirement: resumed within 2 s
 
 # ---- the network -----------------------------------------------------------------------
-# Names from $TMP's unique suffix, so parallel runs never share a namespace.
 P=cgs${TMP##*.}
 NS_SW=$P-sw NS_A=$P-a NS_B=$P-b NS_C=$P-c
-declare -A ADDR=([a]=10.77.0.1 [b]=10.77.0.2 [c]=10.77.0.3)
-NETS=()
-s_net_down () {
-    local ns
-    for ns in "${NETS[@]}"; do ip netns del "$ns" 2>/dev/null; done
-}
-# lib.sh's EXIT trap (stop every process, print logs, remove $TMP) first,
-# then the namespaces, whose processes are gone by then.
-eval "set -- $(trap -p EXIT)"
-LIB_EXIT=${3:-}
-# shellcheck disable=SC2064  # lib.sh's command, as it is now
-trap "$LIB_EXIT; s_net_down" EXIT
-
-ip netns add "$NS_SW" 2>"$TMP/netns.err" || bail "cannot create a network namespace: $(head -1 "$TMP/netns.err")"
-NETS+=("$NS_SW")
-# A step that fails (no veth or bridge support here) fails the test: it is
-# not a reason to believe the multi-host checks pass.
-net () { "$@" >>"$TMP/net.log" 2>&1 || bail "network setup: $*: $(tail -1 "$TMP/net.log")"; }
-net ip -n "$NS_SW" link add br0 type bridge
-net ip -n "$NS_SW" link set br0 up
-for h in a b c; do
-    ns=$P-$h
-    net ip netns add "$ns"
-    NETS+=("$ns")
-    net ip -n "$ns" link set lo up
-    # The host's eth0 and its switch port p$h, created in place: no name
-    # ever lives in the root namespace.
-    net ip -n "$NS_SW" link add "p$h" type veth peer name eth0 netns "$ns"
-    net ip -n "$NS_SW" link set "p$h" master br0
-    net ip -n "$NS_SW" link set "p$h" up
-    net ip -n "$ns" addr add "${ADDR[$h]}/24" dev eth0
-    net ip -n "$ns" link set eth0 up
-done
+netns_hosts "$P" 10.77.0 a b c
 # Static neighbour entries: no ARP. A host that fails to resolve its peer's
 # address tells TCP so (a local "host unreachable"), and Linux then undoes
 # its retransmission back-off (RFC 6069), which would hide what this test is

@@ -5,8 +5,9 @@
 # Gives: TAP output (check, is, diag, bail, finish), a temporary folder
 # ($TMP) removed on exit, processes started in the background and stopped on
 # exit (start, running, wait_exit, stop, kill9), polling with a deadline
-# (wait_for), the peer's report files (rep, rep_ge, state_list, state_has)
-# and sanitizer checks (clean_log). Every process a test starts goes through
+# (wait_for), the peer's report files (rep, rep_ge, state_list, state_has),
+# sanitizer checks (clean_log) and network namespaces (net, netns_add,
+# netns_hosts), deleted on exit. Every process a test starts goes through
 # `start`, so the EXIT trap can stop it whatever happens.
 #
 # Environment: CGS_BUILD (absolute build folder, required), CGS_ROOT (source
@@ -31,6 +32,7 @@ export LSAN_OPTIONS=${LSAN_OPTIONS:-suppressions=$CGS_ROOT/tests/lsan.supp:print
 # ---- temporary folder and processes -----------------------------------------------------
 
 TMP=$(mktemp -d "${TMPDIR:-/tmp}/cgs-it.XXXXXX") || { echo "not ok 1 - mktemp"; exit 1; }
+NETS=() # network namespaces made by netns_add, deleted on exit
 # ipc:// paths must fit a sockaddr_un (108 bytes).
 [ ${#TMP} -le 80 ] || { echo "not ok 1 - temporary folder path too long for ipc://: $TMP"; exit 1; }
 PIDS=()
@@ -110,6 +112,9 @@ s_cleanup () {
             sed 's/^/#   /' "$f" | tail -40
         done
     fi
+    # The namespaces last: their processes are gone by now.
+    local ns
+    for ns in "${NETS[@]}"; do ip netns del "$ns" 2>/dev/null; done
     if [ "${CGS_KEEP:-0}" = 1 ]; then
         diag "kept $TMP"
     else
@@ -117,6 +122,46 @@ s_cleanup () {
     fi
 }
 trap s_cleanup EXIT
+
+# ---- network namespaces ---------------------------------------------------------------
+# Names from $TMP's unique suffix (netns_prefix), so parallel runs never
+# share a namespace; each is deleted on exit. A setup step that fails (no
+# veth or bridge support here) fails the test: it is not a reason to believe
+# the network checks pass.
+
+# net COMMAND...: a network setup step; bail with its error when it fails.
+net () { "$@" >>"$TMP/net.log" 2>&1 || bail "network setup: $*: $(tail -1 "$TMP/net.log")"; }
+
+# netns_add NAME: a new namespace with its loopback up, deleted on exit.
+netns_add () {
+    ip netns add "$1" 2>>"$TMP/net.log" || bail "cannot create a network namespace: $(tail -1 "$TMP/net.log")"
+    NETS+=("$1")
+    net ip -n "$1" link set lo up
+}
+
+# netns_hosts PREFIX SUBNET HOST...: a switch, namespace PREFIX-sw with the
+# bridge br0, and for the i-th HOST (from 1) namespace PREFIX-HOST whose
+# eth0 (SUBNET.i/24) is plugged into the switch's port pHOST (created in
+# place: no name ever lives in the root namespace). ADDR[HOST] is its address.
+declare -A ADDR=()
+netns_hosts () {
+    local p=$1 subnet=$2 h i=0 ns
+    shift 2
+    netns_add "$p-sw"
+    net ip -n "$p-sw" link add br0 type bridge
+    net ip -n "$p-sw" link set br0 up
+    for h; do
+        i=$((i + 1))
+        ns=$p-$h
+        ADDR[$h]=$subnet.$i
+        netns_add "$ns"
+        net ip -n "$p-sw" link add "p$h" type veth peer name eth0 netns "$ns"
+        net ip -n "$p-sw" link set "p$h" master br0
+        net ip -n "$p-sw" link set "p$h" up
+        net ip -n "$ns" addr add "${ADDR[$h]}/24" dev eth0
+        net ip -n "$ns" link set eth0 up
+    done
+}
 
 # ---- conditions ---------------------------------------------------------------------------
 
@@ -276,4 +321,5 @@ scenario_vehicle () {
     s_keys "force=$2" "marking=$3" "point=$4" "point=$5" "speed_mps=$6" "${@:7}"
 }
 
-[ -x "$PEER" ] || bail "no test peer at $PEER (make O=... SAN=1 test-build)"
+# CGS_NO_PEER=1: a script that needs no peer (a benchmark using the namespaces).
+[ -n "${CGS_NO_PEER:-}" ] || [ -x "$PEER" ] || bail "no test peer at $PEER (make O=... SAN=1 test-build)"

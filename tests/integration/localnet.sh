@@ -45,25 +45,11 @@ GROUP=239.1.2.3             # and group
 # ---- the machine and its network ------------------------------------------------------
 P=cgs${TMP##*.}
 NS_HOST=$P-host NS_NET=$P-net
-NETS=()
-s_net_down () {
-    local ns
-    for ns in "${NETS[@]}"; do ip netns del "$ns" 2>/dev/null; done
-}
-# lib.sh's EXIT trap (stop every process, remove $TMP) first, then the namespaces.
-eval "set -- $(trap -p EXIT)"
-LIB_EXIT=${3:-}
-# shellcheck disable=SC2064  # lib.sh's command, as it is now
-trap "$LIB_EXIT; s_net_down" EXIT
-
-net () { "$@" >>"$TMP/net.log" 2>&1 || bail "network setup: $*: $(tail -1 "$TMP/net.log")"; }
 for ns in "$NS_HOST" "$NS_NET"; do
-    net ip netns add "$ns"
-    NETS+=("$ns")
+    netns_add "$ns"
     # No IPv6: its neighbour discovery and router solicitations would be
     # frames of the kernel's own on the capture.
     net ip netns exec "$ns" sysctl -qw net.ipv6.conf.all.disable_ipv6=1 net.ipv6.conf.default.disable_ipv6=1
-    net ip -n "$ns" link set lo up
 done
 net ip -n "$NS_HOST" link add eth0 type veth peer name wire netns "$NS_NET"
 net ip -n "$NS_HOST" addr add 10.78.0.2/24 broadcast 10.78.0.255 dev eth0
