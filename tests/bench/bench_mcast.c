@@ -11,14 +11,15 @@
  * pub: the project's publisher (cgs_pub) bound to every --endpoint, with the
  * epgm options of [bus] (--rate-kbps), sealing under --key when given; after
  * --wait seconds it sends --messages cgs.Blob messages of --size bytes on
- * topic "bench" at --per-s a second, then keeps its socket --linger seconds
+ * topic "bench" at --per-s a second (0: as fast as it can), then keeps its socket --linger seconds
  * (for the transport's repairs). It prints sent=, cpu_s=
  * (its CPU time while sending) and wall_s=.
  *
  * sub: the project's subscriber (cgs_sub) connected to --endpoint, opening
  * with --key when given; it counts what arrives until nothing has for
  * --idle seconds and prints received=, gaps= (by sequence number, from the
- * first it got), unauthenticated= and first_seq=, last_seq=.
+ * first it got), unauthenticated=, first_seq=, last_seq= and span_s= (from
+ * the first message to the last).
  *
  * Exit 0, 1 when something broke, 2 on bad usage. */
 #include "bench_util.h"
@@ -75,7 +76,7 @@ static int s_parse (int argc, char **argv, s_opts_t *o)
         else if (strcmp (a, "--size") == 0)
             n = &o->size, max = 1000000;
         else if (strcmp (a, "--per-s") == 0)
-            n = &o->per_s;
+            n = &o->per_s, min = 0;
         else if (strcmp (a, "--rate-kbps") == 0)
             n = &o->rate_kbps;
         else if (strcmp (a, "--idle") == 0)
@@ -124,10 +125,11 @@ static int s_pub (const s_opts_t *o)
     Cgs__Blob b = CGS__BLOB__INIT;
     b.data.data = data;
     b.data.len = (size_t)o->size;
-    double t0 = bench_wall_s (), c0 = bench_cpu_s (), dt = 1.0 / (double)o->per_s;
+    double t0 = bench_wall_s (), c0 = bench_cpu_s ();
+    double dt = o->per_s > 0 ? 1.0 / (double)o->per_s : 0;
     long sent = 0;
     for (long i = 0; i < o->messages; i++) {
-        double due = t0 + (double)i * dt, now = bench_wall_s ();
+        double due = t0 + (double)i * dt, now = dt > 0 ? bench_wall_s () : due;
         if (due > now)
             usleep ((useconds_t)((due - now) * 1e6));
         sent += cgs_pub_send (pub, S_TOPIC, &b.base, (double)i) == 0;
@@ -145,6 +147,7 @@ static int s_pub (const s_opts_t *o)
 
 typedef struct {
     uint64_t n, first, last;
+    double t_first, t_last; // wall time of the first and the last, seconds
 } s_count_t;
 
 static void s_on_blob (void *arg, const char *topic, const ProtobufCMessage *msg,
@@ -152,8 +155,11 @@ static void s_on_blob (void *arg, const char *topic, const ProtobufCMessage *msg
 {
     (void)topic, (void)msg;
     s_count_t *c = arg;
-    if (c->n++ == 0)
+    c->t_last = bench_wall_s ();
+    if (c->n++ == 0) {
         c->first = h->seq;
+        c->t_first = c->t_last;
+    }
     c->last = h->seq;
 }
 
@@ -183,10 +189,11 @@ static int s_sub (const s_opts_t *o)
             last = bench_wall_s ();
         }
     }
-    printf ("received=%llu gaps=%llu unauthenticated=%llu first_seq=%llu last_seq=%llu\n",
+    printf ("received=%llu gaps=%llu unauthenticated=%llu first_seq=%llu last_seq=%llu "
+            "span_s=%.4f\n",
             (unsigned long long)c.n, (unsigned long long)cgs_sub_gaps (sub),
             (unsigned long long)cgs_sub_unauthenticated (sub), (unsigned long long)c.first,
-            (unsigned long long)c.last);
+            (unsigned long long)c.last, c.t_last - c.t_first);
     cgs_sub_destroy (&sub);
     zmq_ctx_term (ctx);
     return 0;
