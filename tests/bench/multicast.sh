@@ -18,7 +18,8 @@
 # stops a NORM socket for good on a bigger message (zeromq/libzmq#3501), which
 # is why the exercise loader refuses norm there.
 # Needs root, ip and nft. Usage: tests/bench/multicast.sh BUILD_DIR (make
-# bench-multicast). About 4 minutes. Prints a table; exit 1 when a run broke.
+# bench-multicast). About 10 minutes. Prints the tables; exit 1 when a tcp
+# or epgm run broke (NORM's stalls and aborts are results, not breakage).
 set -u
 build=${1:?usage: tests/bench/multicast.sh BUILD_DIR}
 CGS_BUILD=$(cd "$build" && pwd) || exit 2
@@ -82,7 +83,8 @@ EOF
     done
     PUB_OUT=$(cat "$TMP/pub.out")
     for ((i = 1; i <= n; i++)); do
-        [ -n "${SUB_OUT[i]:-}" ] && { BROKEN=1; continue; }
+        # NORM's aborts are what is measured (libzmq 4.3.4); anything else broke.
+        [ -n "${SUB_OUT[i]:-}" ] && { [ "$t" = norm ] || BROKEN=1; continue; }
         SUB_OUT[i]=$(cat "$TMP/sub$i.out")
         [ "$loss" -gt 0 ] && ip netns exec "$P-s$i" nft delete table inet cgs_loss
     done
