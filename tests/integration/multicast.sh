@@ -17,7 +17,9 @@
 #     message it could not open as unauthenticated;
 #   - the operator designates from host C (commands stay on tcp);
 #   - host B is cut off for 10 s (its switch port down) and healed: the
-#     exercise resumes (reported, and within 10 s);
+#     exercise resumes (reported, and within 10 s); what host B's services
+#     counted missing is reported (PGM's window, 5 s at 100 Mbit/s, holds
+#     the whole cut: it is repaired);
 #   - a subscriber that joins 60 s late converges on the periodic
 #     republication within one period of the topic: `track`, every track
 #     after each radar scan (10 s of simulation, 3.3 s here);
@@ -194,6 +196,17 @@ s_round () {
     else
         check "$t: the exercise resumes after host B's cut" false
     fi
+    # What host B's services counted missing over the cut (their health,
+    # heard over multicast). PGM's transmit window is rate x recovery
+    # interval (100 Mbit/s x 5 s), far more than 10 s of this exercise's
+    # traffic: a sender repairs the whole cut, and nothing is missing.
+    ip netns exec "$NS_C" "$MSCGS_BIN" echo health --json --count 12 --timeout 5 --multicast "$ic" \
+        --exercise "$ex" >"$TMP/$t-health.json" 2>/dev/null
+    local g_tr g_gd
+    gaps_of () { grep "\"instance\":\"$1\"" "$TMP/$t-health.json" | tail -1 | grep -o '"gaps":"[0-9]*"' | head -1 | tr -dc 0-9; }
+    g_tr=$(gaps_of trackerd) g_gd=$(gaps_of guidanced)
+    diag "$t: after the cut, trackerd and guidanced on host B count ${g_tr:-0} and ${g_gd:-0} messages missed (gaps)"
+    check "$t: host C hears host B's health over multicast" grep -q '"instance":"trackerd"' "$TMP/$t-health.json"
 
     # A late subscriber, LATE_S after the start.
     now_us
