@@ -687,10 +687,8 @@ static s_seq_t s_sub_sequence (s_sub_topic_t *t, const Cgs__Header *h)
     if (s->epoch != h->epoch) {
         // An epoch the source has left: an old message repeated, not a restart.
         for (size_t i = 0; i < s->nretired && i < S_RETIRED; i++)
-            if (s->retired[i] == h->epoch) {
-                t->stats.stale++;
+            if (s->retired[i] == h->epoch)
                 return S_SEQ_STALE;
-            }
         s->retired[s->nretired++ % S_RETIRED] = s->epoch;
         // A restarted publisher numbers from 1: what came before this one was missed.
         t->stats.restarts++;
@@ -700,8 +698,7 @@ static s_seq_t s_sub_sequence (s_sub_topic_t *t, const Cgs__Header *h)
     } else if (h->seq > s->seq + 1) {
         t->stats.gaps += h->seq - s->seq - 1;
     } else if (h->seq <= s->seq) {
-        t->stats.stale++; // a repeat or reordering: not delivered twice
-        return S_SEQ_STALE;
+        return S_SEQ_STALE; // a repeat or reordering: not delivered twice
     }
     s->seq = h->seq;
     return S_SEQ_DELIVER;
@@ -756,10 +753,10 @@ int cgs_sub_dispatch (cgs_sub_t *self, int max)
             t->stats.foreign++;
         if (verdict == S_SEQ_FORGED)
             t->stats.unauthenticated++;
-        if (verdict == S_SEQ_STALE && self->seal) {
-            t->stats.stale--; // counted as what it is on a sealed bus
-            t->stats.replayed++;
-        }
+        // A repeat: on a sealed bus, where only a key holder could have sent
+        // it, a replay.
+        if (verdict == S_SEQ_STALE)
+            *(self->seal ? &t->stats.replayed : &t->stats.stale) += 1;
         if (verdict != S_SEQ_DELIVER) {
             if (verdict == S_SEQ_FAIL)
                 t->stats.malformed++;

@@ -312,7 +312,14 @@ static int s_get_multicast (cgs_exercise_t *self, const char *sec, cgs_instance_
         if (semi) {
             if ((size_t)(semi - rest) >= sizeof inst->interface || semi == rest)
                 break;
-            snprintf (inst->interface, sizeof inst->interface, "%.*s", (int)(semi - rest), rest);
+            char iface[CGS_NAME_MAX];
+            snprintf (iface, sizeof iface, "%.*s", (int)(semi - rest), rest);
+            if (*inst->interface && strcmp (iface, inst->interface) != 0)
+                return cgs_config_error (self->config, sec, "multicast", 0, err, errlen,
+                                         "its interface '%s' is not the instance's interface "
+                                         "'%s'",
+                                         iface, inst->interface);
+            strcpy (inst->interface, iface);
             rest = semi + 1;
         }
         uint32_t g;

@@ -607,6 +607,11 @@ static void test_bus_refused (void **state)
             t, S_HEAD "[service a]\npublish = inproc://a\nmulticast = norm://lo;239.1.1.1:80\n",
             want);
     }
+    s_load_fails (t,
+                  S_HEAD "[service a]\npublish = inproc://a\ninterface = 10.0.0.1\n"
+                         "multicast = epgm://10.0.0.2;239.1.1.1:80\n",
+                  ":6: [service a] multicast: its interface '10.0.0.2' is not the instance's "
+                  "interface '10.0.0.1'");
     s_load_fails (t, S_HEAD "[bus]\ninterface = eth 0\n",
                   ":4: [bus] interface: expected a network interface's name (eth0) or IPv4 "
                   "address, got 'eth 0'");

@@ -70,14 +70,16 @@ static void s_truth (ms_icpt_t *ic, ms_metrics_t *m)
     ms_metrics_on_mti_truth (m, "mti.truth", &t.base, &h);
 }
 
-static void s_entities (ms_metrics_t *m, Cgs__Force force, bool transponder)
+/* `entity` at t = 9.5 s: vehicle id at (east_m, 0) moving east at ve. */
+static void s_entity (ms_metrics_t *m, uint32_t id, double east_m, double ve, Cgs__Force force,
+                      bool transponder)
 {
     Cgs__Enu p = CGS__ENU__INIT;
     Cgs__EnuVelocity v = CGS__ENU_VELOCITY__INIT;
-    p.east_m = 1000;
-    v.east_mps = 10;
+    p.east_m = east_m;
+    v.east_mps = ve;
     Cgs__Entity e = CGS__ENTITY__INIT, *ep = &e;
-    e.entity_id = 5;
+    e.entity_id = id;
     e.position = &p;
     e.velocity = &v;
     e.active = true;
@@ -90,6 +92,11 @@ static void s_entities (ms_metrics_t *m, Cgs__Force force, bool transponder)
     Cgs__Header h = CGS__HEADER__INIT;
     h.sim_time_s = 9.5;
     ms_metrics_on_entity (m, "entity", &b.base, &h);
+}
+
+static void s_entities (ms_metrics_t *m, Cgs__Force force, bool transponder)
+{
+    s_entity (m, 5, 1000, 10, force, transponder);
 }
 
 /* Track batch k of n of scan 1 with the tracks given (ids 10, 11, 12),
@@ -258,22 +265,8 @@ static void test_unseen_vehicle (void **state)
     (void)state;
     ms_icpt_t *ic;
     ms_metrics_t *m = s_metrics (&ic, CGS__FORCE__FORCE_HOSTILE, false);
-    Cgs__Enu p = CGS__ENU__INIT;
-    Cgs__EnuVelocity v = CGS__ENU_VELOCITY__INIT;
-    p.east_m = 5000;
-    Cgs__Entity en = CGS__ENTITY__INIT, *ep = &en;
-    en.entity_id = 7;
-    en.position = &p;
-    en.velocity = &v;
-    en.active = true;
-    en.kind = CGS__ENTITY_KIND__ENTITY_KIND_TRACKED;
-    en.force = CGS__FORCE__FORCE_HOSTILE;
-    Cgs__EntityBatch eb = CGS__ENTITY_BATCH__INIT;
-    eb.n_entities = 1;
-    eb.entities = &ep;
+    s_entity (m, 7, 5000, 0, CGS__FORCE__FORCE_HOSTILE, false);
     Cgs__Header h = CGS__HEADER__INIT;
-    h.sim_time_s = 9.5;
-    ms_metrics_on_entity (m, "entity", &eb.base, &h);
 
     Cgs__Track t[3], *tp[3];
     Cgs__Enu pos[3];
