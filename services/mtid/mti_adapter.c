@@ -204,6 +204,16 @@ static void s_publish_dwell (mti_adapter_t *self, const mti_dwell_t *d, const mt
     mti.platform_position = &plat;
     mti.n_hits = out->hit_count;
     mti.hits = self->hit_ptrs;
+    const mti_params_t *p = &self->params;
+    mti.dwell_start_s = d->start_s;
+    mti.dwell_end_s = d->end_s;
+    mti.last_of_scan = d->scan_end;
+    mti.wrap_velocity_mps = mti_params_wavelength_m (p) * p->prf_hz / 2;
+    mti.min_range_m = p->min_range_m;
+    mti.max_range_m = p->max_range_m;
+    mti.azimuth_beamwidth_deg = p->azimuth_beamwidth_deg;
+    mti.frequency_hz = p->frequency_hz;
+    mti.radial_velocity_sigma_mps = mti.wrap_velocity_mps / p->fft_size / sqrt (12.0);
     cgs_port_publish (&self->port, "mti", &mti.base, t);
 
     for (size_t i = 0; i < out->truth_count; i++) {
