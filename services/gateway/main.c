@@ -1,24 +1,35 @@
-/* gateway — the DIS bridge: our entities go out as Entity State PDUs (dead
- * reckoned, with heartbeats), guidanced's UAV tasking as Action Requests;
- * other simulations' Entity State PDUs of the same exercise come in as
- * external entities on `entity`, and Action Requests addressed to our UAVs
- * become route tasks for uavsim, answered with Action Responses. The PDU
- * codec and the dead reckoning are in gw_*.c; this file wires them to UDP
- * and the bus. */
+/* gateway — the bridge between the bus and the outside world.
+ * DIS: our entities go out as Entity State PDUs (dead reckoned, with
+ * heartbeats), guidanced's UAV tasking as Action Requests; other
+ * simulations' Entity State PDUs of the same exercise come in as external
+ * entities on `entity`, and Action Requests addressed to our UAVs become
+ * route tasks for uavsim, answered with Action Responses.
+ * STANAG 4607 (when on): the radars' dwells, hits and platforms as GMTI
+ * packets, to a file and over UDP.
+ * Cursor on Target (when on): tracks, UAVs, intercept routes and sensor
+ * footprints as CoT events over UDP; a client's point or task designates.
+ * The codecs are in gw_*.c; this file wires them to UDP and the bus. */
 #include "cgs_cmd.h"
 #include "cgs_iface.h"
 #include "cgs_log.h"
 #include "cgs_service.h"
+#include "gw_cot.h"
+#include "gw_cotout.h"
+#include "gw_gmti.h"
 #include "gw_in.h"
 #include "gw_out.h"
 #include "gw_params.h"
 #include "gw_pdu.h"
+#include "gw_udp.h"
 #include "intercept.pb-c.h"
+#include "sensors.pb-c.h"
+#include "tracking.pb-c.h"
 
 #include <arpa/inet.h>
 #include <errno.h>
 #include <fcntl.h>
 #include <inttypes.h>
+#include <limits.h>
 #include <math.h>
 #include <netinet/in.h>
 #include <stdio.h>
@@ -28,13 +39,14 @@
 #include <time.h>
 #include <unistd.h>
 
-#define S_QUEUE       256   // Entity State PDUs sent in one sendmmsg round
-#define S_RECV_BATCH  32    // datagrams read in one recvmmsg call
-#define S_RECV_ROUNDS 64    // recvmmsg calls at most per readable event
-#define S_DGRAM_MAX   65536 // largest datagram read
-#define S_BATCH_MAX   200   // entities in one `entity` message
-#define S_UAV_MAX     64
-#define S_ANSWERED    64 // Action Requests remembered, so a retransmission is answered, not redone
+#define S_QUEUE               256   // Entity State PDUs sent in one sendmmsg round
+#define S_RECV_BATCH          32    // datagrams read in one recvmmsg call
+#define S_RECV_ROUNDS         64    // recvmmsg calls at most per readable event
+#define S_DGRAM_MAX           65536 // largest datagram read
+#define S_BATCH_MAX           200   // entities in one `entity` message
+#define S_UAV_MAX             64
+#define S_TRANSLATOR_PERIOD_S 0.1 // STANAG 4607 and CoT: pending dwells, due events (wall time)
+#define S_ANSWERED            64 // Action Requests remembered, so a retransmission is answered, not redone
 // Route points in one Action Request: 32 bytes each, with the header, the
 // mission and speed datums and a text datum of at most 200 characters inside
 // GW_PDU_MAX.
@@ -103,6 +115,19 @@ typedef struct {
     Cgs__Entity **ptrs;
     gw_in_storage_t *storage;
     size_t msg_cap, nmsg;
+    // STANAG 4607 and Cursor on Target.
+    char out_dir[PATH_MAX - 64]; // --out: where the .4607 file goes (default the state folder)
+    char s4607_path[PATH_MAX];
+    FILE *s4607_file;
+    gw_gmti_t *gmti;
+    gw_udp_sock_t s4607_udp;
+    gw_cotout_t *cotout;
+    gw_udp_sock_t cot_udp;
+    const cgs_instance_t *guidanced;
+    cgs_cmd_client_t *guidance; // designations from CoT clients
+    uint64_t s4607_bytes, s4607_file_errors, cot_in, cot_rejected, cot_ignored, cot_own,
+        cot_designations, cot_refused, cot_replies, cot_unencodable;
+    uint64_t next_reply;
     // Counts, in health.
     uint64_t espdu_out, action_out, response_out, send_errors, datagrams_in, pdus_in, espdu_in,
         foreign, own, other_types, rejected, not_for_us, table_full, unsendable, tasks_accepted,
@@ -116,6 +141,20 @@ static double s_wall (void)
     struct timespec ts;
     clock_gettime (CLOCK_REALTIME, &ts);
     return (double)ts.tv_sec + ts.tv_nsec * 1e-9;
+}
+
+/* The exercise clock's anchor: UTC when the gateway first heard simulation
+ * time, that simulation time (the DIS timestamps and the STANAG 4607 times
+ * run from it). */
+static void s_anchor (s_app_t *app, double t_s)
+{
+    if (app->clock_set || !isfinite (t_s))
+        return;
+    app->clock_set = true;
+    app->utc_at_s = s_wall ();
+    app->sim_at_s = t_s;
+    if (app->gmti)
+        gw_gmti_set_clock (app->gmti, app->utc_at_s, app->sim_at_s);
 }
 
 /* A PDU's timestamp: the simulation time t_s of what it says, past the hour,
@@ -132,11 +171,7 @@ static uint32_t s_timestamp (s_app_t *app, double t_s)
         return gw_pdu_timestamp (t_s, false);
     if (!app->clock_set && !app->sim_heard) // nothing of the simulation yet: UTC
         return gw_pdu_timestamp (fmod (s_wall (), 3600.0), true);
-    if (!app->clock_set) {
-        app->clock_set = true;
-        app->utc_at_s = s_wall ();
-        app->sim_at_s = t_s;
-    }
+    s_anchor (app, t_s);
     return gw_pdu_timestamp (fmod (app->utc_at_s, 3600.0) + (t_s - app->sim_at_s), true);
 }
 
@@ -389,6 +424,13 @@ static void s_on_uav (void *arg, const char *topic, const ProtobufCMessage *msg,
                  app->p.entity_id_base + u->entity_id);
     }
     snprintf (s->name, sizeof s->name, "%s", u->name ? u->name : "");
+    if (hdr && isfinite (hdr->sim_time_s)) {
+        s_anchor (app, hdr->sim_time_s);
+        if (app->gmti)
+            gw_gmti_on_uav (app->gmti, u, hdr->sim_time_s);
+    }
+    if (app->cotout)
+        gw_cotout_on_uav (app->cotout, u, s_wall ());
     // Every task the UAV takes (route, loiter, altitude, speed: each new
     // task number) goes out once, as it flies it.
     if (u->task_number != 0 && u->task_number != s->task_sent)
@@ -403,12 +445,247 @@ static void s_on_intercept (void *arg, const char *topic, const ProtobufCMessage
     (void)hdr;
     s_app_t *app = arg;
     const Cgs__Intercept *m = (const Cgs__Intercept *)msg;
+    if (app->cotout)
+        gw_cotout_on_intercept (app->cotout, m, s_wall ());
     s_uav_t *u = s_uav (app, m->uav_id);
     if (!u)
         return; // no UAV heard of yet
     u->designation = m->designation_number;
     u->track_id = m->track_id;
     u->replans = m->replans;
+}
+
+/* ---- STANAG 4607 --------------------------------------------------------------------------- */
+
+/* A finished 4607 packet: to the file and over UDP. */
+static void s_on_packet (void *arg, const uint8_t *packet, size_t len)
+{
+    s_app_t *app = arg;
+    app->s4607_bytes += len;
+    if (app->s4607_file && fwrite (packet, 1, len, app->s4607_file) != len) {
+        if (app->s4607_file_errors++ == 0) {
+            char why[PATH_MAX + 64];
+            snprintf (why, sizeof why, "cannot write %s: %s", app->s4607_path, strerror (errno));
+            cgs_log (LOG_ERR, "%s (counted in health, logged once)", why);
+            cgs_health_set_error (cgs_service_health (app->svc), why);
+        }
+    }
+    gw_udp_send (&app->s4607_udp, packet, len, NULL);
+}
+
+static void s_on_mti (void *arg, const char *topic, const ProtobufCMessage *msg,
+                      const Cgs__Header *hdr)
+{
+    (void)topic;
+    s_app_t *app = arg;
+    if (hdr && isfinite (hdr->sim_time_s))
+        s_anchor (app, hdr->sim_time_s);
+    if (gw_gmti_on_mti (app->gmti, (const Cgs__Mti *)msg) < 0)
+        cgs_service_bad_input (app->svc, "an mti message without a platform position or finite "
+                                         "dwell times: no STANAG 4607 dwell");
+}
+
+static void s_on_mti_truth (void *arg, const char *topic, const ProtobufCMessage *msg,
+                            const Cgs__Header *hdr)
+{
+    (void)topic;
+    (void)hdr;
+    s_app_t *app = arg;
+    gw_gmti_on_truth (app->gmti, (const Cgs__MtiTruth *)msg);
+}
+
+/* ---- Cursor on Target ---------------------------------------------------------------------- */
+
+static void s_cot_send (s_app_t *app, const gw_cot_event_t *e, const struct sockaddr_in *also)
+{
+    static uint8_t buf[GW_COT_ENCODED_MAX];
+    size_t len = app->p.cot_protobuf ? gw_cot_encode_proto (e, buf, sizeof buf)
+                                     : gw_cot_encode_xml (e, (char *)buf, sizeof buf);
+    if (len == 0) {
+        if (app->cot_unencodable++ == 0)
+            cgs_log (LOG_WARNING, "CoT event %s (%s) cannot be encoded (counted, logged once)",
+                     e->uid, e->type);
+        return;
+    }
+    gw_udp_send (&app->cot_udp, buf, len, also);
+}
+
+static void s_on_cot_event (void *arg, const gw_cot_event_t *e)
+{
+    s_cot_send (arg, e, NULL);
+}
+
+static void s_on_track (void *arg, const char *topic, const ProtobufCMessage *msg,
+                        const Cgs__Header *hdr)
+{
+    (void)topic;
+    (void)hdr;
+    s_app_t *app = arg;
+    gw_cotout_on_tracks (app->cotout, (const Cgs__TrackBatch *)msg, s_wall ());
+}
+
+/* Whether a client's event designates: a point of one of the parameters'
+ * types, or a task (t-x-...). */
+static bool s_designates (const s_app_t *app, const char *type)
+{
+    if (strcmp (type, "t-x") == 0 || strncmp (type, "t-x-", 4) == 0)
+        return true;
+    for (size_t i = 0; i < app->p.cot_designate_type_count; i++)
+        if (strcmp (type, app->p.cot_designate_types[i]) == 0)
+            return true;
+    return false;
+}
+
+/* Answer a client's designation: y-a-w (will comply) or y-a-u (unable), at
+ * its point, with the reason; to the client and to the CoT destinations. */
+static void s_cot_reply (s_app_t *app, const gw_cot_event_t *req, const struct sockaddr_in *from,
+                         bool ok, const char *text)
+{
+    gw_cot_event_t r;
+    gw_cot_event_init (&r);
+    double now = s_wall ();
+    snprintf (r.uid, sizeof r.uid, "%s-%u.reply.%" PRIu64, app->p.cot_uid_prefix,
+              cgs_exercise_id (cgs_service_exercise (app->svc)), ++app->next_reply);
+    snprintf (r.type, sizeof r.type, "%s", ok ? "y-a-w" : "y-a-u");
+    snprintf (r.how, sizeof r.how, "m-g");
+    snprintf (r.opex, sizeof r.opex, "s-%s", app->p.cot_uid_prefix);
+    r.time_s = r.start_s = now;
+    r.stale_s = now + app->p.cot_stale_s;
+    r.point = req->point;
+    snprintf (r.callsign, sizeof r.callsign, "mscgs");
+    snprintf (r.remarks, sizeof r.remarks, "re %s (%s): %s", req->uid, req->type, text);
+    s_cot_send (app, &r, from);
+    app->cot_replies++;
+}
+
+/* A client's designation: the track whose newest hit is nearest its point,
+ * for the UAV it names (a task's addressee) or the parameters' UAV. */
+static void s_cot_designate (s_app_t *app, const gw_cot_event_t *e, const struct sockaddr_in *from)
+{
+    char text[256];
+    const char *dest = *e->dest_callsign ? e->dest_callsign : e->dest_uid;
+    const char *name = *dest ? dest : app->p.cot_designate_uav;
+    uint32_t uav = gw_cotout_uav_id (app->cotout, name);
+    cgs_enu_t p;
+    cgs_geodetic_t g = {e->point.lat_deg, e->point.lon_deg, e->point.hae_m};
+    if (!uav) {
+        snprintf (text, sizeof text, *name ? "no UAV %s in this exercise" : "no UAV heard yet",
+                  name);
+    } else if (cgs_geo_geodetic_to_enu (app->geo, g, &p) < 0 || hypot (p.e_m, p.n_m) > 1e6) {
+        snprintf (text, sizeof text, "the point is not within 1000 km of the exercise");
+    } else if (!app->guidance) {
+        snprintf (text, sizeof text, "no guidanced command endpoint in the exercise");
+    } else {
+        Cgs__Enu at = CGS__ENU__INIT;
+        at.east_m = p.e_m, at.north_m = p.n_m, at.up_m = p.u_m;
+        Cgs__Designate d = CGS__DESIGNATE__INIT;
+        d.uav_id = uav;
+        d.target_case = CGS__DESIGNATE__TARGET_POINT;
+        d.point = &at;
+        Cgs__Command cmd = CGS__COMMAND__INIT;
+        cmd.body_case = CGS__COMMAND__BODY_DESIGNATE;
+        cmd.designate = &d;
+        Cgs__Reply *reply = NULL;
+        char err[256];
+        int rc = cgs_cmd_client_call (app->guidance, &cmd, (int)(app->p.task_timeout_s * 1000), 1,
+                                      &reply, err, sizeof err);
+        if (rc < 0) {
+            snprintf (text, sizeof text, "guidanced did not answer: retry later");
+            cgs_health_set_error (cgs_service_health (app->svc), err);
+        } else if (reply->status == CGS__REPLY_STATUS__REPLY_STATUS_OK ||
+                   reply->status == CGS__REPLY_STATUS__REPLY_STATUS_NOT_SAVED) {
+            snprintf (text, sizeof text, "%s",
+                      reply->detail && *reply->detail ? reply->detail : "designated");
+            cgs_log (LOG_NOTICE, "CoT %s %s at %.7f %.7f (local %.2f %.2f) designates: %s", e->type,
+                     e->uid, e->point.lat_deg, e->point.lon_deg, p.e_m, p.n_m, text);
+            app->cot_designations++;
+            cgs_cmd_reply_free (&reply);
+            s_cot_reply (app, e, from, true, text);
+            return;
+        } else {
+            snprintf (text, sizeof text, "guidanced refused: %s",
+                      reply->error ? reply->error : "no reason");
+        }
+        cgs_cmd_reply_free (&reply);
+    }
+    cgs_log (LOG_NOTICE, "CoT %s %s at %.6f %.6f does not designate: %s", e->type, e->uid,
+             e->point.lat_deg, e->point.lon_deg, text);
+    app->cot_refused++;
+    s_cot_reply (app, e, from, false, text);
+}
+
+static void s_on_cot_udp (void *arg)
+{
+    s_app_t *app = arg;
+    for (int round = 0; round < S_RECV_BATCH; round++) {
+        struct sockaddr_in from;
+        socklen_t fl = sizeof from;
+        ssize_t n = recvfrom (app->cot_udp.fd, app->rbuf[0], S_DGRAM_MAX, MSG_DONTWAIT | MSG_TRUNC,
+                              (struct sockaddr *)&from, &fl);
+        if (n < 0)
+            return;
+        if (gw_udp_from_self (&app->cot_udp, &from)) {
+            app->cot_own++; // our own, back over multicast loopback: not even decoded
+            continue;
+        }
+        app->cot_in++;
+        gw_cot_event_t e;
+        char why[256] = "";
+        int rc = n > S_DGRAM_MAX
+                     ? -EMSGSIZE
+                     : gw_cot_decode (app->rbuf[0], (size_t)n, &e, NULL, why, sizeof why);
+        if (rc == -ENOMSG) { // a TAK control announcement: nothing to do
+            app->cot_ignored++;
+            continue;
+        }
+        if (rc < 0) {
+            app->cot_rejected++;
+            char what[400], addr[INET_ADDRSTRLEN] = "?";
+            inet_ntop (AF_INET, &from.sin_addr, addr, sizeof addr);
+            snprintf (what, sizeof what, "a CoT datagram from %s:%u: %s", addr,
+                      ntohs (from.sin_port), rc == -EMSGSIZE ? "larger than 65536 bytes" : why);
+            cgs_service_bad_input (app->svc, what);
+            continue;
+        }
+        if (gw_cotout_is_ours (app->cotout, e.uid)) {
+            app->cot_own++; // our own events, back over multicast loopback
+            continue;
+        }
+        if (!app->p.cot_designate || !s_designates (app, e.type)) {
+            app->cot_ignored++;
+            continue;
+        }
+        s_cot_designate (app, &e, &from);
+    }
+}
+
+/* A translator's failed sends: counted, logged once, the health's last error. */
+static void s_udp_errors (s_app_t *app, gw_udp_sock_t *s, const char *what)
+{
+    if (!s->error_pending)
+        return;
+    s->error_pending = false;
+    if (s->errors > 1)
+        return; // logged the first time
+    char why[160];
+    snprintf (why, sizeof why, "%s send failed: %s", what, strerror (s->last_errno));
+    cgs_log (LOG_WARNING, "%s (counted in health, logged once)", why);
+    cgs_health_set_error (cgs_service_health (app->svc), why);
+}
+
+static void s_on_translators (void *arg)
+{
+    s_app_t *app = arg;
+    if (app->gmti) {
+        gw_gmti_tick (app->gmti);
+        if (app->s4607_file)
+            fflush (app->s4607_file); // whole packets on disk every period
+        s_udp_errors (app, &app->s4607_udp, "STANAG 4607");
+    }
+    if (app->cotout) {
+        gw_cotout_tick (app->cotout, s_wall ());
+        s_udp_errors (app, &app->cot_udp, "CoT");
+    }
 }
 
 /* ---- inbound ------------------------------------------------------------------------------- */
@@ -769,6 +1046,28 @@ static void s_counters (s_app_t *app)
     cgs_health_set_counter (h, "tasks_refused", app->tasks_refused);
     cgs_health_set_counter (h, "send_errors", app->send_errors);
     cgs_health_set_counter (h, "table_full", app->table_full);
+    if (app->gmti) {
+        const gw_gmti_stats_t *g = gw_gmti_stats (app->gmti);
+        cgs_health_set_counter (h, "s4607_packets", g->packets);
+        cgs_health_set_counter (h, "s4607_dwells", g->dwells);
+        cgs_health_set_counter (h, "s4607_reports", g->reports);
+        cgs_health_set_counter (h, "s4607_bytes", app->s4607_bytes);
+        cgs_health_set_counter (h, "s4607_untagged", g->untagged);
+        cgs_health_set_counter (h, "s4607_file_errors", app->s4607_file_errors);
+        cgs_health_set_counter (h, "s4607_send_errors", app->s4607_udp.errors);
+    }
+    if (app->cotout) {
+        const gw_cotout_stats_t *c = gw_cotout_stats (app->cotout);
+        cgs_health_set_counter (h, "cot_out", c->events + app->cot_replies);
+        cgs_health_set_counter (h, "cot_in", app->cot_in);
+        cgs_health_set_counter (h, "cot_rejected", app->cot_rejected);
+        cgs_health_set_counter (h, "cot_ignored", app->cot_ignored);
+        cgs_health_set_counter (h, "cot_own_echo", app->cot_own);
+        cgs_health_set_counter (h, "cot_designations", app->cot_designations);
+        cgs_health_set_counter (h, "cot_refused", app->cot_refused);
+        cgs_health_set_counter (h, "cot_send_errors", app->cot_udp.errors);
+        cgs_health_set_counter (h, "cot_unencodable", app->cot_unencodable);
+    }
 }
 
 static void s_on_publish (void *arg)
@@ -830,7 +1129,7 @@ static int s_socket (s_app_t *app, char *err, size_t errlen)
         snprintf (err, errlen, "cannot make a UDP socket: %s", strerror (errno));
         return -errno;
     }
-    int one = 1, zero = 0, size = 4 << 20;
+    int one = 1, size = 4 << 20;
     const char *step = "bind";
     // Several DIS applications on one host share the port (broadcast and multicast).
     setsockopt (fd, SOL_SOCKET, SO_REUSEADDR, &one, sizeof one);
@@ -850,20 +1149,9 @@ static int s_socket (s_app_t *app, char *err, size_t errlen)
     }
     if (bind (fd, (struct sockaddr *)&sa, sizeof sa) < 0)
         goto fail;
-    if (p->mode == GW_MODE_MULTICAST) {
-        struct ip_mreqn mreq = {.imr_ifindex = (int)ifc.index};
-        mreq.imr_multiaddr.s_addr = htonl (p->address);
-        unsigned char ttl = (unsigned char)p->ttl, loop = p->loopback;
-        step = "join the group";
-        if (setsockopt (fd, IPPROTO_IP, IP_ADD_MEMBERSHIP, &mreq, sizeof mreq) < 0)
-            goto fail;
-        step = "multicast options";
-        if (setsockopt (fd, IPPROTO_IP, IP_MULTICAST_ALL, &zero, sizeof zero) < 0 ||
-            setsockopt (fd, IPPROTO_IP, IP_MULTICAST_TTL, &ttl, sizeof ttl) < 0 ||
-            setsockopt (fd, IPPROTO_IP, IP_MULTICAST_LOOP, &loop, sizeof loop) < 0 ||
-            setsockopt (fd, IPPROTO_IP, IP_MULTICAST_IF, &mreq, sizeof mreq) < 0)
-            goto fail;
-    }
+    if (p->mode == GW_MODE_MULTICAST &&
+        gw_udp_multicast (fd, ifc.index, p->address, p->ttl, p->loopback, true, &step) < 0)
+        goto fail;
     app->ndest = 0;
     if (p->mode == GW_MODE_UNICAST) {
         for (size_t i = 0; i < p->peer_count; i++) {
@@ -887,6 +1175,71 @@ fail:;
               strerror (e));
     close (fd);
     return -e;
+}
+
+/* STANAG 4607 and Cursor on Target, as the parameters turn them on: the
+ * file, the sockets, guidanced's command client for designations. */
+static int s_translators (s_app_t *app, char *err, size_t errlen)
+{
+    const gw_params_t *p = &app->p;
+    uint32_t ex = cgs_exercise_id (cgs_service_exercise (app->svc));
+    const char *params = cgs_service_params_path (app->svc);
+    char where[160];
+    if (p->s4607_file || p->s4607_udp.mode != GW_UDP_OFF) {
+        if (!(app->gmti = gw_gmti_new (p, app->geo, ex, s_on_packet, app))) {
+            snprintf (err, errlen, "out of memory");
+            return -ENOMEM;
+        }
+        if (p->s4607_file) {
+            const char *dir = *app->out_dir ? app->out_dir : cgs_service_state_dir (app->svc);
+            snprintf (app->s4607_path, sizeof app->s4607_path, "%s/%s.4607", dir,
+                      cgs_service_instance_name (app->svc));
+            // A restarted gateway goes on with the same file: packets are whole.
+            if (!(app->s4607_file = fopen (app->s4607_path, "ab"))) {
+                snprintf (err, errlen, "cannot open %s: %s (the STANAG 4607 file)", app->s4607_path,
+                          strerror (errno));
+                return -errno;
+            }
+        }
+        int rc = gw_udp_open (&app->s4607_udp, &p->s4607_udp, false, "stanag4607", err, errlen);
+        if (rc < 0)
+            return rc;
+        gw_params_describe_udp (&p->s4607_udp, where, sizeof where);
+        cgs_log (LOG_INFO, "STANAG 4607: file %s; UDP %s; truth tags %s",
+                 app->s4607_file ? app->s4607_path : "none", where,
+                 p->s4607_truth_tag ? "on" : "off");
+        if (gw_params_udp_leaves_host (&p->s4607_udp, app->s4607_udp.ifc.loopback))
+            cgs_log (LOG_NOTICE, "STANAG 4607 leaves this machine: %s (%s)", where,
+                     *params ? params : "the built-in parameters");
+    }
+    if (p->cot_udp.mode != GW_UDP_OFF) {
+        if (!(app->cotout = gw_cotout_new (p, app->geo, ex, s_on_cot_event, app))) {
+            snprintf (err, errlen, "out of memory");
+            return -ENOMEM;
+        }
+        int rc = gw_udp_open (&app->cot_udp, &p->cot_udp, true, "cot", err, errlen);
+        if (rc < 0)
+            return rc;
+        app->guidanced = cgs_exercise_first_of (cgs_service_exercise (app->svc), "guidanced");
+        if (app->guidanced && *app->guidanced->command && p->cot_designate &&
+            (!(app->guidance = cgs_cmd_client_new (cgs_service_ctx (app->svc),
+                                                   app->guidanced->command, "gateway-cot")) ||
+             cgs_curve_protect_client (cgs_service_curve (app->svc), app->guidance,
+                                       app->guidanced->public_key) < 0)) {
+            snprintf (err, errlen, "cannot make a command client for %s", app->guidanced->command);
+            return -errno;
+        }
+        gw_params_describe_udp (&p->cot_udp, where, sizeof where);
+        cgs_log (LOG_INFO, "Cursor on Target: %s, %s; designations %s", where,
+                 p->cot_protobuf ? "TAK protobuf" : "XML",
+                 !p->cot_designate ? "off"
+                 : app->guidance   ? "to guidanced"
+                                   : "refused (no guidanced command endpoint)");
+        if (gw_params_udp_leaves_host (&p->cot_udp, app->cot_udp.ifc.loopback))
+            cgs_log (LOG_NOTICE, "Cursor on Target leaves this machine: %s (%s)", where,
+                     *params ? params : "the built-in parameters");
+    }
+    return 0;
 }
 
 static int s_setup (s_app_t *app, char *err, size_t errlen)
@@ -924,6 +1277,10 @@ static int s_setup (s_app_t *app, char *err, size_t errlen)
     if (app->uavsim && !*app->uavsim->command)
         app->uavsim = NULL; // it takes no tasks
     int rc = s_interface (app, err, errlen);
+    if (rc == 0)
+        rc = gw_udp_interface (&app->s4607_udp, &app->p.s4607_udp, "stanag4607", err, errlen);
+    if (rc == 0)
+        rc = gw_udp_interface (&app->cot_udp, &app->p.cot_udp, "cot", err, errlen);
     if (rc < 0 || cgs_service_check_only (app->svc))
         return rc;
     rc = s_socket (app, err, errlen);
@@ -936,6 +1293,8 @@ static int s_setup (s_app_t *app, char *err, size_t errlen)
         snprintf (err, errlen, "cannot make a command client for %s", app->uavsim->command);
         return -errno;
     }
+    if ((rc = s_translators (app, err, errlen)) < 0)
+        return rc;
     char where[160];
     gw_params_describe (&app->p, where, sizeof where);
     cgs_log (LOG_INFO, "DIS version %d, exercise %u, site %d application %d, %s; uavsim at %s",
@@ -948,13 +1307,37 @@ static int s_setup (s_app_t *app, char *err, size_t errlen)
     return 0;
 }
 
+static int s_on_option (void *arg, const char *name, const char *value, char *why, size_t whylen)
+{
+    s_app_t *app = arg;
+    if (strcmp (name, "out") == 0) {
+        if (!*value || strlen (value) >= sizeof app->out_dir) {
+            snprintf (why, whylen, "--out needs a folder name under %zu bytes",
+                      sizeof app->out_dir);
+            return -EINVAL;
+        }
+        snprintf (app->out_dir, sizeof app->out_dir, "%s", value);
+    }
+    return 0;
+}
+
 int main (int argc, char **argv)
 {
     static s_app_t app;
     app.fd = -1;
+    gw_udp_init (&app.s4607_udp);
+    gw_udp_init (&app.cot_udp);
+    static const cgs_service_option_t options[] = {
+        {"out", true, "DIR", "folder of the STANAG 4607 file (default: the state folder)"},
+        {NULL, false, NULL, NULL},
+    };
     cgs_service_info_t info = {
         .program = "gateway",
-        .summary = "DIS bridge: Entity State and Action Request/Response PDUs in and out.",
+        .summary = "Bridge to the outside world: DIS in and out; STANAG 4607 GMTI and Cursor "
+                   "on Target out, CoT designations in.",
+        .options = options,
+        .on_option = s_on_option,
+        .option_arg = &app,
     };
     int rc = cgs_service_new (&info, argc, argv, &app.svc);
     if (rc != 0)
@@ -977,13 +1360,20 @@ int main (int argc, char **argv)
     }
     cgs_loop_t *loop = cgs_service_loop (app.svc);
     if (cgs_loop_add_fd (loop, app.fd, s_on_udp, &app) < 0 ||
-        cgs_loop_add_timer (loop, 1.0 / app.p.publish_rate_hz, s_on_publish, &app) < 0) {
+        cgs_loop_add_timer (loop, 1.0 / app.p.publish_rate_hz, s_on_publish, &app) < 0 ||
+        ((app.gmti || app.cotout) &&
+         cgs_loop_add_timer (loop, S_TRANSLATOR_PERIOD_S, s_on_translators, &app) < 0) ||
+        (app.cot_udp.fd >= 0 && cgs_loop_add_fd (loop, app.cot_udp.fd, s_on_cot_udp, &app) < 0)) {
         cgs_log (LOG_ERR, "out of memory");
         goto done;
     }
     if (cgs_service_subscribe (app.svc, "entity", s_on_entity, &app) < 0 ||
         cgs_service_subscribe (app.svc, "uav", s_on_uav, &app) < 0 ||
-        cgs_service_subscribe (app.svc, "intercept", s_on_intercept, &app) < 0)
+        cgs_service_subscribe (app.svc, "intercept", s_on_intercept, &app) < 0 ||
+        (app.gmti && (cgs_service_subscribe (app.svc, "mti", s_on_mti, &app) < 0 ||
+                      (app.p.s4607_truth_tag &&
+                       cgs_service_subscribe (app.svc, "mti.truth", s_on_mti_truth, &app) < 0))) ||
+        (app.cotout && cgs_service_subscribe (app.svc, "track", s_on_track, &app) < 0))
         goto done;
     exit_code = cgs_service_run (app.svc);
     cgs_log (LOG_INFO,
@@ -992,7 +1382,29 @@ int main (int argc, char **argv)
              " rejected); %" PRIu64 " route tasks taken, %" PRIu64 " refused",
              app.espdu_out, app.action_out, app.pdus_in, app.espdu_in, app.foreign, app.rejected,
              app.tasks_accepted, app.tasks_refused);
+    if (app.gmti) {
+        gw_gmti_flush (app.gmti);
+        const gw_gmti_stats_t *g = gw_gmti_stats (app.gmti);
+        cgs_log (LOG_INFO,
+                 "STANAG 4607: %" PRIu64 " packets, %" PRIu64 " dwells, %" PRIu64
+                 " target reports (%" PRIu64 " bytes)%s%s",
+                 g->packets, g->dwells, g->reports, app.s4607_bytes, app.s4607_file ? " to " : "",
+                 app.s4607_file ? app.s4607_path : "");
+    }
+    if (app.cotout)
+        cgs_log (LOG_INFO,
+                 "Cursor on Target: %" PRIu64 " events out; %" PRIu64 " in (%" PRIu64
+                 " rejected, %" PRIu64 " ignored); %" PRIu64 " designations, %" PRIu64 " refused",
+                 gw_cotout_stats (app.cotout)->events + app.cot_replies, app.cot_in,
+                 app.cot_rejected, app.cot_ignored, app.cot_designations, app.cot_refused);
 done:
+    if (app.s4607_file && fclose (app.s4607_file) != 0)
+        cgs_log (LOG_ERR, "cannot write %s: %s", app.s4607_path, strerror (errno));
+    gw_udp_close (&app.s4607_udp);
+    gw_udp_close (&app.cot_udp);
+    gw_gmti_destroy (&app.gmti);
+    gw_cotout_destroy (&app.cotout);
+    cgs_cmd_client_destroy (&app.guidance);
     if (app.fd >= 0)
         close (app.fd);
     cgs_cmd_client_destroy (&app.client);

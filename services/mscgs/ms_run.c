@@ -64,7 +64,20 @@ static bool s_print_map_address (const cgs_instance_t *in, int port)
 
 /* Where a gateway instance sends DIS, from its parameters, and whether that
  * leaves this machine (its interface looked up here, as the gateway does). */
-static void s_print_dis_destination (const cgs_instance_t *in)
+static const char *s_udp_reach (const gw_udp_t *u)
+{
+    cgs_iface_t ifc = {0};
+    bool known =
+        u->mode != GW_UDP_MULTICAST || !*u->interface || cgs_iface_find (u->interface, &ifc) == 0;
+    return !known                                        ? "no such interface here (see its log)"
+           : gw_params_udp_leaves_host (u, ifc.loopback) ? "LEAVES THIS MACHINE, onto the network"
+                                                         : "this machine only";
+}
+
+/* Where a gateway instance sends DIS, from its parameters, and whether that
+ * leaves this machine (its interface looked up here, as the gateway does);
+ * and its STANAG 4607 file and UDP, and its Cursor on Target, when on. */
+static void s_print_dis_destination (const cgs_instance_t *in, const char *out)
 {
     gw_params_t p;
     char err[512], where[160];
@@ -78,6 +91,19 @@ static void s_print_dis_destination (const cgs_instance_t *in)
             !known                                     ? "no such interface here (see its log)"
             : gw_params_leaves_host (&p, ifc.loopback) ? "LEAVES THIS MACHINE, onto the network"
                                                        : "this machine only");
+    if (p.s4607_file)
+        printf ("mscgs run: STANAG 4607 (%s) to %s/%s.4607\n", in->name, out, in->name);
+    if (p.s4607_udp.mode != GW_UDP_OFF) {
+        gw_params_describe_udp (&p.s4607_udp, where, sizeof where);
+        printf ("mscgs run: STANAG 4607 (%s) %s: %s\n", in->name, where,
+                s_udp_reach (&p.s4607_udp));
+    }
+    if (p.cot_udp.mode != GW_UDP_OFF) {
+        gw_params_describe_udp (&p.cot_udp, where, sizeof where);
+        printf ("mscgs run: Cursor on Target (%s, %s) %s: %s; designations from clients %s\n",
+                in->name, p.cot_protobuf ? "TAK protobuf" : "XML", where, s_udp_reach (&p.cot_udp),
+                p.cot_designate ? "taken" : "off");
+    }
 }
 
 /* ---- run ------------------------------------------------------------------------------ */
@@ -163,6 +189,10 @@ static void s_child_start (s_run_t *run, s_child_t *ch)
             snprintf (images, sizeof images, "%s/images", run->out);
             argv[n++] = "--out";
             argv[n++] = images;
+        }
+        if (strcmp (ch->instance->program, "gateway") == 0) { // its STANAG 4607 file too
+            argv[n++] = "--out";
+            argv[n++] = run->out;
         }
         argv[n] = NULL;
         execv (ch->binary, (char *const *)argv);
@@ -536,7 +566,7 @@ int ms_run_main (int argc, char **argv)
         if (strcmp (s_run.children[i].instance->program, "stationd") == 0)
             s_run.children[i].map_auto = !s_print_map_address (s_run.children[i].instance, 0);
         else if (strcmp (s_run.children[i].instance->program, "gateway") == 0)
-            s_print_dis_destination (s_run.children[i].instance);
+            s_print_dis_destination (s_run.children[i].instance, s_run.out);
 
     cgs_lifecycle_init ();
     void *ctx = NULL;

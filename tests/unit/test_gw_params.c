@@ -56,6 +56,34 @@ static void s_assert_equal (const gw_params_t *a, const gw_params_t *b)
     S_SAME (max_entities);
     S_SAME (publish_rate_hz);
     S_SAME (task_timeout_s);
+    S_SAME (s4607_file);
+    S_SAME (s4607_truth_tag);
+    S_SAME (s4607_classification);
+    S_SAME (s4607_platform_rate_hz);
+    S_SAME (s4607_mdv_mps);
+    S_SAME (cot_protobuf);
+    S_SAME (cot_stale_s);
+    S_SAME (cot_rate_hz);
+    S_SAME (cot_designate);
+    S_SAME (cot_designate_type_count);
+    const gw_udp_t *ua[2] = {&a->s4607_udp, &a->cot_udp}, *ub[2] = {&b->s4607_udp, &b->cot_udp};
+    for (int k = 0; k < 2; k++) {
+        if (ua[k]->mode != ub[k]->mode || ua[k]->address != ub[k]->address ||
+            ua[k]->port != ub[k]->port || ua[k]->input_port != ub[k]->input_port ||
+            ua[k]->bind_address != ub[k]->bind_address || ua[k]->ttl != ub[k]->ttl ||
+            ua[k]->loopback != ub[k]->loopback || ua[k]->peer_count != ub[k]->peer_count ||
+            strcmp (ua[k]->interface, ub[k]->interface) != 0)
+            fail_msg ("%s UDP output differs", k ? "cot" : "stanag4607");
+    }
+    if (strcmp (a->s4607_nationality, b->s4607_nationality) != 0 ||
+        strcmp (a->s4607_class_system, b->s4607_class_system) != 0 ||
+        strcmp (a->cot_uid_prefix, b->cot_uid_prefix) != 0 ||
+        strcmp (a->cot_designate_uav, b->cot_designate_uav) != 0)
+        fail_msg ("a text key differs");
+    for (size_t i = 0; i < a->cot_designate_type_count && i < GW_COT_TYPES_MAX; i++)
+        if (strcmp (a->cot_designate_types[i], b->cot_designate_types[i]) != 0)
+            fail_msg ("designate type %zu: '%s' != '%s'", i, a->cot_designate_types[i],
+                      b->cot_designate_types[i]);
 #undef S_SAME
 }
 
@@ -116,6 +144,107 @@ static void test_defaults (void **state)
     assert_string_equal (gw_params_mode_name (GW_MODE_BROADCAST), "broadcast");
     assert_string_equal (gw_params_mode_name (GW_MODE_MULTICAST), "multicast");
     assert_string_equal (gw_params_mode_name (GW_MODE_UNICAST), "unicast");
+    // The translators are off until an exercise turns them on; then on
+    // loopback with TTL 0.
+    assert_false (p.s4607_file);
+    assert_int_equal (p.s4607_udp.mode, GW_UDP_OFF);
+    assert_int_equal (p.s4607_udp.address, 0xef010204u);
+    assert_int_equal (p.s4607_udp.port, 4607);
+    assert_string_equal (p.s4607_udp.interface, "lo");
+    assert_int_equal (p.s4607_udp.ttl, 0);
+    assert_false (p.s4607_truth_tag);
+    assert_string_equal (p.s4607_nationality, "XN");
+    assert_string_equal (p.s4607_class_system, "XN");
+    assert_int_equal (p.s4607_classification, 5);
+    assert_true (p.s4607_platform_rate_hz == 1);
+    assert_true (p.s4607_mdv_mps == 0.58);
+    assert_int_equal (p.cot_udp.mode, GW_UDP_OFF);
+    assert_int_equal (p.cot_udp.address, 0xef020301u); // 239.2.3.1
+    assert_int_equal (p.cot_udp.port, 6969);
+    assert_int_equal (p.cot_udp.input_port, 6969);
+    assert_string_equal (p.cot_udp.interface, "lo");
+    assert_int_equal (p.cot_udp.ttl, 0);
+    assert_false (p.cot_protobuf);
+    assert_true (p.cot_stale_s == 15);
+    assert_true (p.cot_rate_hz == 1);
+    assert_string_equal (p.cot_uid_prefix, "mscgs");
+    assert_true (p.cot_designate);
+    assert_int_equal (p.cot_designate_type_count, 1);
+    assert_string_equal (p.cot_designate_types[0], "b-m-p-s-p-i");
+    assert_string_equal (p.cot_designate_uav, "");
+}
+
+/* The translators' sections: every key from text, the address bound and
+ * whether they leave this machine, and their errors. */
+static void test_translators (void **state)
+{
+    (void)state;
+    gw_params_t p;
+    gw_params_defaults (&p);
+    char err[512] = "";
+    const char *text = "[stanag4607]\nfile = yes\nudp = unicast\npeer = 10.1.2.3:5000\n"
+                       "peer = 127.0.0.1\nport = 4700\ntruth_tag = yes\nnationality = US\n"
+                       "class_system = US\nclassification = 4\nplatform_rate_hz = 2\n"
+                       "mdv_mps = 1.5\n"
+                       "[cot]\nmode = multicast\naddress = 239.2.3.9\nport = 7000\n"
+                       "interface = 127.0.0.1\nttl = 1\nloopback = no\nformat = protobuf\n"
+                       "stale_s = 30\nrate_hz = 2\nuid_prefix = lab\ndesignate = no\n"
+                       "designate_type = b-m-p-s-p-i\ndesignate_type = b-m-p-w\n"
+                       "designate_uav = uav2\n";
+    if (gw_params_load_string ("g.ini", text, &p, err, sizeof err) != 0)
+        fail_msg ("%s", err);
+    assert_true (p.s4607_file);
+    assert_int_equal (p.s4607_udp.mode, GW_UDP_UNICAST);
+    assert_int_equal (p.s4607_udp.peer_count, 2);
+    assert_int_equal (p.s4607_udp.peers[0].addr, 0x0a010203u);
+    assert_int_equal (p.s4607_udp.peers[0].port, 5000);
+    assert_int_equal (p.s4607_udp.peers[1].port, 4700); // the section's port
+    assert_int_equal (p.s4607_udp.bind_address, 0);     // a peer off this host: every address
+    assert_string_equal (p.s4607_udp.interface, "");    // unicast names none unless given
+    assert_true (p.s4607_truth_tag);
+    assert_string_equal (p.s4607_nationality, "US");
+    assert_string_equal (p.s4607_class_system, "US");
+    assert_int_equal (p.s4607_classification, 4);
+    assert_true (p.s4607_platform_rate_hz == 2);
+    assert_true (p.s4607_mdv_mps == 1.5);
+    assert_true (gw_params_udp_leaves_host (&p.s4607_udp, false));
+    assert_int_equal (p.cot_udp.mode, GW_UDP_MULTICAST);
+    assert_int_equal (p.cot_udp.address, 0xef020309u);
+    assert_int_equal (p.cot_udp.bind_address, 0xef020309u); // the group
+    assert_int_equal (p.cot_udp.port, 7000);
+    assert_int_equal (p.cot_udp.input_port, 7000);
+    assert_string_equal (p.cot_udp.interface, "127.0.0.1");
+    assert_int_equal (p.cot_udp.ttl, 1);
+    assert_false (p.cot_udp.loopback);
+    assert_true (p.cot_protobuf);
+    assert_true (p.cot_stale_s == 30);
+    assert_true (p.cot_rate_hz == 2);
+    assert_string_equal (p.cot_uid_prefix, "lab");
+    assert_false (p.cot_designate);
+    assert_int_equal (p.cot_designate_type_count, 2);
+    assert_string_equal (p.cot_designate_types[1], "b-m-p-w");
+    assert_string_equal (p.cot_designate_uav, "uav2");
+    // TTL 1 on an interface that is not loopback leaves; on loopback it stays.
+    assert_true (gw_params_udp_leaves_host (&p.cot_udp, false));
+    assert_false (gw_params_udp_leaves_host (&p.cot_udp, true));
+    char where[160];
+    gw_params_describe_udp (&p.cot_udp, where, sizeof where);
+    assert_string_equal (where, "multicast to 239.2.3.9:7000 on 127.0.0.1, TTL 1");
+    gw_params_describe_udp (&p.s4607_udp, where, sizeof where);
+    assert_string_equal (where, "unicast to 10.1.2.3:5000 and 1 more");
+    // Unicast CoT to loopback peers hears on 127.0.0.1:input_port.
+    gw_params_defaults (&p);
+    if (gw_params_load_string ("g.ini",
+                               "[cot]\nmode = unicast\npeer = 127.0.0.1:7001\n"
+                               "input_port = 7002\n",
+                               &p, err, sizeof err) != 0)
+        fail_msg ("%s", err);
+    assert_int_equal (p.cot_udp.bind_address, 0x7f000001u);
+    assert_int_equal (p.cot_udp.input_port, 7002);
+    assert_int_equal (p.cot_udp.peers[0].port, 7001);
+    assert_false (gw_params_udp_leaves_host (&p.cot_udp, false));
+    gw_params_describe_udp (&p.s4607_udp, where, sizeof where);
+    assert_string_equal (where, "off");
 }
 
 // The shipped file names every key but `peer` and `bind` (whose default
@@ -144,6 +273,25 @@ static void test_shipped_file (void **state)
         {"external", "max_entities"},
         {"external", "publish_rate_hz"},
         {"external", "task_timeout_s"},
+        {"stanag4607", "file"},
+        {"stanag4607", "udp"},
+        {"stanag4607", "truth_tag"},
+        {"stanag4607", "nationality"},
+        {"stanag4607", "class_system"},
+        {"stanag4607", "classification"},
+        {"stanag4607", "platform_rate_hz"},
+        {"stanag4607", "mdv_mps"},
+        {"cot", "mode"},
+        {"cot", "address"},
+        {"cot", "port"},
+        {"cot", "interface"},
+        {"cot", "ttl"},
+        {"cot", "format"},
+        {"cot", "rate_hz"},
+        {"cot", "stale_s"},
+        {"cot", "uid_prefix"},
+        {"cot", "designate"},
+        {"cot", "designate_type"},
     };
     const char *root = getenv ("CGS_ROOT");
     char path[1024], err[512] = "";
@@ -159,8 +307,15 @@ static void test_shipped_file (void **state)
     p.position_threshold_m = 2, p.orientation_threshold_deg = 4, p.heartbeat_s = 6;
     p.timeout_s = 20, p.first_entity_id = 70000, p.max_entities = 5, p.publish_rate_hz = 2;
     p.task_timeout_s = 3;
+    p.s4607_platform_rate_hz = 7, p.s4607_mdv_mps = 3, p.s4607_classification = 1;
+    p.cot_stale_s = 99, p.cot_rate_hz = 9, p.cot_udp.port = 1, p.cot_designate = false;
     if (gw_params_load (path, &p, err, sizeof err) != 0)
         fail_msg ("%s", err);
+    // The default exercise writes the 4607 file with truth tags and sends
+    // CoT on loopback; every other value is the built-in default.
+    def.s4607_file = true;
+    def.s4607_truth_tag = true;
+    def.cot_udp.mode = GW_UDP_MULTICAST;
     s_assert_equal (&p, &def);
     cgs_config_t *cfg = NULL;
     if (cgs_config_load (path, &cfg, err, sizeof err) != 0)
@@ -168,7 +323,7 @@ static void test_shipped_file (void **state)
     for (size_t i = 0; i < sizeof keys / sizeof keys[0]; i++)
         if (!cgs_config_has (cfg, keys[i][0], keys[i][1]))
             fail_msg ("%s has no [%s] %s", path, keys[i][0], keys[i][1]);
-    assert_int_equal (cgs_config_section_count (cfg), 4);
+    assert_int_equal (cgs_config_section_count (cfg), 6);
     cgs_config_destroy (&cfg);
 }
 
@@ -274,10 +429,10 @@ static void test_leaves_host (void **state)
 {
     (void)state;
     static const struct {
-        const char *text;   // the [network] section
-        bool loopback_if;   // whether its interface is a loopback one
-        bool leaves;        // expected
-        const char *where;  // expected description
+        const char *text;  // the [network] section
+        bool loopback_if;  // whether its interface is a loopback one
+        bool leaves;       // expected
+        const char *where; // expected description
     } cases[] = {
         {"", true, false, "multicast to 239.1.2.3:3000 on lo, TTL 0"},
         {"ttl = 1\n", true, false, "multicast to 239.1.2.3:3000 on lo, TTL 1"},
@@ -367,6 +522,19 @@ static void test_errors (void **state)
     s_fails ("[network]\ninterface = averyverylongname\n", "g.ini:2: [network] interface",
              "ip -br link");
     s_fails ("[network]\ninterface = eth/0\n", "g.ini:2: [network] interface", "eth/0");
+    s_fails ("[stanag4607]\nudp = sometimes\n", "g.ini:2: [stanag4607] udp", "sometimes");
+    s_fails ("[stanag4607]\nudp = unicast\n", "g.ini:2: [stanag4607] udp", "peer");
+    s_fails ("[stanag4607]\nnationality = USA\n", "g.ini:2: [stanag4607] nationality", "USA");
+    s_fails ("[stanag4607]\nclassification = 6\n", "g.ini:2: [stanag4607] classification", "6");
+    s_fails ("[stanag4607]\nmdv_mps = -1\n", "g.ini:2: [stanag4607] mdv_mps", "-1");
+    s_fails ("[cot]\nmode = multicast\naddress = 10.0.0.1\n", "g.ini:3: [cot] address",
+             "224.0.0.0/4");
+    s_fails ("[cot]\npeer = 127.0.0.1\n", "g.ini:2: [cot] peer", "unicast");
+    s_fails ("[cot]\nformat = json\n", "g.ini:2: [cot] format", "json");
+    s_fails ("[cot]\nrate_hz = 0\n", "g.ini:2: [cot] rate_hz", "0");
+    s_fails ("[cot]\ndesignate_type = b m p\n", "g.ini:2: [cot] designate_type", "b m p");
+    s_fails ("[cot]\nuid_prefix = a\"b\n", "g.ini:2: [cot] uid_prefix", "a\"b");
+    s_fails ("[cot]\ninterface = eth 0\n", "g.ini:2: [cot] interface", "eth 0");
     // Seventeen peers: one too many, named at the seventeenth.
     char text[1024] = "[network]\nmode = unicast\n";
     for (int i = 1; i <= GW_PEERS_MAX + 1; i++) {
@@ -385,13 +553,10 @@ static void test_errors (void **state)
 int main (void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test (test_defaults),
-        cmocka_unit_test (test_shipped_file),
-        cmocka_unit_test (test_values),
-        cmocka_unit_test (test_mode_defaults),
-        cmocka_unit_test (test_leaves_host),
-        cmocka_unit_test (test_lab_file),
-        cmocka_unit_test (test_errors),
+        cmocka_unit_test (test_defaults),    cmocka_unit_test (test_shipped_file),
+        cmocka_unit_test (test_values),      cmocka_unit_test (test_mode_defaults),
+        cmocka_unit_test (test_leaves_host), cmocka_unit_test (test_lab_file),
+        cmocka_unit_test (test_errors),      cmocka_unit_test (test_translators),
     };
     return cmocka_run_group_tests (tests, NULL, NULL);
 }
