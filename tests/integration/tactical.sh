@@ -1,0 +1,303 @@
+#!/bin/bash
+# tactical.sh — the gateway's STANAG 4607 and Cursor on Target translators in
+# the default scenario (its terrain, traffic and radar), with the real
+# uavsim, mtid, trackerd and guidanced, checked by decoders nobody here
+# wrote:
+#  - STANAG 4607: the file the gateway writes is read by Wireshark's
+#    dissector (tshark -r) with no malformed packet or expert warning; every
+#    target report's raw fields equal the `mti` messages on the bus
+#    (positions to the format's quantisation through GeographicLib's
+#    CartConvert, line-of-sight and wrap velocities to 1 cm/s, truth tags
+#    the entities of `mti.truth`); the same packets arrive over UDP.
+#  - Cursor on Target: every event a client receives is valid against
+#    MITRE's base-event schema (xmllint) and parsed by @tak-ps/node-cot;
+#    tracks, the UAV (with its sensor), the intercept route and the
+#    footprint are there, track positions equal the bus's tracks through
+#    CartConvert to 1e-6 degrees; a point node-cot sends designates the
+#    track nearest it and is answered y-a-w; malformed events are rejected,
+#    counted, and change nothing; the TAK protobuf option decodes with
+#    node-cot and protoc. TAP on stdout.
+# shellcheck source=tests/integration/lib.sh
+. "$(dirname "$0")/lib.sh"
+
+UAVSIM=$CGS_BUILD/bin/uavsim
+MTID=$CGS_BUILD/bin/mtid
+BCISD=$CGS_BUILD/bin/bcisd
+TRACKERD=$CGS_BUILD/bin/trackerd
+GUIDANCED=$CGS_BUILD/bin/guidanced
+GATEWAY=$CGS_BUILD/bin/gateway
+for b in "$UAVSIM" "$MTID" "$BCISD" "$TRACKERD" "$GUIDANCED" "$GATEWAY"; do [ -x "$b" ] || bail "no $b"; done
+command -v tshark >/dev/null || bail "no tshark (scripts/install-deps installs it)"
+command -v xmllint >/dev/null || bail "no xmllint (libxml2-utils)"
+command -v protoc >/dev/null || bail "no protoc (protobuf-compiler)"
+command -v CartConvert >/dev/null || bail "no CartConvert (geographiclib-tools)"
+command -v node >/dev/null || bail "no node"
+INTEROP=$CGS_ROOT/tests/interop
+[ -d "$INTEROP/node_modules/@tak-ps/node-cot" ] || bail "no node-cot (npm ci in tests/interop)"
+XSD=$CGS_ROOT/tests/data/cot/Event-PUBLIC.xsd
+[ -f "$XSD" ] || bail "no $XSD"
+
+ORIGIN="35.96 -121.23 0"
+EXID=12
+# Free UDP ports on loopback: DIS (to nobody), 4607 to our listener, CoT to
+# our listener, and the gateway's CoT input.
+BASE=$((20000 + RANDOM % 20000))
+DISPORT=$BASE S4607PORT=$((BASE + 1)) COTPORT=$((BASE + 2)) COTIN=$((BASE + 3))
+
+EX=$TMP/exercise.ini
+{
+    exercise_header $EXID tactical-test "scenario=$CGS_ROOT/deploy/scenarios/default.ini"
+    exercise_service uavsim command
+    exercise_service mtid.uav1 uav=uav1
+    exercise_service bcisd.uav1 uav=uav1
+    exercise_service trackerd "params=$CGS_ROOT/deploy/params/tracker.ini"
+    exercise_service guidanced command "params=$CGS_ROOT/deploy/params/guidance.ini"
+    exercise_service gateway params=gateway.ini
+} >"$EX"
+gwparams () {
+    cat >"$TMP/gateway.ini" <<EOF
+[network]
+port = $DISPORT
+mode = unicast
+peer = 127.0.0.1:$((DISPORT + 100))
+[stanag4607]
+file = yes
+udp = unicast
+peer = 127.0.0.1:$S4607PORT
+truth_tag = yes
+[cot]
+mode = unicast
+peer = 127.0.0.1:$COTPORT
+input_port = $COTIN
+format = $1
+rate_hz = 2
+stale_s = 10
+EOF
+}
+M () { "$MSCGS" "$@" --exercise "$EX"; }
+counter () { M status 2>/dev/null | grep -o "$1=[0-9]*" | head -1 | cut -d= -f2; }
+
+# A UDP listener: every datagram to PORT as a file DIR/NNNNNN.
+listen () {
+    mkdir -p "$2"
+    node -e 'const dgram = require("node:dgram"), fs = require("node:fs");
+        const s = dgram.createSocket("udp4"); let n = 0;
+        s.on("message", (m) => fs.writeFileSync(`${process.argv[2]}/${String(n++).padStart(6, "0")}`, m));
+        s.bind(Number(process.argv[1]), "127.0.0.1");' "$1" "$2"
+}
+
+gwparams xml
+start L4 listen-4607 listen "$S4607PORT" "$TMP/udp4607"
+start LC listen-cot listen "$COTPORT" "$TMP/cot"
+# The bus as the radar publishes it, from before the radar starts.
+start U uavsim "$UAVSIM" --exercise "$EX" --time-scale 20
+start EM echo-mti "$MSCGS" echo mti --json --exercise "$EX"
+start ET echo-truth "$MSCGS" echo mti.truth --json --exercise "$EX"
+start EK echo-track "$MSCGS" echo track --json --exercise "$EX"
+start W gateway "$GATEWAY" --exercise "$EX" --out "$TMP"
+sleep 1
+start R mtid "$MTID" --exercise "$EX" --instance mtid.uav1
+start B bcisd "$BCISD" --exercise "$EX" --instance bcisd.uav1
+start T trackerd "$TRACKERD" --exercise "$EX"
+start G guidanced "$GUIDANCED" --exercise "$EX"
+
+# ---- Cursor on Target out -----------------------------------------------------------------
+# node-cot's view of every event received: uid type how time stale point
+# detail, one JSON line each.
+cot_parse () { node "$INTEROP/cot.mjs" read "$@"; }
+check "CoT: the UAV, with its sensor, reaches the client" wait_for 20 \
+    bash -c "grep -lqs 'a-f-A-M-F-Q' '$TMP'/cot/* && grep -ls 'a-f-A-M-F-Q' '$TMP'/cot/* | head -1 | xargs grep -q '<sensor '"
+check "CoT: confirmed tracks reach the client" wait_for 60 \
+    bash -c "grep -lqs 'uid=\"mscgs-$EXID.track.' '$TMP'/cot/*"
+
+# Designate from a CoT client: a spot at the lead APC (APC1) as the bus
+# has it now, once a confirmed track is near it. (The scenario's operator
+# designates at t = 120 s too: what is checked is the designation number.)
+apc_now () {
+    M echo entity --json --count 200 --timeout 5 2>/dev/null |
+        node -e 'let s = ""; process.stdin.on("data", (d) => (s += d)).on("end", () => {
+            for (const l of s.split("\n")) { if (!l.startsWith("{")) continue;
+                const e = (JSON.parse(l).entities || []).find((x) => x.marking === "APC1");
+                if (e) { const p = e.position || {}; console.log(p.east_m || 0, p.north_m || 0); break; } } });'
+}
+near=""
+for _ in $(seq 1 60); do
+    apc=$(apc_now)
+    near=$(confirmed_tracks "$EX" | awk -v p="$apc" 'BEGIN { split(p, a) } { d = sqrt(($2 - a[1]) ^ 2 + ($3 - a[2]) ^ 2); if (d < 300) { print $1; exit } }')
+    [ -n "$near" ] && break
+    sleep 0.5
+done
+diag "APC1 at $apc (local metres)"
+check "a confirmed track near APC1 (${near:-none})" test -n "$near"
+read -r lat lon _ < <(CartConvert -r -l $ORIGIN -p 9 <<<"$apc 0")
+# Malformed events first: each rejected and counted, nothing designated.
+rej0=$(counter cot_rejected)
+# udp_send TEXT: one datagram to the gateway's CoT input.
+udp_send () {
+    node -e 'const s = require("node:dgram").createSocket("udp4");
+        s.send(Buffer.from(process.argv[2]), Number(process.argv[1]), "127.0.0.1", () => s.close());' "$COTIN" "$1"
+}
+NOW=$(date -u +%Y-%m-%dT%H:%M:%SZ)
+LATER=$(date -u -d '+60 seconds' +%Y-%m-%dT%H:%M:%SZ)
+udp_send 'garbage'
+udp_send "<?xml version=\"1.0\"?><event version=\"2.0\" uid=\"x1\" type=\"b-m-p-s-p-i\" how=\"h-e\" time=\"$NOW\" start=\"$NOW\" stale=\"$LATER\"><point lat=\"91\" lon=\"0\" hae=\"0\" ce=\"1\" le=\"1\"/></event>"
+udp_send "<?xml version=\"1.0\"?><event version=\"2.0\" uid=\"x2\" type=\"b-m-p-s-p-i\" how=\"h-e\" time=\"$NOW\" start=\"$NOW\" stale=\"$LATER\"><point lat=\"35.9\" lon"
+sleep 1.5
+rej1=$(counter cot_rejected)
+check "three malformed CoT datagrams are rejected and counted (${rej0:-none} -> ${rej1:-none})" \
+    test "$((${rej1:-0} - ${rej0:-0}))" -eq 3
+is "$(grep -c 'from gateway-cot' "$TMP/guidanced.log")" 0 "and designate nothing"
+check "the gateway keeps running" running "$W"
+check "the gateway logged the reason" grep -q 'a CoT datagram from 127.0.0.1:[0-9]*: ' "$TMP/gateway.log"
+
+node "$INTEROP/cot.mjs" send "127.0.0.1:$COTIN" --type b-m-p-s-p-i --uid "tak-user-1.spi" \
+    --lat "$lat" --lon "$lon" --callsign "TAK USER 1" >"$TMP/send.out" 2>&1
+designated_by_cot () { grep -q 'from gateway-cot' "$TMP/guidanced.log"; }
+check "a b-m-p-s-p-i point from node-cot designates" wait_for 10 designated_by_cot
+# The point reached guidanced where the client put it: the gateway's
+# local point against CartConvert's, and guidanced's answer names the track
+# the intercept now has.
+local_pt=$(grep -o 'tak-user-1.spi at [-0-9.]* [-0-9.]* (local [-0-9.]* [-0-9.]*)' "$TMP/gateway.log" | head -1 |
+    sed 's/.*(local \(.*\))/\1/')
+diag "APC1 at $apc; the gateway's local point: ${local_pt:-none}"
+check "the designation's point is the client's to 0.5 m" awk -v a="$local_pt" -v b="$apc" \
+    'BEGIN { if (split(a, x) < 2) exit 1; split(b, y); exit !(sqrt((x[1] - y[1]) ^ 2 + (x[2] - y[2]) ^ 2) < 0.5) }'
+tid=$(grep -o 'tak-user-1.spi at .* designates: uav1: designated track [0-9]*' "$TMP/gateway.log" | grep -o '[0-9]*$' | head -1)
+icpt=$(M echo intercept --json --count 1 --timeout 5 2>/dev/null | tail -1)
+diag "intercept: $(cut -c1-200 <<<"$icpt")"
+check "guidanced named the track (${tid:-none}), and the intercept is under way" bash -c \
+    "[ -n '$tid' ] && grep -q 'designated track $tid .*(from gateway-cot' '$TMP/guidanced.log' && ! grep -q 'INTERCEPT_STATE_IDLE' <<<'$icpt'"
+check "the client gets the answer: y-a-w about its point, naming the track" wait_for 5 bash -c \
+    "grep -ls 'type=\"y-a-w\"' '$TMP'/cot/* | xargs grep -l 'tak-user-1.spi' | xargs grep -q 'track'"
+check "the intercept route and the footprint go out as drawings" wait_for 10 bash -c \
+    "grep -lqs 'uid=\"mscgs-$EXID.route.uav1\"' '$TMP'/cot/* && grep -lqs 'uid=\"mscgs-$EXID.footprint.uav1\"' '$TMP'/cot/*"
+is "$(counter cot_designations)" 1 "cot_designations counts it"
+
+# A task to a UAV the exercise does not have: refused, with the reason.
+node "$INTEROP/cot.mjs" send "127.0.0.1:$COTIN" --format proto --type t-x-i --uid "tak-user-1.task" \
+    --lat "$lat" --lon "$lon" --dest-callsign uav9 >/dev/null 2>&1
+check "a task (TAK protobuf) for a UAV the exercise lacks is answered y-a-u with the reason" wait_for 5 bash -c \
+    "grep -ls 'type=\"y-a-u\"' '$TMP'/cot/* | xargs grep -q 'no UAV uav9'"
+
+# Let the exercise run on: more scans, more dwells.
+sleep 6
+
+# ---- every event received: the schema, node-cot, the bus ---------------------------------
+events=("$TMP"/cot/*) # as they are now: the listener goes on writing
+n=${#events[@]}
+xmllint --noout --schema "$XSD" "${events[@]}" >"$TMP/xmllint.out" 2>&1
+rc=$?
+diag "xmllint: $(grep -vc ' validates$' "$TMP/xmllint.out") lines other than 'validates' of $n events"
+is "$rc" 0 "all $n CoT events validate against MITRE's Event-PUBLIC.xsd"
+cot_parse "${events[@]}" >"$TMP/cot.jsonl" 2>"$TMP/cot_parse.err"
+is "$?" 0 "node-cot parses every event"
+is "$(grep -c '"valid":true' "$TMP/cot.jsonl")" "$n" "node-cot validates all $n"
+check "every event is marked simulation (opex s-...)" bash -c \
+    "[ \$(grep -c '\"opex\":\"s-' '$TMP/cot.jsonl') -eq $n ]"
+check "tracks are a-u-G or a-f-G-E-V, how m-p, with course and speed" bash -c \
+    "grep '\"uid\":\"mscgs-$EXID.track.' '$TMP/cot.jsonl' | grep -v '\"stale\":' >/dev/null;
+     ! grep '\"uid\":\"mscgs-$EXID.track.' '$TMP/cot.jsonl' | grep -qv '\"how\":\"m-p\"' &&
+     ! grep '\"uid\":\"mscgs-$EXID.track.' '$TMP/cot.jsonl' | grep -Eqv '\"type\":\"(a-u-G|a-f-G-E-V)\"' &&
+     grep '\"uid\":\"mscgs-$EXID.track.' '$TMP/cot.jsonl' | grep -q '\"course\"'"
+check "BCIS-identified friendly tracks are a-f-G-E-V" grep -q '"type":"a-f-G-E-V"' "$TMP/cot.jsonl"
+check "the footprint is a closed polygon of 4 corners for node-cot (5 points, first = last)" \
+    bash -c "grep '\"uid\":\"mscgs-$EXID.footprint.uav1\"' '$TMP/cot.jsonl' | grep -v 'ended' | head -1 | node -e 'let s = \"\"; process.stdin.on(\"data\", (d) => (s += d)).on(\"end\", () => { const g = JSON.parse(s).geometry; const c = g.coordinates[0]; process.exit(g.type === \"Polygon\" && c.length === 5 && c[0].join() === c[4].join() ? 0 : 1); })'"
+# Track positions against the bus: each CoT track event's point equals a
+# track of the same id in some batch, through CartConvert, to 1e-6 degrees.
+node -e '
+const fs = require("node:fs");
+const cot = fs.readFileSync(process.argv[1], "utf8").split("\n").filter((l) => l.startsWith("{")).map(JSON.parse);
+const want = new Map();
+for (const l of fs.readFileSync(process.argv[2], "utf8").split("\n")) {
+    if (!l.startsWith("{")) continue;
+    for (const t of JSON.parse(l).tracks || []) {
+        const p = t.position || {};
+        const k = String(t.track_id);
+        if (!want.has(k)) want.set(k, []);
+        want.get(k).push(`${p.east_m || 0} ${p.north_m || 0} ${p.up_m || 0}`);
+    }
+}
+const rows = [];
+for (const e of cot) {
+    const m = e.uid.match(/\.track\.(\d+)$/);
+    if (m && want.has(m[1])) rows.push({ lat: e.point.lat, lon: e.point.lon, cands: want.get(m[1]) });
+}
+fs.writeFileSync(process.argv[3], JSON.stringify(rows));
+' "$TMP/cot.jsonl" "$TMP/echo-track.log" "$TMP/trackpos.json"
+node -e '
+const fs = require("node:fs"), { execFileSync } = require("node:child_process");
+const rows = JSON.parse(fs.readFileSync(process.argv[1], "utf8"));
+const all = rows.flatMap((r) => r.cands);
+const geo = execFileSync("CartConvert", ["-r", "-l", ...process.argv.slice(2), "-p", "9"], { input: all.join("\n") + "\n", maxBuffer: 1 << 28 })
+    .toString().trim().split("\n").map((l) => l.trim().split(/\s+/).map(Number));
+let k = 0, ok = 0, worst = 0;
+for (const r of rows) {
+    let best = Infinity;
+    for (let i = 0; i < r.cands.length; i++, k++)
+        best = Math.min(best, Math.max(Math.abs(geo[k][0] - r.lat), Math.abs(geo[k][1] - r.lon)));
+    if (best <= 1e-6) ok++; else worst = Math.max(worst, best);
+}
+console.log(rows.length, ok, worst);
+' "$TMP/trackpos.json" $ORIGIN >"$TMP/trackpos.out"
+read -r nrows nok worst <"$TMP/trackpos.out"
+diag "track events compared: $nrows, equal to a bus track within 1e-6 deg: $nok (worst other $worst deg)"
+check "every CoT track position equals the bus's track to 1e-6 degrees ($nok of $nrows)" \
+    bash -c "[ '$nrows' -gt 0 ] && [ '$nrows' = '$nok' ]"
+
+# ---- STANAG 4607 ---------------------------------------------------------------------------
+stop "$W"
+stop "$R"
+sleep 0.5
+stop "$EM"
+stop "$ET"
+F=$TMP/gateway.4607
+check "the gateway wrote $F" test -s "$F"
+tshark -r "$F" -T pdml >"$TMP/s4607.pdml" 2>"$TMP/tshark.err"
+is "$?" 0 "tshark reads it"
+tshark -r "$F" -q -z expert >"$TMP/expert.txt" 2>&1
+diag "tshark expert: $(grep -cE 'Warning|Error' "$TMP/expert.txt") warning or error lines"
+check "with no malformed packet, warning or error" bash -c \
+    "! grep -qE 'Malformed|Warning|Error' '$TMP/expert.txt' && ! grep -q '_ws.malformed' '$TMP/s4607.pdml'"
+node "$INTEROP/s4607_check.mjs" "$TMP/s4607.pdml" "$TMP/echo-mti.log" "$TMP/echo-truth.log" \
+    $ORIGIN >"$TMP/check.json"
+rc=$?
+diag "$(cat "$TMP/check.json")"
+is "$rc" 0 "every target report's raw fields equal its hit on the bus"
+check "hundreds of reports were compared, with truth tags" node -e '
+    const r = JSON.parse(require("node:fs").readFileSync(process.argv[1], "utf8"));
+    process.exit(r.reports_compared >= 100 && r.truth_tags_compared >= 50 && r.matched_dwells >= 0.9 * r.mti_messages ? 0 : 1)' \
+    "$TMP/check.json"
+check "mission, job and platform location segments are in the file" bash -c \
+    "tshark -r '$F' -T fields -e s4607.mission.platform -e s4607.exind -e s4607.job.id -e s4607.ploc.lat 2>/dev/null | awk -F'\t' '\$1 != \"\" { m++ } \$3 != \"\" { j++ } \$4 != \"\" { p++ } \$2 == 129 { e++ } END { exit !(m >= 1 && j >= 1 && p >= 5 && e == NR) }'"
+nudp=$(find "$TMP/udp4607" -type f | wc -l)
+npk=$(grep -c '<packet>' "$TMP/s4607.pdml")
+check "the same packets went out over UDP, one a datagram ($nudp of $npk)" \
+    bash -c "[ '$nudp' -ge \$(( $npk * 99 / 100 )) ] && [ '$nudp' -le '$npk' ]"
+check "and each datagram is a whole packet (its size field equals its length)" bash -c \
+    "for f in \$(ls '$TMP/udp4607' | head -50); do s=\$(od -An -tu1 -j2 -N4 '$TMP/udp4607/'\$f | awk '{ print \$1 * 16777216 + \$2 * 65536 + \$3 * 256 + \$4 }'); [ \"\$s\" = \$(stat -c %s '$TMP/udp4607/'\$f) ] || exit 1; done"
+
+# ---- the TAK protobuf option --------------------------------------------------------------
+gwparams protobuf
+rm -rf "$TMP/cot"
+mkdir -p "$TMP/cot"
+start W gateway-proto "$GATEWAY" --exercise "$EX" --out "$TMP"
+check "TAK protobuf events reach the client" wait_for 10 bash -c "[ \$(ls '$TMP/cot' | wc -l) -ge 3 ]"
+first=$(ls "$TMP/cot" | head -1)
+check "in the mesh framing (0xbf 0x01 0xbf)" bash -c \
+    "[ \"\$(od -An -tx1 -N3 '$TMP/cot/$first' | tr -d ' ')\" = bf01bf ]"
+cot_parse "$TMP"/cot/* >"$TMP/cotp.jsonl" 2>"$TMP/cotp.err"
+is "$?" 0 "node-cot decodes every one (from_proto)"
+check "the UAV among them" grep -q '"type":"a-f-A-M-F-Q"' "$TMP/cotp.jsonl"
+uavf=$(grep -l 'uav.uav1' "$TMP"/cot/* | head -1)
+tail -c +4 "$uavf" | protoc --decode=tak.TakMessage --proto_path="$CGS_ROOT/proto" "$CGS_ROOT/proto/tak.proto" >"$TMP/protoc.txt" 2>&1
+check "protoc decodes it as a TakMessage with the UAV's uid and type" bash -c \
+    "grep -q 'uid: \"mscgs-$EXID.uav.uav1\"' '$TMP/protoc.txt' && grep -q 'type: \"a-f-A-M-F-Q\"' '$TMP/protoc.txt'"
+
+stop "$W"
+for p in "$B" "$T" "$G" "$U"; do stop "$p"; done
+check "the gateway encoded every CoT event (none refused by the codec)" bash -c \
+    "! grep -q 'cannot be encoded' '$TMP/gateway.log' '$TMP/gateway-proto.log'"
+for log in gateway gateway-proto mtid bcisd trackerd guidanced uavsim; do
+    check "$log: no sanitizer report" clean_log "$TMP/$log.log"
+done
+finish
