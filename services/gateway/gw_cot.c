@@ -367,6 +367,8 @@ static int s_check (const gw_cot_event_t *e, char *why, size_t whylen)
         return s_fail (why, whylen, "point lon %g is outside [-180, 180]", e->point.lon_deg);
     if (!s_metres_ok (e->point.hae_m) || !s_metres_ok (e->ce_m) || !s_metres_ok (e->le_m))
         return s_fail (why, whylen, "point hae, ce or le is not finite or beyond 1e12 m");
+    if (e->ce_m < 0 || e->le_m < 0)
+        return s_fail (why, whylen, "point ce %g or le %g is negative", e->ce_m, e->le_m);
     if (!s_text_ok (e->callsign, true) || !s_text_ok (e->remarks, true))
         return s_fail (why, whylen, "callsign or remarks is not UTF-8 or has a control character");
     if (e->has_track && (!s_metres_ok (e->course_deg) || !s_metres_ok (e->speed_mps)))
@@ -777,6 +779,14 @@ typedef struct {
 
 /* What one <detail> says, into e and l; *ret_contact and *ret_track say whether it
  * had those elements (a TAK message's typed fields yield to them). */
+/* Whether a <link> names the event's parent (relation "p-p", "p-..."). */
+static bool s_parent_link (const xmlNode *n)
+{
+    char rel[16];
+    return s_attr (n, "relation", rel, sizeof rel) > 0 && rel[0] == 'p' &&
+           (rel[1] == '-' || rel[1] == '\0');
+}
+
 static int s_read_detail (const s_ctx_t *c, const xmlNode *detail, gw_cot_event_t *e, s_links_t *l,
                           bool *ret_contact, bool *ret_track)
 {
@@ -822,7 +832,10 @@ static int s_read_detail (const s_ctx_t *c, const xmlNode *detail, gw_cot_event_
                                    "%sline %ld: <link> point '%.60s' is not lat,lon[,hae] in range",
                                    c->where, line, rc < 0 ? "" : b);
                 l->n++;
-            } else if (!l->uid[0]) {
+            } else if (!l->uid[0] && !s_parent_link (n)) {
+                // A task's addressee, when it has no <marti><dest>: the first
+                // link to another object that is not the sender's own parent
+                // (ATAK links every event to its sender, relation p-p).
                 if (s_attr (n, "uid", l->uid, sizeof l->uid) < 0)
                     return s_fail (c->why, c->whylen,
                                    "%sline %ld: <link> uid longer than %zu bytes", c->where, line,

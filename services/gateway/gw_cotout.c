@@ -163,8 +163,10 @@ static void s_track_remove (gw_cotout_t *self, size_t i)
 static void s_track_send (gw_cotout_t *self, s_track_t *t, double now_s, bool removing)
 {
     gw_cot_event_t e;
-    if (!s_event (self, &e, t->friendly ? "a-f-G-E-V" : "a-u-G", t->position, now_s,
-                  removing ? 0 : self->p.cot_stale_s))
+    // Stale stale_s after the batch that last carried it: a client drops a
+    // track the tracker no longer reports stale_s after its last report.
+    double stale = removing ? 0 : fmax (t->heard_s + self->p.cot_stale_s - now_s, 0);
+    if (!s_event (self, &e, t->friendly ? "a-f-G-E-V" : "a-u-G", t->position, now_s, stale))
         return;
     snprintf (e.uid, sizeof e.uid, "%strack.%u", self->prefix, t->track_id);
     snprintf (e.callsign, sizeof e.callsign, "T%u", t->track_id);
@@ -401,7 +403,7 @@ void gw_cotout_tick (gw_cotout_t *self, double now_s)
     double period = 1.0 / self->p.cot_rate_hz;
     for (size_t i = 0; i < self->ntracks;) {
         s_track_t *t = &self->tracks[i];
-        if (now_s - t->heard_s > self->p.cot_stale_s) { // no longer reported: it goes stale
+        if (now_s - t->heard_s >= self->p.cot_stale_s) { // no longer reported: it is stale
             s_track_remove (self, i);
             continue;
         }

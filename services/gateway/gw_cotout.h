@@ -1,7 +1,8 @@
 /* gw_cotout — the exercise as Cursor on Target events (the codec is gw_cot):
  *  - every confirmed or coasting track of `track`: type from its identity
  *    (a-f-G-E-V friendly, a BCIS responder's vehicle; a-u-G unknown: the
- *    tracker knows no other identities), how m-p (machine, predicted), ce
+ *    tracker knows no other identities), how m-p (machine-generated, passed
+ *    on from another system: the tracker), ce
  *    the 1-sigma radius of its position covariance's major axis, course and
  *    speed; a deleted track once more, stale at once, so clients drop it;
  *  - every UAV of `uav`: a-f-A-M-F-Q with its callsign, course and speed and
@@ -10,9 +11,11 @@
  *  - each UAV's intercept (`intercept`) route as a u-d-f line and its
  *    sensor footprint as a closed u-d-f polygon; once the intercept ends,
  *    both once more, stale at once.
- * Each object is sent at rate_hz of wall-clock time (so a paused exercise
- * stays on the clients), stale stale_s after it is sent; one that is no
- * longer reported (a track not in a batch for stale_s) simply goes stale.
+ * Each object is sent at rate_hz of wall-clock time. A UAV's event is stale
+ * stale_s after it is sent (uavsim reports UAVs while paused too); a
+ * track's is stale stale_s after the batch that last carried it, so a
+ * track the tracker no longer reports (or a paused exercise's) drops from
+ * the clients then, and is no longer sent.
  * Times are wall-clock UTC. Every event is marked as simulation (opex
  * "s-PREFIX"). uids: PREFIX-EX.track.ID, PREFIX-EX.uav.NAME,
  * PREFIX-EX.route.NAME, PREFIX-EX.footprint.NAME (EX the exercise id).

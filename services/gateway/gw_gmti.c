@@ -10,9 +10,10 @@
 #include <string.h>
 #include <time.h>
 
-#define S_RADARS_MAX 64
-#define S_Y2000      946684800.0 // 2000-01-01T00:00:00Z, seconds since the Unix epoch
-#define S_DEG        (M_PI / 180)
+#define S_RADARS_MAX   64
+#define S_Y2000        946684800.0 // 2000-01-01T00:00:00Z, seconds since the Unix epoch
+#define S_DEG          (M_PI / 180)
+#define S_JOB_REPEAT_S 60.0 // mission and job segments again, simulated seconds
 
 typedef struct {
     uint32_t uav_id;
@@ -24,10 +25,12 @@ typedef struct {
     // The job.
     bool started;           // mission and job segments went out
     double last_platform_s; // simulation time of the last platform location segment
+    double job_sent_s;      // and of the last mission and job segments
     // The dwell waiting for its truth.
     bool pending;
     int age; // gw_gmti_tick calls it has waited through
     uint32_t scan, dwell;
+    double t_s; // its centre
     gw_s4607_dwell_t d;
     gw_s4607_report_t *reports;
     uint32_t *hit_ids;
@@ -229,7 +232,19 @@ static void s_platform (gw_gmti_t *self, s_radar_t *r, double t_s)
     pl.speed_mps = hypot (r->velocity.e_m, r->velocity.n_m);
     pl.vertical_velocity_mps = r->velocity.u_m;
     gw_s4607_packet_t pk;
-    if (s_begin (self, r, &pk) < 0 || gw_s4607_add_platform (&pk, &pl) < 0) {
+    if (s_begin (self, r, &pk) < 0) {
+        self->stats.unplaceable++;
+        return;
+    }
+    // The mission and job again now and then, for a receiver that joined late.
+    if (t_s - r->job_sent_s >= S_JOB_REPEAT_S) {
+        if (s_add_job (self, r, &pk) < 0) {
+            self->stats.unplaceable++;
+            return;
+        }
+        r->job_sent_s = t_s;
+    }
+    if (gw_s4607_add_platform (&pk, &pl) < 0) {
         self->stats.unplaceable++;
         return;
     }
@@ -258,12 +273,16 @@ void gw_gmti_on_uav (gw_gmti_t *self, const Cgs__Uav *u, double t_s)
 
 /* ---- dwells -------------------------------------------------------------------------------- */
 
-/* Send the radar's pending dwell: in one packet, or split over several. */
-static void s_send_dwell (gw_gmti_t *self, s_radar_t *r)
+/* Send the radar's pending dwell: in one packet, or split over several.
+ * Untagged (its truth did not come): without the truth tag fields, which
+ * would otherwise say "no entity" (a false alarm) of every report. */
+static void s_send_dwell (gw_gmti_t *self, s_radar_t *r, bool tagged)
 {
     if (!r->pending)
         return;
     r->pending = false;
+    if (!tagged)
+        r->d.report_fields &= ~(uint32_t)GW_S4607_R_TRUTH_TAG;
     bool last = r->d.last_dwell;
     size_t at = 0;
     do {
@@ -276,6 +295,7 @@ static void s_send_dwell (gw_gmti_t *self, s_radar_t *r)
                 return;
             }
             r->started = true;
+            r->job_sent_s = r->t_s;
         }
         // As many reports as fit in this packet.
         size_t room = sizeof self->buf - pk.len;
@@ -309,7 +329,7 @@ int gw_gmti_on_mti (gw_gmti_t *self, const Cgs__Mti *m)
         return -EINVAL;
     if (r->pending && self->p.s4607_truth_tag)
         self->stats.untagged++;
-    s_send_dwell (self, r); // the previous one, untagged: its truth did not come
+    s_send_dwell (self, r, false); // the previous one, untagged: its truth did not come
     if (!r->heard)
         self->stats.no_uav++;
     cgs_enu_t plat = {m->platform_position->east_m, m->platform_position->north_m,
@@ -412,10 +432,11 @@ int gw_gmti_on_mti (gw_gmti_t *self, const Cgs__Mti *m)
     r->nreports = n;
     r->scan = m->scan_number;
     r->dwell = m->dwell_number;
+    r->t_s = t;
     r->pending = true;
     r->age = 0;
     if (!self->p.s4607_truth_tag)
-        s_send_dwell (self, r);
+        s_send_dwell (self, r, false);
     return 0;
 }
 
@@ -438,7 +459,7 @@ void gw_gmti_on_truth (gw_gmti_t *self, const Cgs__MtiTruth *t)
                 self->stats.tagged++;
             }
     }
-    s_send_dwell (self, r);
+    s_send_dwell (self, r, true);
 }
 
 void gw_gmti_tick (gw_gmti_t *self)
@@ -447,13 +468,16 @@ void gw_gmti_tick (gw_gmti_t *self)
         s_radar_t *r = &self->radars[i];
         if (r->pending && r->age++ >= 1) {
             self->stats.untagged++;
-            s_send_dwell (self, r);
+            s_send_dwell (self, r, false);
         }
     }
 }
 
 void gw_gmti_flush (gw_gmti_t *self)
 {
-    for (size_t i = 0; i < self->nradars; i++)
-        s_send_dwell (self, &self->radars[i]);
+    for (size_t i = 0; i < self->nradars; i++) {
+        if (self->radars[i].pending && self->p.s4607_truth_tag)
+            self->stats.untagged++;
+        s_send_dwell (self, &self->radars[i], false);
+    }
 }

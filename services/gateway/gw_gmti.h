@@ -2,12 +2,15 @@
  * gw_s4607). Per radar (a UAV that carries one, keyed by its entity id):
  * the first packet holds a mission segment (platform type UAV, the
  * exercise indicator "exercise, simulated data") and a job definition;
- * then platform location segments at the parameters' rate, from `uav`;
+ * then platform location segments at the parameters' rate, from `uav`,
+ * with the mission and job again every 60 s of simulation time (for a
+ * receiver that joins late);
  * and one dwell segment per `mti` message (one MTI dwell), a target report
  * per hit. With truth tags on, a dwell waits for its `mti.truth` (mtid
  * publishes it right after the dwell's `mti`), whose items name the entity
  * of each hit; the next `mti` of that radar, gw_gmti_tick or gw_gmti_flush
- * sends a dwell whose truth did not come, untagged. A dwell too large for one
+ * sends a dwell whose truth did not come without truth tag fields (a tag of
+ * 0 would say "a false alarm"). A dwell too large for one
  * packet is split over packets of consecutive dwell segments that share
  * the dwell index, only the last marked last of the revisit.
  *

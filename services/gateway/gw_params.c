@@ -453,6 +453,11 @@ static int s_read (cgs_config_t *cfg, void *arg, char *err, size_t errlen)
     if (rc == 0)
         rc = s_text (cfg, "stanag4607", "class_system", p.s4607_class_system,
                      sizeof p.s4607_class_system, 2, err, errlen);
+    if (rc == 0 && p.s4607_truth_tag && p.application > 255)
+        rc = cgs_config_error (cfg, "stanag4607", "truth_tag", 0, err, errlen,
+                               "a truth tag's application is one byte: [dis] application %d is "
+                               "over 255",
+                               p.application);
     if (rc == 0)
         rc = s_udp (cfg, "cot", "mode", &p.cot_udp, err, errlen);
     int format = p.cot_protobuf ? 1 : 0;

@@ -11,6 +11,7 @@
 int gw_udp_multicast (int fd, unsigned ifindex, uint32_t group, int ttl, bool loopback, bool join,
                       const char **ret_step)
 {
+    // On failure errno stays as setsockopt left it (the callers report it).
     struct ip_mreqn mreq = {.imr_ifindex = (int)ifindex};
     mreq.imr_multiaddr.s_addr = htonl (group);
     unsigned char t = (unsigned char)ttl, loop = loopback;
@@ -30,7 +31,7 @@ int gw_udp_multicast (int fd, unsigned ifindex, uint32_t group, int ttl, bool lo
 void gw_udp_init (gw_udp_sock_t *s)
 {
     memset (s, 0, sizeof *s);
-    s->fd = -1;
+    s->fd = s->rfd = -1;
 }
 
 int gw_udp_interface (gw_udp_sock_t *s, const gw_udp_t *u, const char *section, char *err,
@@ -46,27 +47,28 @@ int gw_udp_interface (gw_udp_sock_t *s, const gw_udp_t *u, const char *section, 
     return rc;
 }
 
-int gw_udp_open (gw_udp_sock_t *s, const gw_udp_t *u, bool receive, const char *section, char *err,
-                 size_t errlen)
+/* One socket: bound to hear (receive) or to send from an ephemeral port;
+ * the fd, or -errno with the reason in err. */
+static int s_socket (const gw_udp_sock_t *s, const gw_udp_t *u, bool receive, const char *section,
+                     char *err, size_t errlen)
 {
-    if (u->mode == GW_UDP_OFF)
-        return 0;
     int fd = socket (AF_INET, SOCK_DGRAM | SOCK_NONBLOCK | SOCK_CLOEXEC, 0);
     if (fd < 0) {
-        snprintf (err, errlen, "[%s]: cannot make a UDP socket: %s", section, strerror (errno));
-        return -errno;
+        int e = errno;
+        snprintf (err, errlen, "[%s]: cannot make a UDP socket: %s", section, strerror (e));
+        return -e;
     }
     int one = 1, size = 4 << 20;
     const char *step = "bind";
     setsockopt (fd, SOL_SOCKET, SO_REUSEADDR, &one, sizeof one);
-    setsockopt (fd, SOL_SOCKET, SO_SNDBUF, &size, sizeof size);
     struct sockaddr_in sa = {.sin_family = AF_INET};
     if (receive) {
         setsockopt (fd, SOL_SOCKET, SO_RCVBUF, &size, sizeof size);
         sa.sin_port = htons (u->mode == GW_UDP_MULTICAST ? u->port : u->input_port);
         sa.sin_addr.s_addr = htonl (u->bind_address);
     } else {
-        // Send only: any local port, and nothing arrives that we would read.
+        // Send only, from a port of its own: what comes back from it is ours.
+        setsockopt (fd, SOL_SOCKET, SO_SNDBUF, &size, sizeof size);
         sa.sin_addr.s_addr = htonl (u->mode == GW_UDP_MULTICAST ? INADDR_ANY : u->bind_address);
     }
     if (u->mode == GW_UDP_UNICAST && *u->interface &&
@@ -80,6 +82,37 @@ int gw_udp_open (gw_udp_sock_t *s, const gw_udp_t *u, bool receive, const char *
     if (u->mode == GW_UDP_MULTICAST &&
         gw_udp_multicast (fd, s->ifc.index, u->address, u->ttl, u->loopback, receive, &step) < 0)
         goto fail;
+    return fd;
+fail:;
+    int e = errno;
+    char addr[INET_ADDRSTRLEN], where[160];
+    inet_ntop (AF_INET, &sa.sin_addr, addr, sizeof addr);
+    gw_params_describe_udp (u, where, sizeof where);
+    snprintf (err, errlen, "[%s] socket (%s, bound to %s:%u): %s: %s", section, where, addr,
+              ntohs (sa.sin_port), step, strerror (e));
+    close (fd);
+    return -e;
+}
+
+int gw_udp_open (gw_udp_sock_t *s, const gw_udp_t *u, bool receive, const char *section, char *err,
+                 size_t errlen)
+{
+    if (u->mode == GW_UDP_OFF)
+        return 0;
+    int fd = s_socket (s, u, false, section, err, errlen);
+    if (fd < 0)
+        return fd;
+    socklen_t sl = sizeof s->local;
+    if (getsockname (fd, (struct sockaddr *)&s->local, &sl) < 0)
+        memset (&s->local, 0, sizeof s->local);
+    if (receive) {
+        int rfd = s_socket (s, u, true, section, err, errlen);
+        if (rfd < 0) {
+            close (fd);
+            return rfd;
+        }
+        s->rfd = rfd;
+    }
     s->ndest = 0;
     if (u->mode == GW_UDP_UNICAST) {
         for (size_t i = 0; i < u->peer_count; i++) {
@@ -92,27 +125,17 @@ int gw_udp_open (gw_udp_sock_t *s, const gw_udp_t *u, bool receive, const char *
         *d = (struct sockaddr_in){.sin_family = AF_INET, .sin_port = htons (u->port)};
         d->sin_addr.s_addr = htonl (u->address);
     }
-    socklen_t sl = sizeof s->local;
-    if (getsockname (fd, (struct sockaddr *)&s->local, &sl) < 0)
-        memset (&s->local, 0, sizeof s->local);
     s->fd = fd;
     return 0;
-fail:;
-    int e = errno;
-    char addr[INET_ADDRSTRLEN], where[160];
-    inet_ntop (AF_INET, &sa.sin_addr, addr, sizeof addr);
-    gw_params_describe_udp (u, where, sizeof where);
-    snprintf (err, errlen, "[%s] socket (%s, bound to %s:%u): %s: %s", section, where, addr,
-              ntohs (sa.sin_port), step, strerror (e));
-    close (fd);
-    return -e;
 }
 
 void gw_udp_close (gw_udp_sock_t *s)
 {
     if (s->fd >= 0)
         close (s->fd);
-    s->fd = -1;
+    if (s->rfd >= 0)
+        close (s->rfd);
+    s->fd = s->rfd = -1;
 }
 
 bool gw_udp_from_self (const gw_udp_sock_t *s, const struct sockaddr_in *from)
@@ -120,9 +143,8 @@ bool gw_udp_from_self (const gw_udp_sock_t *s, const struct sockaddr_in *from)
     if (s->fd < 0 || from->sin_port != s->local.sin_port)
         return false;
     uint32_t a = ntohl (from->sin_addr.s_addr);
-    return (s->ifc.addr && a == s->ifc.addr) ||
-           (s->local.sin_addr.s_addr != 0 && from->sin_addr.s_addr == s->local.sin_addr.s_addr &&
-            !((a >> 28) == 0xe));
+    return (s->ifc.addr && a == s->ifc.addr) || cgs_iface_addr_is_loopback (a) ||
+           (s->local.sin_addr.s_addr != 0 && from->sin_addr.s_addr == s->local.sin_addr.s_addr);
 }
 
 static void s_sendto (gw_udp_sock_t *s, const void *buf, size_t len, const struct sockaddr_in *to)

@@ -20,6 +20,7 @@
 #include "gw_out.h"
 #include "gw_params.h"
 #include "gw_pdu.h"
+#include "gw_s4607.h"
 #include "gw_udp.h"
 #include "intercept.pb-c.h"
 #include "sensors.pb-c.h"
@@ -46,6 +47,7 @@
 #define S_BATCH_MAX           200   // entities in one `entity` message
 #define S_UAV_MAX             64
 #define S_TRANSLATOR_PERIOD_S 0.1 // STANAG 4607 and CoT: pending dwells, due events (wall time)
+#define S_REFUSALS_LOGGED     20  // CoT designations refused that are logged (then only counted)
 #define S_ANSWERED            64 // Action Requests remembered, so a retransmission is answered, not redone
 // Route points in one Action Request: 32 bytes each, with the header, the
 // mission and speed datums and a text datum of at most 200 characters inside
@@ -83,6 +85,13 @@ typedef struct {
 } s_answer_t;
 
 typedef struct {
+    char uid[96];
+    double time_s;
+    char type[16];
+    char text[256];
+} s_cot_answer_t; // a CoT designation answered
+
+typedef struct {
     cgs_service_t *svc;
     gw_params_t p;
     cgs_geo_t *geo;
@@ -118,7 +127,7 @@ typedef struct {
     // STANAG 4607 and Cursor on Target.
     char out_dir[PATH_MAX - 64]; // --out: where the .4607 file goes (default the state folder)
     char s4607_path[PATH_MAX];
-    FILE *s4607_file;
+    int s4607_fd; // the .4607 file (-1: none): whole packets, appended
     gw_gmti_t *gmti;
     gw_udp_sock_t s4607_udp;
     gw_cotout_t *cotout;
@@ -127,7 +136,9 @@ typedef struct {
     cgs_cmd_client_t *guidance; // designations from CoT clients
     uint64_t s4607_bytes, s4607_file_errors, cot_in, cot_rejected, cot_ignored, cot_own,
         cot_designations, cot_refused, cot_replies, cot_unencodable;
-    uint64_t next_reply;
+    uint64_t next_reply, cot_repeats;
+    s_cot_answer_t cot_answered[S_ANSWERED];
+    size_t cot_nanswered;
     // Counts, in health.
     uint64_t espdu_out, action_out, response_out, send_errors, datagrams_in, pdus_in, espdu_in,
         foreign, own, other_types, rejected, not_for_us, table_full, unsendable, tasks_accepted,
@@ -457,12 +468,65 @@ static void s_on_intercept (void *arg, const char *topic, const ProtobufCMessage
 
 /* ---- STANAG 4607 --------------------------------------------------------------------------- */
 
+/* Write all of buf (a whole packet, in one write unless interrupted); 0 or -1. */
+static int s_write_all (int fd, const uint8_t *buf, size_t len)
+{
+    while (len > 0) {
+        ssize_t n = write (fd, buf, len);
+        if (n < 0 && errno == EINTR)
+            continue;
+        if (n <= 0)
+            return -1;
+        buf += n;
+        len -= (size_t)n;
+    }
+    return 0;
+}
+
+/* Open the .4607 file to append. A file that ends in part of a packet (the
+ * disk filled, or the gateway was killed in a write) is cut back to its
+ * last whole packet first, so the packets appended after it are read. The
+ * fd, or -errno with the reason in err. */
+static int s_open_4607 (const char *path, char *err, size_t errlen)
+{
+    int fd = open (path, O_RDWR | O_CREAT | O_APPEND | O_CLOEXEC, 0644);
+    if (fd < 0) {
+        int e = errno;
+        snprintf (err, errlen, "cannot open %s: %s (the STANAG 4607 file)", path, strerror (e));
+        return -e;
+    }
+    off_t end = lseek (fd, 0, SEEK_END), at = 0;
+    uint8_t h[GW_S4607_HEADER_LEN];
+    while (at < end) {
+        if (pread (fd, h, sizeof h, at) != (ssize_t)sizeof h)
+            break;
+        uint32_t size = (uint32_t)h[2] << 24 | (uint32_t)h[3] << 16 | (uint32_t)h[4] << 8 | h[5];
+        if (size < GW_S4607_HEADER_LEN || at + (off_t)size > end)
+            break;
+        at += size;
+    }
+    if (at < end) {
+        cgs_log (LOG_WARNING,
+                 "%s ends in part of a packet (%lld bytes from %lld): cut back to "
+                 "its last whole packet",
+                 path, (long long)(end - at), (long long)at);
+        if (ftruncate (fd, at) < 0) {
+            int e = errno;
+            snprintf (err, errlen, "cannot cut %s back to its last whole packet: %s", path,
+                      strerror (e));
+            close (fd);
+            return -e;
+        }
+    }
+    return fd;
+}
+
 /* A finished 4607 packet: to the file and over UDP. */
 static void s_on_packet (void *arg, const uint8_t *packet, size_t len)
 {
     s_app_t *app = arg;
     app->s4607_bytes += len;
-    if (app->s4607_file && fwrite (packet, 1, len, app->s4607_file) != len) {
+    if (app->s4607_fd >= 0 && s_write_all (app->s4607_fd, packet, len) < 0) {
         if (app->s4607_file_errors++ == 0) {
             char why[PATH_MAX + 64];
             snprintf (why, sizeof why, "cannot write %s: %s", app->s4607_path, strerror (errno));
@@ -524,29 +588,42 @@ static void s_on_track (void *arg, const char *topic, const ProtobufCMessage *ms
     gw_cotout_on_tracks (app->cotout, (const Cgs__TrackBatch *)msg, s_wall ());
 }
 
-/* Whether a client's event designates: a point of one of the parameters'
- * types, or a task (t-x-...). */
-static bool s_designates (const s_app_t *app, const char *type)
+/* What a client's event is to us: a point of one of the parameters' types
+ * (for the parameters' UAV), a task (t-x-..., not TAK's control, delete or
+ * protocol messages) addressed to one of our UAVs, or nothing. */
+static uint32_t s_designation_uav (const s_app_t *app, const gw_cot_event_t *e)
 {
-    if (strcmp (type, "t-x") == 0 || strncmp (type, "t-x-", 4) == 0)
-        return true;
+    if (strcmp (e->type, "t-x") == 0 || strncmp (e->type, "t-x-", 4) == 0) {
+        if (strncmp (e->type, "t-x-c", 5) == 0 || strncmp (e->type, "t-x-d", 5) == 0 ||
+            strncmp (e->type, "t-x-takp", 8) == 0)
+            return 0;
+        uint32_t uav = 0;
+        if (*e->dest_callsign)
+            uav = gw_cotout_uav_id (app->cotout, e->dest_callsign);
+        if (!uav && *e->dest_uid)
+            uav = gw_cotout_uav_id (app->cotout, e->dest_uid);
+        return uav; // a task for somebody else is not ours
+    }
     for (size_t i = 0; i < app->p.cot_designate_type_count; i++)
-        if (strcmp (type, app->p.cot_designate_types[i]) == 0)
-            return true;
-    return false;
+        if (strcmp (e->type, app->p.cot_designate_types[i]) == 0)
+            return gw_cotout_uav_id (app->cotout, app->p.cot_designate_uav);
+    return 0;
 }
 
-/* Answer a client's designation: y-a-w (will comply) or y-a-u (unable), at
- * its point, with the reason; to the client and to the CoT destinations. */
+/* Answer a client's designation (CoT reply types): y-a-w (will comply),
+ * y-a-r (received: guidanced did not answer in time, and may still act),
+ * y-c-f-r (rejected), y-c-f-s (stale); at its point, with the reason, to
+ * the client and to the CoT destinations; remembered, so that the same
+ * event again gets the same answer and is not done twice. */
 static void s_cot_reply (s_app_t *app, const gw_cot_event_t *req, const struct sockaddr_in *from,
-                         bool ok, const char *text)
+                         const char *type, const char *text)
 {
     gw_cot_event_t r;
     gw_cot_event_init (&r);
     double now = s_wall ();
     snprintf (r.uid, sizeof r.uid, "%s-%u.reply.%" PRIu64, app->p.cot_uid_prefix,
               cgs_exercise_id (cgs_service_exercise (app->svc)), ++app->next_reply);
-    snprintf (r.type, sizeof r.type, "%s", ok ? "y-a-w" : "y-a-u");
+    snprintf (r.type, sizeof r.type, "%s", type);
     snprintf (r.how, sizeof r.how, "m-g");
     snprintf (r.opex, sizeof r.opex, "s-%s", app->p.cot_uid_prefix);
     r.time_s = r.start_s = now;
@@ -556,21 +633,50 @@ static void s_cot_reply (s_app_t *app, const gw_cot_event_t *req, const struct s
     snprintf (r.remarks, sizeof r.remarks, "re %s (%s): %s", req->uid, req->type, text);
     s_cot_send (app, &r, from);
     app->cot_replies++;
+    s_cot_answer_t *a = &app->cot_answered[app->cot_nanswered++ % S_ANSWERED];
+    snprintf (a->uid, sizeof a->uid, "%s", req->uid);
+    a->time_s = req->time_s;
+    snprintf (a->type, sizeof a->type, "%s", type);
+    snprintf (a->text, sizeof a->text, "%s", text);
+}
+
+/* A designation's outcome in the log: every one taken, the first 20
+ * refused (a network sender must not fill the log), then only counted. */
+static void s_cot_log (s_app_t *app, const gw_cot_event_t *e, bool taken, const cgs_enu_t *p,
+                       const char *text)
+{
+    if (taken)
+        cgs_log (LOG_NOTICE, "CoT %s %s at %.7f %.7f (local %.2f %.2f) designates: %s", e->type,
+                 e->uid, e->point.lat_deg, e->point.lon_deg, p->e_m, p->n_m, text);
+    else if (app->cot_refused <= S_REFUSALS_LOGGED)
+        cgs_log (LOG_NOTICE, "CoT %s %s at %.7f %.7f does not designate: %s%s", e->type, e->uid,
+                 e->point.lat_deg, e->point.lon_deg, text,
+                 app->cot_refused == S_REFUSALS_LOGGED ? " (further refusals are only counted)"
+                                                       : "");
 }
 
 /* A client's designation: the track whose newest hit is nearest its point,
- * for the UAV it names (a task's addressee) or the parameters' UAV. */
-static void s_cot_designate (s_app_t *app, const gw_cot_event_t *e, const struct sockaddr_in *from)
+ * for that UAV. */
+static void s_cot_designate (s_app_t *app, const gw_cot_event_t *e, uint32_t uav,
+                             const struct sockaddr_in *from)
 {
+    // The same event again (a client resends, ATAK repeats its points):
+    // answered as it was, not done twice.
+    for (size_t i = 0; i < app->cot_nanswered && i < S_ANSWERED; i++) {
+        const s_cot_answer_t *a = &app->cot_answered[i];
+        if (a->time_s == e->time_s && strcmp (a->uid, e->uid) == 0) {
+            app->cot_repeats++;
+            s_cot_reply (app, e, from, a->type, a->text);
+            return;
+        }
+    }
     char text[256];
-    const char *dest = *e->dest_callsign ? e->dest_callsign : e->dest_uid;
-    const char *name = *dest ? dest : app->p.cot_designate_uav;
-    uint32_t uav = gw_cotout_uav_id (app->cotout, name);
-    cgs_enu_t p;
+    const char *type = "y-c-f-r";
+    cgs_enu_t p = {0, 0, 0};
     cgs_geodetic_t g = {e->point.lat_deg, e->point.lon_deg, e->point.hae_m};
-    if (!uav) {
-        snprintf (text, sizeof text, *name ? "no UAV %s in this exercise" : "no UAV heard yet",
-                  name);
+    if (e->stale_s < s_wall ()) {
+        type = "y-c-f-s";
+        snprintf (text, sizeof text, "the event was stale when it came");
     } else if (cgs_geo_geodetic_to_enu (app->geo, g, &p) < 0 || hypot (p.e_m, p.n_m) > 1e6) {
         snprintf (text, sizeof text, "the point is not within 1000 km of the exercise");
     } else if (!app->guidance) {
@@ -587,20 +693,21 @@ static void s_cot_designate (s_app_t *app, const gw_cot_event_t *e, const struct
         cmd.designate = &d;
         Cgs__Reply *reply = NULL;
         char err[256];
+        // Blocks the loop for at most task_timeout_s, as a DIS route task does.
         int rc = cgs_cmd_client_call (app->guidance, &cmd, (int)(app->p.task_timeout_s * 1000), 1,
                                       &reply, err, sizeof err);
         if (rc < 0) {
-            snprintf (text, sizeof text, "guidanced did not answer: retry later");
+            type = "y-a-r";
+            snprintf (text, sizeof text, "guidanced did not answer in time: it may still act");
             cgs_health_set_error (cgs_service_health (app->svc), err);
         } else if (reply->status == CGS__REPLY_STATUS__REPLY_STATUS_OK ||
                    reply->status == CGS__REPLY_STATUS__REPLY_STATUS_NOT_SAVED) {
             snprintf (text, sizeof text, "%s",
                       reply->detail && *reply->detail ? reply->detail : "designated");
-            cgs_log (LOG_NOTICE, "CoT %s %s at %.7f %.7f (local %.2f %.2f) designates: %s", e->type,
-                     e->uid, e->point.lat_deg, e->point.lon_deg, p.e_m, p.n_m, text);
             app->cot_designations++;
             cgs_cmd_reply_free (&reply);
-            s_cot_reply (app, e, from, true, text);
+            s_cot_log (app, e, true, &p, text);
+            s_cot_reply (app, e, from, "y-a-w", text);
             return;
         } else {
             snprintf (text, sizeof text, "guidanced refused: %s",
@@ -608,10 +715,9 @@ static void s_cot_designate (s_app_t *app, const gw_cot_event_t *e, const struct
         }
         cgs_cmd_reply_free (&reply);
     }
-    cgs_log (LOG_NOTICE, "CoT %s %s at %.6f %.6f does not designate: %s", e->type, e->uid,
-             e->point.lat_deg, e->point.lon_deg, text);
     app->cot_refused++;
-    s_cot_reply (app, e, from, false, text);
+    s_cot_log (app, e, false, &p, text);
+    s_cot_reply (app, e, from, type, text);
 }
 
 static void s_on_cot_udp (void *arg)
@@ -620,7 +726,7 @@ static void s_on_cot_udp (void *arg)
     for (int round = 0; round < S_RECV_BATCH; round++) {
         struct sockaddr_in from;
         socklen_t fl = sizeof from;
-        ssize_t n = recvfrom (app->cot_udp.fd, app->rbuf[0], S_DGRAM_MAX, MSG_DONTWAIT | MSG_TRUNC,
+        ssize_t n = recvfrom (app->cot_udp.rfd, app->rbuf[0], S_DGRAM_MAX, MSG_DONTWAIT | MSG_TRUNC,
                               (struct sockaddr *)&from, &fl);
         if (n < 0)
             return;
@@ -639,23 +745,27 @@ static void s_on_cot_udp (void *arg)
             continue;
         }
         if (rc < 0) {
-            app->cot_rejected++;
             char what[400], addr[INET_ADDRSTRLEN] = "?";
             inet_ntop (AF_INET, &from.sin_addr, addr, sizeof addr);
             snprintf (what, sizeof what, "a CoT datagram from %s:%u: %s", addr,
                       ntohs (from.sin_port), rc == -EMSGSIZE ? "larger than 65536 bytes" : why);
+            // Logged the first time here (the service logs only its first
+            // bad input of any kind), counted in health as malformed too.
+            if (app->cot_rejected++ == 0)
+                cgs_log (LOG_WARNING, "rejected %s (further ones are only counted)", what);
             cgs_service_bad_input (app->svc, what);
             continue;
         }
         if (gw_cotout_is_ours (app->cotout, e.uid)) {
-            app->cot_own++; // our own events, back over multicast loopback
+            app->cot_own++; // our own, relayed back by another host
             continue;
         }
-        if (!app->p.cot_designate || !s_designates (app, e.type)) {
+        uint32_t uav = app->p.cot_designate ? s_designation_uav (app, &e) : 0;
+        if (!uav) {
             app->cot_ignored++;
             continue;
         }
-        s_cot_designate (app, &e, &from);
+        s_cot_designate (app, &e, uav, &from);
     }
 }
 
@@ -678,8 +788,6 @@ static void s_on_translators (void *arg)
     s_app_t *app = arg;
     if (app->gmti) {
         gw_gmti_tick (app->gmti);
-        if (app->s4607_file)
-            fflush (app->s4607_file); // whole packets on disk every period
         s_udp_errors (app, &app->s4607_udp, "STANAG 4607");
     }
     if (app->cotout) {
@@ -1065,6 +1173,7 @@ static void s_counters (s_app_t *app)
         cgs_health_set_counter (h, "cot_own_echo", app->cot_own);
         cgs_health_set_counter (h, "cot_designations", app->cot_designations);
         cgs_health_set_counter (h, "cot_refused", app->cot_refused);
+        cgs_health_set_counter (h, "cot_repeats", app->cot_repeats);
         cgs_health_set_counter (h, "cot_send_errors", app->cot_udp.errors);
         cgs_health_set_counter (h, "cot_unencodable", app->cot_unencodable);
     }
@@ -1194,19 +1303,16 @@ static int s_translators (s_app_t *app, char *err, size_t errlen)
             const char *dir = *app->out_dir ? app->out_dir : cgs_service_state_dir (app->svc);
             snprintf (app->s4607_path, sizeof app->s4607_path, "%s/%s.4607", dir,
                       cgs_service_instance_name (app->svc));
-            // A restarted gateway goes on with the same file: packets are whole.
-            if (!(app->s4607_file = fopen (app->s4607_path, "ab"))) {
-                snprintf (err, errlen, "cannot open %s: %s (the STANAG 4607 file)", app->s4607_path,
-                          strerror (errno));
-                return -errno;
-            }
+            // A restarted gateway goes on with the same file.
+            if ((app->s4607_fd = s_open_4607 (app->s4607_path, err, errlen)) < 0)
+                return app->s4607_fd;
         }
         int rc = gw_udp_open (&app->s4607_udp, &p->s4607_udp, false, "stanag4607", err, errlen);
         if (rc < 0)
             return rc;
         gw_params_describe_udp (&p->s4607_udp, where, sizeof where);
         cgs_log (LOG_INFO, "STANAG 4607: file %s; UDP %s; truth tags %s",
-                 app->s4607_file ? app->s4607_path : "none", where,
+                 app->s4607_fd >= 0 ? app->s4607_path : "none", where,
                  p->s4607_truth_tag ? "on" : "off");
         if (gw_params_udp_leaves_host (&p->s4607_udp, app->s4607_udp.ifc.loopback))
             cgs_log (LOG_NOTICE, "STANAG 4607 leaves this machine: %s (%s)", where,
@@ -1221,13 +1327,18 @@ static int s_translators (s_app_t *app, char *err, size_t errlen)
         if (rc < 0)
             return rc;
         app->guidanced = cgs_exercise_first_of (cgs_service_exercise (app->svc), "guidanced");
-        if (app->guidanced && *app->guidanced->command && p->cot_designate &&
-            (!(app->guidance = cgs_cmd_client_new (cgs_service_ctx (app->svc),
-                                                   app->guidanced->command, "gateway-cot")) ||
-             cgs_curve_protect_client (cgs_service_curve (app->svc), app->guidance,
-                                       app->guidanced->public_key) < 0)) {
-            snprintf (err, errlen, "cannot make a command client for %s", app->guidanced->command);
-            return -errno;
+        if (app->guidanced && *app->guidanced->command && p->cot_designate) {
+            app->guidance = cgs_cmd_client_new (cgs_service_ctx (app->svc), app->guidanced->command,
+                                                "gateway-cot");
+            int crc = app->guidance
+                          ? cgs_curve_protect_client (cgs_service_curve (app->svc), app->guidance,
+                                                      app->guidanced->public_key)
+                          : -ENOMEM;
+            if (crc < 0) {
+                snprintf (err, errlen, "cannot make a command client for %s: %s",
+                          app->guidanced->command, strerror (-crc));
+                return crc;
+            }
         }
         gw_params_describe_udp (&p->cot_udp, where, sizeof where);
         cgs_log (LOG_INFO, "Cursor on Target: %s, %s; designations %s", where,
@@ -1286,12 +1397,17 @@ static int s_setup (s_app_t *app, char *err, size_t errlen)
     rc = s_socket (app, err, errlen);
     if (rc < 0)
         return rc;
-    if (app->uavsim && (!(app->client = cgs_cmd_client_new (cgs_service_ctx (app->svc),
-                                                            app->uavsim->command, "gateway")) ||
-                        cgs_curve_protect_client (cgs_service_curve (app->svc), app->client,
-                                                  app->uavsim->public_key) < 0)) {
-        snprintf (err, errlen, "cannot make a command client for %s", app->uavsim->command);
-        return -errno;
+    if (app->uavsim) {
+        app->client =
+            cgs_cmd_client_new (cgs_service_ctx (app->svc), app->uavsim->command, "gateway");
+        int crc = app->client ? cgs_curve_protect_client (cgs_service_curve (app->svc), app->client,
+                                                          app->uavsim->public_key)
+                              : -ENOMEM;
+        if (crc < 0) {
+            snprintf (err, errlen, "cannot make a command client for %s: %s", app->uavsim->command,
+                      strerror (-crc));
+            return crc;
+        }
     }
     if ((rc = s_translators (app, err, errlen)) < 0)
         return rc;
@@ -1325,6 +1441,7 @@ int main (int argc, char **argv)
 {
     static s_app_t app;
     app.fd = -1;
+    app.s4607_fd = -1;
     gw_udp_init (&app.s4607_udp);
     gw_udp_init (&app.cot_udp);
     static const cgs_service_option_t options[] = {
@@ -1363,7 +1480,7 @@ int main (int argc, char **argv)
         cgs_loop_add_timer (loop, 1.0 / app.p.publish_rate_hz, s_on_publish, &app) < 0 ||
         ((app.gmti || app.cotout) &&
          cgs_loop_add_timer (loop, S_TRANSLATOR_PERIOD_S, s_on_translators, &app) < 0) ||
-        (app.cot_udp.fd >= 0 && cgs_loop_add_fd (loop, app.cot_udp.fd, s_on_cot_udp, &app) < 0)) {
+        (app.cot_udp.rfd >= 0 && cgs_loop_add_fd (loop, app.cot_udp.rfd, s_on_cot_udp, &app) < 0)) {
         cgs_log (LOG_ERR, "out of memory");
         goto done;
     }
@@ -1388,8 +1505,8 @@ int main (int argc, char **argv)
         cgs_log (LOG_INFO,
                  "STANAG 4607: %" PRIu64 " packets, %" PRIu64 " dwells, %" PRIu64
                  " target reports (%" PRIu64 " bytes)%s%s",
-                 g->packets, g->dwells, g->reports, app.s4607_bytes, app.s4607_file ? " to " : "",
-                 app.s4607_file ? app.s4607_path : "");
+                 g->packets, g->dwells, g->reports, app.s4607_bytes,
+                 app.s4607_fd >= 0 ? " to " : "", app.s4607_fd >= 0 ? app.s4607_path : "");
     }
     if (app.cotout)
         cgs_log (LOG_INFO,
@@ -1398,7 +1515,7 @@ int main (int argc, char **argv)
                  gw_cotout_stats (app.cotout)->events + app.cot_replies, app.cot_in,
                  app.cot_rejected, app.cot_ignored, app.cot_designations, app.cot_refused);
 done:
-    if (app.s4607_file && fclose (app.s4607_file) != 0)
+    if (app.s4607_fd >= 0 && close (app.s4607_fd) != 0)
         cgs_log (LOG_ERR, "cannot write %s: %s", app.s4607_path, strerror (errno));
     gw_udp_close (&app.s4607_udp);
     gw_udp_close (&app.cot_udp);

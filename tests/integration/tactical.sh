@@ -82,8 +82,19 @@ listen () {
     mkdir -p "$2"
     node -e 'const dgram = require("node:dgram"), fs = require("node:fs");
         const s = dgram.createSocket("udp4"); let n = 0;
-        s.on("message", (m) => fs.writeFileSync(`${process.argv[2]}/${String(n++).padStart(6, "0")}`, m));
+        s.on("message", (m) => { const f = `${process.argv[2]}/${String(n++).padStart(6, "0")}`;
+            fs.writeFileSync(f + ".part", m); fs.renameSync(f + ".part", f); });
         s.bind(Number(process.argv[1]), "127.0.0.1");' "$1" "$2"
+}
+
+# A listener on TAK's group on lo: listen_group PORT DIR.
+listen_group () {
+    mkdir -p "$2"
+    node -e 'const dgram = require("node:dgram"), fs = require("node:fs");
+        const s = dgram.createSocket({ type: "udp4", reuseAddr: true }); let n = 0;
+        s.on("message", (m) => { const f = `${process.argv[2]}/${String(n++).padStart(6, "0")}`;
+            fs.writeFileSync(f + ".part", m); fs.renameSync(f + ".part", f); });
+        s.bind(Number(process.argv[1]), "239.2.3.1", () => s.addMembership("239.2.3.1", "127.0.0.1"));' "$1" "$2"
 }
 
 gwparams xml
@@ -111,8 +122,9 @@ check "CoT: confirmed tracks reach the client" wait_for 60 \
     bash -c "grep -lqs 'uid=\"mscgs-$EXID.track.' '$TMP'/cot/*"
 
 # Designate from a CoT client: a spot at the lead APC (APC1) as the bus
-# has it now, once a confirmed track is near it. (The scenario's operator
-# designates at t = 120 s too: what is checked is the designation number.)
+# has it, with the exercise paused so that the vehicles, the tracks and the
+# point hold still. (The scenario's operator designates at t = 120 s too:
+# what is checked is the gateway's designation.)
 apc_now () {
     M echo entity --json --count 200 --timeout 5 2>/dev/null |
         node -e 'let s = ""; process.stdin.on("data", (d) => (s += d)).on("end", () => {
@@ -127,9 +139,19 @@ for _ in $(seq 1 60); do
     [ -n "$near" ] && break
     sleep 0.5
 done
-diag "APC1 at $apc (local metres)"
 check "a confirmed track near APC1 (${near:-none})" test -n "$near"
+M pause >/dev/null 2>&1
+sleep 1
+apc=$(apc_now)
+# The last batch before the pause (none come while paused): each track's
+# newest hit, which is what a designation at a point goes by.
+grep '^{' "$TMP/echo-track.log" | tail -1 | node -e 'let s = ""; process.stdin.on("data", (d) => (s += d)).on("end", () => {
+    for (const t of JSON.parse(s).tracks || []) { const h = (t.history || []).slice(-1)[0];
+        if (h) console.log(t.track_id, h.position.east_m || 0, h.position.north_m || 0); } });' \
+    >"$TMP/paused_tracks.txt"
+diag "paused; APC1 at $apc (local metres)"
 read -r lat lon _ < <(CartConvert -r -l $ORIGIN -p 9 <<<"$apc 0")
+
 # Malformed events first: each rejected and counted, nothing designated.
 rej0=$(counter cot_rejected)
 # udp_send TEXT: one datagram to the gateway's CoT input.
@@ -139,13 +161,12 @@ udp_send () {
 }
 NOW=$(date -u +%Y-%m-%dT%H:%M:%SZ)
 LATER=$(date -u -d '+60 seconds' +%Y-%m-%dT%H:%M:%SZ)
+cot_counter_is () { [ "$(counter "$1")" = "$2" ]; }
 udp_send 'garbage'
 udp_send "<?xml version=\"1.0\"?><event version=\"2.0\" uid=\"x1\" type=\"b-m-p-s-p-i\" how=\"h-e\" time=\"$NOW\" start=\"$NOW\" stale=\"$LATER\"><point lat=\"91\" lon=\"0\" hae=\"0\" ce=\"1\" le=\"1\"/></event>"
 udp_send "<?xml version=\"1.0\"?><event version=\"2.0\" uid=\"x2\" type=\"b-m-p-s-p-i\" how=\"h-e\" time=\"$NOW\" start=\"$NOW\" stale=\"$LATER\"><point lat=\"35.9\" lon"
-sleep 1.5
-rej1=$(counter cot_rejected)
-check "three malformed CoT datagrams are rejected and counted (${rej0:-none} -> ${rej1:-none})" \
-    test "$((${rej1:-0} - ${rej0:-0}))" -eq 3
+check "three malformed CoT datagrams are rejected and counted (${rej0:-none} before)" \
+    wait_for 10 cot_counter_is cot_rejected $((${rej0:-0} + 3))
 is "$(grep -c 'from gateway-cot' "$TMP/guidanced.log")" 0 "and designate nothing"
 check "the gateway keeps running" running "$W"
 check "the gateway logged the reason" grep -q 'a CoT datagram from 127.0.0.1:[0-9]*: ' "$TMP/gateway.log"
@@ -163,27 +184,48 @@ diag "APC1 at $apc; the gateway's local point: ${local_pt:-none}"
 check "the designation's point is the client's to 0.5 m" awk -v a="$local_pt" -v b="$apc" \
     'BEGIN { if (split(a, x) < 2) exit 1; split(b, y); exit !(sqrt((x[1] - y[1]) ^ 2 + (x[2] - y[2]) ^ 2) < 0.5) }'
 tid=$(grep -o 'tak-user-1.spi at .* designates: uav1: designated track [0-9]*' "$TMP/gateway.log" | grep -o '[0-9]*$' | head -1)
+pos=$(awk -v t="${tid:-0}" '$1 == t { print $2, $3 }' "$TMP/paused_tracks.txt")
+diag "guidanced designated track ${tid:-none}, its newest hit at ${pos:-unknown} when paused; the point at $apc"
+check "a track whose newest hit is within 300 m of the point: an APC's" awk -v a="$pos" -v b="$apc" \
+    'BEGIN { if (split(a, x) < 2) exit 1; split(b, y); exit !(sqrt((x[1] - y[1]) ^ 2 + (x[2] - y[2]) ^ 2) < 300) }'
 icpt=$(M echo intercept --json --count 1 --timeout 5 2>/dev/null | tail -1)
 diag "intercept: $(cut -c1-200 <<<"$icpt")"
-check "guidanced named the track (${tid:-none}), and the intercept is under way" bash -c \
-    "[ -n '$tid' ] && grep -q 'designated track $tid .*(from gateway-cot' '$TMP/guidanced.log' && ! grep -q 'INTERCEPT_STATE_IDLE' <<<'$icpt'"
+check "the intercept is under way on it" bash -c \
+    "grep -q '\"track_id\":${tid:-x}[,}]' <<<'$icpt' && ! grep -q 'INTERCEPT_STATE_IDLE' <<<'$icpt'"
+M resume >/dev/null 2>&1
 check "the client gets the answer: y-a-w about its point, naming the track" wait_for 5 bash -c \
     "grep -ls 'type=\"y-a-w\"' '$TMP'/cot/* | xargs grep -l 'tak-user-1.spi' | xargs grep -q 'track'"
 check "the intercept route and the footprint go out as drawings" wait_for 10 bash -c \
     "grep -lqs 'uid=\"mscgs-$EXID.route.uav1\"' '$TMP'/cot/* && grep -lqs 'uid=\"mscgs-$EXID.footprint.uav1\"' '$TMP'/cot/*"
 is "$(counter cot_designations)" 1 "cot_designations counts it"
 
-# A task to a UAV the exercise does not have: refused, with the reason.
+# A task (TAK protobuf) addressed to our UAV, at a point 2,000 km away:
+# refused, with the reason; one addressed to somebody else is not ours.
+ign0=$(counter cot_ignored)
 node "$INTEROP/cot.mjs" send "127.0.0.1:$COTIN" --format proto --type t-x-i --uid "tak-user-1.task" \
-    --lat "$lat" --lon "$lon" --dest-callsign uav9 >/dev/null 2>&1
-check "a task (TAK protobuf) for a UAV the exercise lacks is answered y-a-u with the reason" wait_for 5 bash -c \
-    "grep -ls 'type=\"y-a-u\"' '$TMP'/cot/* | xargs grep -q 'no UAV uav9'"
-
+    --lat 52.5 --lon 13.4 --dest-callsign uav1 >/dev/null 2>&1
+check "a task for uav1 at a point 2,000 km away is answered y-c-f-r with the reason" wait_for 5 bash -c \
+    "grep -ls 'type=\"y-c-f-r\"' '$TMP'/cot/* | xargs grep -q 'tak-user-1.task.*not within 1000 km'"
+node "$INTEROP/cot.mjs" send "127.0.0.1:$COTIN" --type t-x-i --uid "tak-user-1.task2" \
+    --lat "$lat" --lon "$lon" --dest-callsign ANDROID-7 >/dev/null 2>&1
+check "a task for somebody else is ignored and counted" wait_for 5 cot_counter_is cot_ignored $((${ign0:-0} + 1))
+check "and not answered" bash -c "! grep -lqs 'tak-user-1.task2' '$TMP'/cot/*"
+# The same event twice (a client resends): answered twice, done once.
+rep0=$(counter cot_repeats)
+NOW=$(date -u +%Y-%m-%dT%H:%M:%SZ)
+LATER=$(date -u -d '+60 seconds' +%Y-%m-%dT%H:%M:%SZ)
+again="<?xml version=\"1.0\"?><event version=\"2.0\" uid=\"tak-user-1.again\" type=\"t-x-i\" how=\"h-e\" time=\"$NOW\" start=\"$NOW\" stale=\"$LATER\"><point lat=\"52.5\" lon=\"13.4\" hae=\"0\" ce=\"10\" le=\"10\"/><detail><marti><dest callsign=\"uav1\"/></marti></detail></event>"
+udp_send "$again"
+udp_send "$again"
+check "the same event twice is answered twice and taken once (cot_repeats ${rep0:-none} + 1)" \
+    wait_for 10 cot_counter_is cot_repeats $((${rep0:-0} + 1))
+check "both answers carry the first one's reason" bash -c \
+    "[ \$(grep -ls 'tak-user-1.again.*not within 1000 km' '$TMP'/cot/* | wc -l) -eq 2 ]"
 # Let the exercise run on: more scans, more dwells.
 sleep 6
 
 # ---- every event received: the schema, node-cot, the bus ---------------------------------
-events=("$TMP"/cot/*) # as they are now: the listener goes on writing
+events=("$TMP"/cot/[0-9][0-9][0-9][0-9][0-9][0-9]) # as they are now: the listener goes on
 n=${#events[@]}
 xmllint --noout --schema "$XSD" "${events[@]}" >"$TMP/xmllint.out" 2>&1
 rc=$?
@@ -195,8 +237,7 @@ is "$(grep -c '"valid":true' "$TMP/cot.jsonl")" "$n" "node-cot validates all $n"
 check "every event is marked simulation (opex s-...)" bash -c \
     "[ \$(grep -c '\"opex\":\"s-' '$TMP/cot.jsonl') -eq $n ]"
 check "tracks are a-u-G or a-f-G-E-V, how m-p, with course and speed" bash -c \
-    "grep '\"uid\":\"mscgs-$EXID.track.' '$TMP/cot.jsonl' | grep -v '\"stale\":' >/dev/null;
-     ! grep '\"uid\":\"mscgs-$EXID.track.' '$TMP/cot.jsonl' | grep -qv '\"how\":\"m-p\"' &&
+    "! grep '\"uid\":\"mscgs-$EXID.track.' '$TMP/cot.jsonl' | grep -qv '\"how\":\"m-p\"' &&
      ! grep '\"uid\":\"mscgs-$EXID.track.' '$TMP/cot.jsonl' | grep -Eqv '\"type\":\"(a-u-G|a-f-G-E-V)\"' &&
      grep '\"uid\":\"mscgs-$EXID.track.' '$TMP/cot.jsonl' | grep -q '\"course\"'"
 check "BCIS-identified friendly tracks are a-f-G-E-V" grep -q '"type":"a-f-G-E-V"' "$TMP/cot.jsonl"
@@ -245,9 +286,11 @@ check "every CoT track position equals the bus's track to 1e-6 degrees ($nok of 
     bash -c "[ '$nrows' -gt 0 ] && [ '$nrows' = '$nok' ]"
 
 # ---- STANAG 4607 ---------------------------------------------------------------------------
-stop "$W"
+# The radar stops first: the gateway and the observers have every dwell it
+# published; then the gateway, which sends what it holds.
 stop "$R"
-sleep 0.5
+sleep 1
+stop "$W"
 stop "$EM"
 stop "$ET"
 F=$TMP/gateway.4607
@@ -262,11 +305,15 @@ node "$INTEROP/s4607_check.mjs" "$TMP/s4607.pdml" "$TMP/echo-mti.log" "$TMP/echo
     $ORIGIN >"$TMP/check.json"
 rc=$?
 diag "$(cat "$TMP/check.json")"
-is "$rc" 0 "every target report's raw fields equal its hit on the bus"
-check "hundreds of reports were compared, with truth tags" node -e '
+is "$rc" 0 "every target report's raw fields (position, height, velocities, SNR, class, uncertainties, truth tag) and every dwell's sensor position and time equal the bus's"
+check "every dwell on the bus is in the file, hundreds of reports compared, with truth tags" node -e '
     const r = JSON.parse(require("node:fs").readFileSync(process.argv[1], "utf8"));
-    process.exit(r.reports_compared >= 100 && r.truth_tags_compared >= 50 && r.matched_dwells >= 0.9 * r.mti_messages ? 0 : 1)' \
+    process.exit(r.reports_compared >= 100 && r.truth_tags_compared >= 50 && r.matched_dwells === r.mti_messages ? 0 : 1)' \
     "$TMP/check.json"
+refdate=$(tshark -r "$F" -T fields -e s4607.mission.year -e s4607.mission.month -e s4607.mission.day 2>/dev/null |
+    awk -F'\t' '$1 != "" { printf "%04d-%02d-%02d\n", $1, $2, $3; exit }')
+check "the mission's reference date is today's UTC date ($refdate)" \
+    bash -c "[ '$refdate' = \"\$(date -u +%F)\" ] || [ '$refdate' = \"\$(date -u -d '-1 hour' +%F)\" ]"
 check "mission, job and platform location segments are in the file" bash -c \
     "tshark -r '$F' -T fields -e s4607.mission.platform -e s4607.exind -e s4607.job.id -e s4607.ploc.lat 2>/dev/null | awk -F'\t' '\$1 != \"\" { m++ } \$3 != \"\" { j++ } \$4 != \"\" { p++ } \$2 == 129 { e++ } END { exit !(m >= 1 && j >= 1 && p >= 5 && e == NR) }'"
 nudp=$(find "$TMP/udp4607" -type f | wc -l)
@@ -276,10 +323,26 @@ check "the same packets went out over UDP, one a datagram ($nudp of $npk)" \
 check "and each datagram is a whole packet (its size field equals its length)" bash -c \
     "for f in \$(ls '$TMP/udp4607' | head -50); do s=\$(od -An -tu1 -j2 -N4 '$TMP/udp4607/'\$f | awk '{ print \$1 * 16777216 + \$2 * 65536 + \$3 * 256 + \$4 }'); [ \"\$s\" = \$(stat -c %s '$TMP/udp4607/'\$f) ] || exit 1; done"
 
-# ---- the TAK protobuf option --------------------------------------------------------------
-gwparams protobuf
+# ---- the TAK protobuf option, on TAK's multicast group on lo -------------------------------
+# As the default exercise sends CoT (multicast to 239.2.3.1 on lo, TTL 0),
+# on a port of this test's own.
+cat >"$TMP/gateway.ini" <<EOF
+[network]
+port = $DISPORT
+mode = unicast
+peer = 127.0.0.1:$((DISPORT + 100))
+[cot]
+mode = multicast
+address = 239.2.3.1
+port = $COTPORT
+interface = lo
+ttl = 0
+format = protobuf
+rate_hz = 2
+EOF
+stop "$LC"
 rm -rf "$TMP/cot"
-mkdir -p "$TMP/cot"
+start LC listen-group listen_group "$COTPORT" "$TMP/cot"
 start W gateway-proto "$GATEWAY" --exercise "$EX" --out "$TMP"
 check "TAK protobuf events reach the client" wait_for 10 bash -c "[ \$(ls '$TMP/cot' | wc -l) -ge 3 ]"
 first=$(ls "$TMP/cot" | head -1)
@@ -292,6 +355,15 @@ uavf=$(grep -l 'uav.uav1' "$TMP"/cot/* | head -1)
 tail -c +4 "$uavf" | protoc --decode=tak.TakMessage --proto_path="$CGS_ROOT/proto" "$CGS_ROOT/proto/tak.proto" >"$TMP/protoc.txt" 2>&1
 check "protoc decodes it as a TakMessage with the UAV's uid and type" bash -c \
     "grep -q 'uid: \"mscgs-$EXID.uav.uav1\"' '$TMP/protoc.txt' && grep -q 'type: \"a-f-A-M-F-Q\"' '$TMP/protoc.txt'"
+# A designation sent to the group, in TAK protobuf: heard, answered on the
+# group; the gateway's own events coming back are dropped, not taken.
+node "$INTEROP/cot.mjs" send "239.2.3.1:$COTPORT" --format proto --type b-m-p-s-p-i \
+    --uid "tak-user-2.spi" --lat "$lat" --lon "$lon" >/dev/null 2>&1
+check "a protobuf point sent to the group designates, answered on the group" wait_for 10 bash -c \
+    "grep -q 'tak-user-2.spi.*designates' '$TMP/gateway-proto.log' && grep -lqs 'tak-user-2.spi' '$TMP'/cot/*"
+own=$(counter cot_own_echo)
+check "the gateway's own events, back over loopback, are counted and dropped (${own:-none})" \
+    test "${own:-0}" -gt 0
 
 stop "$W"
 for p in "$B" "$T" "$G" "$U"; do stop "$p"; done

@@ -16,6 +16,7 @@
 //   node cot.mjs send HOST:PORT [--format xml|proto] [--type T] [--how H]
 //       [--uid U] [--callsign C] [--lat D --lon D --hae M] [--remarks R]
 //       [--dest-uid U] [--dest-callsign C] [--stale-s S] [--link LAT,LON[,HAE]]...
+//       [--multicast-if ADDR]  (to a group: sent on ADDR, default 127.0.0.1, TTL 0)
 //       build one event with node-cot (default a b-m-p-s-p-i point, "sensor
 //       point of interest", how h-e, stale in 60 s; --type t-x-... for a task
 //       addressed with --dest-*; --type u-d-f and a --link per vertex for a
@@ -297,14 +298,26 @@ function send(target, rest) {
     else if (format === 'proto') bytes = Buffer.concat([Buffer.from([MAGIC, 1, MAGIC]), Buffer.from(cot.to_proto())]);
     else throw new Error(`--format xml or proto, not ${format}`);
     const sock = dgram.createSocket('udp4');
-    sock.send(bytes, Number(port), host, (err) => {
-        sock.close();
-        if (err) {
-            console.error(`cot.mjs: send: ${err.message}`);
-            process.exit(1);
-        }
-        print(parseBuffer(bytes, `sent:${host}:${port}`)[0]);
-    });
+    const go = () =>
+        sock.send(bytes, Number(port), host, (err) => {
+            sock.close();
+            if (err) {
+                console.error(`cot.mjs: send: ${err.message}`);
+                process.exit(1);
+            }
+            print(parseBuffer(bytes, `sent:${host}:${port}`)[0]);
+        });
+    // To a multicast group: out on --multicast-if (default 127.0.0.1) with
+    // TTL 0, so that it never leaves this machine.
+    const first = Number(host.split('.')[0]);
+    if (first >= 224 && first <= 239)
+        sock.bind(0, () => {
+            sock.setMulticastInterface(arg(rest, '--multicast-if', '127.0.0.1'));
+            sock.setMulticastTTL(0);
+            sock.setMulticastLoopback(true);
+            go();
+        });
+    else go();
 }
 
 // ---- main -----------------------------------------------------------------------------------

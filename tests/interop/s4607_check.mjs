@@ -50,7 +50,13 @@ for (const p of packets) {
         const name = f[1];
         const value = attr(f[0], 'value');
         if (value === undefined) continue;
-        if (name === 's4607.dwell.revisit') d = { revisit: unsigned(value), reports: [] };
+        if (name === 's4607.dwell.revisit') {
+            d = { revisit: unsigned(value), reports: [] };
+            rpt = null;
+        }
+        else if (!rpt && name === 's4607.dwell.time') d.time = unsigned(value);
+        else if (!rpt && name === 's4607.dwell.sensor.lat') d.lat = signed(value);
+        else if (!rpt && name === 's4607.dwell.sensor.lon') d.lon = unsigned(value);
         else if (name === 's4607.dwell.dwell') {
             d.dwell = unsigned(value);
             const key = `${d.revisit}/${d.dwell}`;
@@ -67,6 +73,11 @@ for (const p of packets) {
         else if (rpt && name === 's4607.dwell.rpt.radial') rpt.radial = signed(value);
         else if (rpt && name === 's4607.dwell.rpt.wrap') rpt.wrap = unsigned(value);
         else if (rpt && name === 's4607.dwell.rpt.tag.entity') rpt.entity = unsigned(value);
+        else if (rpt && name === 's4607.dwell.rpt.snr') rpt.snr = signed(value);
+        else if (rpt && name === 's4607.dwell.rpt.class') rpt.cls = unsigned(value);
+        else if (rpt && name === 's4607.dwell.rpt.unc.slant') rpt.slant = unsigned(value);
+        else if (rpt && name === 's4607.dwell.rpt.unc.cross') rpt.cross = unsigned(value);
+        else if (rpt && name === 's4607.dwell.rpt.unc.radial') rpt.vunc = unsigned(value);
     }
 }
 if (malformed) fail(`${malformed} packets malformed or with expert info`);
@@ -85,7 +96,9 @@ for (const t of lines(truthPath))
 // Every hit's position to geodetic with CartConvert, in one call.
 const hits = [];
 for (const m of mtis) for (const h of m.hits || []) hits.push(h);
-const enu = hits.map((h) => `${h.position?.east_m || 0} ${h.position?.north_m || 0} ${h.position?.up_m || 0}`);
+const xyz = (p) => `${p?.east_m || 0} ${p?.north_m || 0} ${p?.up_m || 0}`;
+// The hits' positions, then each dwell's platform position.
+const enu = hits.map((h) => xyz(h.position)).concat(mtis.map((m) => xyz(m.platform_position)));
 const geo = execFileSync('CartConvert', ['-r', '-l', lat0, lon0, h0, '-p', '9'], {
     input: enu.join('\n') + '\n',
     maxBuffer: 1 << 28,
@@ -96,8 +109,12 @@ const geo = execFileSync('CartConvert', ['-r', '-l', lat0, lon0, h0, '-p', '9'],
     .map((l) => l.trim().split(/\s+/).map(Number));
 
 // ---- compare ------------------------------------------------------------------------------
+const sa32 = (lat) => Math.round((lat * 2 ** 31) / 90);
+const ba32 = (lon) => Math.round(((((lon % 360) + 360) % 360) * 2 ** 32) / 360) % 2 ** 32;
+const near = (a, b, lsb) => Math.min(Math.abs(a - b), 2 ** 32 - Math.abs(a - b)) <= lsb;
 let k = 0;
 let compared = 0;
+let firstTime = null;
 let tagged = 0;
 let matchedDwells = 0;
 let maxLat = 0;
@@ -113,6 +130,18 @@ for (const m of mtis) {
         continue;
     }
     matchedDwells++;
+    // The dwell: the sensor where the radar was, and its time on the
+    // exercise clock (ms since the reference date's midnight: the dwell
+    // centre, 1 s of it a second of simulation time).
+    const [plat, plon] = geo[hits.length + mtis.indexOf(m)];
+    for (const seg of segs) {
+        if (!near(seg.lat, sa32(plat), 1) || !near(seg.lon, ba32(plon), 1))
+            fail(`dwell ${key}: sensor at ${seg.lat} ${seg.lon}, want ${sa32(plat)} ${ba32(plon)}`);
+        const t = ((m.dwell_start_s || 0) + (m.dwell_end_s || 0)) / 2;
+        if (firstTime === null) firstTime = { ms: seg.time, t };
+        const want = firstTime.ms + Math.round((t - firstTime.t) * 1000);
+        if (Math.abs(seg.time - want) > 1) fail(`dwell ${key}: time ${seg.time} ms, want ${want}`);
+    }
     const reports = segs.flatMap((s) => s.reports);
     if (reports.length !== n) fail(`dwell ${key}: ${reports.length} target reports, ${n} hits`);
     for (let i = 0; i < n; i++, k++) {
@@ -134,6 +163,15 @@ for (const m of mtis) {
         if (Math.abs(r.radial - wantV) > 1)
             fail(`dwell ${key} report ${i}: LOS velocity ${r.radial} cm/s, want ${wantV}`);
         if (Math.abs(r.wrap - wantWrap) > 1) fail(`dwell ${key} report ${i}: wrap ${r.wrap} cm/s, want ${wantWrap}`);
+        const want = {
+            snr: Math.max(-128, Math.min(127, Math.round(h.snr_db || 0))),
+            cls: 128, // no information, simulated target
+            slant: Math.min(65535, Math.round((h.range_sigma_m || 0) * 100)),
+            cross: Math.min(65535, Math.round((((h.range_m || 0) * (h.azimuth_sigma_deg || 0) * Math.PI) / 180) * 10)),
+            vunc: Math.min(5000, Math.round((m.radial_velocity_sigma_mps || 0) * 100)),
+        };
+        for (const f of Object.keys(want))
+            if (Math.abs(r[f] - want[f]) > 1) fail(`dwell ${key} report ${i}: ${f} ${r[f]}, want ${want[f]}`);
         const ent = truth.get(h.hit_id);
         if (ent !== undefined) {
             if (r.entity !== ent) fail(`dwell ${key} report ${i}: truth tag ${r.entity}, want entity ${ent}`);

@@ -533,6 +533,7 @@ static void test_rejects_xml (void **state)
         {"lon=\"-77.0123456\"", "lon=\"180.5\"", "out of range"},
         {"hae=\"1500.25\"", "hae=\"NaN\"", "line 2: <point> hae 'NaN' is not a finite number"},
         {"ce=\"5.0\"", "ce=\"INF\"", "<point> ce 'INF' is not a finite number"},
+        {"ce=\"5.0\"", "ce=\"-5\"", "point ce -5 or le 10 is negative"},
         {"le=\"10.0\"", "le=\"1e999\"", "<point> le '1e999' is not a finite number"},
         {"le=\"10.0\"", "le=\"0x10\"", "not a finite number"},
         {" le=\"10.0\"", "", "<point> has no le"},
@@ -628,7 +629,8 @@ static void test_accepts (void **state)
     assert_near (d.stale_s, 1795782896 + 3600.123456, 1e-6);
     assert_near (d.point.lat_deg, -33.35, 0);
     assert_near (d.le_m, 12, 0);
-    assert_string_equal (d.dest_uid, "ANDROID-1"); // the first link without a point
+    assert_string_equal (d.dest_uid,
+                         "mscgs.uav2"); // the first link to another object: not the parent (p-p)
     assert_string_equal (d.remarks, "look here");
     assert_true (d.has_track);
     assert_near (d.speed_mps, 3, 0);

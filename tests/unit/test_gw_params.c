@@ -522,6 +522,8 @@ static void test_errors (void **state)
     s_fails ("[network]\ninterface = averyverylongname\n", "g.ini:2: [network] interface",
              "ip -br link");
     s_fails ("[network]\ninterface = eth/0\n", "g.ini:2: [network] interface", "eth/0");
+    s_fails ("[dis]\napplication = 300\n[stanag4607]\ntruth_tag = yes\n",
+             "g.ini:4: [stanag4607] truth_tag", "300");
     s_fails ("[stanag4607]\nudp = sometimes\n", "g.ini:2: [stanag4607] udp", "sometimes");
     s_fails ("[stanag4607]\nudp = unicast\n", "g.ini:2: [stanag4607] udp", "peer");
     s_fails ("[stanag4607]\nnationality = USA\n", "g.ini:2: [stanag4607] nationality", "USA");
