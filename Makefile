@@ -7,6 +7,8 @@
 #   make check-layers  no service includes or links another service's code
 #   make bench      build optimised, run the benchmarks
 #   make bench-multicast  the bus over multicast against tcp, and under loss (root)
+#   make bench-translators  the gateway's CPU at 1,000 vehicles, DIS alone and with
+#                   STANAG 4607 and Cursor on Target on
 #   make montecarlo whole scenes in lockstep: every scenario family, the table
 #                   (MC_RUNS, MC_SEED, MC_JOBS, MC_FAMILIES)
 #   make validate-lockstep  the lockstep against the live system, 20 seeds
@@ -141,7 +143,7 @@ JOBS    ?= $(shell nproc 2>/dev/null || echo 2)
 # Keep objects that pattern chains would otherwise delete as intermediates.
 .SECONDARY:
 
-.PHONY: all run test test-systemd test-build check-layers bench bench-multicast montecarlo validate-lockstep soak fault-build fuzz fuzz-build install install-built clean format deps help
+.PHONY: all run test test-systemd test-build check-layers bench bench-multicast bench-translators montecarlo validate-lockstep soak fault-build fuzz fuzz-build install install-built clean format deps help
 .DEFAULT_GOAL := all
 
 all: $(BINS) $(WEB_FILES)
@@ -189,6 +191,10 @@ bench: deps
 
 # The bus over UDP multicast against TCP, and under loss, between network
 # namespaces (root): opt-in, about 4 minutes.
+bench-translators: deps
+	@$(MAKE) --no-print-directory -j$(JOBS) O=build/release SAN=0 all
+	@tests/bench/translators.sh build/release
+
 bench-multicast: deps
 	@$(MAKE) --no-print-directory -j$(JOBS) O=build/release SAN=0 all build/release/bench/bench_mcast
 	@tests/bench/multicast.sh build/release

@@ -45,6 +45,19 @@
  *    sends a PDU: the path's worst case, fill and encode always included.
  *    Neither 4 nor 5 has a goal; for reference, N = 10,000 entities at
  *    10 Hz are 100,000 updates a second.
+ * 6. s4607_reports: STANAG 4607 target reports per second (CPU time): the
+ *    gateway's whole path from `mti` messages (gw_gmti_on_mti, truth tags
+ *    off: each hit's position to latitude, longitude and height with
+ *    GeographicLib, the dwell segment encoded, the packet handed to a
+ *    callback that folds its bytes), dwells of H hits (default 20) spread
+ *    over 20 km, 4,000 dwells a run. No goal; for reference, the
+ *    1,000-vehicle scenario's radar makes about 1,100 hits a 10 s scan.
+ * 7. cot_xml, cot_proto: Cursor on Target events per second (CPU time): a
+ *    batch of N tracks (default 1,000) through gw_cotout_on_tracks, every
+ *    one due (the clock steps a second a batch), each event encoded by
+ *    gw_cot_encode_xml, or gw_cot_encode_proto, in the emit callback. No
+ *    goal; for reference, 1,000 tracks at the default 1 Hz are 1,000
+ *    events a second.
  *
  * Output: readable lines, one per figure (median, min, max, goal met or
  * not), then a block of key=value figures and a verdict against the goals.
@@ -57,8 +70,14 @@
  * into main. */
 #include "bench_util.h"
 #include "cgs_geo.h"
+#include "gw_cot.h"
+#include "gw_cotout.h"
+#include "gw_gmti.h"
 #include "gw_out.h"
+#include "gw_params.h"
 #include "gw_pdu.h"
+#include "sensors.pb-c.h"
+#include "tracking.pb-c.h"
 #include "world.pb-c.h"
 
 #include <arpa/inet.h>
@@ -93,6 +112,8 @@ typedef struct {
     int batch;      // PDUs per sendmmsg call
     long entities;  // outbound entities (figures 4 and 5)
     int ticks;      // timed 10 Hz ticks per run (figures 4 and 5)
+    long hits;      // hits a dwell (figure 6)
+    long tracks;    // tracks a batch (figure 7)
 } s_opts_t;
 
 /* One figure over the runs. */
@@ -654,6 +675,134 @@ static int s_outbound (const s_opts_t *o, s_world_t *w, double ret[2])
     return 0;
 }
 
+/* ---- STANAG 4607 and Cursor on Target ------------------------------------------------------ */
+
+#define S_4607_DWELLS 4000 // dwells a run (figure 6)
+#define S_COT_BATCHES 20   // track batches a run (figure 7)
+
+static void s_on_packet (void *arg, const uint8_t *packet, size_t len)
+{
+    (void)arg;
+    s_sink += packet[len - 1] + len;
+}
+
+/* Figure 6: S_4607_DWELLS dwells of o->hits hits through gw_gmti; target
+ * reports per CPU second, or -1. */
+static double s_4607 (const s_opts_t *o, gw_gmti_t *g, uint32_t *scan)
+{
+    static Cgs__MtiHit hit[4096];
+    static Cgs__MtiHit *hp[4096];
+    static Cgs__Enu pos[4096];
+    long n = o->hits;
+    Cgs__Enu plat = CGS__ENU__INIT;
+    plat.east_m = -6000, plat.north_m = -5200, plat.up_m = 1500;
+    for (long i = 0; i < n; i++) {
+        cgs__mti_hit__init (&hit[i]);
+        cgs__enu__init (&pos[i]);
+        hit[i].position = &pos[i];
+        hit[i].range_sigma_m = 15;
+        hit[i].azimuth_sigma_deg = 0.3;
+        hp[i] = &hit[i];
+    }
+    Cgs__Mti m = CGS__MTI__INIT;
+    m.uav_id = 1;
+    m.platform_position = &plat;
+    m.hits = hp;
+    m.n_hits = (size_t)n;
+    m.wrap_velocity_mps = 46.875;
+    m.min_range_m = 500, m.max_range_m = 20000, m.azimuth_beamwidth_deg = 3;
+    m.radial_velocity_sigma_mps = 0.2;
+    double cpu = 0;
+    for (int d = 0; d < S_4607_DWELLS; d++) {
+        // Not timed: the dwell's hits, spread over 20 km.
+        m.scan_number = *scan;
+        m.dwell_number = (uint32_t)d % 120;
+        m.beam_azimuth_deg = 3.0 * (d % 120);
+        m.dwell_start_s = 0.0833 * d, m.dwell_end_s = m.dwell_start_s + 0.0833;
+        for (long i = 0; i < n; i++) {
+            pos[i].east_m = 20000 * s_uniform () - 10000;
+            pos[i].north_m = 20000 * s_uniform () - 10000;
+            pos[i].up_m = 300 + 200 * s_uniform ();
+            hit[i].hit_id = (uint32_t)(d * n + i + 1);
+            hit[i].range_m = 5000 + 10000 * s_uniform ();
+            hit[i].radial_velocity_mps = 30 * s_uniform () - 15;
+            hit[i].snr_db = 10 + 20 * s_uniform ();
+        }
+        double t0 = bench_cpu_s ();
+        if (gw_gmti_on_mti (g, &m) < 0)
+            return -1;
+        cpu += bench_cpu_s () - t0;
+    }
+    (*scan)++;
+    return (double)S_4607_DWELLS * (double)n / cpu;
+}
+
+typedef struct {
+    bool proto;
+    uint64_t events, failed;
+    uint8_t buf[GW_COT_ENCODED_MAX];
+} s_cot_sink_t;
+
+static void s_on_event (void *arg, const gw_cot_event_t *e)
+{
+    s_cot_sink_t *k = arg;
+    size_t len = k->proto ? gw_cot_encode_proto (e, k->buf, sizeof k->buf)
+                          : gw_cot_encode_xml (e, (char *)k->buf, sizeof k->buf);
+    if (len == 0)
+        k->failed++;
+    s_sink += len;
+    k->events++;
+}
+
+/* Figure 7: S_COT_BATCHES batches of o->tracks tracks through gw_cotout, the
+ * events encoded in the callback; events per CPU second, or -1. */
+static double s_cot (const s_opts_t *o, gw_cotout_t *c, s_cot_sink_t *k, double *now)
+{
+    long n = o->tracks;
+    Cgs__Track *tr = calloc ((size_t)n, sizeof *tr);
+    Cgs__Track **tp = calloc ((size_t)n, sizeof *tp);
+    Cgs__Enu *pos = calloc ((size_t)n, sizeof *pos);
+    double (*cov)[16] = calloc ((size_t)n, sizeof *cov);
+    if (!tr || !tp || !pos || !cov) {
+        free (tr), free (tp), free (pos), free (cov);
+        return -1;
+    }
+    for (long i = 0; i < n; i++) {
+        cgs__track__init (&tr[i]);
+        cgs__enu__init (&pos[i]);
+        tr[i].track_id = (uint32_t)i + 1;
+        tr[i].status = CGS__TRACK_STATUS__TRACK_STATUS_CONFIRMED;
+        tr[i].identity = i % 5 ? CGS__TRACK_IDENTITY__TRACK_IDENTITY_UNKNOWN
+                               : CGS__TRACK_IDENTITY__TRACK_IDENTITY_FRIENDLY;
+        tr[i].position = &pos[i];
+        cov[i][0] = 400, cov[i][5] = 900, cov[i][1] = cov[i][4] = 100;
+        cov[i][10] = cov[i][15] = 4;
+        tr[i].covariance = cov[i];
+        tr[i].n_covariance = 16;
+        tp[i] = &tr[i];
+    }
+    Cgs__TrackBatch b = CGS__TRACK_BATCH__INIT;
+    b.tracks = tp;
+    b.n_tracks = (size_t)n;
+    double cpu = 0;
+    uint64_t before = k->events;
+    for (int r = 0; r < S_COT_BATCHES; r++) {
+        for (long i = 0; i < n; i++) { // not timed
+            pos[i].east_m = 20000 * s_uniform () - 10000;
+            pos[i].north_m = 20000 * s_uniform () - 10000;
+            pos[i].up_m = 300 + 200 * s_uniform ();
+            tr[i].heading_deg = 360 * s_uniform ();
+            tr[i].speed_mps = 15 * s_uniform ();
+        }
+        *now += 1.0;
+        double t0 = bench_cpu_s ();
+        gw_cotout_on_tracks (c, &b, *now);
+        cpu += bench_cpu_s () - t0;
+    }
+    free (tr), free (tp), free (pos), free (cov);
+    return (double)(k->events - before) / cpu;
+}
+
 /* ---- main ---------------------------------------------------------------------------------- */
 
 static void s_usage (FILE *f)
@@ -666,6 +815,8 @@ static void s_usage (FILE *f)
              "  --batch B       PDUs per sendmmsg call (default 64)\n"
              "  --entities N    outbound entities (default 10000)\n"
              "  --ticks T       timed 10 Hz ticks of the outbound entities per run (default 20)\n"
+             "  --hits H        hits a dwell for the STANAG 4607 figure (default 20, up to 4096)\n"
+             "  --tracks N      tracks a batch for the Cursor on Target figures (default 1000)\n"
              "Other options that take a value (meant for other benchmarks) are ignored.\n");
 }
 
@@ -690,7 +841,9 @@ int main (int argc, char **argv)
                   .send_pdus = 300000,
                   .batch = 64,
                   .entities = 10000,
-                  .ticks = 20};
+                  .ticks = 20,
+                  .hits = 20,
+                  .tracks = 1000};
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
         if (!strcmp (a, "--help") || !strcmp (a, "-h")) {
@@ -711,6 +864,10 @@ int main (int argc, char **argv)
             ok = bench_parse_long (v, 1, 65000, &o.entities);
         else if (!strcmp (a, "--ticks") && (ok = bench_parse_long (v, 1, 100000, &n)))
             o.ticks = (int)n;
+        else if (!strcmp (a, "--hits"))
+            ok = bench_parse_long (v, 1, 4096, &o.hits);
+        else if (!strcmp (a, "--tracks"))
+            ok = bench_parse_long (v, 1, 100000, &o.tracks);
         else if (strncmp (a, "--", 2) != 0 || !v)
             ok = false; // not an option, or one without its value
         if (!ok) {
@@ -775,7 +932,24 @@ int main (int argc, char **argv)
     world.t_s += 0.1;
     world.sent[0] = world.sent[1] = world.updates[0] = world.updates[1] = 0;
 
-    s_fig_t send = {0}, enc = {0}, dec = {0}, outb = {0}, outb_all = {0};
+    // The translators, as the default exercise's parameters have them.
+    gw_params_t gp;
+    gw_params_defaults (&gp);
+    gp.s4607_file = true;
+    static s_cot_sink_t cot_xml = {.proto = false}, cot_proto = {.proto = true};
+    gw_gmti_t *gmti = gw_gmti_new (&gp, world.geo, 1, s_on_packet, NULL);
+    gw_cotout_t *cx = gw_cotout_new (&gp, world.geo, 1, s_on_event, &cot_xml);
+    gw_cotout_t *cp = gw_cotout_new (&gp, world.geo, 1, s_on_event, &cot_proto);
+    if (!gmti || !cx || !cp) {
+        snprintf (err, sizeof err, "out of memory for the translators");
+        broke = true;
+    }
+    uint32_t scan = 1;
+    double now_x = 1.8e9, now_p = 1.8e9;
+    printf ("  STANAG 4607: %d dwells of %ld hits a run; CoT: %d batches of %ld tracks a run\n",
+            S_4607_DWELLS, o.hits, S_COT_BATCHES, o.tracks);
+    s_fig_t send = {0}, enc = {0}, dec = {0}, outb = {0}, outb_all = {0}, f4607 = {0}, fxml = {0},
+            fproto = {0};
     uint64_t sent_total = 0, got[2] = {0, 0};
     for (int r = 0; r < o.runs && !broke; r++) {
         double v = s_encode (&o, bufs, &next);
@@ -807,7 +981,19 @@ int main (int argc, char **argv)
         }
         s_fig_add (&outb, ob[0]);
         s_fig_add (&outb_all, ob[1]);
+        double r4607 = s_4607 (&o, gmti, &scan);
+        double rx = s_cot (&o, cx, &cot_xml, &now_x);
+        double rp = s_cot (&o, cp, &cot_proto, &now_p);
+        if (r4607 < 0 || rx < 0 || rp < 0 || cot_xml.failed || cot_proto.failed) {
+            snprintf (err, sizeof err, "a dwell or a CoT event did not encode");
+            broke = true;
+            break;
+        }
+        s_fig_add (&f4607, r4607);
+        s_fig_add (&fxml, rx);
+        s_fig_add (&fproto, rp);
     }
+    const gw_gmti_stats_t *gs = gmti ? gw_gmti_stats (gmti) : NULL;
     if (!broke && s_sender_count (&snd, got) < 0) {
         snprintf (err, sizeof err, "no count from the drain");
         broke = true;
@@ -835,6 +1021,9 @@ int main (int argc, char **argv)
         s_fig_done (&dec);
         s_fig_done (&outb);
         s_fig_done (&outb_all);
+        s_fig_done (&f4607);
+        s_fig_done (&fxml);
+        s_fig_done (&fproto);
         double share = world.updates[0] ? (double)world.sent[0] / (double)world.updates[0] : 0;
         printf ("\n");
         s_print ("Entity State PDUs encoded and sent", &send, "PDUs/s", S_GOAL_SEND_PER_S);
@@ -856,6 +1045,15 @@ int main (int argc, char **argv)
             printf ("    (%.2f us an update that sends, %.2f us one at the default thresholds)\n",
                     1e6 / outb_all.median, 1e6 / outb.median);
 
+        s_print ("STANAG 4607 target reports (gw_gmti)", &f4607, "rpt/s", 0);
+        printf ("    (%.2f us a report with its share of the dwell segment; %llu packets, %llu "
+                "reports in all)\n",
+                1e6 / f4607.median, (unsigned long long)gs->packets,
+                (unsigned long long)gs->reports);
+        s_print ("CoT track events, XML (gw_cotout)", &fxml, "evt/s", 0);
+        s_print ("CoT track events, TAK protobuf", &fproto, "evt/s", 0);
+        printf ("    (%.2f us an XML event, %.2f us a protobuf one)\n", 1e6 / fxml.median,
+                1e6 / fproto.median);
         printf ("\n--- figures ---\n");
         printf ("cores=%ld\nruns=%d\nsend_pdus_per_run=%ld\nbatch=%d\npdus_per_run=%ld\n"
                 "entities=%ld\nticks_per_run=%d\n",
@@ -868,6 +1066,10 @@ int main (int argc, char **argv)
         s_keys ("gateway_outbound_updates_per_s", &outb);
         printf ("gateway_outbound_send_share=%.4f\n", share);
         s_keys ("gateway_outbound_all_send_updates_per_s", &outb_all);
+        s_keys ("gateway_s4607_reports_per_s", &f4607);
+        printf ("s4607_hits_per_dwell=%ld\n", o.hits);
+        s_keys ("gateway_cot_xml_events_per_s", &fxml);
+        s_keys ("gateway_cot_proto_events_per_s", &fproto);
         printf ("goal_espdu_send_per_s=%.0f\ngoal_espdu_decode_per_s=%.0f\n", S_GOAL_SEND_PER_S,
                 S_GOAL_DECODE_PER_S);
         bool send_ok = send.median >= S_GOAL_SEND_PER_S, dec_ok = dec.median >= S_GOAL_DECODE_PER_S;
@@ -877,6 +1079,9 @@ int main (int argc, char **argv)
     } else {
         printf ("\n--- figures ---\nverdict=FAIL (%s)\n", err);
     }
+    gw_gmti_destroy (&gmti);
+    gw_cotout_destroy (&cx);
+    gw_cotout_destroy (&cp);
     free (bufs);
     s_dgrams_free (&dg);
     s_world_free (&world);
