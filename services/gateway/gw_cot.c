@@ -616,8 +616,10 @@ size_t gw_cot_encode_proto (const gw_cot_event_t *e, uint8_t *buf, size_t cap)
 {
     if (!e || !buf || s_check (e, NULL, 0) < 0)
         return 0;
-    // Times are unsigned ms: an event before 1970 has no protobuf form.
-    if (e->time_s < 0 || e->start_s < 0 || e->stale_s < 0)
+    // Times are unsigned ms, and 0 is "missing": an event before
+    // 1970-01-01T00:00:00.0005Z has no protobuf form.
+    if (llround (e->time_s * 1000.0) < 1 || llround (e->start_s * 1000.0) < 1 ||
+        llround (e->stale_s * 1000.0) < 1)
         return 0;
     char xml[GW_COT_ENCODED_MAX];
     s_out_t o = {xml, 0, sizeof xml, false};

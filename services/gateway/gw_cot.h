@@ -92,8 +92,8 @@ size_t gw_cot_encode_xml (const gw_cot_event_t *e, char *buf, size_t cap);
 /* TAK protocol version 1 in its mesh framing: 0xbf 0x01 0xbf, then a
  * TakMessage with a TakControl (versions 1 to 1) and the CotEvent: contact
  * and track as typed fields, the rest of the detail as xmlDetail, times in
- * ms. The length, or 0 as gw_cot_encode_xml, and for times before 1970
- * (unsigned ms). */
+ * ms. The length, or 0 as gw_cot_encode_xml, and for times before
+ * 1970-01-01T00:00:00.0005Z (unsigned ms, 0 meaning missing). */
 size_t gw_cot_encode_proto (const gw_cot_event_t *e, uint8_t *buf, size_t cap);
 
 /* Decode one event of len bytes (at most GW_COT_DECODE_MAX): XML when it
