@@ -8,12 +8,15 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
-int gw_udp_multicast (int fd, unsigned ifindex, uint32_t group, int ttl, bool loopback, bool join,
-                      const char **ret_step)
+int gw_udp_multicast (int fd, unsigned ifindex, uint32_t ifaddr, uint32_t group, int ttl,
+                      bool loopback, bool join, const char **ret_step)
 {
     // On failure errno stays as setsockopt left it (the callers report it).
+    // The interface, and its address as the source of what we send (else
+    // the kernel takes the host's main address, even on lo).
     struct ip_mreqn mreq = {.imr_ifindex = (int)ifindex};
     mreq.imr_multiaddr.s_addr = htonl (group);
+    mreq.imr_address.s_addr = htonl (ifaddr);
     unsigned char t = (unsigned char)ttl, loop = loopback;
     int zero = 0;
     *ret_step = "join the group";
@@ -79,8 +82,8 @@ static int s_socket (const gw_udp_sock_t *s, const gw_udp_t *u, bool receive, co
     }
     if (bind (fd, (struct sockaddr *)&sa, sizeof sa) < 0)
         goto fail;
-    if (u->mode == GW_UDP_MULTICAST &&
-        gw_udp_multicast (fd, s->ifc.index, u->address, u->ttl, u->loopback, receive, &step) < 0)
+    if (u->mode == GW_UDP_MULTICAST && gw_udp_multicast (fd, s->ifc.index, s->ifc.addr, u->address,
+                                                         u->ttl, u->loopback, receive, &step) < 0)
         goto fail;
     return fd;
 fail:;

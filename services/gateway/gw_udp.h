@@ -29,12 +29,13 @@ typedef struct {
 } gw_udp_sock_t;
 
 /* Multicast on a bound socket: join group (host order) on interface
- * ifindex when join, hear only the groups joined (IP_MULTICAST_ALL off),
+ * ifindex (its address ifaddr, the source of what is sent; 0: the kernel's
+ * choice) when join, hear only the groups joined (IP_MULTICAST_ALL off),
  * send on that interface with ttl and loopback. 0, or -1 with errno set
  * (as setsockopt, whose failure it is) and *ret_step the step that failed
  * ("join the group", "multicast options"). The DIS socket uses it too. */
-int gw_udp_multicast (int fd, unsigned ifindex, uint32_t group, int ttl, bool loopback, bool join,
-                      const char **ret_step);
+int gw_udp_multicast (int fd, unsigned ifindex, uint32_t ifaddr, uint32_t group, int ttl,
+                      bool loopback, bool join, const char **ret_step);
 /* Off: nothing to open (fd -1). */
 void gw_udp_init (gw_udp_sock_t *s);
 /* Look up the interface the parameters name: 0, or -errno with the reason

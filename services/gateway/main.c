@@ -1258,8 +1258,8 @@ static int s_socket (s_app_t *app, char *err, size_t errlen)
     }
     if (bind (fd, (struct sockaddr *)&sa, sizeof sa) < 0)
         goto fail;
-    if (p->mode == GW_MODE_MULTICAST &&
-        gw_udp_multicast (fd, ifc.index, p->address, p->ttl, p->loopback, true, &step) < 0)
+    if (p->mode == GW_MODE_MULTICAST && gw_udp_multicast (fd, ifc.index, ifc.addr, p->address,
+                                                          p->ttl, p->loopback, true, &step) < 0)
         goto fail;
     app->ndest = 0;
     if (p->mode == GW_MODE_UNICAST) {
