@@ -105,6 +105,7 @@ start U uavsim "$UAVSIM" --exercise "$EX" --time-scale 20
 start EM echo-mti "$MSCGS" echo mti --json --exercise "$EX"
 start ET echo-truth "$MSCGS" echo mti.truth --json --exercise "$EX"
 start EK echo-track "$MSCGS" echo track --json --exercise "$EX"
+start EU echo-uav "$MSCGS" echo uav --json --exercise "$EX"
 start W gateway "$GATEWAY" --exercise "$EX" --out "$TMP"
 sleep 1
 start R mtid "$MTID" --exercise "$EX" --instance mtid.uav1
@@ -147,7 +148,7 @@ apc=$(apc_now)
 # newest hit, which is what a designation at a point goes by.
 grep '^{' "$TMP/echo-track.log" | tail -1 | node -e 'let s = ""; process.stdin.on("data", (d) => (s += d)).on("end", () => {
     for (const t of JSON.parse(s).tracks || []) { const h = (t.history || []).slice(-1)[0];
-        if (h) console.log(t.track_id, h.position.east_m || 0, h.position.north_m || 0); } });' \
+        if (h && /CONFIRMED|COASTING/.test(t.status)) console.log(t.track_id, h.position.east_m || 0, h.position.north_m || 0); } });' \
     >"$TMP/paused_tracks.txt"
 diag "paused; APC1 at $apc (local metres)"
 read -r lat lon _ < <(CartConvert -r -l $ORIGIN -p 9 <<<"$apc 0")
@@ -184,10 +185,14 @@ diag "APC1 at $apc; the gateway's local point: ${local_pt:-none}"
 check "the designation's point is the client's to 0.5 m" awk -v a="$local_pt" -v b="$apc" \
     'BEGIN { if (split(a, x) < 2) exit 1; split(b, y); exit !(sqrt((x[1] - y[1]) ^ 2 + (x[2] - y[2]) ^ 2) < 0.5) }'
 tid=$(grep -o 'tak-user-1.spi at .* designates: uav1: designated track [0-9]*' "$TMP/gateway.log" | grep -o '[0-9]*$' | head -1)
-pos=$(awk -v t="${tid:-0}" '$1 == t { print $2, $3 }' "$TMP/paused_tracks.txt")
-diag "guidanced designated track ${tid:-none}, its newest hit at ${pos:-unknown} when paused; the point at $apc"
-check "a track whose newest hit is within 300 m of the point: an APC's" awk -v a="$pos" -v b="$apc" \
-    'BEGIN { if (split(a, x) < 2) exit 1; split(b, y); exit !(sqrt((x[1] - y[1]) ^ 2 + (x[2] - y[2]) ^ 2) < 300) }'
+# The confirmed or coasting track whose newest hit is nearest the point
+# (guidanced's rule for a designation at a point), from the paused batch.
+want=$(awk -v p="$apc" 'BEGIN { split(p, a); best = 1e99 }
+    { d = sqrt(($2 - a[1]) ^ 2 + ($3 - a[2]) ^ 2); if (d < best) { best = d; id = $1; at = d } }
+    END { if (id != "") printf "%s %.0f\n", id, at }' "$TMP/paused_tracks.txt")
+diag "guidanced designated track ${tid:-none}; nearest newest hit to the point $apc when paused: track ${want:-none} m"
+check "the track whose newest hit is nearest the point, as the bus had it" \
+    bash -c "[ -n '$tid' ] && [ '$tid' = '${want%% *}' ]"
 icpt=$(M echo intercept --json --count 1 --timeout 5 2>/dev/null | tail -1)
 diag "intercept: $(cut -c1-200 <<<"$icpt")"
 check "the intercept is under way on it" bash -c \
@@ -243,47 +248,40 @@ check "tracks are a-u-G or a-f-G-E-V, how m-p, with course and speed" bash -c \
 check "BCIS-identified friendly tracks are a-f-G-E-V" grep -q '"type":"a-f-G-E-V"' "$TMP/cot.jsonl"
 check "the footprint is a closed polygon of 4 corners for node-cot (5 points, first = last)" \
     bash -c "grep '\"uid\":\"mscgs-$EXID.footprint.uav1\"' '$TMP/cot.jsonl' | grep -v 'ended' | head -1 | node -e 'let s = \"\"; process.stdin.on(\"data\", (d) => (s += d)).on(\"end\", () => { const g = JSON.parse(s).geometry; const c = g.coordinates[0]; process.exit(g.type === \"Polygon\" && c.length === 5 && c[0].join() === c[4].join() ? 0 : 1); })'"
-# Track positions against the bus: each CoT track event's point equals a
-# track of the same id in some batch, through CartConvert, to 1e-6 degrees.
-node -e '
-const fs = require("node:fs");
-const cot = fs.readFileSync(process.argv[1], "utf8").split("\n").filter((l) => l.startsWith("{")).map(JSON.parse);
-const want = new Map();
-for (const l of fs.readFileSync(process.argv[2], "utf8").split("\n")) {
-    if (!l.startsWith("{")) continue;
-    for (const t of JSON.parse(l).tracks || []) {
-        const p = t.position || {};
-        const k = String(t.track_id);
-        if (!want.has(k)) want.set(k, []);
-        want.get(k).push(`${p.east_m || 0} ${p.north_m || 0} ${p.up_m || 0}`);
-    }
-}
-const rows = [];
-for (const e of cot) {
-    const m = e.uid.match(/\.track\.(\d+)$/);
-    if (m && want.has(m[1])) rows.push({ lat: e.point.lat, lon: e.point.lon, cands: want.get(m[1]) });
-}
-fs.writeFileSync(process.argv[3], JSON.stringify(rows));
-' "$TMP/cot.jsonl" "$TMP/echo-track.log" "$TMP/trackpos.json"
+# Positions against the bus: each CoT track event's point equals a track
+# of the same id in some batch, and each UAV event's the UAV's in some `uav`
+# message, through CartConvert, to 1e-6 degrees.
 node -e '
 const fs = require("node:fs"), { execFileSync } = require("node:child_process");
-const rows = JSON.parse(fs.readFileSync(process.argv[1], "utf8"));
-const all = rows.flatMap((r) => r.cands);
-const geo = execFileSync("CartConvert", ["-r", "-l", ...process.argv.slice(2), "-p", "9"], { input: all.join("\n") + "\n", maxBuffer: 1 << 28 })
+const [cotPath, trackPath, uavPath, lat0, lon0, h0] = process.argv.slice(1);
+// Whole lines only: the observers are still writing.
+const lines = (p) => fs.readFileSync(p, "utf8").split("\n").flatMap((l) => {
+    try { return l.startsWith("{") ? [JSON.parse(l)] : []; } catch { return []; } });
+const enu = [], want = new Map(); // "track.ID" or "uav.NAME" -> indices into enu
+const add = (k, p) => { if (!want.has(k)) want.set(k, []); want.get(k).push(enu.length);
+    enu.push(`${p.east_m || 0} ${p.north_m || 0} ${p.up_m || 0}`); };
+for (const b of lines(trackPath)) for (const t of b.tracks || []) add(`track.${t.track_id}`, t.position || {});
+for (const u of lines(uavPath)) add(`uav.${u.name}`, u.position || {});
+const geo = execFileSync("CartConvert", ["-r", "-l", lat0, lon0, h0, "-p", "9"], { input: enu.join("\n") + "\n", maxBuffer: 1 << 28 })
     .toString().trim().split("\n").map((l) => l.trim().split(/\s+/).map(Number));
-let k = 0, ok = 0, worst = 0;
-for (const r of rows) {
+const n = { track: 0, uav: 0 }, ok = { track: 0, uav: 0 };
+let worst = 0;
+for (const e of lines(cotPath)) {
+    const m = e.uid.match(/\.((track|uav)\.[^.]+)$/);
+    if (!m || !want.has(m[1])) continue;
     let best = Infinity;
-    for (let i = 0; i < r.cands.length; i++, k++)
-        best = Math.min(best, Math.max(Math.abs(geo[k][0] - r.lat), Math.abs(geo[k][1] - r.lon)));
-    if (best <= 1e-6) ok++; else worst = Math.max(worst, best);
+    for (const k of want.get(m[1])) best = Math.min(best, Math.max(Math.abs(geo[k][0] - e.point.lat), Math.abs(geo[k][1] - e.point.lon)));
+    n[m[2]]++;
+    if (best <= 1e-6) ok[m[2]]++; else worst = Math.max(worst, best);
 }
-console.log(rows.length, ok, worst);
-' "$TMP/trackpos.json" $ORIGIN >"$TMP/trackpos.out"
-read -r nrows nok worst <"$TMP/trackpos.out"
-diag "track events compared: $nrows, equal to a bus track within 1e-6 deg: $nok (worst other $worst deg)"
+console.log(n.track, ok.track, n.uav, ok.uav, worst);
+' "$TMP/cot.jsonl" "$TMP/echo-track.log" "$TMP/echo-uav.log" $ORIGIN >"$TMP/positions.out"
+read -r nrows nok nuav nuok worst <"$TMP/positions.out"
+diag "compared: $nrows track events ($nok equal to a bus track within 1e-6 deg), $nuav UAV events ($nuok); worst other $worst deg"
 check "every CoT track position equals the bus's track to 1e-6 degrees ($nok of $nrows)" \
     bash -c "[ '$nrows' -gt 0 ] && [ '$nrows' = '$nok' ]"
+check "every CoT UAV position equals the bus's UAV to 1e-6 degrees ($nuok of $nuav)" \
+    bash -c "[ '$nuav' -gt 0 ] && [ '$nuav' = '$nuok' ]"
 
 # ---- STANAG 4607 ---------------------------------------------------------------------------
 # The radar stops first: the gateway and the observers have every dwell it
