@@ -5,6 +5,7 @@
 #include <stdarg.h>
 #include <stdlib.h>
 #include <stdio.h>
+#include <unistd.h>
 #include <zlib.h>
 
 void cgs_errf (char *err, size_t errlen, const char *fmt, ...)
@@ -55,6 +56,21 @@ uint32_t cgs_crc32 (const void *data, size_t n)
         n -= chunk;
     }
     return (uint32_t)crc;
+}
+
+int cgs_write_all (int fd, const void *buf, size_t len)
+{
+    const char *p = buf;
+    while (len > 0) {
+        ssize_t n = write (fd, p, len);
+        if (n < 0 && errno == EINTR)
+            continue;
+        if (n <= 0)
+            return n < 0 ? -errno : -EIO;
+        p += n;
+        len -= (size_t)n;
+    }
+    return 0;
 }
 
 int cgs_grow (void **p, size_t *cap, size_t need, size_t size)

@@ -22,6 +22,9 @@ double cgs_uniform01 (uint64_t *state);
  * capacity doubles from 16 until it does. 0, or -ENOMEM with *p and *cap
  * untouched (also when the size overflows). */
 int cgs_grow (void **p, size_t *cap, size_t need, size_t size);
+/* Write all of buf to fd, again after EINTR and short writes; 0 or -errno
+ * (-EIO when write wrote nothing). */
+int cgs_write_all (int fd, const void *buf, size_t len);
 /* CRC-32 (IEEE 802.3, as zlib and PNG compute it) of n bytes. */
 uint32_t cgs_crc32 (const void *data, size_t n);
 

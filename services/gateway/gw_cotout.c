@@ -1,6 +1,7 @@
 /* gw_cotout — the exercise as Cursor on Target events (see gw_cotout.h). */
 #include "gw_cotout.h"
 
+#include "cgs_util.h"
 #include "gw_index.h"
 
 #include <errno.h>
@@ -134,14 +135,8 @@ static s_track_t *s_track (gw_cotout_t *self, uint32_t id, bool add)
         return &self->tracks[at];
     if (!add)
         return NULL;
-    if (self->ntracks == self->cap) {
-        size_t cap = self->cap ? self->cap * 2 : 256;
-        s_track_t *t = realloc (self->tracks, cap * sizeof *t);
-        if (!t)
-            return NULL;
-        self->tracks = t;
-        self->cap = cap;
-    }
+    if (cgs_grow ((void **)&self->tracks, &self->cap, self->ntracks + 1, sizeof *self->tracks) < 0)
+        return NULL;
     if (gw_index_put (self->index, id, self->ntracks) < 0)
         return NULL;
     s_track_t *t = &self->tracks[self->ntracks++];

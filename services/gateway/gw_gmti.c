@@ -1,6 +1,7 @@
 /* gw_gmti — the radars' bus messages as STANAG 4607 packets (see gw_gmti.h). */
 #include "gw_gmti.h"
 
+#include "cgs_util.h"
 #include "gw_s4607.h"
 
 #include <errno.h>
@@ -34,7 +35,7 @@ typedef struct {
     gw_s4607_dwell_t d;
     gw_s4607_report_t *reports;
     uint32_t *hit_ids;
-    size_t nreports, cap;
+    size_t nreports, cap, ids_cap;
     double max_range_m, range_sigma_m, azimuth_sigma_deg, velocity_sigma_mps, dwell_s,
         beamwidth_deg;
 } s_radar_t;
@@ -337,18 +338,9 @@ int gw_gmti_on_mti (gw_gmti_t *self, const Cgs__Mti *m)
     cgs_geodetic_t pg;
     if (!s_geodetic (self, plat, &pg))
         return -EINVAL;
-    if (m->n_hits > r->cap) {
-        size_t cap = m->n_hits * 2;
-        gw_s4607_report_t *rep = realloc (r->reports, cap * sizeof *rep);
-        if (rep)
-            r->reports = rep;
-        uint32_t *ids = realloc (r->hit_ids, cap * sizeof *ids);
-        if (ids)
-            r->hit_ids = ids;
-        if (!rep || !ids)
-            return -ENOMEM;
-        r->cap = cap;
-    }
+    if (cgs_grow ((void **)&r->reports, &r->cap, m->n_hits, sizeof *r->reports) < 0 ||
+        cgs_grow ((void **)&r->hit_ids, &r->ids_cap, m->n_hits, sizeof *r->hit_ids) < 0)
+        return -ENOMEM;
     double t = (m->dwell_start_s + m->dwell_end_s) / 2;
     r->max_range_m = m->max_range_m;
     r->dwell_s = m->dwell_end_s - m->dwell_start_s;
@@ -398,8 +390,11 @@ int gw_gmti_on_mti (gw_gmti_t *self, const Cgs__Mti *m)
     for (size_t i = 0; i < m->n_hits; i++) {
         const Cgs__MtiHit *hit = m->hits[i];
         cgs_geodetic_t g;
-        if (!hit || !hit->position ||
-            !s_geodetic (
+        if (!hit || !hit->position) {
+            self->stats.unplaceable++;
+            continue;
+        }
+        if (!s_geodetic (
                 self,
                 (cgs_enu_t){hit->position->east_m, hit->position->north_m, hit->position->up_m},
                 &g))

@@ -41,7 +41,8 @@ typedef struct {
     uint64_t packets, dwells, reports, platforms, missions;
     uint64_t tagged;      // target reports with a truth tag
     uint64_t untagged;    // dwells sent without their truth (it did not come in time)
-    uint64_t unplaceable; // hits or platform states that could not be placed on the Earth
+    uint64_t unplaceable; // hits or platform states that could not be placed on the Earth, and
+                          // segments the encoder refused (counted in health)
     uint64_t no_uav;      // dwells of a radar whose UAV was not heard yet: sent with what is known
 } gw_gmti_stats_t;
 
@@ -59,7 +60,9 @@ void gw_gmti_set_clock (gw_gmti_t *self, double utc_s, double sim_s);
  * platform location segment when one is due. */
 void gw_gmti_on_uav (gw_gmti_t *self, const Cgs__Uav *u, double t_s);
 /* One dwell's hits. -EINVAL when the message lacks what a dwell segment
- * must say (a platform position, finite times): nothing sent. */
+ * must say (a radar: a uav id, at most 64 radars; a platform position on
+ * the Earth; finite times), -ENOMEM without memory: nothing sent. A hit
+ * without a position is left out and counted (unplaceable). */
 int gw_gmti_on_mti (gw_gmti_t *self, const Cgs__Mti *m);
 /* The truth of a dwell: tags the pending dwell it belongs to and sends it. */
 void gw_gmti_on_truth (gw_gmti_t *self, const Cgs__MtiTruth *t);

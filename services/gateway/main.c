@@ -13,6 +13,7 @@
 #include "cgs_iface.h"
 #include "cgs_log.h"
 #include "cgs_service.h"
+#include "cgs_util.h"
 #include "gw_cot.h"
 #include "gw_cotout.h"
 #include "gw_gmti.h"
@@ -468,21 +469,6 @@ static void s_on_intercept (void *arg, const char *topic, const ProtobufCMessage
 
 /* ---- STANAG 4607 --------------------------------------------------------------------------- */
 
-/* Write all of buf (a whole packet, in one write unless interrupted); 0 or -1. */
-static int s_write_all (int fd, const uint8_t *buf, size_t len)
-{
-    while (len > 0) {
-        ssize_t n = write (fd, buf, len);
-        if (n < 0 && errno == EINTR)
-            continue;
-        if (n <= 0)
-            return -1;
-        buf += n;
-        len -= (size_t)n;
-    }
-    return 0;
-}
-
 /* Open the .4607 file to append. A file that ends in part of a packet (the
  * disk filled, or the gateway was killed in a write) is cut back to its
  * last whole packet first, so the packets appended after it are read. The
@@ -526,7 +512,7 @@ static void s_on_packet (void *arg, const uint8_t *packet, size_t len)
 {
     s_app_t *app = arg;
     app->s4607_bytes += len;
-    if (app->s4607_fd >= 0 && s_write_all (app->s4607_fd, packet, len) < 0) {
+    if (app->s4607_fd >= 0 && cgs_write_all (app->s4607_fd, packet, len) < 0) {
         if (app->s4607_file_errors++ == 0) {
             char why[PATH_MAX + 64];
             snprintf (why, sizeof why, "cannot write %s: %s", app->s4607_path, strerror (errno));
@@ -544,9 +530,14 @@ static void s_on_mti (void *arg, const char *topic, const ProtobufCMessage *msg,
     s_app_t *app = arg;
     if (hdr && isfinite (hdr->sim_time_s))
         s_anchor (app, hdr->sim_time_s);
-    if (gw_gmti_on_mti (app->gmti, (const Cgs__Mti *)msg) < 0)
-        cgs_service_bad_input (app->svc, "an mti message without a platform position or finite "
-                                         "dwell times: no STANAG 4607 dwell");
+    int rc = gw_gmti_on_mti (app->gmti, (const Cgs__Mti *)msg);
+    if (rc == -ENOMEM)
+        cgs_health_set_error (cgs_service_health (app->svc),
+                              "out of memory for a dwell's STANAG 4607 reports");
+    else if (rc < 0)
+        cgs_service_bad_input (app->svc, "an mti message without a radar (uav id), a platform "
+                                         "position on the Earth or finite dwell times: no "
+                                         "STANAG 4607 dwell");
 }
 
 static void s_on_mti_truth (void *arg, const char *topic, const ProtobufCMessage *msg,
@@ -590,24 +581,28 @@ static void s_on_track (void *arg, const char *topic, const ProtobufCMessage *ms
 
 /* What a client's event is to us: a point of one of the parameters' types
  * (for the parameters' UAV), a task (t-x-..., not TAK's control, delete or
- * protocol messages) addressed to one of our UAVs, or nothing. */
-static uint32_t s_designation_uav (const s_app_t *app, const gw_cot_event_t *e)
+ * protocol messages) addressed to one of our UAVs, or nothing (false). For
+ * a point, *ret_uav may be 0: the parameters' UAV is not in the exercise,
+ * or none is heard yet (answered with that reason). */
+static bool s_designation (const s_app_t *app, const gw_cot_event_t *e, uint32_t *ret_uav)
 {
+    *ret_uav = 0;
     if (strcmp (e->type, "t-x") == 0 || strncmp (e->type, "t-x-", 4) == 0) {
         if (strncmp (e->type, "t-x-c", 5) == 0 || strncmp (e->type, "t-x-d", 5) == 0 ||
             strncmp (e->type, "t-x-takp", 8) == 0)
-            return 0;
-        uint32_t uav = 0;
+            return false;
         if (*e->dest_callsign)
-            uav = gw_cotout_uav_id (app->cotout, e->dest_callsign);
-        if (!uav && *e->dest_uid)
-            uav = gw_cotout_uav_id (app->cotout, e->dest_uid);
-        return uav; // a task for somebody else is not ours
+            *ret_uav = gw_cotout_uav_id (app->cotout, e->dest_callsign);
+        if (!*ret_uav && *e->dest_uid)
+            *ret_uav = gw_cotout_uav_id (app->cotout, e->dest_uid);
+        return *ret_uav != 0; // a task for somebody else is not ours
     }
     for (size_t i = 0; i < app->p.cot_designate_type_count; i++)
-        if (strcmp (e->type, app->p.cot_designate_types[i]) == 0)
-            return gw_cotout_uav_id (app->cotout, app->p.cot_designate_uav);
-    return 0;
+        if (strcmp (e->type, app->p.cot_designate_types[i]) == 0) {
+            *ret_uav = gw_cotout_uav_id (app->cotout, app->p.cot_designate_uav);
+            return true;
+        }
+    return false;
 }
 
 /* Answer a client's designation (CoT reply types): y-a-w (will comply),
@@ -677,6 +672,12 @@ static void s_cot_designate (s_app_t *app, const gw_cot_event_t *e, uint32_t uav
     if (e->stale_s < s_wall ()) {
         type = "y-c-f-s";
         snprintf (text, sizeof text, "the event was stale when it came");
+    } else if (!uav) {
+        if (*app->p.cot_designate_uav)
+            snprintf (text, sizeof text, "no UAV %s in this exercise ([cot] designate_uav)",
+                      app->p.cot_designate_uav);
+        else
+            snprintf (text, sizeof text, "no UAV heard yet");
     } else if (cgs_geo_geodetic_to_enu (app->geo, g, &p) < 0 || hypot (p.e_m, p.n_m) > 1e6) {
         snprintf (text, sizeof text, "the point is not within 1000 km of the exercise");
     } else if (!app->guidance) {
@@ -760,8 +761,8 @@ static void s_on_cot_udp (void *arg)
             app->cot_own++; // our own, relayed back by another host
             continue;
         }
-        uint32_t uav = app->p.cot_designate ? s_designation_uav (app, &e) : 0;
-        if (!uav) {
+        uint32_t uav;
+        if (!app->p.cot_designate || !s_designation (app, &e, &uav)) {
             app->cot_ignored++;
             continue;
         }
@@ -1161,6 +1162,7 @@ static void s_counters (s_app_t *app)
         cgs_health_set_counter (h, "s4607_reports", g->reports);
         cgs_health_set_counter (h, "s4607_bytes", app->s4607_bytes);
         cgs_health_set_counter (h, "s4607_untagged", g->untagged);
+        cgs_health_set_counter (h, "s4607_unplaceable", g->unplaceable);
         cgs_health_set_counter (h, "s4607_file_errors", app->s4607_file_errors);
         cgs_health_set_counter (h, "s4607_send_errors", app->s4607_udp.errors);
     }

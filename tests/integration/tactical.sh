@@ -337,6 +337,8 @@ interface = lo
 ttl = 0
 format = protobuf
 rate_hz = 2
+; a UAV the scenario does not have: points are answered with the reason
+designate_uav = uav7
 [stanag4607]
 file = yes
 EOF
@@ -365,10 +367,11 @@ check "protoc decodes it as a TakMessage with the UAV's uid and type" bash -c \
 # group; the gateway's own events coming back are dropped, not taken.
 node "$INTEROP/cot.mjs" send "239.2.3.1:$COTPORT" --format proto --type b-m-p-s-p-i \
     --uid "tak-user-2.spi" --lat "$lat" --lon "$lon" >/dev/null 2>&1
-# (The point is where APC1 was at the pause: the vehicles have moved on,
-# so guidanced may take it or refuse it; either way it is answered.)
-check "a protobuf point sent to the group is heard and answered on the group" wait_for 10 bash -c \
-    "grep -q 'CoT b-m-p-s-p-i tak-user-2.spi at ' '$TMP/gateway-proto.log' && grep -lqs 'tak-user-2.spi' '$TMP'/cot/*"
+# designate_uav names a UAV the exercise does not have: the point is heard
+# and answered on the group with that reason, not silently ignored.
+check "a protobuf point sent to the group is heard and answered on the group: no UAV uav7" \
+    wait_for 10 bash -c \
+    "grep -q 'CoT b-m-p-s-p-i tak-user-2.spi at .*no UAV uav7 in this exercise' '$TMP/gateway-proto.log' && grep -lqs 'tak-user-2.spi' '$TMP'/cot/*"
 own=$(counter cot_own_echo)
 cin=$(counter cot_in)
 check "the gateway's own events, back over loopback, are known by their source and dropped undecoded (${own:-none} of them; ${cin:-none} others in)" \

@@ -781,6 +781,7 @@ static void test_hit_left_out (void **state)
     s_dwell_t d;
     s_dwell (f->sink.b[0], &p, 2, &d);
     assert_int_equal (d.n, 3);
+    assert_int_equal (gw_gmti_stats (g)->unplaceable, 1); // the hit left out is counted
     const uint32_t ent[3] = {1022, 1021, 1024}; // hits 101, 103, 104
     const size_t hit[3] = {0, 2, 3};
     for (size_t j = 0; j < 3; j++) {

@@ -267,22 +267,6 @@ static int s_pool (const ls_mc_config_t *c, const ls_mc_run_t *runs, ls_mc_resul
     return 0;
 }
 
-/* Write all of buf to fd; 0 or -errno. */
-static int s_write_all (int fd, const void *buf, size_t len)
-{
-    const char *p = buf;
-    while (len > 0) {
-        ssize_t n = write (fd, p, len);
-        if (n < 0 && errno == EINTR)
-            continue;
-        if (n <= 0)
-            return n < 0 ? -errno : -EIO;
-        p += n;
-        len -= (size_t)n;
-    }
-    return 0;
-}
-
 /* A worker process: runs j, j + jobs, ... each sent back whole on fd. */
 static void s_worker (const ls_mc_config_t *c, int j, int fd)
 {
@@ -294,7 +278,7 @@ static void s_worker (const ls_mc_config_t *c, int j, int fd)
             run = (ls_mc_run_t){.index = i, .rc = rc};
             snprintf (run.first_error, sizeof run.first_error, "%s", err);
         }
-        if (s_write_all (fd, &run, sizeof run) < 0)
+        if (cgs_write_all (fd, &run, sizeof run) < 0)
             _exit (2);
     }
     _exit (0);
