@@ -10,7 +10,7 @@
 
 #define S_MAX_SUBS     8
 #define S_MAX_TOPICS   64
-#define S_MAX_COUNTERS 48 // the gateway has 30 with every translator on
+#define S_MAX_COUNTERS 48 // the gateway sets 30 with every translator on (32 with CURVE)
 
 struct cgs_health {
     char program[64], instance[64], version[32], host[64], machine[64];
