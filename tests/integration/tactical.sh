@@ -352,14 +352,17 @@ start W gateway-proto "$GATEWAY" --exercise "$EX" --out "$TMP"
 start R mtid-again "$MTID" --exercise "$EX" --instance mtid.uav1
 check "the restarted gateway cuts the file's partial packet off before it appends" \
     wait_for 5 grep -q "gateway.4607 ends in part of a packet (40 bytes from $whole)" "$TMP/gateway-proto.log"
-check "TAK protobuf events reach the client" wait_for 10 bash -c "[ \$(ls '$TMP/cot' | wc -l) -ge 3 ]"
+# Until the UAV's event is among them (it goes out once a second; tracks
+# come with the radar's batches): whole files only, not one being written.
+check "TAK protobuf events reach the client, the UAV's among them" wait_for 10 bash -c \
+    "[ \$(ls '$TMP/cot' | grep -c '^[0-9]*\$') -ge 3 ] && grep -lqs 'mscgs-$EXID.uav.uav1' '$TMP'/cot/[0-9][0-9][0-9][0-9][0-9][0-9]"
 first=$(ls "$TMP/cot" | head -1)
 check "in the mesh framing (0xbf 0x01 0xbf)" bash -c \
     "[ \"\$(od -An -tx1 -N3 '$TMP/cot/$first' | tr -d ' ')\" = bf01bf ]"
-cot_parse "$TMP"/cot/* >"$TMP/cotp.jsonl" 2>"$TMP/cotp.err"
+cot_parse "$TMP"/cot/[0-9][0-9][0-9][0-9][0-9][0-9] >"$TMP/cotp.jsonl" 2>"$TMP/cotp.err"
 is "$?" 0 "node-cot decodes every one (from_proto)"
 check "the UAV among them" grep -q '"type":"a-f-A-M-F-Q"' "$TMP/cotp.jsonl"
-uavf=$(grep -l 'uav.uav1' "$TMP"/cot/* | head -1)
+uavf=$(grep -l 'uav.uav1' "$TMP"/cot/[0-9][0-9][0-9][0-9][0-9][0-9] | head -1)
 tail -c +4 "$uavf" | protoc --decode=tak.TakMessage --proto_path="$CGS_ROOT/proto" "$CGS_ROOT/proto/tak.proto" >"$TMP/protoc.txt" 2>&1
 check "protoc decodes it as a TakMessage with the UAV's uid and type" bash -c \
     "grep -q 'uid: \"mscgs-$EXID.uav.uav1\"' '$TMP/protoc.txt' && grep -q 'type: \"a-f-A-M-F-Q\"' '$TMP/protoc.txt'"
