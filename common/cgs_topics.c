@@ -23,6 +23,8 @@ static const cgs_topic_t s_topics[] = {
     {"track.turn", &cgs__track_turn__descriptor, "trackerd", "a tracked target turned"},
     {"intercept", &cgs__intercept__descriptor, "guidanced", "the designation and intercept"},
     {"image", &cgs__image__descriptor, "imagerd", "one imaging sensor frame"},
+    {"video", &cgs__video_frame__descriptor, "imagerd",
+     "one frame of the imaging sensor's video: MPEG-TS with H.264 and KLV"},
     {"health", &cgs__health__descriptor, "*", "a service's health, 1 Hz"},
 };
 

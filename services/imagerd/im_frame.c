@@ -129,3 +129,80 @@ void im_frame_overlay (double t_s, const im_uav_t *u, const im_camera_t *cam,
     else
         snprintf (lines[3], 96, "CTR E %.0f N %.0f", fp->center.e_m, fp->center.n_m);
 }
+
+static double s_dot3 (cgs_enu_t a, cgs_enu_t b)
+{
+    return a.e_m * b.e_m + a.n_m * b.n_m + a.u_m * b.u_m;
+}
+
+int im_frame_klv (const im_camera_t *cam, const im_footprint_t *fp, const im_uav_t *u,
+                  const cgs_geo_t *frame, double unix_time_s, const char *mission_id,
+                  bool has_target, cgs_enu_t target, uint32_t track_id, im_klv_frame_t *ret)
+{
+    im_klv_frame_reset (ret);
+    cgs_geodetic_t g;
+    if (!frame || cgs_geo_enu_to_geodetic (frame, cam->eye, &g) < 0)
+        return -EINVAL;
+    ret->unix_time_s = unix_time_s;
+    snprintf (ret->mission_id, sizeof ret->mission_id, "%s", mission_id ? mission_id : "");
+    ret->platform_heading_deg = u->heading_deg;
+    ret->platform_pitch_deg = u->pitch_deg;
+    ret->platform_roll_deg = u->roll_deg;
+    ret->sensor_lat_deg = g.lat_deg;
+    ret->sensor_lon_deg = g.lon_deg;
+    ret->sensor_true_alt_m = ret->sensor_hae_m = g.height_m;
+    ret->hfov_deg = u->hfov_deg;
+    ret->vfov_deg = u->vfov_deg;
+    // The platform's body axes: the camera's axes with no depression, not levelled.
+    im_camera_in_t in = {.position = cam->eye,
+                         .heading_deg = u->heading_deg,
+                         .pitch_deg = u->pitch_deg,
+                         .roll_deg = u->roll_deg,
+                         .hfov_deg = u->hfov_deg,
+                         .vfov_deg = u->vfov_deg,
+                         .width_px = 1,
+                         .height_px = 1,
+                         .near_m = 1,
+                         .far_m = 2};
+    im_camera_t body;
+    if (im_camera_make (&in, &body) == 0) {
+        const double deg = 180.0 / M_PI;
+        double x = s_dot3 (cam->forward, body.forward), y = s_dot3 (cam->forward, body.right);
+        double z = s_dot3 (cam->forward, body.up);
+        double az = atan2 (y, x);
+        ret->sensor_rel_az_deg = fmod (az * deg + 360.0, 360.0);
+        ret->sensor_rel_el_deg = atan2 (z, hypot (x, y)) * deg;
+        // The gimbal's right and up after azimuth and elevation, in the local frame.
+        cgs_enu_t rg = {-sin (az) * body.forward.e_m + cos (az) * body.right.e_m,
+                        -sin (az) * body.forward.n_m + cos (az) * body.right.n_m,
+                        -sin (az) * body.forward.u_m + cos (az) * body.right.u_m};
+        cgs_enu_t ug = {rg.n_m * cam->forward.u_m - rg.u_m * cam->forward.n_m,
+                        rg.u_m * cam->forward.e_m - rg.e_m * cam->forward.u_m,
+                        rg.e_m * cam->forward.n_m - rg.n_m * cam->forward.e_m};
+        double roll = atan2 (-s_dot3 (cam->right, ug), s_dot3 (cam->right, rg)) * deg;
+        ret->sensor_rel_roll_deg = fmod (roll + 360.0, 360.0);
+    }
+    cgs_enu_t d = {fp->center.e_m - cam->eye.e_m, fp->center.n_m - cam->eye.n_m,
+                   fp->center.u_m - cam->eye.u_m};
+    ret->slant_range_m = sqrt (s_dot3 (d, d));
+    if (cgs_geo_enu_to_geodetic (frame, fp->center, &g) == 0) {
+        ret->frame_center_lat_deg = g.lat_deg;
+        ret->frame_center_lon_deg = g.lon_deg;
+        ret->frame_center_elev_m = g.height_m;
+    }
+    static const int order[4] = {1, 2, 3, 0}; // far-left, far-right, near-right, near-left
+    for (int i = 0; i < 4; i++)
+        if (cgs_geo_enu_to_geodetic (frame, fp->corner[order[i]], &g) == 0) {
+            ret->corner_lat_deg[i] = g.lat_deg;
+            ret->corner_lon_deg[i] = g.lon_deg;
+        }
+    if (has_target) {
+        ret->has_target = true;
+        ret->track_id = track_id;
+        if (cgs_geo_enu_to_geodetic (frame, target, &g) == 0) {
+            ret->target_lat_deg = g.lat_deg;
+            ret->target_lon_deg = g.lon_deg;
+        }
+    }
+    return 0;
+}

@@ -7,6 +7,7 @@
 #define IM_FRAME_H
 
 #include "im_camera.h"
+#include "im_klv.h"
 #include "im_params.h"
 #include "im_render.h"
 
@@ -70,5 +71,23 @@ void im_frame_status_lines (const im_entity_t *e, char lines[3][24]);
  * (frame NULL or a failed conversion: local metres). */
 void im_frame_overlay (double t_s, const im_uav_t *u, const im_camera_t *cam,
                        const im_footprint_t *fp, const cgs_geo_t *frame, char lines[4][96]);
+
+/* The frame's MISB ST 0601 metadata, from the same camera and footprint as
+ * its `image` message: unix_time_s and mission_id as given; the platform's
+ * heading, pitch and roll (u); the sensor at the camera's eye; the fields of
+ * view; the camera's azimuth, elevation and roll relative to the platform's
+ * body axes (azimuth clockwise from the nose, elevation negative down, roll
+ * right side down positive; a fixed camera is at 0, −ε, 0); the slant range
+ * and the frame centre where the boresight meets the ground; the corners
+ * (image upper left, upper right, lower right, lower left: the footprint's
+ * far-left, far-right, near-right, near-left); the target and its track id
+ * when has_target. Heights: the exercise takes the terrain's heights as
+ * above the ellipsoid (the geoid separation is ignored), so the true
+ * altitude (MSL) and the ellipsoid height are one value. Angles are in the
+ * exercise's local frame (its north at the origin). -EINVAL when the eye
+ * cannot be placed on the earth. */
+int im_frame_klv (const im_camera_t *cam, const im_footprint_t *fp, const im_uav_t *u,
+                  const cgs_geo_t *frame, double unix_time_s, const char *mission_id,
+                  bool has_target, cgs_enu_t target, uint32_t track_id, im_klv_frame_t *ret);
 
 #endif

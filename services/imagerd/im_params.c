@@ -2,9 +2,12 @@
 #include "im_params.h"
 #include "cgs_config.h"
 
+#include <arpa/inet.h>
 #include <errno.h>
 #include <stddef.h>
 #include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
 
 void im_params_defaults (im_params_t *p)
 {
@@ -39,6 +42,13 @@ void im_params_defaults (im_params_t *p)
         .noise_k = 0.3,
         .png_rate_hz = 0,
         .latest_rate_hz = 1,
+        .video = true,
+        .video_bitrate_kbps = 2000,
+        .video_keyframe_s = 1,
+        .video_preset = "veryfast",
+        .video_file = true,
+        .video_map = true,
+        .video_ttl = 1,
     };
 }
 
@@ -69,6 +79,7 @@ static const cgs_config_real_t s_reals[] = {
     S_R ("infrared", "noise_k", noise_k, 0.0, 50.0),
     S_R ("output", "png_rate_hz", png_rate_hz, 0.0, 100.0),
     S_R ("output", "latest_rate_hz", latest_rate_hz, 0.0, 100.0),
+    S_R ("video", "keyframe_s", video_keyframe_s, 0.1, 60.0),
 };
 #undef S_R
 #define S_NREALS (sizeof s_reals / sizeof s_reals[0])
@@ -82,6 +93,8 @@ static const cgs_config_int_t s_ints[] = {
     S_I ("camera", "height_px", height_px, 16, 4096),
     S_I ("scene", "chunk_cells", chunk_cells, 2, 1024),
     S_I ("scene", "lods", lods, 1, 6),
+    S_I ("video", "bitrate_kbps", video_bitrate_kbps, 50, 100000),
+    S_I ("video", "ttl", video_ttl, 0, 255),
 };
 #undef S_I
 #define S_NINTS (sizeof s_ints / sizeof s_ints[0])
@@ -103,6 +116,14 @@ static bool s_relations (const im_params_t *p, const char **sec, const char **ke
     } else if ((unsigned)p->mode > IM_MODE_INFRARED) {
         *sec = "infrared", *key = "mode";
         snprintf (msg, msglen, "expected visible or infrared, got %d", (int)p->mode);
+    } else if (p->video && (p->width_px % 2 || p->height_px % 2)) {
+        *sec = "camera", *key = p->width_px % 2 ? "width_px" : "height_px";
+        snprintf (msg, msglen, "expected an even size for the video (H.264 4:2:0), got %d x %d",
+                  p->width_px, p->height_px);
+    } else if (p->video_udp[0] && im_params_parse_udp (p->video_udp, NULL, 0, NULL) < 0) {
+        *sec = "video", *key = "udp";
+        snprintf (msg, msglen, "expected HOST:PORT (an IPv4 address, port 1..65535), got '%s'",
+                  p->video_udp);
     } else if ((unsigned)p->polarity > IM_BLACK_HOT) {
         *sec = "infrared", *key = "polarity";
         snprintf (msg, msglen, "expected white-hot or black-hot, got %d", (int)p->polarity);
@@ -149,6 +170,44 @@ static int s_read (cgs_config_t *cfg, void *arg, char *err, size_t errlen)
     p.mode = (im_mode_t)mode;
     p.polarity = (im_polarity_t)polarity;
     if (rc == 0)
+        rc = cgs_config_get_bool (cfg, "video", "enabled", p.video, &p.video, err, errlen);
+    if (rc == 0)
+        rc = cgs_config_get_bool (cfg, "video", "file", p.video_file, &p.video_file, err, errlen);
+    if (rc == 0)
+        rc = cgs_config_get_bool (cfg, "video", "map", p.video_map, &p.video_map, err, errlen);
+    static const char *const presets[] = {"ultrafast", "superfast", "veryfast", "faster",   "fast",
+                                          "medium",    "slow",      "slower",   "veryslow", NULL};
+    int preset = 0;
+    while (presets[preset] && strcmp (presets[preset], p.video_preset) != 0)
+        preset++;
+    if (rc == 0)
+        rc = cgs_config_get_enum (cfg, "video", "preset", presets, preset, &preset, err, errlen);
+    if (rc == 0)
+        snprintf (p.video_preset, sizeof p.video_preset, "%s", presets[preset]);
+    struct {
+        const char *key;
+        char *dst;
+        size_t cap;
+    } strs[] = {{"udp", p.video_udp, sizeof p.video_udp},
+                {"local_address", p.video_local, sizeof p.video_local},
+                {"mission_id", p.video_mission_id, sizeof p.video_mission_id}};
+    for (size_t i = 0; rc == 0 && i < sizeof strs / sizeof strs[0]; i++) {
+        char def[128];
+        snprintf (def, sizeof def, "%s", strs[i].dst);
+        const char *v = NULL;
+        rc = cgs_config_get_string (cfg, "video", strs[i].key, def, &v, err, errlen);
+        if (rc == 0 && strlen (v) >= strs[i].cap)
+            rc = cgs_config_error (cfg, "video", strs[i].key, 0, err, errlen,
+                                   "expected at most %zu bytes, got %zu", strs[i].cap - 1,
+                                   strlen (v));
+        if (rc == 0)
+            snprintf (strs[i].dst, strs[i].cap, "%s", v);
+    }
+    struct in_addr ia;
+    if (rc == 0 && p.video_local[0] && inet_pton (AF_INET, p.video_local, &ia) != 1)
+        rc = cgs_config_error (cfg, "video", "local_address", 0, err, errlen,
+                               "expected an IPv4 address of this host, got '%s'", p.video_local);
+    if (rc == 0)
         rc = cgs_config_check_unused (cfg, err, errlen);
     if (rc == 0) {
         const char *sec = NULL, *key = NULL;
@@ -159,6 +218,26 @@ static int s_read (cgs_config_t *cfg, void *arg, char *err, size_t errlen)
     if (rc < 0)
         return rc;
     *out = p;
+    return 0;
+}
+
+int im_params_parse_udp (const char *text, char *host, size_t hostlen, int *port)
+{
+    const char *colon = text ? strrchr (text, ':') : NULL;
+    if (!colon || colon == text || (size_t)(colon - text) >= 64)
+        return -EINVAL;
+    char h[64];
+    memcpy (h, text, (size_t)(colon - text));
+    h[colon - text] = '\0';
+    struct in_addr ia;
+    char *end;
+    long n = strtol (colon + 1, &end, 10);
+    if (inet_pton (AF_INET, h, &ia) != 1 || end == colon + 1 || *end || n < 1 || n > 65535)
+        return -EINVAL;
+    if (host)
+        snprintf (host, hostlen, "%s", h);
+    if (port)
+        *port = (int)n;
     return 0;
 }
 

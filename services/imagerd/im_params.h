@@ -3,7 +3,7 @@
  * every error names the file, the line, the section and key, and what was
  * expected. Pure: no logging, no globals.
  *
- * Sections: [camera], [scene], [overlay], [infrared], [output]. */
+ * Sections: [camera], [scene], [overlay], [infrared], [output], [video]. */
 #ifndef IM_PARAMS_H
 #define IM_PARAMS_H
 
@@ -48,6 +48,17 @@ typedef struct {
     // [output]
     double png_rate_hz;    // numbered PNG files per second of simulation time (0: none)
     double latest_rate_hz; // latest.png refreshed per second of simulation time (0: never)
+    // [video]: every frame as H.264 with MISB ST 0601 KLV in MPEG-TS
+    bool video;                 // encode at all
+    int video_bitrate_kbps;     // H.264 target bitrate
+    double video_keyframe_s;    // an IDR frame (a place to join) at least this often
+    char video_preset[16];      // x264 preset
+    bool video_file;            // OUT/INSTANCE.ts
+    bool video_map;             // on the bus (`video`), for the map
+    char video_udp[64];         // "" none, else HOST:PORT (unicast or multicast)
+    int video_ttl;              // multicast TTL (0: this host only)
+    char video_local[64];       // multicast: the local address to send from ("" the route's)
+    char video_mission_id[128]; // KLV tag 3; "" the exercise's name
 } im_params_t;
 
 /* The defaults (deploy/params/imager.ini documents each). */
@@ -58,6 +69,9 @@ int im_params_load (const char *path, im_params_t *p, char *err, size_t errlen);
 /* The same from text (name stands for the file name in errors). */
 int im_params_load_string (const char *name, const char *text, im_params_t *p, char *err,
                            size_t errlen);
+/* A [video] udp value, HOST:PORT with HOST a dotted IPv4 address: 0 with
+ * the parts (host, port may be NULL), or -EINVAL. */
+int im_params_parse_udp (const char *text, char *host, size_t hostlen, int *port);
 /* Check a set built in code; 0 or -EINVAL with err filled. */
 int im_params_check (const im_params_t *p, char *err, size_t errlen);
 

@@ -20,7 +20,10 @@
 #include "im_post.h"
 #include "im_render.h"
 #include "im_scene.h"
+#include "im_video.h"
+#include "im_vout.h"
 
+#include <arpa/inet.h>
 #include <errno.h>
 #include <limits.h>
 #include <math.h>
@@ -60,6 +63,14 @@ typedef struct {
     uint64_t frames, skipped, pngs, render_errors;
     double latency_sum_s, latency_max_s, entity_wall; // entity batch in → its frame out
     char detail[256];
+    /* The video: H.264 and KLV in MPEG-TS, to the file, UDP and the bus. */
+    im_video_t *video;
+    im_vout_t *vout;
+    char video_path[4096 + 64];
+    double unix_at_zero; // UTC (Unix seconds) of simulation time 0: the KLV time stamps
+    bool have_unix;
+    uint64_t video_errors;
+    im_klv_frame_t klv;
 } s_app_t;
 
 static void s_bad (s_app_t *app, const char *what)
@@ -174,6 +185,43 @@ static void s_queue_png (s_app_t *app, const char *name)
         cgs_health_set_error (cgs_service_health (app->svc), "out of memory for a PNG file");
 }
 
+/* The frame as video: its KLV from the same camera and footprint as the
+ * `image` message, H.264 and KLV muxed to the outputs, and its bytes on
+ * `video` for the map. */
+static void s_encode (s_app_t *app, double t, const im_camera_t *cam, const im_footprint_t *fp,
+                      cgs_enu_t track_at)
+{
+    const char *mission = app->params.video_mission_id[0]
+                              ? app->params.video_mission_id
+                              : cgs_exercise_name (cgs_service_exercise (app->svc));
+    uint8_t klv[IM_KLV_MAX_PACKET];
+    size_t klv_len = 0;
+    if (im_frame_klv (cam, fp, &app->uav, app->sensor.frame, app->unix_at_zero + t, mission,
+                      app->have_track, track_at, app->track_id, &app->klv) == 0)
+        klv_len = im_klv_encode (&app->klv, klv, sizeof klv);
+    char err[256];
+    bool key = false;
+    im_vout_frame_reset (app->vout);
+    if (im_video_frame (app->video, app->rgba, t, klv, klv_len, &key, err, sizeof err) < 0) {
+        if (app->video_errors++ == 0)
+            cgs_log (LOG_ERR, "video: %s", err);
+        cgs_health_set_error (cgs_service_health (app->svc), err);
+        return;
+    }
+    size_t len;
+    const uint8_t *ts = im_vout_frame (app->vout, &len);
+    if (!app->params.video_map || !ts || !len)
+        return;
+    Cgs__VideoFrame m = CGS__VIDEO_FRAME__INIT;
+    m.uav_id = app->sensor.uav_id;
+    m.frame_number = app->frames;
+    m.keyframe = key;
+    m.ts.data = (uint8_t *)ts;
+    m.ts.len = len;
+    cgs_service_set_sim_time (app->svc, t);
+    cgs_service_publish (app->svc, "video", &m.base);
+}
+
 static void s_render (s_app_t *app, double t)
 {
     const im_params_t *p = &app->params;
@@ -226,6 +274,8 @@ static void s_render (s_app_t *app, double t)
     im_frame_target (&cam, app->sensor.terrain, app->draw, n, app->have_track, track_at, S_GATE_M,
                      &tg);
     app->frames++;
+    if (app->video)
+        s_encode (app, t, &cam, &fp, track_at);
     // Files: numbered at the PNG rate, on request, and latest.png for the map.
     char name[64] = "";
     if (app->snapshots > 0) {
@@ -331,6 +381,12 @@ static void s_on_uav (void *arg, const char *topic, const ProtobufCMessage *msg,
         return;
     }
     app->uav = nu;
+    if (!app->have_unix && hdr->wall_time_s > 0) {
+        // Simulation time mapped to UTC: the wall clock when this UAV was first heard,
+        // less its simulation time, kept for the whole run.
+        app->unix_at_zero = hdr->wall_time_s - t;
+        app->have_unix = true;
+    }
     double period = 1.0 / app->params.frame_rate_hz;
     if (!app->started || t < app->next_frame_s - 2 * period) { // first, or time went back
         app->started = true;
@@ -380,6 +436,51 @@ static void s_on_command (void *arg, const Cgs__Command *cmd, Cgs__Reply *reply)
     snprintf (app->detail, sizeof app->detail, "%s: the next %u frame%s to %s",
               app->sensor.uav_name, n, n == 1 ? "" : "s", app->out_dir);
     reply->detail = app->detail;
+}
+
+static int s_setup_video (s_app_t *app, char *err, size_t errlen)
+{
+    const im_params_t *p = &app->params;
+    char host[64] = "";
+    int port = 0;
+    if (p->video_udp[0])
+        im_params_parse_udp (p->video_udp, host, sizeof host, &port); // checked at load
+    if (p->video_file)
+        snprintf (app->video_path, sizeof app->video_path, "%s/%s.ts", app->out_dir,
+                  cgs_service_instance_name (app->svc));
+    im_vout_config_t oc = {.file = app->video_path,
+                           .udp_host = host,
+                           .udp_port = port,
+                           .ttl = p->video_ttl,
+                           .local_addr = p->video_local,
+                           .keep_frame = p->video_map};
+    if (!(app->vout = im_vout_new (&oc, err, errlen)))
+        return -EIO;
+    im_vout_stats_t vs;
+    im_vout_stats (app->vout, &vs);
+    if (vs.cut_bytes)
+        cgs_log (LOG_WARNING, "video file %s: cut a partial packet (%llu bytes) off its end",
+                 app->video_path, (unsigned long long)vs.cut_bytes);
+    im_video_config_t vc = {.width_px = p->width_px,
+                            .height_px = p->height_px,
+                            .frame_rate_hz = fmin (p->frame_rate_hz, S_MAX_FPS),
+                            .bitrate_kbps = p->video_bitrate_kbps,
+                            .keyframe_s = p->video_keyframe_s,
+                            .preset = p->video_preset,
+                            .threads = 1};
+    if (!(app->video = im_video_new (&vc, im_vout_write, app->vout, err, errlen)))
+        return -EINVAL;
+    char udp[160] = "no UDP";
+    if (host[0])
+        snprintf (udp, sizeof udp, "UDP to %s:%d%s", host, port,
+                  IN_MULTICAST (ntohl (inet_addr (host))) ? " (multicast)" : "");
+    cgs_log (LOG_INFO,
+             "video: H.264 %d kbit/s (x264 %s, a keyframe every %g s) with MISB ST 0601 KLV in "
+             "MPEG-TS; %s%s; %s; %s",
+             p->video_bitrate_kbps, p->video_preset, p->video_keyframe_s,
+             app->video_path[0] ? "file " : "no file", app->video_path, udp,
+             p->video_map ? "on the bus (`video`) for the map" : "not on the bus");
+    return 0;
 }
 
 static int s_setup (s_app_t *app, char *err, size_t errlen)
@@ -435,7 +536,7 @@ static int s_setup (s_app_t *app, char *err, size_t errlen)
     cgs_log (LOG_INFO, "images to %s (latest.png every %g s of simulation time%s)", app->out_dir,
              p->latest_rate_hz > 0 ? 1.0 / p->latest_rate_hz : 0.0,
              p->png_rate_hz > 0 ? ", numbered frames too" : "");
-    return 0;
+    return p->video ? s_setup_video (app, err, errlen) : 0;
 }
 
 static int s_on_option (void *arg, const char *name, const char *value, char *why, size_t whylen)
@@ -496,7 +597,27 @@ int main (int argc, char **argv)
              (unsigned long long)app.pngs,
              app.frames ? 1e3 * app.latency_sum_s / (double)app.frames : 0.0,
              1e3 * app.latency_max_s);
+    if (app.video) {
+        char verr[256];
+        if (im_video_finish (app.video, verr, sizeof verr) < 0)
+            cgs_log (LOG_WARNING, "video: %s", verr);
+        im_video_stats_t vs;
+        im_vout_stats_t os;
+        im_video_stats (app.video, &vs);
+        im_vout_stats (app.vout, &os);
+        cgs_log (
+            os.file_errors || os.udp_errors ? LOG_WARNING : LOG_INFO,
+            "video: %llu frames (%llu keyframes, %llu KLV packets, %llu errors), %.1f MB of "
+            "transport stream; file %llu bytes (%llu errors), %llu datagrams (%llu errors)%s%s",
+            (unsigned long long)vs.frames, (unsigned long long)vs.keyframes,
+            (unsigned long long)vs.klv_packets, (unsigned long long)app.video_errors,
+            (double)vs.bytes / 1e6, (unsigned long long)os.file_bytes,
+            (unsigned long long)os.file_errors, (unsigned long long)os.datagrams,
+            (unsigned long long)os.udp_errors, os.last_error[0] ? "; last: " : "", os.last_error);
+    }
 done:
+    im_video_destroy (&app.video);
+    im_vout_destroy (&app.vout);
     if (app.png) {
         im_png_stats_t st;
         im_png_writer_destroy (&app.png, &st); // writes what is queued first
