@@ -23,7 +23,7 @@ struct im_video {
     AVFrame *frame;
     AVPacket *pkt;
     bool header_written, finished, started;
-    int64_t first_tick, last_pts, last_key_pts;
+    int64_t last_pts, last_key_pts;
     im_video_stats_t stats;
 };
 
@@ -83,7 +83,6 @@ static int s_open_encoder (im_video_t *self, char *err, size_t errlen)
     e->bit_rate = (int64_t)c->bitrate_kbps * 1000;
     e->rc_max_rate = e->bit_rate;
     e->rc_buffer_size = (int)(e->bit_rate / 2); // half a second of video: low latency
-    e->gop_size = (int)ceil (c->keyframe_s * c->frame_rate_hz);
     e->max_b_frames = 0;
     e->thread_count = c->threads;
     e->color_range = AVCOL_RANGE_MPEG;
@@ -97,8 +96,13 @@ static int s_open_encoder (im_video_t *self, char *err, size_t errlen)
     }
     av_opt_set (e->priv_data, "tune", "zerolatency", 0);
     av_opt_set (e->priv_data, "forced-idr", "1", 0); // a keyframe asked for is an IDR
+    // Keyframes by the frames' time alone (im_video_frame asks for them):
+    // none of x264's own, by frame count or scene cut.
+    av_opt_set (e->priv_data, "x264-params", "keyint=infinite:scenecut=0", 0);
     if ((rc = avcodec_open2 (e, codec, NULL)) < 0) {
-        s_averror (rc, "cannot open the H.264 encoder", err, errlen);
+        char what[96];
+        snprintf (what, sizeof what, "cannot open the H.264 encoder (x264 preset '%s')", c->preset);
+        s_averror (rc, what, err, errlen);
         return -EINVAL;
     }
     if (!(self->frame = av_frame_alloc ()) || !(self->pkt = av_packet_alloc ()))
@@ -168,7 +172,7 @@ im_video_t *im_video_new (const im_video_config_t *cfg, im_video_sink_fn *sink, 
     self->cfg = *cfg;
     self->sink = sink;
     self->arg = arg;
-    av_log_set_level (AV_LOG_ERROR);
+    av_log_set_level (AV_LOG_QUIET); // errors come back in err
     int rc = s_open_encoder (self, err, errlen);
     if (rc == 0)
         rc = s_open_muxer (self, err, errlen);
@@ -217,18 +221,18 @@ int im_video_frame (im_video_t *self, const uint8_t *rgba, double time_s, const 
         snprintf (err, errlen, "the video stream has ended");
         return -EINVAL;
     }
-    if (!rgba || !isfinite (time_s) || fabs (time_s) > 1e9 || (klv_len && !klv) ||
-        klv_len > INT32_MAX) {
-        snprintf (err, errlen, "a video frame without pixels, a finite time or its KLV bytes");
+    if (!rgba || !(time_s >= 0 && time_s < 1e9) || (klv_len && !klv) || klv_len > INT32_MAX) {
+        snprintf (err, errlen,
+                  "a video frame without pixels, a time in [0, 1e9) s or its KLV "
+                  "bytes");
         return -EINVAL;
     }
-    int64_t tick = llround (time_s * IM_VIDEO_CLOCK_HZ);
     if (!self->started) {
-        self->first_tick = tick;
         self->last_pts = -1;
         self->last_key_pts = INT64_MIN / 2;
     }
-    int64_t pts = tick - self->first_tick;
+    // The time itself (simulation time): a restarted imagerd continues its file forward.
+    int64_t pts = llround (time_s * IM_VIDEO_CLOCK_HZ);
     if (pts <= self->last_pts) {
         self->stats.refused++;
         snprintf (err, errlen, "a video frame at %.6f s is not after the last one", time_s);

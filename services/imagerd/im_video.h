@@ -55,7 +55,8 @@ im_video_t *im_video_new (const im_video_config_t *cfg, im_video_sink_fn *sink, 
                           char *err, size_t errlen);
 
 /* Encode one frame: rgba (width × height × 4 bytes, top row first) shown at
- * time_s (seconds, any origin) with its KLV packet (klv_len 0: none), and
+ * time_s (seconds in [0, 1e9), the PTS: time_s × 90 kHz, modulo 2^33 in the
+ * stream) with its KLV packet (klv_len 0: none), and
  * mux both. A frame must come at least one 90 kHz tick after the last:
  * otherwise -EINVAL and nothing is written. *keyframe (may be NULL) says
  * whether it was an IDR frame. 0 or a negative errno with err filled. */

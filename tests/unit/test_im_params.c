@@ -23,22 +23,48 @@
 
 // Every key the file takes, by section (the shipped file must give them all).
 static const char *const s_keys[][2] = {
-    {"camera", "width_px"},         {"camera", "height_px"},
-    {"camera", "frame_rate_hz"},    {"camera", "stabilized"},
-    {"camera", "staring"},          {"camera", "near_m"},
-    {"camera", "max_range_m"},      {"scene", "sun_azimuth_deg"},
-    {"scene", "sun_elevation_deg"}, {"scene", "visibility_m"},
-    {"scene", "chunk_cells"},       {"scene", "lods"},
-    {"scene", "lod_distance_m"},    {"overlay", "enabled"},
-    {"overlay", "status_blocks"},   {"infrared", "mode"},
-    {"infrared", "polarity"},       {"infrared", "ambient_k"},
-    {"infrared", "sun_gain_k"},     {"infrared", "hull_rise_k"},
-    {"infrared", "engine_k"},       {"infrared", "running_gear_rise_k"},
-    {"infrared", "glass_k"},        {"infrared", "person_k"},
-    {"infrared", "sky_k"},          {"infrared", "attenuation_per_km"},
-    {"infrared", "display_min_k"},  {"infrared", "display_max_k"},
-    {"infrared", "blur_px"},        {"infrared", "noise_k"},
-    {"output", "png_rate_hz"},      {"output", "latest_rate_hz"},
+    {"camera", "width_px"},
+    {"camera", "height_px"},
+    {"camera", "frame_rate_hz"},
+    {"camera", "stabilized"},
+    {"camera", "staring"},
+    {"camera", "near_m"},
+    {"camera", "max_range_m"},
+    {"scene", "sun_azimuth_deg"},
+    {"scene", "sun_elevation_deg"},
+    {"scene", "visibility_m"},
+    {"scene", "chunk_cells"},
+    {"scene", "lods"},
+    {"scene", "lod_distance_m"},
+    {"overlay", "enabled"},
+    {"overlay", "status_blocks"},
+    {"infrared", "mode"},
+    {"infrared", "polarity"},
+    {"infrared", "ambient_k"},
+    {"infrared", "sun_gain_k"},
+    {"infrared", "hull_rise_k"},
+    {"infrared", "engine_k"},
+    {"infrared", "running_gear_rise_k"},
+    {"infrared", "glass_k"},
+    {"infrared", "person_k"},
+    {"infrared", "sky_k"},
+    {"infrared", "attenuation_per_km"},
+    {"infrared", "display_min_k"},
+    {"infrared", "display_max_k"},
+    {"infrared", "blur_px"},
+    {"infrared", "noise_k"},
+    {"output", "png_rate_hz"},
+    {"output", "latest_rate_hz"},
+    {"video", "enabled"},
+    {"video", "bitrate_kbps"},
+    {"video", "keyframe_s"},
+    {"video", "preset"},
+    {"video", "file"},
+    {"video", "map"},
+    {"video", "udp"},
+    {"video", "ttl"},
+    {"video", "local_address"},
+    {"video", "mission_id"},
 };
 
 static void s_assert_equal (const im_params_t *a, const im_params_t *b)
@@ -80,7 +106,23 @@ static void s_assert_equal (const im_params_t *a, const im_params_t *b)
     S_SAME (noise_k);
     S_SAME (png_rate_hz);
     S_SAME (latest_rate_hz);
+    S_SAME (video);
+    S_SAME (video_bitrate_kbps);
+    S_SAME (video_keyframe_s);
+    S_SAME (video_file);
+    S_SAME (video_map);
+    S_SAME (video_ttl);
 #undef S_SAME
+#define S_SAME_STR(f)                                                                              \
+    do {                                                                                           \
+        if (strcmp (a->f, b->f) != 0)                                                              \
+            fail_msg ("%s: '%s' != '%s'", #f, a->f, b->f);                                         \
+    } while (0)
+    S_SAME_STR (video_preset);
+    S_SAME_STR (video_udp);
+    S_SAME_STR (video_local);
+    S_SAME_STR (video_mission_id);
+#undef S_SAME_STR
 }
 
 /* A set in which every field differs from its default (and is valid). */
@@ -119,6 +161,16 @@ static im_params_t s_not_defaults (void)
         .noise_k = 0.2,
         .png_rate_hz = 2,
         .latest_rate_hz = 0.5,
+        .video = false,
+        .video_bitrate_kbps = 500,
+        .video_keyframe_s = 2,
+        .video_preset = "ultrafast",
+        .video_file = false,
+        .video_map = false,
+        .video_udp = "239.1.2.5:5600",
+        .video_ttl = 0,
+        .video_local = "127.0.0.1",
+        .video_mission_id = "training-7",
     };
 }
 
@@ -182,6 +234,14 @@ static void test_defaults (void **state)
     assert_true (p.noise_k == 0.3);
     assert_true (p.png_rate_hz == 0);
     assert_true (p.latest_rate_hz == 1);
+    assert_true (p.video && p.video_file && p.video_map);
+    assert_int_equal (p.video_bitrate_kbps, 2000);
+    assert_true (p.video_keyframe_s == 1);
+    assert_string_equal (p.video_preset, "veryfast");
+    assert_string_equal (p.video_udp, "");
+    assert_int_equal (p.video_ttl, 1);
+    assert_string_equal (p.video_local, "");
+    assert_string_equal (p.video_mission_id, "");
     char err[256] = "";
     assert_int_equal (im_params_check (&p, err, sizeof err), 0);
     im_params_t q = s_not_defaults ();
@@ -213,7 +273,7 @@ static void test_shipped_file (void **state)
     for (size_t i = 0; i < sizeof s_keys / sizeof s_keys[0]; i++)
         if (!cgs_config_has (cfg, s_keys[i][0], s_keys[i][1]))
             fail_msg ("%s has no [%s] %s", path, s_keys[i][0], s_keys[i][1]);
-    assert_int_equal (cgs_config_section_count (cfg), 5);
+    assert_int_equal (cgs_config_section_count (cfg), 6);
     cgs_config_destroy (&cfg);
 }
 
@@ -259,7 +319,18 @@ static void test_values (void **state)
             "noise_k = 0.2\n"
             "[output]\n"
             "png_rate_hz = 2\n"
-            "latest_rate_hz = 0.5\n",
+            "latest_rate_hz = 0.5\n"
+            "[video]\n"
+            "enabled = false\n"
+            "bitrate_kbps = 500\n"
+            "keyframe_s = 2\n"
+            "preset = ultrafast\n"
+            "file = false\n"
+            "map = false\n"
+            "udp = 239.1.2.5:5600\n"
+            "ttl = 0\n"
+            "local_address = 127.0.0.1\n"
+            "mission_id = training-7\n",
             &p);
     im_params_t want = s_not_defaults ();
     s_assert_equal (&p, &want);
@@ -347,6 +418,55 @@ static void test_relation_errors (void **state)
              "i.ini: [infrared] display_max_k: expected more than display_min_k (325), got 325");
 }
 
+// The [video] section: every key, and its errors.
+static void test_video (void **state)
+{
+    (void)state;
+    im_params_t p;
+    im_params_defaults (&p);
+    s_load ("[video]\nenabled = no\nbitrate_kbps = 800\nkeyframe_s = 0.5\npreset = ultrafast\n"
+            "file = off\nmap = 0\nudp = 239.1.2.5:5600\nttl = 0\nlocal_address = 127.0.0.1\n"
+            "mission_id = night exercise\n",
+            &p);
+    assert_false (p.video || p.video_file || p.video_map);
+    assert_int_equal (p.video_bitrate_kbps, 800);
+    assert_true (p.video_keyframe_s == 0.5);
+    assert_string_equal (p.video_preset, "ultrafast");
+    assert_string_equal (p.video_udp, "239.1.2.5:5600");
+    assert_int_equal (p.video_ttl, 0);
+    assert_string_equal (p.video_local, "127.0.0.1");
+    assert_string_equal (p.video_mission_id, "night exercise");
+    char host[64];
+    int port;
+    assert_int_equal (im_params_parse_udp ("127.0.0.1:15004", host, sizeof host, &port), 0);
+    assert_string_equal (host, "127.0.0.1");
+    assert_int_equal (port, 15004);
+    s_fails ("[video]\nudp = 127.0.0.1\n",
+             "i.ini:2: [video] udp: expected HOST:PORT (an IPv4 address, port 1..65535), got "
+             "'127.0.0.1'");
+    s_fails ("[video]\nudp = localhost:5600\n",
+             "i.ini:2: [video] udp: expected HOST:PORT (an IPv4 address, port 1..65535), got "
+             "'localhost:5600'");
+    s_fails ("[video]\nudp = 127.0.0.1:70000\n",
+             "i.ini:2: [video] udp: expected HOST:PORT (an IPv4 address, port 1..65535), got "
+             "'127.0.0.1:70000'");
+    s_fails ("[video]\nudp = 127.0.0.1:\n",
+             "i.ini:2: [video] udp: expected HOST:PORT (an IPv4 address, port 1..65535), got "
+             "'127.0.0.1:'");
+    s_fails ("[video]\nlocal_address = eth0\n",
+             "i.ini:2: [video] local_address: expected an IPv4 address of this host, got 'eth0'");
+    s_fails ("[video]\npreset = turbo\n",
+             "i.ini:2: [video] preset: expected one of 'ultrafast', 'superfast', 'veryfast', "
+             "'faster', 'fast', 'medium', 'slow', 'slower', 'veryslow', got 'turbo'");
+    s_fails ("[video]\nbitrate_kbps = 10\n",
+             "i.ini:2: [video] bitrate_kbps: expected an integer in [50, 100000], got '10'");
+    s_fails ("[camera]\nwidth_px = 641\n",
+             "i.ini:2: [camera] width_px: expected an even size for the video (H.264 4:2:0), got "
+             "641 x 480");
+    s_load ("[camera]\nwidth_px = 641\n[video]\nenabled = false\n", &p); // no video: any size
+    assert_int_equal (p.width_px, 641);
+}
+
 static void test_enum_and_file_errors (void **state)
 {
     (void)state;
@@ -420,7 +540,7 @@ int main (void)
         cmocka_unit_test (test_defaults),        cmocka_unit_test (test_shipped_file),
         cmocka_unit_test (test_values),          cmocka_unit_test (test_range_errors),
         cmocka_unit_test (test_relation_errors), cmocka_unit_test (test_enum_and_file_errors),
-        cmocka_unit_test (test_check),
+        cmocka_unit_test (test_check),           cmocka_unit_test (test_video),
     };
     return cmocka_run_group_tests (tests, NULL, NULL);
 }
