@@ -240,7 +240,13 @@ int im_video_frame (im_video_t *self, const uint8_t *rgba, double time_s, const 
     }
     int rc;
     if (!self->header_written) {
-        if ((rc = avformat_write_header (self->mux, NULL)) < 0) {
+        // Each stream's first packet says "discontinuity": a receiver (or a file a
+        // restarted imagerd appends to) resets its continuity counters there.
+        AVDictionary *opts = NULL;
+        av_dict_set (&opts, "mpegts_flags", "initial_discontinuity", 0);
+        rc = avformat_write_header (self->mux, &opts);
+        av_dict_free (&opts);
+        if (rc < 0) {
             s_averror (rc, "cannot start the transport stream", err, errlen);
             return -EIO;
         }

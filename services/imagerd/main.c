@@ -557,7 +557,7 @@ int main (int argc, char **argv)
 {
     static s_app_t app;
     static const cgs_service_option_t options[] = {
-        {"out", true, "DIR", "folder for PNG files (default: STATE_DIR/images)"},
+        {"out", true, "DIR", "folder for PNG files and the video file (default: STATE_DIR/images)"},
         {NULL, false, NULL, NULL},
     };
     cgs_service_info_t info = {

@@ -11,6 +11,7 @@
 #include "cgs_loop.h"
 #include "cgs_state.h"
 #include "gw_params.h"
+#include "im_params.h"
 #include "ms_health.h"
 #include "ms_metrics.h"
 #include "ms_observer.h"
@@ -104,6 +105,24 @@ static void s_print_dis_destination (const cgs_instance_t *in, const char *out)
                 in->name, p.cot_protobuf ? "TAK protobuf" : "XML", where, s_udp_reach (&p.cot_udp),
                 p.cot_designate ? "taken" : "off");
     }
+}
+
+/* Where an imagerd instance's video goes, from its parameters. */
+static void s_print_video_destination (const cgs_instance_t *in, const char *out)
+{
+    im_params_t p;
+    char err[512];
+    im_params_defaults (&p);
+    if ((*in->params && im_params_load (in->params, &p, err, sizeof err) < 0) || !p.video)
+        return; // an error is the imagerd's to report, in its log
+    if (p.video_file)
+        printf ("mscgs run: video (%s, H.264 + KLV in MPEG-TS) to %s/images/%s.ts\n", in->name, out,
+                in->name);
+    char host[64];
+    int port;
+    if (p.video_udp[0] && im_params_parse_udp (p.video_udp, host, sizeof host, &port) == 0)
+        printf ("mscgs run: video (%s) over UDP to %s:%d (ffplay udp://%s:%d)\n", in->name, host,
+                port, host, port);
 }
 
 /* ---- run ------------------------------------------------------------------------------ */
@@ -567,6 +586,8 @@ int ms_run_main (int argc, char **argv)
             s_run.children[i].map_auto = !s_print_map_address (s_run.children[i].instance, 0);
         else if (strcmp (s_run.children[i].instance->program, "gateway") == 0)
             s_print_dis_destination (s_run.children[i].instance, s_run.out);
+        else if (strcmp (s_run.children[i].instance->program, "imagerd") == 0)
+            s_print_video_destination (s_run.children[i].instance, s_run.out);
 
     cgs_lifecycle_init ();
     void *ctx = NULL;

@@ -1,0 +1,169 @@
+#!/bin/bash
+# video.sh — imagerd's video (STANAG 4609: H.264 and MISB ST 0601 KLV in
+# MPEG-TS) in the default scenario, with the real uavsim, mtid, trackerd and
+# guidanced (the scenario's operator designates at t = 120 s), checked by
+# readers nobody here wrote:
+#  - ffprobe: an H.264 stream at the camera's size and a KLV data stream
+#    (codec tag KLVA), one KLV packet per video frame, as many as imagerd
+#    made; Wireshark's MPEG-TS reader (tshark) finds no continuity error;
+#  - GStreamer's tsdemux extracts the same KLV bytes as FFmpeg's demuxer;
+#  - the test's own ST 0601 decoder (tests/interop/klv_check.mjs, from the
+#    standard's tables) checks every packet's checksum, and every tag
+#    against the `image`, `uav`, `intercept` and `track` messages of the same
+#    frame (positions through GeographicLib's CartConvert, within each
+#    format's quantisation; the frame centre within 1% of the footprint's
+#    width of its centre); a flipped byte is detected;
+#  - the UDP stream (unicast to a listener on loopback) is the file's bytes,
+#    in datagrams of whole 188-byte packets, at most seven;
+#  - a decoded frame matches imagerd's PNG of the same frame (PSNR);
+#  - a restart cuts a partial packet off the file's end and appends.
+# TAP on stdout.
+# shellcheck source=tests/integration/lib.sh
+. "$(dirname "$0")/lib.sh"
+
+UAVSIM=$CGS_BUILD/bin/uavsim
+MTID=$CGS_BUILD/bin/mtid
+TRACKERD=$CGS_BUILD/bin/trackerd
+GUIDANCED=$CGS_BUILD/bin/guidanced
+IMAGERD=$CGS_BUILD/bin/imagerd
+for b in "$UAVSIM" "$MTID" "$TRACKERD" "$GUIDANCED" "$IMAGERD"; do [ -x "$b" ] || bail "no $b"; done
+for t in ffprobe ffmpeg gst-launch-1.0 tshark CartConvert node; do
+    command -v $t >/dev/null || bail "no $t (scripts/install-deps installs it)"
+done
+gst-inspect-1.0 tsdemux >/dev/null 2>&1 || bail "no GStreamer tsdemux (gstreamer1.0-plugins-bad)"
+INTEROP=$CGS_ROOT/tests/interop
+
+ORIGIN="35.96 -121.23 0"
+PORT=$((20000 + RANDOM % 20000))
+EX=$TMP/exercise.ini
+{
+    exercise_header 14 video-test "scenario=$CGS_ROOT/deploy/scenarios/default.ini"
+    exercise_service uavsim command
+    exercise_service mtid.uav1 uav=uav1
+    exercise_service trackerd "params=$CGS_ROOT/deploy/params/tracker.ini"
+    exercise_service guidanced command "params=$CGS_ROOT/deploy/params/guidance.ini"
+    exercise_service imagerd.uav1 command uav=uav1 params=imager.ini
+} >"$EX"
+sed -e "s/^udp =$/udp = 127.0.0.1:$PORT/" "$CGS_ROOT/deploy/params/imager.ini" >"$TMP/imager.ini"
+grep -q "^udp = 127.0.0.1:$PORT" "$TMP/imager.ini" || bail "cannot set [video] udp in imager.ini"
+M () { "$MSCGS" "$@" --exercise "$EX"; }
+OUT=$TMP/images
+TS=$OUT/imagerd.uav1.ts
+
+# The UDP listener: every datagram appended to one file, its length to another.
+start L listen node -e 'const dgram = require("node:dgram"), fs = require("node:fs");
+    const s = dgram.createSocket("udp4");
+    const ts = fs.openSync(process.argv[2], "w"), lens = fs.openSync(process.argv[3], "w");
+    s.on("message", (m) => { fs.writeSync(ts, m); fs.writeSync(lens, m.length + "\n"); });
+    s.bind(Number(process.argv[1]), "127.0.0.1", () => fs.writeFileSync(process.argv[4], ""));' \
+    "$PORT" "$TMP/udp.ts" "$TMP/udp.len" "$TMP/udp.ready"
+wait_for 10 test -f "$TMP/udp.ready" || bail "the UDP listener did not start"
+start U uavsim "$UAVSIM" --exercise "$EX" --time-scale 10
+for t in image uav intercept track; do
+    start E echo-$t "$MSCGS" echo $t --json --exercise "$EX"
+    eval "E_$t=\$E"
+done
+sleep 1
+start I imagerd "$IMAGERD" --exercise "$EX" --instance imagerd.uav1 --out "$OUT"
+start R mtid "$MTID" --exercise "$EX" --instance mtid.uav1
+start T trackerd "$TRACKERD" --exercise "$EX"
+start G guidanced "$GUIDANCED" --exercise "$EX"
+
+check "imagerd says where its video goes" wait_for 30 \
+    grep -q "video: H.264 2000 kbit/s .*file $TS; UDP to 127.0.0.1:$PORT" "$TMP/imagerd.log"
+designated () { grep -q '"track_id":[1-9]' "$TMP/echo-intercept.log"; }
+check "the scenario's operator designates a track (t = 120 s)" wait_for 90 designated
+# 60 more frames with the target designated, then two frames as PNG.
+n0=$(wc -l <"$TMP/echo-image.log")
+wait_for 60 bash -c "test \$(wc -l <'$TMP/echo-image.log') -ge $((n0 + 60))"
+out=$(M snapshot 2 2>&1)
+check "mscgs snapshot 2 is acknowledged" grep -q 'next 2 frames' <<<"$out"
+check "two snapshot files are written" wait_for 20 bash -c \
+    "test \$(ls '$OUT' | grep -c '^snapshot-.*\.png$') -ge 2"
+sleep 2
+stop "$I"
+is "$EXIT_CODE" 0 "imagerd stops on SIGTERM with exit code 0"
+for t in image uav intercept track; do eval "stop \$E_$t"; done
+sleep 0.5
+stop "$L"
+frames=$(grep -o 'video: [0-9]* frames' "$TMP/imagerd.log" | tail -1 | grep -o '[0-9]*')
+diag "$(grep 'video: [0-9]* frames' "$TMP/imagerd.log" | tail -1)"
+check "imagerd encoded frames with no error ($frames)" \
+    grep -q "video: [0-9]* frames ([0-9]* keyframes, $frames KLV packets, 0 errors)" "$TMP/imagerd.log"
+
+# ---- the file, read by ffprobe, tshark, GStreamer and FFmpeg ------------------------------
+probe=$(ffprobe -v error -show_entries stream=codec_type,codec_name,codec_tag_string,width,height \
+    -of compact "$TS" 2>&1)
+diag "$probe"
+check "ffprobe: an H.264 stream, 640 x 480" \
+    grep -q 'codec_name=h264|codec_type=video|codec_tag_string=\[27\]\[0\]\[0\]\[0\]|width=640|height=480' <<<"$probe"
+check "ffprobe: a KLV data stream, codec tag KLVA (asynchronous carriage)" \
+    grep -q 'codec_name=klv|codec_type=data|codec_tag_string=KLVA' <<<"$probe"
+nv=$(ffprobe -v error -select_streams v -show_entries packet=pts -of csv "$TS" | grep -c packet)
+nd=$(ffprobe -v error -select_streams d -show_entries packet=pts -of csv "$TS" | grep -c packet)
+is "$nv" "$frames" "as many video frames as imagerd encoded ($nv)"
+is "$nd" "$frames" "and one KLV packet per frame ($nd)"
+pts () { ffprobe -v error -select_streams "$1" -show_entries packet=pts -of csv=p=0 "$TS" |
+    sed -e 's/,*$//' -e '/^$/d'; }
+check "each KLV packet has its frame's PTS" cmp -s <(pts v) <(pts d)
+expert () { tshark -r "$TS" -Y 'mp2t.cc.drop || _ws.malformed || _ws.expert.severity >= warning' 2>/dev/null; }
+cc=$(expert | wc -l)
+tsn=$(tshark -r "$TS" 2>/dev/null | wc -l)
+diag "tshark: $tsn transport stream packets"
+check "tshark reads the file as MPEG-TS" test "$tsn" -eq $(($(stat -c %s "$TS") / 188))
+is "$cc" 0 "with no continuity error or malformed packet"
+ffmpeg -v error -i "$TS" -map 0:d -c copy -f data "$TMP/ffmpeg.klv"
+gst-launch-1.0 -q filesrc location="$TS" ! tsdemux name=d d. ! meta/x-klv ! \
+    filesink location="$TMP/gst.klv" >"$TMP/gst.log" 2>&1
+check "GStreamer's tsdemux extracts KLV" test -s "$TMP/gst.klv"
+check "the same bytes as FFmpeg's demuxer" cmp "$TMP/gst.klv" "$TMP/ffmpeg.klv"
+
+# ---- the KLV against the bus ---------------------------------------------------------------
+# shellcheck disable=SC2086  # ORIGIN is three words
+res=$(node "$INTEROP/klv_check.mjs" "$TMP/gst.klv" "$TMP/echo-image.log" "$TMP/echo-uav.log" \
+    "$TMP/echo-intercept.log" "$TMP/echo-track.log" video-test $ORIGIN 2>&1)
+diag "$res"
+check "every KLV packet decodes and agrees with the bus" grep -q '"ok":true' <<<"$res"
+n=$(sed -n 's/.*"packets":\([0-9]*\).*/\1/p' <<<"$res")
+is "${n:-0}" "$frames" "every packet decoded ($n)"
+m=$(sed -n 's/.*"matched":\([0-9]*\).*/\1/p' <<<"$res")
+check "most frames matched to their image message ($m of $n)" test "${m:-0}" -ge $((n * 3 / 4))
+tg=$(sed -n 's/.*"with_target":\([0-9]*\).*/\1/p' <<<"$res")
+check "frames after the designation carry the target and its track id ($tg)" test "${tg:-0}" -ge 20
+check "a flipped byte is detected" grep -q '"flip_detected":true' <<<"$res"
+
+# ---- UDP ---------------------------------------------------------------------------------
+check "the UDP stream is the file's bytes" cmp "$TMP/udp.ts" "$TS"
+check "in datagrams of whole 188-byte packets, at most seven" \
+    awk '$1 % 188 || $1 > 1316 || $1 == 0 { bad = 1 } END { exit bad || NR == 0 }' "$TMP/udp.len"
+
+# ---- a frame decoded against its PNG --------------------------------------------------------
+snap=$(ls "$OUT" | grep '^snapshot-.*\.png$' | head -1)
+fn=$((10#$(sed 's/snapshot-\([0-9]*\)\.png/\1/' <<<"$snap")))
+ffmpeg -v error -i "$TS" -vf "select=eq(n\,$((fn - 1)))" -frames:v 1 "$TMP/decoded.png"
+check "frame $fn decodes from the file" test -s "$TMP/decoded.png"
+psnr=$(ffmpeg -i "$TMP/decoded.png" -i "$OUT/$snap" -lavfi psnr -f null - 2>&1 |
+    sed -n 's/.* average:\([0-9.inf]*\).*/\1/p')
+diag "frame $fn: PSNR ${psnr:-none} dB against $snap"
+check "its picture matches the PNG of the same frame (PSNR $psnr dB > 30)" \
+    awk -v p="${psnr:-0}" 'BEGIN { exit !(p == "inf" || p > 30) }'
+
+# ---- restart: a partial packet cut, then appended to --------------------------------------
+size=$(stat -c %s "$TS")
+head -c 100 /dev/urandom >>"$TS"
+start I imagerd "$IMAGERD" --exercise "$EX" --instance imagerd.uav1 --out "$OUT"
+check "a restarted imagerd cuts the partial packet" wait_for 30 \
+    grep -q "cut a partial packet (100 bytes)" "$TMP/imagerd.log"
+check "and appends" wait_for 30 bash -c "test \$(stat -c %s '$TS') -gt $size"
+stop "$I"
+check "the file is whole packets" test $(($(stat -c %s "$TS") % 188)) -eq 0
+n2=$(ffprobe -v error -select_streams v -show_entries packet=pts -of csv "$TS" | grep -c packet)
+check "ffprobe reads both runs ($n2 frames)" test "$n2" -gt "$frames"
+# Wireshark flags the counters' jump; ISO/IEC 13818-1 allows it where the
+# packet's discontinuity indicator is set, as it is on every one flagged.
+jumps=$(tshark -r "$TS" -Y 'mp2t.cc.drop' 2>/dev/null | wc -l)
+unflagged=$(tshark -r "$TS" -Y 'mp2t.cc.drop && !(mp2t.af.di == 1)' 2>/dev/null | wc -l)
+check "tshark: the second run's counters start over ($jumps PIDs)" test "$jumps" -ge 3
+is "$unflagged" 0 "each with its discontinuity indicator set"
+check "no sanitizer report from imagerd" clean_log imagerd
+finish
