@@ -9,6 +9,7 @@
 #   make bench-multicast  the bus over multicast against tcp, and under loss (root)
 #   make bench-translators  the gateway's CPU at 1,000 vehicles, DIS alone and with
 #                   STANAG 4607 and Cursor on Target on
+#   make bench-video  imagerd's live video: frame rate, CPU, entity update to the wire
 #   make montecarlo whole scenes in lockstep: every scenario family, the table
 #                   (MC_RUNS, MC_SEED, MC_JOBS, MC_FAMILIES)
 #   make validate-lockstep  the lockstep against the live system, 20 seeds
@@ -128,14 +129,15 @@ ALT_RENDER     := $(if $(filter osmesa,$(RENDER)),egl,osmesa)
 ALT_BINS       := $(O)/bin-$(ALT_RENDER)/imagerd $(O)/tests/unit/test_im_render@$(ALT_RENDER)
 
 # stationd's page: its own files (the script is ES modules in web/js, no
-# bundler), and OpenLayers and milsymbol from the npm packages its lock file
-# names (scripts/install-deps runs npm ci), copied into $(O)/web, which
-# stationd serves (no CDN: it works on a lab network).
+# bundler), and OpenLayers, milsymbol and mpegts.js (the live video's
+# player) from the npm packages its lock file names (scripts/install-deps
+# runs npm ci), copied into $(O)/web, which stationd serves (no CDN: it
+# works on a lab network).
 WEB_DIR    := services/stationd/web
 WEB_NPM    := $(WEB_DIR)/node_modules
 WEB_OWN    := $(addprefix $(O)/web/,index.html style.css)
 WEB_JS     := $(patsubst $(WEB_DIR)/%,$(O)/web/%,$(wildcard $(WEB_DIR)/js/*.js))
-WEB_VENDOR := $(addprefix $(O)/web/vendor/,ol.js ol.css milsymbol.js)
+WEB_VENDOR := $(addprefix $(O)/web/vendor/,ol.js ol.css milsymbol.js mpegts.js)
 WEB_FILES  := $(WEB_OWN) $(WEB_JS) $(WEB_VENDOR)
 
 JOBS    ?= $(shell nproc 2>/dev/null || echo 2)
@@ -143,7 +145,7 @@ JOBS    ?= $(shell nproc 2>/dev/null || echo 2)
 # Keep objects that pattern chains would otherwise delete as intermediates.
 .SECONDARY:
 
-.PHONY: all run test test-systemd test-build check-layers bench bench-multicast bench-translators montecarlo validate-lockstep soak fault-build fuzz fuzz-build install install-built clean format deps help
+.PHONY: all run test test-systemd test-build check-layers bench bench-multicast bench-translators bench-video montecarlo validate-lockstep soak fault-build fuzz fuzz-build install install-built clean format deps help
 .DEFAULT_GOAL := all
 
 all: $(BINS) $(WEB_FILES)
@@ -194,6 +196,11 @@ bench: deps
 bench-translators: deps
 	@$(MAKE) --no-print-directory -j$(JOBS) O=build/release SAN=0 all
 	@tests/bench/translators.sh build/release
+
+# imagerd's live video: frame rate, CPU, entity update to the wire (about 2 minutes).
+bench-video: deps
+	@$(MAKE) --no-print-directory -j$(JOBS) O=build/release SAN=0 all
+	@tests/bench/video.sh build/release
 
 bench-multicast: deps
 	@$(MAKE) --no-print-directory -j$(JOBS) O=build/release SAN=0 all build/release/bench/bench_mcast
@@ -292,6 +299,7 @@ $(WEB_NPM)/%:
 $(O)/web/vendor/ol.js: $(WEB_NPM)/ol/dist/ol.js
 $(O)/web/vendor/ol.css: $(WEB_NPM)/ol/ol.css
 $(O)/web/vendor/milsymbol.js: $(WEB_NPM)/milsymbol/dist/milsymbol.js
+$(O)/web/vendor/mpegts.js: $(WEB_NPM)/mpegts.js/dist/mpegts.js
 $(WEB_VENDOR):
 	@mkdir -p $(@D)
 	cp $< $@

@@ -31,8 +31,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define S_STALE_S    10.0  // an entity not heard of for this long (simulation time) is forgotten
-#define S_MAX_FPS    30.0  // frames due faster than this (wall clock) are skipped and counted
+#define S_STALE_S 10.0 // an entity not heard of for this long (simulation time) is forgotten
+#define S_MAX_FPS                                                                                  \
+    30.0 // frames due faster than this on average (wall clock) are skipped and counted
 #define S_GATE_M     150.0 // the designated track's vehicle is the ground entity this near it
 #define S_PNG_QUEUE  8     // frames waiting for the PNG writer before one is dropped
 #define S_MOVING_MPS 0.5   // a vehicle this fast has its engine running
@@ -58,7 +59,7 @@ typedef struct {
     double track_t;
     uint8_t *rgba;
     bool started;
-    double next_frame_s, next_png_s, next_latest_s, last_frame_wall;
+    double next_frame_s, next_png_s, next_latest_s, next_frame_wall;
     uint32_t snapshots; // frames still to write on request
     uint64_t frames, skipped, pngs, render_errors;
     double latency_sum_s, latency_max_s, entity_wall; // entity batch in → its frame out
@@ -392,15 +393,19 @@ static void s_on_uav (void *arg, const char *topic, const ProtobufCMessage *msg,
         app->started = true;
         app->next_frame_s = app->next_png_s = app->next_latest_s = t;
     }
-    if (t < app->next_frame_s)
+    if (t < app->next_frame_s - 0.01 * period) // a step's rounding does not skip a frame
         return;
     app->next_frame_s = fmax (app->next_frame_s + period, t);
     double now = cgs_loop_now ();
-    if (app->last_frame_wall > 0 && now - app->last_frame_wall < 1.0 / S_MAX_FPS) {
+    // At most S_MAX_FPS frames a wall-clock second on average: a frame may come
+    // half a period early (updates jitter about their rate), and no credit
+    // builds up while none come.
+    double wall_period = 1.0 / S_MAX_FPS;
+    if (app->next_frame_wall > 0 && now < app->next_frame_wall - 0.5 * wall_period) {
         app->skipped++;
         return;
     }
-    app->last_frame_wall = now;
+    app->next_frame_wall = fmax (app->next_frame_wall, now - wall_period) + wall_period;
     s_render (app, t);
     cgs_entities_evict (app->ents, t, S_STALE_S);
 }
