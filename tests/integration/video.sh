@@ -16,7 +16,9 @@
 #  - the UDP stream (unicast to a listener on loopback) is the file's bytes,
 #    in datagrams of whole 188-byte packets, at most seven;
 #  - a decoded frame matches imagerd's PNG of the same frame (PSNR);
-#  - a restart cuts a partial packet off the file's end and appends.
+#  - a restart cuts a partial packet off the file's end and appends; sent to
+#    a multicast group from 127.0.0.1 with TTL 0, a listener joined on
+#    loopback gets the same bytes, and ffprobe reads them.
 # TAP on stdout.
 # shellcheck source=tests/integration/lib.sh
 . "$(dirname "$0")/lib.sh"
@@ -148,14 +150,39 @@ diag "frame $fn: PSNR ${psnr:-none} dB against $snap"
 check "its picture matches the PNG of the same frame (PSNR $psnr dB > 30)" \
     awk -v p="${psnr:-0}" 'BEGIN { exit !(p == "inf" || p > 30) }'
 
-# ---- restart: a partial packet cut, then appended to --------------------------------------
+# ---- restart: a partial packet cut, then appended to; multicast on loopback -----------------
+# The restarted imagerd sends to a multicast group from 127.0.0.1 with TTL 0,
+# to a listener that joined the group on loopback.
+GROUP=239.7.7.$((RANDOM % 200 + 1))
+sed -i -e "s/^udp = .*/udp = $GROUP:$PORT/" -e 's/^ttl = 1$/ttl = 0/' \
+    -e 's/^local_address =$/local_address = 127.0.0.1/' "$TMP/imager.ini"
+start LM listen-group node -e 'const dgram = require("node:dgram"), fs = require("node:fs");
+    const s = dgram.createSocket({ type: "udp4", reuseAddr: true });
+    const ts = fs.openSync(process.argv[3], "w");
+    s.on("message", (m) => fs.writeSync(ts, m));
+    s.bind(Number(process.argv[1]), process.argv[2], () => {
+        s.addMembership(process.argv[2], "127.0.0.1"); fs.writeFileSync(process.argv[4], ""); });' \
+    "$PORT" "$GROUP" "$TMP/group.ts" "$TMP/group.ready"
+wait_for 10 test -f "$TMP/group.ready" || bail "the multicast listener did not start"
 size=$(stat -c %s "$TS")
 head -c 100 /dev/urandom >>"$TS"
 start I imagerd "$IMAGERD" --exercise "$EX" --instance imagerd.uav1 --out "$OUT"
 check "a restarted imagerd cuts the partial packet" wait_for 30 \
     grep -q "cut a partial packet (100 bytes)" "$TMP/imagerd.log"
 check "and appends" wait_for 30 bash -c "test \$(stat -c %s '$TS') -gt $size"
+check "it says it sends to the multicast group" \
+    grep -q "UDP to $GROUP:$PORT (multicast)" "$TMP/imagerd.log"
+check "the group's listener on loopback gets the video" wait_for 30 \
+    bash -c "test \$(stat -c %s '$TMP/group.ts') -ge 18800"
 stop "$I"
+sleep 0.3
+stop "$LM"
+gprobe=$(ffprobe -v error -show_entries stream=codec_name,codec_tag_string -of compact \
+    "$TMP/group.ts" 2>&1)
+check "ffprobe reads the multicast stream: H.264 and KLV" \
+    bash -c "grep -q codec_name=h264 <<<'$gprobe' && grep -q 'codec_name=klv|codec_tag_string=KLVA' <<<'$gprobe'"
+check "the multicast bytes are the file's last bytes" \
+    cmp "$TMP/group.ts" <(tail -c "$(stat -c %s "$TMP/group.ts")" "$TS")
 check "the file is whole packets" test $(($(stat -c %s "$TS") % 188)) -eq 0
 n2=$(ffprobe -v error -select_streams v -show_entries packet=pts -of csv "$TS" | grep -c packet)
 check "ffprobe reads both runs ($n2 frames)" test "$n2" -gt "$frames"
