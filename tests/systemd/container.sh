@@ -98,13 +98,28 @@ fi
 [ "$(id -u)" -eq 0 ] || skip_all "not root (systemd-nspawn needs root)"
 command -v systemd-nspawn >/dev/null || skip_all "no systemd-nspawn (apt-get install systemd-container)"
 command -v nsenter >/dev/null || skip_all "no nsenter (util-linux)"
-# CGS_MAKE_CACHE=1 (make test): make the image first when there is none.
+# CGS_MAKE_CACHE=1 (make test): make the image first when there is none, or
+# when the programs now load a library from a package the image lacks.
+stale=""
+if [ -x "$IMAGE/usr/lib/systemd/systemd" ]; then
+    have=$(tr ' ' '\n' <"$IMAGE/etc/mscgs-test-packages" 2>/dev/null)
+    for p in $(runtime_packages 2>/dev/null); do
+        grep -qxF -- "$p" <<<"$have" || stale="$stale $p"
+    done
+fi
+if [ -n "$stale" ] && [ "${CGS_MAKE_CACHE:-0}" = 1 ]; then
+    diag "the cached container image lacks$stale: making it again"
+    rm -rf "$IMAGE"
+fi
 if [ ! -x "$IMAGE/usr/lib/systemd/systemd" ] && [ "${CGS_MAKE_CACHE:-0}" = 1 ]; then
     diag "no cached container image: making it (debootstrap, about 75 s)"
     make_cache 2>&1 | sed 's/^/# /'
     [ "${PIPESTATUS[0]}" -eq 0 ] || bail "cannot make the container image (the reason is above)"
 fi
 [ -x "$IMAGE/usr/lib/systemd/systemd" ] || skip_all "no cached container image: run $SELF --make-cache (as root)"
+if [ -n "$stale" ] && [ "${CGS_MAKE_CACHE:-0}" != 1 ]; then
+    bail "the cached container image lacks$stale: run $SELF --make-cache (as root)"
+fi
 if ldd "$CGS_BUILD/bin/mtid" 2>/dev/null | grep -q libasan; then
     echo "not ok 1 - $CGS_BUILD is a sanitizer build: use a release build (make -j2 O=build/release all)"
     echo "1..1"
