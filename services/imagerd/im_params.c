@@ -159,6 +159,9 @@ static int s_read (cgs_config_t *cfg, void *arg, char *err, size_t errlen)
     if (rc == 0)
         rc = cgs_config_get_bool (cfg, "overlay", "status_blocks", p.status_blocks,
                                   &p.status_blocks, err, errlen);
+    if (rc == 0)
+        rc = cgs_config_get_bool (cfg, "overlay", "frame_code", p.frame_code, &p.frame_code, err,
+                                  errlen);
     static const char *const modes[] = {"visible", "infrared", NULL};
     static const char *const polarities[] = {"white-hot", "black-hot", NULL};
     int mode = (int)p.mode, polarity = (int)p.polarity;

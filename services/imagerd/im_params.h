@@ -30,6 +30,7 @@ typedef struct {
     // [overlay]
     bool overlay;       // time, altitude, slant range, image centre in MGRS
     bool status_blocks; // a block of marking, force and speed by each ground vehicle in view
+    bool frame_code;    // the frame number burnt in along the bottom edge (im_post_frame_code)
     // [infrared]
     im_mode_t mode;
     im_polarity_t polarity;

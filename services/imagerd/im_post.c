@@ -199,3 +199,38 @@ void im_post_overlay (uint8_t *rgba, int w, int h, const char *const *lines, siz
     for (size_t i = 0; i < n; i++)
         im_post_text (rgba, w, h, 3 * scale, 3 * scale + (int)i * line_h, scale, lines[i], white);
 }
+
+static bool s_code_fits (int w, int h)
+{
+    return w >= (IM_POST_CODE_BITS + 1) * IM_POST_CODE_CELL && h >= 2 * IM_POST_CODE_CELL;
+}
+
+void im_post_frame_code (uint8_t *rgba, int w, int h, uint64_t number)
+{
+    if (!s_code_fits (w, h))
+        return;
+    int x0 = IM_POST_CODE_CELL / 2, y0 = h - 3 * IM_POST_CODE_CELL / 2;
+    for (int b = 0; b < IM_POST_CODE_BITS; b++) {
+        uint8_t v = (number >> (IM_POST_CODE_BITS - 1 - b)) & 1 ? 255 : 0;
+        for (int y = y0; y < y0 + IM_POST_CODE_CELL; y++)
+            for (int x = x0 + b * IM_POST_CODE_CELL; x < x0 + (b + 1) * IM_POST_CODE_CELL; x++) {
+                uint8_t *p = rgba + 4 * ((size_t)y * (size_t)w + (size_t)x);
+                p[0] = p[1] = p[2] = v;
+                p[3] = 255;
+            }
+    }
+}
+
+long im_post_frame_code_read (const uint8_t *rgba, int w, int h)
+{
+    if (!s_code_fits (w, h))
+        return -1;
+    int x0 = IM_POST_CODE_CELL / 2, y = h - IM_POST_CODE_CELL;
+    long n = 0;
+    for (int b = 0; b < IM_POST_CODE_BITS; b++) {
+        int x = x0 + b * IM_POST_CODE_CELL + IM_POST_CODE_CELL / 2;
+        const uint8_t *p = rgba + 4 * ((size_t)y * (size_t)w + (size_t)x);
+        n = n << 1 | ((p[0] + p[1] + p[2]) / 3.0 > 127.5);
+    }
+    return n;
+}

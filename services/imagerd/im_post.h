@@ -38,4 +38,18 @@ void im_post_overlay (uint8_t *rgba, int w, int h, const char *const *lines, siz
 void im_post_status_block (uint8_t *rgba, int w, int h, int x, int y, int lead,
                            const char *const *lines, size_t n);
 
+/* The frame code: a frame number burnt into the image, machine-readable, to
+ * measure a video's delay to the screen (glass to glass). IM_POST_CODE_BITS
+ * cells of IM_POST_CODE_CELL × IM_POST_CODE_CELL pixels in a row along the
+ * bottom edge, from (IM_POST_CODE_CELL / 2, h − 1.5 × IM_POST_CODE_CELL),
+ * most significant bit first: white for 1, black for 0, the number modulo
+ * 2^IM_POST_CODE_BITS. Read a cell's centre pixel: luminance above half is 1.
+ * Nothing is drawn when the row does not fit the image. */
+#define IM_POST_CODE_BITS 20
+#define IM_POST_CODE_CELL 12
+void im_post_frame_code (uint8_t *rgba, int w, int h, uint64_t number);
+/* The number read back from a frame (a decoded one too): the cells' centres,
+ * luminance (R + G + B) / 3 above 127.5 is 1. -1 when the row does not fit. */
+long im_post_frame_code_read (const uint8_t *rgba, int w, int h);
+
 #endif

@@ -275,6 +275,8 @@ static void s_render (s_app_t *app, double t)
     im_frame_target (&cam, app->sensor.terrain, app->draw, n, app->have_track, track_at, S_GATE_M,
                      &tg);
     app->frames++;
+    if (p->frame_code)
+        im_post_frame_code (app->rgba, p->width_px, p->height_px, app->frames);
     if (app->video)
         s_encode (app, t, &cam, &fp, track_at);
     // Files: numbered at the PNG rate, on request, and latest.png for the map.

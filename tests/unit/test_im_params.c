@@ -89,6 +89,7 @@ static void s_assert_equal (const im_params_t *a, const im_params_t *b)
     S_SAME (lod_distance_m);
     S_SAME (overlay);
     S_SAME (status_blocks);
+    S_SAME (frame_code);
     S_SAME (mode);
     S_SAME (polarity);
     S_SAME (ambient_k);
@@ -144,6 +145,7 @@ static im_params_t s_not_defaults (void)
         .lod_distance_m = 1500,
         .overlay = false,
         .status_blocks = false,
+        .frame_code = true,
         .mode = IM_MODE_INFRARED,
         .polarity = IM_BLACK_HOT,
         .ambient_k = 290,
@@ -217,6 +219,7 @@ static void test_defaults (void **state)
     assert_int_equal (p.lods, 5);
     assert_true (p.lod_distance_m == 2000);
     assert_true (p.overlay);
+    assert_false (p.frame_code);
     assert_int_equal (p.mode, IM_MODE_VISIBLE);
     assert_int_equal (p.polarity, IM_WHITE_HOT);
     assert_true (p.ambient_k == 288);
@@ -301,6 +304,7 @@ static void test_values (void **state)
             "[overlay]\n"
             "enabled = false\n"
             "status_blocks = no\n"
+            "frame_code = yes\n"
             "[infrared]\n"
             "mode = infrared\n"
             "polarity = black-hot\n"

@@ -30,6 +30,7 @@
 #include <cmocka.h>
 
 #include "im_frame.h"
+#include "im_post.h"
 #include "im_video.h"
 #include "im_vout.h"
 
@@ -124,15 +125,18 @@ typedef struct {
     uint8_t *klv[S_MAX_FRAMES];
     size_t klv_len[S_MAX_FRAMES];
     int decoded;
-    double psnr_min; // over the decoded frames, against the sources
+    double psnr_min;         // over the decoded frames, against the sources
+    long code[S_MAX_FRAMES]; // the frame code read back from each decoded frame
     enum AVCodecID video_id, data_id;
     uint32_t data_tag;
 } s_back_t;
 
+static uint8_t s_decoded[S_W * S_H * 4]; // the last decoded frame, as RGBA
+
 /* PSNR of decoded YUV (converted to RGB) against the source RGBA. */
 static double s_psnr (struct SwsContext *sws, const AVFrame *f, const uint8_t *src)
 {
-    static uint8_t rgba[S_W * S_H * 4];
+    uint8_t *rgba = s_decoded;
     uint8_t *dst[1] = {rgba};
     int stride[1] = {S_W * 4};
     sws_scale (sws, (const uint8_t *const *)f->data, f->linesize, 0, S_H, dst, stride);
@@ -193,6 +197,8 @@ static void s_read_back (const s_ts_t *ts, uint8_t *const *sources, s_back_t *re
             while (avcodec_receive_frame (dc, fr) == 0) {
                 if (sources && sources[ret->decoded])
                     ret->psnr_min = fmin (ret->psnr_min, s_psnr (sws, fr, sources[ret->decoded]));
+                if (sources && ret->decoded < S_MAX_FRAMES)
+                    ret->code[ret->decoded] = im_post_frame_code_read (s_decoded, S_W, S_H);
                 ret->decoded++;
             }
         }
@@ -259,6 +265,8 @@ static void test_stream (void **state)
     double t0 = 100.0; // simulation time: PTS are time × 90 kHz
     for (int k = 0; k < N; k++) {
         s_picture (pics[k], k);
+        im_post_frame_code (pics[k], S_W, S_H, 1000 + (uint64_t)k); // survives the codec
+        assert_int_equal (im_post_frame_code_read (pics[k], S_W, S_H), 1000 + k);
         sources[k] = pics[k];
         klv_len[k] = s_fake_klv (klv[k], k);
         starts[k] = ts.len;
@@ -310,6 +318,8 @@ static void test_stream (void **state)
         assert_memory_equal (b.klv[k], klv[k], klv_len[k]);
     }
     assert_int_equal (b.decoded, N);
+    for (int k = 0; k < N; k++)
+        assert_int_equal (b.code[k], 1000 + k);
     printf ("# %d frames %d x %d: %zu bytes of transport stream, PSNR %.1f dB at least\n", N, S_W,
             S_H, ts.len, b.psnr_min);
     assert_true (b.psnr_min > 35.0);
@@ -395,6 +405,25 @@ static void test_refused (void **state)
     im_video_destroy (&v);
     im_video_destroy (NULL);
     free (ts.buf);
+}
+
+/* The frame code: round trip, modulo 2^20, and nothing drawn where it does not fit. */
+static void test_frame_code (void **state)
+{
+    (void)state;
+    static uint8_t pic[S_W * S_H * 4];
+    static const uint64_t nums[] = {0, 1, 0xAAAAA, 0xFFFFF, 123456, (1u << 20) + 5};
+    for (size_t i = 0; i < sizeof nums / sizeof nums[0]; i++) {
+        s_picture (pic, (int)i);
+        im_post_frame_code (pic, S_W, S_H, nums[i]);
+        assert_int_equal (im_post_frame_code_read (pic, S_W, S_H), (long)(nums[i] & 0xFFFFF));
+    }
+    uint8_t small[100 * 20 * 4], copy[sizeof small];
+    memset (small, 77, sizeof small);
+    memcpy (copy, small, sizeof small);
+    im_post_frame_code (small, 100, 20, 5);
+    assert_memory_equal (small, copy, sizeof small);
+    assert_int_equal (im_post_frame_code_read (small, 100, 20), -1);
 }
 
 /* ---- the file ------------------------------------------------------------------------- */
@@ -589,6 +618,7 @@ int main (void)
         cmocka_unit_test (test_stream),     cmocka_unit_test (test_irregular),
         cmocka_unit_test (test_refused),    cmocka_unit_test (test_file),
         cmocka_unit_test (test_klv_angles), cmocka_unit_test (test_klv_places),
+        cmocka_unit_test (test_frame_code),
     };
     return cmocka_run_group_tests (tests, NULL, NULL);
 }
