@@ -1,8 +1,9 @@
 /* stationd — the UAV control station's tactical map, served to browsers:
  * takes every topic the map shows into its picture (st_state), pushes the
- * picture to every open page at push_hz, and turns each page's operator
- * actions into guidanced and uavsim commands, answering that page with the
- * result. The web server is st_web (CivetWeb); the terrain's shaded relief is
+ * picture to every open page at push_hz, relays the imaging sensor's live
+ * video (topic `video`) to the pages that play it, and turns each page's
+ * operator actions into guidanced and uavsim commands, answering that page
+ * with the result. The web server is st_web (CivetWeb); the terrain's shaded relief is
  * made once at start (st_relief). This file wires them to the bus. */
 #include "cgs_geo.h"
 #include "cgs_log.h"
@@ -37,7 +38,8 @@ typedef struct {
     st_web_t *web;
     const cgs_instance_t *guidanced, *uavsim; // command endpoints ("" none)
     uint64_t seq;
-    uint64_t image_frame; // of the path handed to the web server
+    uint64_t image_frame;     // of the path handed to the web server
+    uint64_t video_other_uav; // video frames of a UAV whose picture is not shown
     char listen_override[64];
     long port_override; // -1 none
     char web_error[256];
@@ -81,6 +83,7 @@ static void s_on_clock (void *arg, const char *topic, const ProtobufCMessage *ms
     s_app_t *app = arg;
     const Cgs__Clock *c = (const Cgs__Clock *)msg;
     st_state_set_clock (app->state, c->sim_time_s, hdr ? hdr->epoch : 0);
+    st_state_set_time_scale (app->state, c->time_scale, c->paused);
 }
 
 static void s_on_entity (void *arg, const char *topic, const ProtobufCMessage *msg,
@@ -163,6 +166,34 @@ static void s_on_image (void *arg, const char *topic, const ProtobufCMessage *ms
     }
 }
 
+/* A video frame: its bytes to the /video pages when it is of the UAV whose
+ * picture is shown; a stream that changed starts every page over. */
+static void s_on_video (void *arg, const char *topic, const ProtobufCMessage *msg,
+                        const Cgs__Header *hdr)
+{
+    (void)topic;
+    s_app_t *app = arg;
+    const Cgs__VideoFrame *m = (const Cgs__VideoFrame *)msg;
+    bool relay = false, restart = false;
+    int rc = st_state_take_video (app->state, m, hdr, &relay, &restart);
+    if (rc < 0) {
+        s_took (app, rc,
+                "a video message without transport stream bytes (whole 188-byte packets, each "
+                "starting 0x47)");
+        return;
+    }
+    if (!relay) {
+        app->video_other_uav++;
+        return;
+    }
+    if (restart) {
+        cgs_log (LOG_INFO, "video: a new stream (uav %u, frame %" PRIu64 "): the pages start over",
+                 m->uav_id, m->frame_number);
+        st_web_video_restart (app->web);
+    }
+    st_web_video_publish (app->web, m->ts.data, m->ts.len, m->keyframe);
+}
+
 /* The push tick: the picture to every page, and the counters into health. */
 static void s_on_push (void *arg)
 {
@@ -198,6 +229,15 @@ static void s_on_push (void *arg)
     cgs_health_set_counter (h, "commands_unanswered", s_read (&app->commands_unanswered));
     cgs_health_set_counter (h, "unauthorised", s_read (&app->unauthorised));
     cgs_health_set_counter (h, "bad_requests", s_read (&app->bad_requests));
+    cgs_health_set_counter (h, "video_pages", ws.video_pages);
+    cgs_health_set_counter (h, "video_pages_total", ws.video_pages_total);
+    cgs_health_set_counter (h, "video_frames", ws.video_frames);
+    cgs_health_set_counter (h, "video_other_uav", app->video_other_uav);
+    cgs_health_set_counter (h, "video_sent", ws.video_sent);
+    cgs_health_set_counter (h, "video_bytes", ws.video_bytes);
+    cgs_health_set_counter (h, "video_dropped", ws.video_dropped);
+    cgs_health_set_counter (h, "video_behind", ws.video_behind);
+    cgs_health_set_counter (h, "video_restarts", ws.video_restarts);
     cgs_health_set_counter (h, "hits", st_state_hit_count (app->state));
     cgs_health_set_counter (h, "tracks", st_state_track_count (app->state));
 }
@@ -699,7 +739,8 @@ int main (int argc, char **argv)
         cgs_sub_fn *fn;
     } subs[] = {{"clock", s_on_clock}, {"entity", s_on_entity},       {"uav", s_on_uav},
                 {"mti", s_on_mti},     {"mti.scan", s_on_mti_scan},   {"bcis", s_on_bcis},
-                {"track", s_on_track}, {"intercept", s_on_intercept}, {"image", s_on_image}};
+                {"track", s_on_track}, {"intercept", s_on_intercept}, {"image", s_on_image},
+                {"video", s_on_video}};
     for (size_t i = 0; i < sizeof subs / sizeof subs[0]; i++)
         if (cgs_service_subscribe (app.svc, subs[i].topic, subs[i].fn, &app) < 0)
             goto done;
@@ -711,6 +752,11 @@ int main (int argc, char **argv)
              " commands ok, %" PRIu64 " refused, %" PRIu64 " unanswered",
              ws.pages_total, ws.pushes, ws.skipped, s_read (&app.commands_ok),
              s_read (&app.commands_refused), s_read (&app.commands_unanswered));
+    cgs_log (LOG_INFO,
+             "video: %" PRIu64 " pages served, %" PRIu64 " frames in, %" PRIu64
+             " written to pages (%" PRIu64 " bytes), %" PRIu64 " dropped for pages behind",
+             ws.video_pages_total, ws.video_frames, ws.video_sent, ws.video_bytes,
+             ws.video_dropped);
 done:
     st_web_destroy (&app.web); // first: no page thread may run after what it uses is freed
     st_state_destroy (&app.state);

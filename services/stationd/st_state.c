@@ -102,6 +102,13 @@ void st_state_set_clock (st_state_t *self, double t_s, uint64_t epoch)
         self->uavs[i].heard_s = fmin (self->uavs[i].heard_s, t_s);
         self->intercepts[i].heard_s = fmin (self->intercepts[i].heard_s, t_s);
     }
+    self->video_heard_s = fmin (self->video_heard_s, t_s);
+}
+
+void st_state_set_time_scale (st_state_t *self, double time_scale, bool paused)
+{
+    self->time_scale = isfinite (time_scale) && time_scale > 0 ? time_scale : 0;
+    self->paused = paused;
 }
 
 double st_state_time (const st_state_t *self)
@@ -474,13 +481,41 @@ int st_state_take_entities (st_state_t *self, const Cgs__EntityBatch *m, const C
     return bad ? -EINVAL : 0;
 }
 
+/* The footprint of an image message of the picture's UAV (any UAV's
+ * before a picture is shown): kept when it has four finite corners. */
+static void s_image_footprint (st_state_t *self, const Cgs__Image *m)
+{
+    if (self->has_image && m->uav_id != self->image_uav)
+        return;
+    const Cgs__Footprint *f = m->footprint;
+    if (!f || f->n_corners != 4) {
+        self->has_image_fp = false;
+        return;
+    }
+    double c[8];
+    for (size_t i = 0; i < 4; i++) {
+        if (!f->corners[i] || !isfinite (f->corners[i]->east_m) ||
+            !isfinite (f->corners[i]->north_m)) {
+            self->has_image_fp = false;
+            return;
+        }
+        c[2 * i] = f->corners[i]->east_m;
+        c[2 * i + 1] = f->corners[i]->north_m;
+    }
+    memcpy (self->image_fp, c, sizeof c);
+    self->image_fp_frame = m->frame_number;
+    self->has_image_fp = true;
+}
+
 int st_state_take_image (st_state_t *self, const Cgs__Image *m, const Cgs__Header *hdr)
 {
     if (!m)
         return -EINVAL;
     s_time_from (self, hdr);
-    if (!m->latest_path || !m->latest_path[0])
+    if (!m->latest_path || !m->latest_path[0]) {
+        s_image_footprint (self, m);
         return 0; // a frame that did not refresh latest.png: nothing new to show
+    }
     if (strlen (m->latest_path) >= sizeof self->image_path || m->latest_path[0] != '/')
         return -EINVAL;
     self->has_image = true;
@@ -489,6 +524,59 @@ int st_state_take_image (st_state_t *self, const Cgs__Image *m, const Cgs__Heade
     self->image_mode = m->mode;
     self->image_target_in_view = m->target_in_view;
     snprintf (self->image_path, sizeof self->image_path, "%s", m->latest_path);
+    s_image_footprint (self, m);
+    return 0;
+}
+
+/* ---- video ------------------------------------------------------------------------ */
+
+#define S_TS_PACKET 188 // bytes of an MPEG transport stream packet
+#define S_TS_SYNC   0x47
+
+int st_state_take_video (st_state_t *self, const Cgs__VideoFrame *m, const Cgs__Header *hdr,
+                         bool *ret_relay, bool *ret_restart)
+{
+    if (!m || !m->ts.data || m->ts.len == 0 || m->ts.len % S_TS_PACKET != 0)
+        return -EINVAL;
+    for (size_t i = 0; i < m->ts.len; i += S_TS_PACKET)
+        if (m->ts.data[i] != S_TS_SYNC)
+            return -EINVAL;
+    s_time_from (self, hdr);
+    uint32_t want = self->has_image   ? self->image_uav
+                    : self->has_video ? self->video_uav
+                                      : m->uav_id;
+    if (m->uav_id != want) {
+        *ret_relay = false;
+        *ret_restart = false;
+        return 0;
+    }
+    uint64_t epoch = hdr ? hdr->epoch : 0;
+    // Another stream than the pages have: another UAV's, a restarted
+    // imagerd's, or one that went stale and came back.
+    bool restart = self->video_ever && (!self->has_video || self->video_uav != want ||
+                                        (epoch && self->video_epoch && epoch != self->video_epoch));
+    if (restart || !self->has_video) {
+        self->video_frames = 0;
+        self->video_t_s = NAN;
+        self->video_period_s = 0;
+    }
+    // The frames' spacing, for the page's buffer: a moving mean of the steps
+    // between frames (a step over a gap or back in time is not one).
+    double t = hdr && isfinite (hdr->sim_time_s) ? hdr->sim_time_s : NAN;
+    double step = t - self->video_t_s;
+    if (step > 0 && (self->video_period_s == 0 || step < 4 * self->video_period_s))
+        self->video_period_s =
+            self->video_period_s == 0 ? step : 0.8 * self->video_period_s + 0.2 * step;
+    if (isfinite (t))
+        self->video_t_s = t;
+    self->has_video = self->video_ever = true;
+    self->video_uav = want;
+    if (epoch)
+        self->video_epoch = epoch;
+    self->video_frames++;
+    self->video_heard_s = self->now_s;
+    *ret_relay = true;
+    *ret_restart = restart;
     return 0;
 }
 
@@ -534,5 +622,7 @@ void st_state_prune (st_state_t *self)
         if (self->intercepts[i].valid && now - self->intercepts[i].heard_s > self->p.track_stale_s)
             self->intercepts[i].valid = false;
     }
+    if (self->has_video && now - self->video_heard_s > self->p.track_stale_s)
+        self->has_video = false; // its imagerd stopped: a new stream will start over
     cgs_entities_evict (self->truth, now, self->p.truth_stale_s);
 }

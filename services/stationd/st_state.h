@@ -1,6 +1,7 @@
 /* st_state — the tactical map's picture: what stationd keeps of every topic
  * (UAVs, MTI hits by scan, BCIS replies, tracks, intercepts, ground truth,
- * the latest sensor image) and the JSON it pushes to every browser. Hits of
+ * the latest sensor image and its footprint, which UAV's video is relayed)
+ * and the JSON it pushes to every browser. Hits of
  * the scan in progress and of the last complete scan are current (yellow);
  * the complete scans before them, up to history_scans, are the grey history.
  * BCIS replies older than bcis_timeout_s of simulation time are dropped, as
@@ -14,6 +15,7 @@
 #include "tracking.pb-c.h"
 #include "world.pb-c.h"
 
+#include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
 
@@ -44,12 +46,26 @@ int st_state_take_tracks (st_state_t *self, const Cgs__TrackBatch *m, const Cgs_
 int st_state_take_intercept (st_state_t *self, const Cgs__Intercept *m, const Cgs__Header *hdr);
 int st_state_take_image (st_state_t *self, const Cgs__Image *m, const Cgs__Header *hdr);
 int st_state_take_entities (st_state_t *self, const Cgs__EntityBatch *m, const Cgs__Header *hdr);
+/* One frame of video: whether to relay its bytes to the pages. The video
+ * relayed is that of the UAV whose picture is shown (st_state_image_path's),
+ * or, before any picture is, of the first UAV whose video is heard.
+ * *ret_relay: it is that UAV's; *ret_restart: it starts another stream than
+ * the frames relayed before (another UAV, or its imagerd restarted: a new
+ * publisher epoch), so the pages must start over. 0; -EINVAL, with nothing
+ * written, when it carries no transport stream: no bytes, not whole
+ * 188-byte packets, or a packet without its 0x47 sync byte. */
+int st_state_take_video (st_state_t *self, const Cgs__VideoFrame *m, const Cgs__Header *hdr,
+                         bool *ret_relay, bool *ret_restart);
 /* The simulation time now, from `clock` (its publisher's epoch). Once a
  * clock is heard, only the clock moves time (before, the messages' own times
  * do); it never goes back, unless a new epoch of the clock starts earlier (a
  * restarted exercise): then time is set back, BCIS replies are dropped and
  * what was heard later than the new time counts as heard now. */
 void st_state_set_clock (st_state_t *self, double sim_time_s, uint64_t epoch);
+/* The clock's time scale (simulation seconds per wall second; not finite or
+ * not positive: unknown) and whether it is paused: the page plays the video
+ * at that rate. */
+void st_state_set_time_scale (st_state_t *self, double time_scale, bool paused);
 /* Move time on without a clock (tests, and before any clock is heard). */
 void st_state_set_time (st_state_t *self, double sim_time_s);
 /* Latest simulation time heard of. */

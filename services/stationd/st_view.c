@@ -313,6 +313,24 @@ static json_object *s_json_image (const st_state_t *self)
                                               ? "infrared"
                                               : "visible"));
     cgs_json_add (o, "target_in_view", json_object_new_boolean (self->image_target_in_view));
+    // The camera's newest footprint (the KLV of the video gives the same one).
+    cgs_json_add (o, "footprint", self->has_image_fp ? s_corners (self->image_fp) : NULL);
+    cgs_json_add (o, "footprint_frame",
+                  self->has_image_fp ? json_object_new_int64 ((int64_t)self->image_fp_frame)
+                                     : NULL);
+    return o;
+}
+
+static json_object *s_json_video (const st_state_t *self)
+{
+    if (!self->has_video)
+        return NULL;
+    json_object *o = json_object_new_object ();
+    cgs_json_add (o, "uav_id", json_object_new_int64 (self->video_uav));
+    cgs_json_add (o, "url", json_object_new_string ("/video"));
+    cgs_json_add (o, "frames", json_object_new_int64 ((int64_t)self->video_frames));
+    cgs_json_add (o, "frame_period_s",
+                  self->video_period_s > 0 ? cgs_json_fixed (self->video_period_s, 4) : NULL);
     return o;
 }
 
@@ -331,6 +349,10 @@ char *st_state_json (st_state_t *self, uint64_t seq, size_t *ret_len)
     cgs_json_add (o, "intercepts", s_json_intercepts (self));
     cgs_json_add (o, "truth", s_json_truth (self));
     cgs_json_add (o, "image", s_json_image (self));
+    cgs_json_add (o, "video", s_json_video (self));
+    cgs_json_add (o, "time_scale",
+                  self->time_scale > 0 ? cgs_json_fixed (self->time_scale, 3) : NULL);
+    cgs_json_add (o, "paused", json_object_new_boolean (self->paused));
     size_t len = 0;
     const char *text = json_object_to_json_string_length (o, JSON_C_TO_STRING_PLAIN, &len);
     char *out = text ? malloc (len + 1) : NULL;

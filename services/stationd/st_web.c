@@ -3,8 +3,11 @@
 
 #include "st_params.h"
 
+#include <arpa/inet.h>
 #include <civetweb.h>
+#include <dirent.h>
 #include <errno.h>
+#include <netinet/in.h>
 #include <pthread.h>
 #include <stdarg.h>
 #include <signal.h>
@@ -12,11 +15,16 @@
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
+#include <sys/socket.h>
 #include <sys/stat.h>
 #include <time.h>
 
-#define S_PATH_MAX    4096
-#define S_REQUEST_MAX 4096 // bytes of one page message
+#define S_PATH_MAX           4096
+#define S_REQUEST_MAX        4096        // bytes of one page message
+#define S_VIDEO_QUEUE_FRAMES 64          // video frames waiting for one page, at most,
+#define S_VIDEO_QUEUE_BYTES  (1 << 20)   // their bytes,
+#define S_VIDEO_BEHIND_S     1.0         // and the wall seconds the oldest has waited
+#define S_VIDEO_SNDBUF       (128 << 10) // a video page's socket send buffer, bytes
 
 struct st_web_conn {
     st_web_t *web;
@@ -29,6 +37,32 @@ struct st_web_conn {
     void *user;    // the request function's
     char peer[64]; // remote address
     st_web_conn_t *next;
+};
+
+/* One video frame's bytes, shared by the queues of every page it goes to. */
+typedef struct {
+    int refs;    // queues holding it, or its writer (web lock)
+    double at_s; // when it was queued, monotonic seconds
+    size_t len;
+    uint8_t data[];
+} s_vframe_t;
+
+/* A /video page: its queue and its writer thread. */
+typedef struct s_vpage s_vpage_t;
+struct s_vpage {
+    st_web_t *web;
+    struct mg_connection *mg;
+    pthread_t writer;
+    bool writer_started;
+    pthread_cond_t wake;                     // a frame queued, or the end (web lock)
+    s_vframe_t *queue[S_VIDEO_QUEUE_FRAMES]; // oldest at head (web lock)
+    size_t head, count, bytes;               // (web lock)
+    bool synced;                             // a keyframe and all since were queued (web lock)
+    bool behind;                             // it fell behind and waits for a keyframe (web lock)
+    bool closing;                            // its close handler runs (web lock)
+    bool ended;                              // its writer ended: nothing more queued (web lock)
+    bool restart;                            // the stream changed: close it (web lock)
+    s_vpage_t *next;
 };
 
 struct st_web {
@@ -49,6 +83,7 @@ struct st_web {
     pthread_t pusher;
     bool pusher_started, stopping;
     st_web_conn_t *conns; // pages that are ready
+    s_vpage_t *vpages;    // video pages that are ready
     char *picture;        // newest picture not yet pushed (owned)
     size_t picture_len;
     char *last; // a copy of the picture pushed last, for new pages (owned)
@@ -125,9 +160,11 @@ static bool s_host_ok (const st_web_t *self, const char *host)
     return false;
 }
 
-static int s_ws_connect (const struct mg_connection *conn, void *cbdata)
+/* Whether a WebSocket (/ws or /video) may open: its Origin is the Host it
+ * asked, that Host is this server's (on loopback), and fewer WebSockets
+ * than max_pages are open. A refusal is counted and kept as the last error. */
+static bool s_ws_admit (st_web_t *self, const struct mg_connection *conn, const char *what)
 {
-    st_web_t *self = cbdata;
     const struct mg_request_info *ri = mg_get_request_info (conn);
     const char *origin = mg_get_header (conn, "Origin");
     const char *host = mg_get_header (conn, "Host");
@@ -137,24 +174,34 @@ static int s_ws_connect (const struct mg_connection *conn, void *cbdata)
         pthread_mutex_lock (&self->lock);
         self->stats.refused++;
         pthread_mutex_unlock (&self->lock);
-        s_error (self, "refused a WebSocket from %s: %s %s is not this server", ri->remote_addr,
-                 foreign ? "Origin" : "Host",
+        s_error (self, "refused a %s WebSocket from %s: %s %s is not this server", what,
+                 ri->remote_addr, foreign ? "Origin" : "Host",
                  foreign ? origin
                  : host  ? host
                          : "(none)");
-        return 1;
+        return false;
     }
     pthread_mutex_lock (&self->lock);
-    bool full = self->stats.pages >= (uint64_t)self->max_pages;
+    bool full = self->stats.pages + self->stats.video_pages >= (uint64_t)self->max_pages;
     if (full)
         self->stats.full++;
     pthread_mutex_unlock (&self->lock);
     if (full) {
         s_error (self,
-                 "refused a WebSocket from %s: %d pages are open, as many as the threads allow",
-                 ri->remote_addr, self->max_pages);
-        return 1;
+                 "refused a %s WebSocket from %s: %d WebSockets are open, as many as the "
+                 "threads allow",
+                 what, ri->remote_addr, self->max_pages);
+        return false;
     }
+    return true;
+}
+
+static int s_ws_connect (const struct mg_connection *conn, void *cbdata)
+{
+    st_web_t *self = cbdata;
+    const struct mg_request_info *ri = mg_get_request_info (conn);
+    if (!s_ws_admit (self, conn, "page"))
+        return 1;
     st_web_conn_t *c = calloc (1, sizeof *c);
     if (!c)
         return 1;
@@ -304,6 +351,264 @@ static int s_image (struct mg_connection *conn, void *cbdata)
     }
     mg_send_mime_file2 (conn, path, "image/png", "Cache-Control: no-store\r\n");
     return 200;
+}
+
+/* ---- the live video (/video) ------------------------------------------------------ */
+
+/* Let go of a frame (web lock held): freed by its last holder. */
+static void s_vframe_release (s_vframe_t *f)
+{
+    if (--f->refs == 0)
+        free (f);
+}
+
+/* Drop what waits for a page (web lock held); the number of frames dropped. */
+static size_t s_vpage_drain (s_vpage_t *v)
+{
+    size_t n = v->count;
+    for (; v->count > 0; v->count--) {
+        s_vframe_release (v->queue[v->head]);
+        v->head = (v->head + 1) % S_VIDEO_QUEUE_FRAMES;
+    }
+    v->head = 0;
+    v->bytes = 0;
+    return n;
+}
+
+/* A video page's writer: its queued frames, oldest first, one binary
+ * message each, written with the lock released; until the page closes, a
+ * write fails (the page is then closed) or the stream changes (the page is
+ * closed, and starts over on the new stream). */
+static void *s_video_writer (void *arg)
+{
+    s_vpage_t *v = arg;
+    st_web_t *self = v->web;
+    bool failed = false;
+    pthread_mutex_lock (&self->lock);
+    for (;;) {
+        while (!v->count && !v->closing && !v->restart)
+            pthread_cond_wait (&v->wake, &self->lock);
+        if (v->closing || v->restart)
+            break;
+        s_vframe_t *f = v->queue[v->head];
+        v->head = (v->head + 1) % S_VIDEO_QUEUE_FRAMES;
+        v->count--;
+        v->bytes -= f->len;
+        pthread_mutex_unlock (&self->lock);
+        int n =
+            mg_websocket_write (v->mg, MG_WEBSOCKET_OPCODE_BINARY, (const char *)f->data, f->len);
+        pthread_mutex_lock (&self->lock);
+        bool ok = n > 0 && (size_t)n >= f->len;
+        if (ok) {
+            self->stats.video_sent++;
+            self->stats.video_bytes += f->len;
+        }
+        s_vframe_release (f);
+        if (!ok) {
+            self->stats.write_errors++;
+            failed = true;
+            break;
+        }
+    }
+    bool close_it = (failed || v->restart) && !v->closing;
+    v->ended = true;
+    s_vpage_drain (v);
+    pthread_mutex_unlock (&self->lock);
+    if (close_it) // the page answers with its own close, and its close handler runs
+        mg_websocket_write (v->mg, MG_WEBSOCKET_OPCODE_CONNECTION_CLOSE, "", 0);
+    return NULL;
+}
+
+/* The kernel's send buffer of this connection's socket bounded to bytes, so
+ * a page that reads slowly is seen behind within about a second (the
+ * kernel grows it up to net.core.wmem_max, megabytes: as many seconds of
+ * video queued unseen). CivetWeb does not give the socket: it is the one
+ * whose peer is the request's remote address and port, and whose own port
+ * is this server's. False when none is found. */
+static bool s_bound_send_buffer (const st_web_t *self, const struct mg_connection *conn, int bytes)
+{
+    const struct mg_request_info *ri = mg_get_request_info (conn);
+    DIR *d = opendir ("/proc/self/fd");
+    if (!d)
+        return false;
+    bool done = false;
+    struct dirent *e;
+    while (!done && (e = readdir (d))) {
+        char *end;
+        long fd = strtol (e->d_name, &end, 10);
+        if (end == e->d_name || *end || fd < 0 || fd == dirfd (d))
+            continue;
+        struct sockaddr_storage peer, own;
+        socklen_t pl = sizeof peer, ol = sizeof own;
+        if (getpeername ((int)fd, (struct sockaddr *)&peer, &pl) != 0 ||
+            getsockname ((int)fd, (struct sockaddr *)&own, &ol) != 0 ||
+            peer.ss_family != own.ss_family)
+            continue;
+        char addr[INET6_ADDRSTRLEN] = "";
+        int pport = -1, oport = -1;
+        if (peer.ss_family == AF_INET) {
+            const struct sockaddr_in *p4 = (const struct sockaddr_in *)&peer;
+            inet_ntop (AF_INET, &p4->sin_addr, addr, sizeof addr);
+            pport = ntohs (p4->sin_port);
+            oport = ntohs (((const struct sockaddr_in *)&own)->sin_port);
+        } else if (peer.ss_family == AF_INET6) {
+            const struct sockaddr_in6 *p6 = (const struct sockaddr_in6 *)&peer;
+            inet_ntop (AF_INET6, &p6->sin6_addr, addr, sizeof addr);
+            pport = ntohs (p6->sin6_port);
+            oport = ntohs (((const struct sockaddr_in6 *)&own)->sin6_port);
+        }
+        if (pport != ri->remote_port || oport != self->port || strcmp (addr, ri->remote_addr) != 0)
+            continue;
+        done = setsockopt ((int)fd, SOL_SOCKET, SO_SNDBUF, &bytes, sizeof bytes) == 0;
+        break;
+    }
+    closedir (d);
+    return done;
+}
+
+static int s_video_connect (const struct mg_connection *conn, void *cbdata)
+{
+    st_web_t *self = cbdata;
+    if (!s_ws_admit (self, conn, "video"))
+        return 1;
+    s_vpage_t *v = calloc (1, sizeof *v);
+    if (!v)
+        return 1;
+    v->web = self;
+    pthread_cond_init (&v->wake, NULL);
+    mg_set_user_connection_data (conn, v);
+    return 0;
+}
+
+static void s_video_ready (struct mg_connection *conn, void *cbdata)
+{
+    st_web_t *self = cbdata;
+    s_vpage_t *v = mg_get_user_connection_data (conn);
+    if (!v)
+        return;
+    v->mg = conn;
+    if (!s_bound_send_buffer (self, conn, S_VIDEO_SNDBUF))
+        s_error (self, "a video page's socket keeps the system's send buffer: a slow page is "
+                       "seen behind late");
+    // CivetWeb's threads take no signals, nor does this one (it inherits that).
+    if (pthread_create (&v->writer, NULL, s_video_writer, v) != 0) {
+        s_error (self, "cannot start a video page's writer thread: the page is closed");
+        v->ended = true; // not listed: no other thread sees it
+        mg_websocket_write (conn, MG_WEBSOCKET_OPCODE_CONNECTION_CLOSE, "", 0);
+        return;
+    }
+    v->writer_started = true;
+    pthread_mutex_lock (&self->lock);
+    v->next = self->vpages;
+    self->vpages = v;
+    self->stats.video_pages++;
+    self->stats.video_pages_total++;
+    pthread_mutex_unlock (&self->lock);
+}
+
+static int s_video_data (struct mg_connection *conn, int flags, char *data, size_t len,
+                         void *cbdata)
+{
+    (void)data;
+    (void)len;
+    st_web_t *self = cbdata;
+    s_vpage_t *v = mg_get_user_connection_data (conn);
+    if ((flags & 0xf) == MG_WEBSOCKET_OPCODE_CONNECTION_CLOSE || !v)
+        return 0;
+    pthread_mutex_lock (&self->lock);
+    bool ended = v->ended;
+    pthread_mutex_unlock (&self->lock);
+    return ended ? 0 : 1; // the page says nothing; an ended one is closed
+}
+
+static void s_video_close (const struct mg_connection *conn, void *cbdata)
+{
+    st_web_t *self = cbdata;
+    s_vpage_t *v = mg_get_user_connection_data (conn);
+    if (!v)
+        return;
+    pthread_mutex_lock (&self->lock);
+    for (s_vpage_t **p = &self->vpages; *p; p = &(*p)->next)
+        if (*p == v) {
+            *p = v->next;
+            self->stats.video_pages--;
+            break;
+        }
+    v->closing = true;
+    pthread_cond_signal (&v->wake);
+    pthread_mutex_unlock (&self->lock);
+    if (v->writer_started) // it ends after the write in hand, if any
+        pthread_join (v->writer, NULL);
+    pthread_mutex_lock (&self->lock);
+    s_vpage_drain (v);
+    pthread_mutex_unlock (&self->lock);
+    pthread_cond_destroy (&v->wake);
+    mg_set_user_connection_data (conn, NULL);
+    free (v);
+}
+
+void st_web_video_publish (st_web_t *self, const uint8_t *ts, size_t len, bool keyframe)
+{
+    pthread_mutex_lock (&self->lock);
+    self->stats.video_frames++;
+    bool any = self->vpages != NULL;
+    pthread_mutex_unlock (&self->lock);
+    if (!any || !ts || !len)
+        return;
+    s_vframe_t *f = malloc (sizeof *f + len);
+    double now = s_now ();
+    pthread_mutex_lock (&self->lock);
+    if (f) {
+        memcpy (f->data, ts, len);
+        f->len = len;
+        f->at_s = now;
+        f->refs = 1; // this function's, until every queue has it
+    }
+    for (s_vpage_t *v = self->vpages; v; v = v->next) {
+        if (v->closing || v->ended || v->restart)
+            continue;
+        bool fits = v->count == 0 ||
+                    (v->count < S_VIDEO_QUEUE_FRAMES && v->bytes + len <= S_VIDEO_QUEUE_BYTES &&
+                     now - v->queue[v->head]->at_s <= S_VIDEO_BEHIND_S);
+        if (v->synced && (!fits || !f)) {
+            // Behind (or no memory): what waits is dropped; it starts again
+            // at the next keyframe.
+            self->stats.video_dropped += s_vpage_drain (v);
+            self->stats.video_behind++;
+            v->synced = false;
+            v->behind = true;
+        }
+        if (!f || (!v->synced && !keyframe)) {
+            if (v->behind)
+                self->stats.video_dropped++;
+            continue; // a new page waits for its first keyframe
+        }
+        size_t tail = (v->head + v->count) % S_VIDEO_QUEUE_FRAMES;
+        v->queue[tail] = f;
+        f->refs++;
+        v->count++;
+        v->bytes += len;
+        v->synced = true;
+        v->behind = false;
+        pthread_cond_signal (&v->wake);
+    }
+    if (f)
+        s_vframe_release (f);
+    pthread_mutex_unlock (&self->lock);
+}
+
+void st_web_video_restart (st_web_t *self)
+{
+    pthread_mutex_lock (&self->lock);
+    for (s_vpage_t *v = self->vpages; v; v = v->next) {
+        if (v->closing || v->ended)
+            continue;
+        s_vpage_drain (v);
+        v->restart = true;
+        pthread_cond_signal (&v->wake);
+    }
+    self->stats.video_restarts++;
+    pthread_mutex_unlock (&self->lock);
 }
 
 /* The push thread: the newest picture to every page, until stopped. The
@@ -468,6 +773,8 @@ st_web_t *st_web_new (const st_web_config_t *cfg, st_web_request_fn *request,
     mg_set_request_handler (self->mg, "/image/latest.png$", s_image, self);
     mg_set_websocket_handler (self->mg, "/ws$", s_ws_connect, s_ws_ready, s_ws_data, s_ws_close,
                               self);
+    mg_set_websocket_handler (self->mg, "/video$", s_video_connect, s_video_ready, s_video_data,
+                              s_video_close, self);
     return self;
 fail:
     st_web_destroy (&self);

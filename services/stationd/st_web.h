@@ -6,6 +6,14 @@
  * CivetWeb thread, to the caller's request function, which answers that page
  * alone with st_web_send.
  *
+ * The live video is a second WebSocket, /video, read-only (no token): each
+ * frame's MPEG transport stream bytes go to every video page as one binary
+ * message, from a writer thread of that page's own, so a slow page delays
+ * only itself. A page starts at a keyframe; what waits for it is bounded
+ * (S_VIDEO_QUEUE_FRAMES frames, S_VIDEO_QUEUE_BYTES bytes, a frame waiting
+ * S_VIDEO_BEHIND_S; and the socket's send buffer, S_VIDEO_SNDBUF): a page
+ * behind that is dropped and skips to the next keyframe, counted.
+ *
  * CivetWeb runs its own threads, so this module is where threads share
  * memory: the list of pages, the newest picture and the image path, under one
  * mutex that is never held across a network write (a slow page delays the
@@ -15,9 +23,10 @@
  * is none. A WebSocket whose Origin is not the Host it asked, or, on a
  * loopback server, whose Host is not a loopback name of this port (DNS
  * rebinding), is refused, so another web site open in the operator's
- * browser cannot command the UAV. At most threads - 2 pages are open at
- * once, so two threads always serve files. No logging: errors are returned,
- * counted and kept for the caller. */
+ * browser cannot command the UAV; /video has the same checks. At most
+ * threads - 2 WebSockets (pages and video pages together: each holds a
+ * CivetWeb thread) are open at once, so two threads always serve files. No logging: errors are
+ * returned, counted and kept for the caller. */
 #ifndef ST_WEB_H
 #define ST_WEB_H
 
@@ -60,6 +69,15 @@ typedef struct {
     uint64_t requests;       // messages from pages
     uint64_t max_push_bytes; // the largest picture
     double last_push_s;      // wall seconds the latest round of pushes took
+    /* The live video (/video). */
+    uint64_t video_pages;       // open now
+    uint64_t video_pages_total; // opened since start
+    uint64_t video_frames;      // frames handed to st_web_video_publish
+    uint64_t video_sent;        // frames written to a page
+    uint64_t video_bytes;       // bytes written to pages
+    uint64_t video_dropped;     // frames a page missed because it fell behind
+    uint64_t video_behind;      // times a page fell behind (its queue was dropped)
+    uint64_t video_restarts;    // streams started over (another UAV, imagerd restarted)
 } st_web_stats_t;
 
 /* Start serving. NULL with the reason in err (the port in use, no folder, ...). */
@@ -73,6 +91,13 @@ int st_web_port (const st_web_t *self);
 void st_web_publish (st_web_t *self, char *json, size_t len);
 /* The file /image/latest.png serves ("" none). */
 void st_web_set_image (st_web_t *self, const char *path);
+/* One video frame's transport stream bytes (copied) to every /video page:
+ * keyframe says they start with PAT, PMT and an IDR picture, where a page
+ * that has just opened, or that fell behind, starts. Never blocks on a page. */
+void st_web_video_publish (st_web_t *self, const uint8_t *ts, size_t len, bool keyframe);
+/* The stream changed (another UAV, a restarted imagerd): every /video page
+ * is closed, so each starts a new player on the new stream. */
+void st_web_video_restart (st_web_t *self);
 /* Send text to one page, from its request function; 0 or -EPIPE. */
 int st_web_send (st_web_conn_t *conn, const char *text, size_t len);
 /* The request function's own data for this page (NULL at first). */

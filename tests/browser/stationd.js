@@ -11,21 +11,33 @@
  * why; a second browser gets the same pictures; on the stationd with a token
  * a page without it only watches (the server refuses its commands too) and a
  * page with it commands; the cursor's MGRS agrees with GeographicLib's
- * CartConvert and GeoConvert. Screenshots of every step go to --artifacts.
+ * CartConvert and GeoConvert. The live video (stationd's /video, played by
+ * mpegts.js through Media Source Extensions): whether this Chromium can
+ * play H.264 that way at all; the imaging-sensor panel plays it (its width,
+ * its time moving on at the exercise's time scale) and says so; the KLV
+ * footprint is drawn and, with the exercise paused, its corners are those
+ * of the `image` message's footprint of the same frame to within 1% of the
+ * footprint's width; the delay from each frame's publication on the bus to
+ * its display (median and 95th percentile); a page that does not read is
+ * dropped to the next keyframe and counted while the others play on; a
+ * fresh /video client starts at a keyframe; a foreign Origin is refused on
+ * /video; without MSE, or with a /video that fails, the panel shows the
+ * latest picture and says why. Screenshots of every step go to --artifacts.
  *
  * Output: one "ok - NAME" or "not ok - NAME" line per check and "# ..."
  * comments (stationd.sh numbers them as TAP). Exit code 0 when the script ran
  * to its end (whatever the checks said), 1 when it could not.
  *
  * Usage: node stationd.js --url URL --token-url URL --token T --origin "LAT LON H"
- *        --chromium PATH --artifacts DIR
+ *        --chromium PATH --artifacts DIR --exercise FILE --mscgs PATH
  */
 'use strict';
 
 const path = require('path');
 const CHROMIUM_ARGS = require('./chromium_args.js');
 const crypto = require('crypto');
-const { execFileSync } = require('child_process');
+const net = require('net');
+const { execFile, execFileSync, spawn } = require('child_process');
 const { chromium } = require('playwright-core');
 const WebSocket = require('ws');
 
@@ -33,7 +45,7 @@ const WebSocket = require('ws');
 
 const opt = {};
 for (let i = 2; i + 1 < process.argv.length; i += 2) opt[process.argv[i].replace(/^--/, '')] = process.argv[i + 1];
-for (const k of ['url', 'token-url', 'token', 'origin', 'chromium', 'artifacts']) {
+for (const k of ['url', 'token-url', 'token', 'origin', 'chromium', 'artifacts', 'exercise', 'mscgs']) {
   if (!opt[k]) {
     console.error('stationd.js: missing --' + k);
     process.exit(2);
@@ -77,9 +89,11 @@ const pages = [];       // every page opened, with its errors and state frames
 let shot = 0;
 
 // A new browser context and page at url, recording page errors, console
-// errors and every `state` frame its WebSocket receives.
-async function openPage(browser, url, label) {
+// errors and every `state` frame its WebSocket receives; init: a function
+// run in the page before its own scripts.
+async function openPage(browser, url, label, init) {
   const context = await browser.newContext({ viewport: VIEWPORT, deviceScaleFactor: 1 });
+  if (init) await context.addInitScript({ content: '(' + init.toString() + ')();' });
   const page = await context.newPage();
   const rec = { label, page, context, errors: [], frames: new Map(), bcisSeen: null, responses: [] };
   page.on('pageerror', (e) => rec.errors.push('page error: ' + e.message));
@@ -251,6 +265,393 @@ async function rawCommand(page, query, msg) {
   }), { query, msg });
 }
 
+// ---- the live video ----------------------------------------------------------------------
+
+// Run in the measured page before its scripts: each /video message's
+// arrival (epoch ms) and the PTS of the video frame it starts (PID 0x100,
+// 90 kHz), and each video sample mpegts.js hands to Media Source
+// Extensions, in order, with its presentation time on the media timeline
+// (ms). One frame per message and one sample per frame, in the same order,
+// so the k-th sample is the k-th message's frame.
+function videoProbe() {
+  const rec = window.__videoProbe = { sessions: [], shown: [] };
+  const now = () => performance.timeOrigin + performance.now();
+  function ptsOf(b) {
+    for (let i = 0; i + 188 <= b.length; i += 188) {
+      if (b[i] !== 0x47 || !(b[i + 1] & 0x40) || (((b[i + 1] & 0x1f) << 8) | b[i + 2]) !== 0x100) continue;
+      const afc = (b[i + 3] >> 4) & 3;
+      if (afc === 2) continue;
+      let p = i + 4;
+      if (afc === 3) p += 1 + b[p];
+      if (b[p] !== 0 || b[p + 1] !== 0 || b[p + 2] !== 1 || !(b[p + 7] & 0x80)) continue;
+      const q = p + 9;
+      return ((b[q] >> 1) & 7) * 1073741824 + b[q + 1] * 4194304 + (b[q + 2] >> 1) * 32768 + b[q + 3] * 128 + (b[q + 4] >> 1);
+    }
+    return null;
+  }
+  const WS = window.WebSocket;
+  function Probed(url, protocols) {
+    const ws = protocols === undefined ? new WS(url) : new WS(url, protocols);
+    if (/\/video$/.test(String(url))) {
+      const s = { arrivals: [], samples: [] };
+      rec.sessions.push(s);
+      ws.addEventListener('message', (ev) => {
+        if (!(ev.data instanceof ArrayBuffer)) return;
+        const pts = ptsOf(new Uint8Array(ev.data));
+        if (pts !== null) s.arrivals.push({ t: now(), pts });
+      });
+    }
+    return ws;
+  }
+  Probed.prototype = WS.prototype;
+  Object.assign(Probed, { CONNECTING: 0, OPEN: 1, CLOSING: 2, CLOSED: 3 });
+  window.WebSocket = Probed;
+  const u32 = (b, o) => b[o] * 16777216 + (b[o + 1] << 16) + (b[o + 2] << 8) + b[o + 3];
+  function boxes(b, start, end, fn) {
+    for (let o = start; o + 8 <= end;) {
+      const size = u32(b, o);
+      if (size < 8 || o + size > end) return;
+      fn(String.fromCharCode(b[o + 4], b[o + 5], b[o + 6], b[o + 7]), o + 8, o + size);
+      o += size;
+    }
+  }
+  function samples(b) {
+    const s = rec.sessions[rec.sessions.length - 1];
+    if (!s) return;
+    boxes(b, 0, b.length, (type, o, e) => type === 'moof' && boxes(b, o, e, (t2, o2, e2) => {
+      if (t2 !== 'traf') return;
+      let dts = null;
+      boxes(b, o2, e2, (t3, o3) => {
+        if (t3 === 'tfdt') dts = b[o3] === 1 ? u32(b, o3 + 4) * 4294967296 + u32(b, o3 + 8) : u32(b, o3 + 4);
+        if (t3 !== 'trun' || dts === null) return;
+        const flags = (b[o3 + 1] << 16) | (b[o3 + 2] << 8) | b[o3 + 3];
+        let p = o3 + 8 + (flags & 1 ? 4 : 0) + (flags & 4 ? 4 : 0);
+        for (let k = 0, n = u32(b, o3 + 4); k < n; k++) {
+          let dur = 0;
+          let cts = 0;
+          if (flags & 0x100) { dur = u32(b, p); p += 4; }
+          if (flags & 0x200) p += 4;
+          if (flags & 0x400) p += 4;
+          if (flags & 0x800) { cts = u32(b, p) | 0; p += 4; }
+          s.samples.push({ pts: dts + cts, t: now() });
+          dts += dur;
+        }
+      });
+    }));
+  }
+  const append = SourceBuffer.prototype.appendBuffer;
+  SourceBuffer.prototype.appendBuffer = function (data) {
+    try {
+      samples(data instanceof ArrayBuffer ? new Uint8Array(data) : new Uint8Array(data.buffer, data.byteOffset, data.byteLength));
+    } catch (err) { /* measuring only */ }
+    return append.call(this, data);
+  };
+}
+
+// A page without Media Source Extensions (as a browser without them is).
+function withoutMse() {
+  delete window.MediaSource;
+  delete window.ManagedMediaSource;
+  delete window.WebKitMediaSource;
+}
+
+// A page whose /video fails (the WebSocket goes to a path nobody serves).
+function brokenVideo() {
+  const WS = window.WebSocket;
+  function Broken(url, protocols) {
+    const u = String(url).replace(/\/video$/, '/no-such-video');
+    return protocols === undefined ? new WS(u) : new WS(u, protocols);
+  }
+  Broken.prototype = WS.prototype;
+  Object.assign(Broken, { CONNECTING: 0, OPEN: 1, CLOSING: 2, CLOSED: 3 });
+  window.WebSocket = Broken;
+}
+
+// stationd's (the open one's) health counters, from `mscgs status`.
+async function stationCounters() {
+  const out = await new Promise((resolve) => {
+    execFile(opt.mscgs, ['status', '--exercise', opt.exercise], { timeout: 10000 }, (err, stdout) => resolve(String(stdout || '')));
+  });
+  const lines = out.split('\n');
+  const at = lines.findIndex((l) => /^stationd\s/.test(l));
+  const c = {};
+  for (let i = at + 1; at >= 0 && i < lines.length && /^\s/.test(lines[i]); i++) {
+    for (const m of lines[i].matchAll(/([a-z_]+)=(\d+)/g)) c[m[1]] = Number(m[2]);
+  }
+  return c;
+}
+
+const quantile = (xs, q) => {
+  const a = xs.slice().sort((x, y) => x - y);
+  return a.length ? a[Math.min(a.length - 1, Math.floor(q * a.length))] : NaN;
+};
+
+// The PTS (90 kHz) of the video frame a transport stream starts, in node.
+function tsPts(b) {
+  for (let i = 0; i + 188 <= b.length; i += 188) {
+    if (b[i] !== 0x47 || !(b[i + 1] & 0x40) || (((b[i + 1] & 0x1f) << 8) | b[i + 2]) !== 0x100) continue;
+    const afc = (b[i + 3] >> 4) & 3;
+    if (afc === 2) continue;
+    let p = i + 4;
+    if (afc === 3) p += 1 + b[p];
+    if (b[p] !== 0 || b[p + 1] !== 0 || b[p + 2] !== 1 || !(b[p + 7] & 0x80)) continue;
+    const q = p + 9;
+    return ((b[q] >> 1) & 7) * 1073741824 + b[q + 1] * 4194304 + (b[q + 2] >> 1) * 32768 + b[q + 3] * 128 + (b[q + 4] >> 1);
+  }
+  return null;
+}
+
+// `mscgs echo video` for ms: each frame's header wall time (s) by its PTS.
+function echoVideo(ms) {
+  return new Promise((resolve) => {
+    const child = spawn(opt.mscgs, ['echo', 'video', '--json', '--count', '1000', '--timeout', String(Math.ceil(ms / 1000) + 5),
+      '--exercise', opt.exercise], { stdio: ['ignore', 'pipe', 'ignore'] });
+    const wall = new Map();
+    let buf = '';
+    child.stdout.on('data', (d) => {
+      buf += d.toString();
+      let nl;
+      while ((nl = buf.indexOf('\n')) >= 0) {
+        const line = buf.slice(0, nl);
+        buf = buf.slice(nl + 1);
+        try {
+          const m = JSON.parse(line);
+          const pts = tsPts(Buffer.from(m.ts, 'base64'));
+          if (pts !== null) wall.set(pts, m.header.wall_time_s);
+        } catch (err) { /* not a message line */ }
+      }
+    });
+    const timer = setTimeout(() => child.kill('SIGTERM'), ms);
+    child.on('exit', () => { clearTimeout(timer); resolve(wall); });
+  });
+}
+
+// A /video client that never reads after its handshake (a page that stopped).
+function stalledClient(url) {
+  const u = new URL(url);
+  const sock = net.connect(Number(u.port), u.hostname, () => {
+    sock.write('GET /video HTTP/1.1\r\nHost: ' + u.host + '\r\nUpgrade: websocket\r\nConnection: Upgrade\r\n' +
+      'Sec-WebSocket-Key: ' + crypto.randomBytes(16).toString('base64') + '\r\nSec-WebSocket-Version: 13\r\n\r\n');
+    sock.pause();
+  });
+  sock.on('error', () => { /* stationd closes it in the end */ });
+  return sock;
+}
+
+// A /video client for ms: its messages (at most 20 kept) and how it ended.
+function videoClient(url, origin, ms) {
+  return new Promise((resolve) => {
+    const ws = new WebSocket(url.replace(/^http/, 'ws') + 'video', origin ? { origin } : {});
+    const got = { opened: false, status: null, messages: [], count: 0, binary: true };
+    const done = () => { try { ws.terminate(); } catch (err) { /* closed */ } resolve(got); };
+    ws.on('open', () => { got.opened = true; });
+    ws.on('message', (d, isBinary) => {
+      got.count += 1;
+      got.binary = got.binary && isBinary;
+      if (got.messages.length < 20) got.messages.push(Buffer.from(d));
+    });
+    ws.on('unexpected-response', (req, res) => { got.status = res.statusCode; done(); });
+    ws.on('error', (e) => { got.error = e.message; done(); });
+    setTimeout(done, ms);
+  });
+}
+
+// The corners of a footprint as [[e, n] × 4] from a flat array.
+const cornersOf = (flat) => [0, 1, 2, 3].map((k) => [flat[2 * k], flat[2 * k + 1]]);
+
+async function videoSteps(browser, main) {
+  const p = main.page;
+  const codec = await p.evaluate(() => ({
+    h264High: typeof MediaSource !== 'undefined' && MediaSource.isTypeSupported('video/mp4; codecs="avc1.64001f"'),
+    h264Base: typeof MediaSource !== 'undefined' && MediaSource.isTypeSupported('video/mp4; codecs="avc1.42E01E"'),
+    mseLive: !!(window.mpegts && window.mpegts.getFeatureList().mseLivePlayback),
+    ua: navigator.userAgent,
+  }));
+  diag('Chromium ' + browser.version() + ': MediaSource.isTypeSupported(avc1.64001f, H.264 High) ' + codec.h264High +
+    ', (avc1.42E01E, Baseline) ' + codec.h264Base + '; mpegts.js mseLivePlayback ' + codec.mseLive);
+  const canPlay = codec.h264High && codec.mseLive;
+
+  // The pages whose fallback is checked load meanwhile.
+  const noMse = openPage(browser, opt.url, 'no-MSE', withoutMse);
+  const broken = openPage(browser, opt.url, 'broken-video', brokenVideo);
+
+  if (!canPlay) {
+    diag('LIVE PLAYBACK NOT VERIFIED: this Chromium cannot play H.264 through Media Source Extensions; only the fallback is checked');
+    const fb = await poll(() => p.evaluate(() => {
+      const i = document.getElementById('sensor-image');
+      const s = document.getElementById('video-status').textContent;
+      return window.cgs.video.status === 'still' && !i.hidden && /^still picture/.test(s) ? s : null;
+    }), 15000);
+    check(fb, 'this Chromium cannot play the video: the panel shows the latest picture and says so (' + fb + ')');
+  }
+
+  // The instrumented page.
+  const vid = canPlay ? await openPage(browser, opt.url, 'video', videoProbe) : null;
+  if (vid) {
+    const v = vid.page;
+    let liveAt = null;
+    try {
+      await waitReady(v, 30000);
+      const h = await v.waitForFunction(() => window.cgs.video && window.cgs.video.status === 'live' ? {
+        w: document.getElementById('sensor-video').videoWidth, h: document.getElementById('sensor-video').videoHeight,
+        text: document.getElementById('video-status').textContent,
+      } : null, null, { timeout: 40000, polling: 100 });
+      liveAt = await h.jsonValue();
+    } catch (err) { /* stays null */ }
+    check(liveAt, 'the imaging-sensor panel plays the live video (' + (liveAt ? liveAt.text : await text(v, '#video-status')) + ')');
+    check(liveAt && liveAt.w === 320 && liveAt.h === 240, 'the video is imagerd\'s 320x240 (' + (liveAt ? liveAt.w + 'x' + liveAt.h : 'none') + ')');
+    const shown = await v.evaluate(() => ({
+      video: !document.getElementById('sensor-video').hidden,
+      image: !document.getElementById('sensor-image').hidden,
+      text: document.getElementById('video-status').textContent,
+    }));
+    check(shown.video && !shown.image && /^live video · uav 1 · 320×240/.test(shown.text), 'it shows in place of the picture, and the panel says live video (' + shown.text + ')', shown);
+    const t0 = await v.evaluate(() => ({ t: document.getElementById('sensor-video').currentTime, rate: document.getElementById('sensor-video').playbackRate, scale: window.cgs.state.time_scale }));
+    await sleep(1000);
+    const t1 = await v.evaluate(() => document.getElementById('sensor-video').currentTime);
+    check(t1 - t0.t > 4, 'its time moves on: ' + t0.t.toFixed(2) + ' s to ' + t1.toFixed(2) + ' s of simulation time in 1 s');
+    check(t0.rate === t0.scale && t0.scale === 10, 'at the exercise\'s time scale (playbackRate ' + t0.rate + ', time scale ' + t0.scale + ')');
+
+    // The KLV footprint.
+    const klv = await poll(() => v.evaluate(() => {
+      const k = window.cgs.video.klv;
+      const layer = window.cgs.map.getAllLayers().find((l) => l.get('name') === 'sensor-footprint');
+      const polys = layer ? layer.getSource().getFeatures().filter((f) => f.getGeometry() && f.getGeometry().getType() === 'Polygon').length : 0;
+      return k.packets >= 5 && k.footprint && k.drawn > 0 ? { packets: k.packets, bad: k.bad, form: k.form, drawn: k.drawn, polys,
+        track: k.last.target_id || null, version: k.last.ls_version, error: k.lastError } : null;
+    }), 15000);
+    check(klv && klv.bad === 0, 'the KLV packets are read, checksums good (' + (klv ? klv.packets + ' read, ' + klv.bad + ' refused, LS version ' + klv.version : 'none') + ')', klv);
+    check(klv && klv.polys === 2, 'the KLV footprint (' + (klv ? klv.form : '-') + ' corners) is drawn on the map beside the image message\'s (' + (klv ? klv.polys : 0) + ' polygons)');
+    await screenshot(v, 'live-video');
+
+    // Glass to glass, with a page that stopped reading meanwhile.
+    await v.evaluate(() => {
+      const el = document.getElementById('sensor-video');
+      const probe = window.__videoProbe;
+      probe.shown = [];
+      probe.waiting = 0;
+      el.addEventListener('waiting', () => { probe.waiting += 1; });
+      const cb = (now, md) => {
+        probe.shown.push({ media: md.mediaTime, t: performance.timeOrigin + md.expectedDisplayTime });
+        if (probe.shown.length < 5000) el.requestVideoFrameCallback(cb);
+      };
+      el.requestVideoFrameCallback(cb);
+    });
+    const counted0 = stationCounters();
+    const stalled = stalledClient(opt.url);
+    const mainT0 = await p.evaluate(() => document.getElementById('sensor-video').currentTime);
+    const echoed = echoVideo(6500);
+    const before = await counted0;
+    await sleep(1000); // measured from when the echo hears the bus
+    await v.evaluate(() => { window.__videoProbe.shown = []; window.__videoProbe.waiting = 0; });
+    const wall = await echoed;
+    const probe = await v.evaluate(() => window.__videoProbe);
+    const mainT1 = await p.evaluate(() => document.getElementById('sensor-video').currentTime);
+    const session = probe.sessions[probe.sessions.length - 1];
+    const glass = [];
+    const page = [];
+    const bus = [];
+    let unmatched = 0;
+    for (const f of probe.shown) {
+      const k = session.samples.findIndex((x) => Math.abs(x.pts - f.media * 1000) < 0.5);
+      const a = k >= 0 ? session.arrivals[k] : null;
+      const w = a ? wall.get(a.pts) : undefined;
+      if (!a || w === undefined) { unmatched += 1; continue; }
+      glass.push(f.t - w * 1000);
+      page.push(f.t - a.t);
+      bus.push(a.t - w * 1000);
+    }
+    const fmt = (xs) => 'median ' + quantile(xs, 0.5).toFixed(0) + ' ms, p95 ' + quantile(xs, 0.95).toFixed(0) + ' ms';
+    const from = probe.shown.length ? probe.shown[0].t : Infinity;
+    const came = session.arrivals.filter((a) => a.t >= from - 500).length;
+    diag('glass to glass (a frame\'s header wall_time_s on the bus to the video\'s expected display time of that frame, ' +
+      'requestVideoFrameCallback; frames matched by PTS through the fMP4 samples mpegts.js appends): ' + glass.length +
+      ' frames, ' + fmt(glass) + ' (' + unmatched + ' shown frames unmatched, ' + came + ' frames came meanwhile, ' + probe.waiting + ' waiting events)');
+    diag('  of which bus to page (the WebSocket message\'s arrival): ' + fmt(bus) + '; arrival to display: ' + fmt(page));
+    check(glass.length >= 15 && quantile(glass, 0.5) < 1500, 'glass-to-glass measured on ' + glass.length + ' frames: ' + fmt(glass));
+    // The page that stopped reading: behind, dropped to the next keyframe,
+    // counted; the other pages played on.
+    const counted = await poll(async () => {
+      const c = await stationCounters();
+      return c.video_dropped > (before.video_dropped || 0) && c.video_behind > (before.video_behind || 0) ? c : null;
+    }, 20000, 500);
+    stalled.destroy();
+    const after = counted || await stationCounters();
+    diag('stationd video counters: ' + ['video_pages', 'video_pages_total', 'video_frames', 'video_sent', 'video_bytes', 'video_dropped', 'video_behind', 'video_restarts', 'write_errors']
+      .map((k) => k + '=' + after[k]).join(' '));
+    check(counted, 'a video page that stops reading is dropped to the next keyframe, counted (video_dropped ' +
+      (before.video_dropped || 0) + ' to ' + after.video_dropped + ', video_behind ' + (before.video_behind || 0) + ' to ' + after.video_behind + ')');
+    check(mainT1 - mainT0 > 40, 'while the other pages play on (the first page\'s video: ' + (mainT1 - mainT0).toFixed(1) + ' s of simulation time in 6.5 s)');
+
+    // A fresh client starts at a keyframe: its first message has the PAT
+    // and the PMT (after libavformat's SDT) before the video's first packet
+    // and its IDR picture; every message is whole 188-byte packets.
+    const fresh = await videoClient(opt.url, null, 1500);
+    const pidsOf = (m) => [...Array(Math.floor(m.length / 188)).keys()].map((i) => ((m[i * 188 + 1] & 0x1f) << 8) | m[i * 188 + 2]);
+    const first = fresh.messages.length ? pidsOf(fresh.messages[0]) : [];
+    const firstVideo = first.indexOf(0x100);
+    const idr = fresh.messages.length && /00000165|000165/.test(fresh.messages[0].toString('hex'));
+    const whole = fresh.messages.every((m) => m.length % 188 === 0 && m.length > 0 && [...Array(m.length / 188).keys()].every((i) => m[i * 188] === 0x47));
+    check(fresh.opened && fresh.count > 3 && fresh.binary && whole && firstVideo > 0 && first.slice(0, firstVideo).includes(0) &&
+      first.slice(0, firstVideo).includes(0x1000) && idr,
+    'a new /video client gets binary messages of whole 188-byte packets, the first a keyframe\'s (' + fresh.count + ' messages; the first\'s PIDs ' +
+      first.slice(0, 4).map((x) => '0x' + x.toString(16)).join(' ') + ' ..., an IDR picture: ' + !!idr + ')');
+    // (On the token stationd, where a refusal is expected: the open one's log stays clean.)
+    const foreign = await videoClient(opt['token-url'], 'http://attacker.example', 3000);
+    check(!foreign.opened && foreign.count === 0, 'a /video WebSocket with a foreign Origin is refused (' + (foreign.status ? 'HTTP ' + foreign.status : foreign.error || 'no answer') + ')');
+
+    // The KLV footprint is the image message's, frame for frame: with the
+    // exercise paused, the last frame's of both.
+    execFileSync(opt.mscgs, ['pause', '--exercise', opt.exercise], { timeout: 15000 });
+    await poll(() => v.evaluate(() => window.cgs.state.paused === true), 10000);
+    await sleep(1000); // the last frame's KLV drawn (at most 250 ms later), its image message pushed
+    const both = await v.evaluate(() => ({ klv: window.cgs.video.klv.footprint, form: window.cgs.video.klv.form, image: window.cgs.state.image && window.cgs.state.image.footprint }));
+    let agree = null;
+    if (both.klv && both.image) {
+      // KLV corners: upper left, upper right, lower right, lower left (far
+      // edge first); the image message's: clockwise from near left.
+      const k = cornersOf(both.klv);
+      const im = cornersOf(both.image);
+      const d = k.map((c, i) => Math.hypot(c[0] - im[(i + 1) % 4][0], c[1] - im[(i + 1) % 4][1]));
+      const width = (Math.hypot(im[1][0] - im[2][0], im[1][1] - im[2][1]) + Math.hypot(im[0][0] - im[3][0], im[0][1] - im[3][1])) / 2;
+      agree = { worst_m: Math.max(...d), width_m: width, corners_m: d.map((x) => +x.toFixed(2)) };
+    }
+    diag('paused: KLV footprint (' + both.form + ') ' + JSON.stringify(both.klv && both.klv.map((x) => Math.round(x))) + ', image footprint ' + JSON.stringify(both.image));
+    check(agree && agree.worst_m <= 0.01 * agree.width_m, 'the KLV footprint\'s corners are the image message\'s to within 1% of its width (worst ' +
+      (agree ? agree.worst_m.toFixed(2) + ' m of ' + agree.width_m.toFixed(0) + ' m; corners ' + agree.corners_m.join(', ') : 'none') + ')');
+    await v.evaluate(() => {
+      const k = window.cgs.video.klv.footprint;
+      if (!k) return;
+      const xs = [k[0], k[2], k[4], k[6]];
+      const ys = [k[1], k[3], k[5], k[7]];
+      window.cgs.map.getView().fit([Math.min(...xs), Math.min(...ys), Math.max(...xs), Math.max(...ys)], { padding: [150, 150, 150, 150] });
+      window.cgs.map.renderSync();
+    });
+    await screenshot(v, 'klv-footprint');
+    execFileSync(opt.mscgs, ['resume', '--exercise', opt.exercise], { timeout: 15000 });
+    await vid.context.close();
+  }
+
+  // The fallback: without MSE, and with a /video that fails.
+  const still = async (rec, want) => poll(() => rec.page.evaluate((want) => {
+    const i = document.getElementById('sensor-image');
+    const s = document.getElementById('video-status').textContent;
+    return window.cgs.video && window.cgs.video.status === 'still' && !i.hidden && document.getElementById('sensor-video').hidden &&
+      i.complete && i.naturalWidth > 0 && new RegExp(want).test(s) ? s : null;
+  }, want), 20000);
+  const nm = await noMse;
+  const nmSaid = await still(nm, '^still picture \\(latest\\.png\\): this browser cannot play the live video');
+  check(nmSaid, 'without Media Source Extensions the panel shows the latest picture and says why (' + nmSaid + ')');
+  await screenshot(nm.page, 'video-fallback');
+  const br = await broken;
+  const brSaid = await still(br, '^still picture \\(latest\\.png\\): live video failed');
+  check(brSaid, 'when the live video fails the panel shows the latest picture and says so (' + brSaid + ')');
+  // That page's only errors are the failed WebSocket's and the player's.
+  br.errors = br.errors.filter((e) => !/no-such-video|WebSocket|mpegts|IOController|WebSocketLoader|TransmuxingController|MSEPlayer|PlayerEngine/i.test(e));
+  await nm.context.close();
+  await br.context.close();
+}
+
 // ---- the steps ---------------------------------------------------------------------------
 
 async function main() {
@@ -300,17 +701,20 @@ async function steps(browser) {
   check(main.errors.length === 0, 'no page or console error while it loads', main.errors.slice(0, 5));
   await screenshot(p, 'loaded');
 
-  // The sensor image (imagerd's latest frame) loads into #sensor-image.
+  // The sensor image (imagerd's latest frame) loads into #sensor-image: shown,
+  // or kept behind the live video when that plays.
   let img = null;
   try {
     const h = await p.waitForFunction(() => {
       const i = document.getElementById('sensor-image');
-      return !i.hidden && /\/image\/latest\.png/.test(i.src) && i.complete && i.naturalWidth > 0
-        ? { src: i.getAttribute('src'), w: i.naturalWidth, h: i.naturalHeight } : null;
+      const live = window.cgs.video && window.cgs.video.status === 'live';
+      return (!i.hidden || live) && /\/image\/latest\.png/.test(i.src) && i.complete && i.naturalWidth > 0
+        ? { src: i.getAttribute('src'), w: i.naturalWidth, h: i.naturalHeight, live } : null;
     }, null, { timeout: 40000, polling: 200 });
     img = await h.jsonValue();
   } catch (err) { /* img stays null */ }
-  check(img && img.w === 320 && img.h === 240, '#sensor-image shows imagerd\'s latest frame (' + (img ? img.w + 'x' + img.h + ' from ' + img.src : 'none') + ')');
+  check(img && img.w === 320 && img.h === 240, '#sensor-image loads imagerd\'s latest frame (' + (img ? img.w + 'x' + img.h + ' from ' + img.src +
+    (img.live ? ', behind the live video' : '') : 'none') + ')');
   await screenshot(p, 'sensor-image');
 
   // 2. Hits, tracks and a BCIS reply.
@@ -685,6 +1089,11 @@ async function steps(browser) {
   diag('hovered E ' + coord[0] + ' N ' + coord[1] + ': CartConvert ' + ll + ', GeoConvert ' + grid + ', page ' + pageGrid);
   check(pageGrid.replace(/\s+/g, '') === grid, 'its MGRS is GeographicLib\'s for that point (' + pageGrid + ' vs ' + grid + ')');
   await screenshot(p, 'mgrs-cursor');
+
+  // 10. The live video (the other pages closed: on two cores their drawing
+  // slows the sanitizer build's services).
+  for (const rec of pages) if (rec !== main) await rec.context.close();
+  await videoSteps(browser, main);
 
   // No page error and no console error on any page, from start to end.
   for (const rec of pages) {

@@ -10,7 +10,12 @@
 # the UAV back to loiter; a refused command shows uavsim's reason; two
 # browsers get the same pictures; a page without the token only watches and
 # a page with it commands; the cursor's MGRS agrees with GeographicLib's
-# command-line tools; the sensor image loads. Also: a stationd told to listen
+# command-line tools; the sensor image loads; the live video plays in the
+# imaging-sensor panel (or, where this Chromium cannot play H.264 through
+# MSE, the picture shows and says so), its KLV footprint agrees with the
+# image message's, its delay from the bus to the screen is measured, a page
+# that stops reading is dropped to the next keyframe and counted, and a
+# foreign Origin is refused on /video. Also: a stationd told to listen
 # on 0.0.0.0 without a token refuses to start, naming the key; both
 # stationd stop with exit code 0 and clean logs. Screenshots of every step go
 # to $CGS_BUILD/test-artifacts/browser/NN-step.png. TAP on stdout.
@@ -158,8 +163,9 @@ check "the token stationd serves it on port $PORT_TOK" wait_for 30 page_up "$POR
 # are numbered here, in order.
 start N browser node "$BROWSER_DIR/stationd.js" \
     --url "http://127.0.0.1:$PORT/" --token-url "http://127.0.0.1:$PORT_TOK/" \
-    --token "$TOKEN" --origin "$ORIGIN" --chromium "$CHROMIUM" --artifacts "$ART"
-wait_exit "$N" 150 || stop "$N"
+    --token "$TOKEN" --origin "$ORIGIN" --chromium "$CHROMIUM" --artifacts "$ART" \
+    --exercise "$EX" --mscgs "$MSCGS"
+wait_exit "$N" 240 || stop "$N"
 browser_rc=$EXIT_CODE
 while IFS= read -r line; do
     case "$line" in

@@ -1,15 +1,16 @@
 #!/bin/bash
 # stationd.sh — stationd's protocol without a browser, beside the real
 # uavsim, mtid, trackerd and guidanced: the page's files, the relief and the
-# vendored OpenLayers and milsymbol are served from the build; pictures are
-# pushed at push_hz with the exercise's UAV, hits and tracks; a WebSocket
-# from another site's Origin is refused and counted; with a token
+# vendored OpenLayers, milsymbol and mpegts.js are served from the build;
+# pictures are pushed at push_hz with the exercise's UAV, hits and tracks; a
+# WebSocket from another site's Origin is refused and counted; with a token
 # configured, a page without it watches but its commands are refused with
 # the reason, and one with it commands; malformed JSON, unknown ops and bad
 # values get an error with the reason, are counted, and stationd keeps
 # serving; a Host that is another name for a loopback server (DNS
-# rebinding), messages over 4 KiB and pages beyond threads - 2 are refused
-# and counted; the cursor's MGRS equals GeographicLib's own tools'; a command
+# rebinding), messages over 4 KiB and pages beyond threads - 2 (pages and
+# live-video WebSockets together) are refused and counted, and /video
+# refuses another site's Origin too; the cursor's MGRS equals GeographicLib's own tools'; a command
 # while guidanced is down is reported unanswered, and answered again once it
 # is back; a stationd on a non-loopback address without a token, or with bad
 # parameters, refuses to start naming the key; SIGTERM stops it cleanly.
@@ -87,7 +88,7 @@ start S stationd "$STATIOND" --exercise "$EX"
 check "stationd serves the page" wait_for 20 curl -sf -o "$TMP/index.html" "$URL/"
 check "which loads OpenLayers and milsymbol from this server only" bash -c \
     "grep -q 'vendor/ol.js' '$TMP/index.html' && grep -q 'vendor/milsymbol.js' '$TMP/index.html' && ! grep -qiE 'src=\"(https?:)?//' '$TMP/index.html'"
-for f in style.css vendor/ol.js vendor/ol.css vendor/milsymbol.js; do
+for f in style.css vendor/ol.js vendor/ol.css vendor/milsymbol.js vendor/mpegts.js; do
     check "/$f is served" curl -sf -o /dev/null "$URL/$f"
 done
 check "which loads its script as an ES module" grep -q '<script type="module" src="/js/main.js">' "$TMP/index.html"
@@ -137,6 +138,28 @@ probe "$WS" --seconds 2 >"$TMP/fifth.jsonl"
 check "a fifth page is refused while 4 (threads - 2) are open" grep -q '"type":"connect-error"' "$TMP/fifth.jsonl"
 check "and counted" wait_for 10 counter_ge pages_refused_full 1
 wait "${held[@]}"
+# The live video's WebSocket: the same Origin check, and the same limit
+# (each holds a thread): two pages and two video pages fill it.
+VIDEO=ws://127.0.0.1:$PORT/video
+probe "$VIDEO" --origin "http://evil.example" --seconds 2 >"$TMP/video-evil.jsonl"
+check "a /video WebSocket from another site's Origin is refused" grep -q '"type":"connect-error"' "$TMP/video-evil.jsonl"
+held=()
+for i in 1 2; do
+    node "$PROBE" "$WS" --seconds 6 >"$TMP/mixed-ws$i.jsonl" &
+    held+=($!)
+    node "$PROBE" "$VIDEO" --origin "http://127.0.0.1:$PORT" --seconds 6 >"$TMP/mixed-video$i.jsonl" &
+    held+=($!)
+done
+wait_for 5 counter_ge video_pages 2
+probe "$VIDEO" --seconds 2 >"$TMP/video-fifth.jsonl"
+check "a /video WebSocket is refused while 2 pages and 2 video pages are open" \
+    grep -q '"type":"connect-error"' "$TMP/video-fifth.jsonl"
+probe "$WS" --seconds 2 >"$TMP/ws-fifth.jsonl"
+check "and so is a page" grep -q '"type":"connect-error"' "$TMP/ws-fifth.jsonl"
+wait "${held[@]}"
+check "the video pages were open (no connect error), and counted" bash -c \
+    "! grep -q connect-error '$TMP'/mixed-video?.jsonl && ! grep -q connect-error '$TMP'/mixed-ws?.jsonl"
+check "in health: video_pages_total" counter_ge video_pages_total 2
 probe "$WS?token=$TOKEN" --origin "http://127.0.0.1:$PORT" \
     --send '{"op":"footprint_scale","req":2,"value":5}' --replies 1 >"$TMP/auth.jsonl"
 check "with the token (and this server's Origin) the page is an operator's" grep -q '"operator":true' "$TMP/auth.jsonl"

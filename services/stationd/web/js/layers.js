@@ -29,6 +29,7 @@ export const L = {
   relief: new ol.layer.Image({ source: null }),
   truth: vectorLayer('truth', null, { visible: false }),
   footprint: vectorLayer('footprint', null),
+  sensorFootprint: vectorLayer('sensor-footprint', null),
   route: vectorLayer('route', null),
   hitsOld: vectorLayer('hits-old', S.hitOld),
   bcis: vectorLayer('bcis', function (f) {
@@ -46,6 +47,7 @@ L.relief.set('name', 'relief');
 const featureStyle = (f) => f.cgsStyle;
 L.truth.setStyle(featureStyle);
 L.footprint.setStyle(featureStyle);
+L.sensorFootprint.setStyle(featureStyle);
 L.route.setStyle(featureStyle);
 L.tracks.setStyle(featureStyle);
 L.uav.setStyle(featureStyle);
@@ -67,7 +69,7 @@ function makeView(extent) {
 
 export const map = new ol.Map({
   target: 'map',
-  layers: [L.relief, L.truth, L.footprint, L.route, L.hitsOld, L.bcis, L.hitsCurrent,
+  layers: [L.relief, L.truth, L.footprint, L.sensorFootprint, L.route, L.hitsOld, L.bcis, L.hitsCurrent,
     L.target, L.tracks, L.uav],
   controls: [new ol.control.Zoom(), new ol.control.ScaleLine({ units: 'metric' })],
   view: makeView([-FALLBACK_HALF_M, -FALLBACK_HALF_M, FALLBACK_HALF_M, FALLBACK_HALF_M]),

@@ -2,7 +2,8 @@
  * main.js — the browser front end of the mscgs ground station (served by
  * stationd): a tactical map of the exercise in its local east/north metre
  * frame, the operator's intercept and flight controls, the intercept status
- * and the imaging sensor's latest frame. This module wires the others:
+ * and the imaging sensor's live video (or its latest frame). This module
+ * wires the others:
  *
  *   hooks.js     window.cgs, the state the browser tests and benchmark read
  *   util.js      small helpers
@@ -12,9 +13,13 @@
  *   panels.js    the side panel, the status and the result messages
  *   net.js       the WebSocket to stationd and its protocol
  *   input.js     clicks, the cursor's MGRS, the controls and check boxes
+ *   video.js     the live video (mpegts.js) and the sensor's footprints
+ *   klv.js       the video's MISB ST 0601 KLV packets read
+ *   geo.js       latitude and longitude to the local east/north frame
  *
- * OpenLayers (global `ol`, full build) and milsymbol (global `ms`) are
- * classic scripts loaded before it. ES modules, no bundler.
+ * OpenLayers (global `ol`, full build), milsymbol (global `ms`) and
+ * mpegts.js (global `mpegts`) are classic scripts loaded before it. ES
+ * modules, no bundler.
  */
 import {
   applyBcis, applyHits, applyIntercepts, applyTracks, applyTruth, applyUavs, preloadSymbols,
@@ -25,6 +30,7 @@ import { applyRelief, centreOnce, map } from './layers.js';
 import { connect } from './net.js';
 import { setConnection, setOperator, showReply, showResult, ui, updateImage, updatePanels } from './panels.js';
 import { num } from './util.js';
+import { setOrigin, updateVideo } from './video.js';
 
 const APPLY_KEEP = 1000;             // apply times kept for the benchmark
 
@@ -53,6 +59,7 @@ function applyState(st) {
 
   updatePanels(st);
   updateImage(st.image);
+  updateVideo(st);
 }
 
 // A state, drawn before the handler returns; t0: when its message came.
@@ -73,6 +80,7 @@ function onState(m, t0) {
 function onHello(h) {
   cgs.hello = h;
   applyRelief(h.relief);
+  setOrigin(h.origin);
   setOperator(h.operator === true);
 }
 

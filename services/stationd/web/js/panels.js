@@ -2,8 +2,9 @@
  * panels.js — the side panel and the page's messages: the connection and
  * simulation time, the access note, the UAV selector, the status panel,
  * the flight inputs and the intercept selects as the server reports them,
- * the sensor image, and the result line (a command sent, accepted or
- * refused with the reason).
+ * the sensor image (the latest picture, or the live video video.js plays,
+ * with the line that says which), and the result line (a command sent,
+ * accepted or refused with the reason).
  */
 import { cgs } from './hooks.js';
 import { $, num, setText } from './util.js';
@@ -61,6 +62,8 @@ export const ui = {
   fpScale: $('fp-scale'),
   method: $('method'),
   image: $('sensor-image'),
+  video: $('sensor-video'),
+  videoStatus: $('video-status'),
   imageEmpty: $('image-empty'),
   imageCaption: $('image-caption'),
   sensorMti: $('sensor-mti'),
@@ -76,6 +79,7 @@ let selectedUav = null;     // uav_id commands go to
 let uavSelect = null;       // the #uav <select>, only with several UAVs
 let prefilledFor = null;    // UAV whose commanded values filled the inputs
 let imageFrame = null;
+let videoShown = false;     // the live video plays in place of the picture
 // A select the operator just changed keeps its value until the server
 // reports it, the command is refused, or EDIT_HOLD_MS pass.
 const holdScale = { sel: ui.fpScale, until: 0, want: null };
@@ -224,24 +228,41 @@ export function updatePanels(st) {
   }
 }
 
+// Which of the video, the picture and the "no image yet" box shows.
+function showSensor() {
+  ui.video.hidden = !videoShown;
+  ui.image.hidden = videoShown || imageFrame === null;
+  ui.imageEmpty.hidden = videoShown || imageFrame !== null;
+}
+
+// The live video plays (live true) or the picture shows; text says which,
+// and why (kind: 'live' or 'still').
+export function setVideoShown(live, text, kind) {
+  if (videoShown !== live) {
+    videoShown = live;
+    showSensor();
+  }
+  setText(ui.videoStatus, text);
+  ui.videoStatus.className = 'video-' + kind;
+}
+
 // The latest imaging-sensor frame: a new src only for a new frame.
 export function updateImage(img) {
   if (!img || !img.url) {
     if (imageFrame !== null) {
       imageFrame = null;
-      ui.image.hidden = true;
       ui.image.removeAttribute('src');
-      ui.imageEmpty.hidden = false;
+      showSensor();
       setText(ui.imageCaption, '—');
       ui.imageCaption.className = '';
     }
     return;
   }
   if (img.frame !== imageFrame) {
+    // The picture keeps loading behind the video, ready for a fallback.
     imageFrame = img.frame;
     ui.image.src = img.url;
-    ui.image.hidden = false;
-    ui.imageEmpty.hidden = true;
+    showSensor();
   }
   const cap = 'frame ' + img.frame + ' · ' + (img.mode || '—') + ' · uav ' + img.uav_id +
     (img.target_in_view ? ' · target in view' : '');

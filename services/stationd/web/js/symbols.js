@@ -82,6 +82,16 @@ S.footprintHit = new ol.style.Style({
   stroke: new ol.style.Stroke({ color: 'rgba(70,255,110,0.95)', width: 2 }),
 });
 
+// The imaging sensor's footprint from its `image` messages (thin white)
+// and from the video's KLV (dashed orange, over it): drawn one on the other,
+// a user sees them agree.
+S.imageFootprint = new ol.style.Style({
+  stroke: new ol.style.Stroke({ color: 'rgba(255,255,255,0.85)', width: 1 }),
+});
+S.klvFootprint = new ol.style.Style({
+  stroke: new ol.style.Stroke({ color: '#ff9f1a', width: 2, lineDash: [8, 6] }),
+});
+
 S.route = [
   new ol.style.Style({ stroke: new ol.style.Stroke({ color: 'rgba(0,0,0,0.45)', width: 5 }) }),
   new ol.style.Style({ stroke: new ol.style.Stroke({ color: C_PURPLE, width: 3 }) }),
