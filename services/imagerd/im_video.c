@@ -244,6 +244,10 @@ int im_video_frame (im_video_t *self, const uint8_t *rgba, double time_s, const 
         // restarted imagerd appends to) resets its continuity counters there.
         AVDictionary *opts = NULL;
         av_dict_set (&opts, "mpegts_flags", "initial_discontinuity", 0);
+        // The video PES packets carry their length (when under 64 KiB), so a
+        // receiver can hand a frame on when its last byte comes, not when the
+        // next frame starts.
+        av_dict_set (&opts, "omit_video_pes_length", "0", 0);
         rc = avformat_write_header (self->mux, &opts);
         av_dict_free (&opts);
         if (rc < 0) {
