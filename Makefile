@@ -9,7 +9,8 @@
 #   make bench-multicast  the bus over multicast against tcp, and under loss (root)
 #   make bench-translators  the gateway's CPU at 1,000 vehicles, DIS alone and with
 #                   STANAG 4607 and Cursor on Target on
-#   make bench-video  imagerd's live video: frame rate, CPU, entity update to the wire
+#   make bench-video  imagerd's live video: frame rate, CPU, entity update to the wire,
+#                   glass to glass on the map
 #   make montecarlo whole scenes in lockstep: every scenario family, the table
 #                   (MC_RUNS, MC_SEED, MC_JOBS, MC_FAMILIES)
 #   make validate-lockstep  the lockstep against the live system, 20 seeds
@@ -197,7 +198,8 @@ bench-translators: deps
 	@$(MAKE) --no-print-directory -j$(JOBS) O=build/release SAN=0 all
 	@tests/bench/translators.sh build/release
 
-# imagerd's live video: frame rate, CPU, entity update to the wire (about 2 minutes).
+# imagerd's live video: frame rate, CPU, entity update to the wire, glass to
+# glass on the map in Chromium (about 3 minutes).
 bench-video: deps
 	@$(MAKE) --no-print-directory -j$(JOBS) O=build/release SAN=0 all
 	@tests/bench/video.sh build/release

@@ -16,6 +16,14 @@
 # in the default scenario). The same run measures the default scenario and
 # a copy of it with step_s = 1/30 and uav_rate_hz = 30 (30 frames a second).
 # Goal (issue): under 100 ms. RUN s measured after WARM s, each.
+#
+# Then glass to glass on the map, at 30 Hz: imagerd burns the frame number
+# into each frame ([overlay] frame_code), stationd relays the video to the
+# page, and headless Chromium (glass.js) reads the number back from every
+# frame it presents, with the frame's expected display time. Delay: that
+# time less the wall time of the frame's `image` message (imagerd's frame
+# out), and less the `uav` message of its simulation time (the entity
+# update); median, p95.
 #   tests/bench/video.sh BUILD_DIR [RUN_S]     (make bench-video)
 set -u
 build=${1:?usage: tests/bench/video.sh BUILD_DIR [RUN_S]}
@@ -49,6 +57,7 @@ EX=$TMP/exercise.ini
     exercise_service trackerd "params=$CGS_ROOT/deploy/params/tracker.ini"
     exercise_service guidanced command "params=$CGS_ROOT/deploy/params/guidance.ini"
     exercise_service imagerd.uav1 command uav=uav1 params=imager.ini
+    exercise_service stationd
 } >"$EX"
 sed -e "s/^udp =$/udp = 127.0.0.1:$PORT/" -e 's/^frame_rate_hz = 5$/frame_rate_hz = 30/' \
     "$CGS_ROOT/deploy/params/imager.ini" >"$TMP/imager.ini"
@@ -121,6 +130,7 @@ node -e '
         if (w !== undefined) lat.push(1e3 * (at - w));
     }
     lat.sort((a, b) => a - b);
+    if (!lat.length) { console.log("no frame reached the wire: see the logs (CGS_KEEP=1)"); process.exit(0); }
     const q = (p) => lat[Math.min(lat.length - 1, Math.floor(p * lat.length))];
     const secs = t1 - t0;
     console.log(`frames on the wire: ${lines.length} in ${secs.toFixed(1)} s = ${(lines.length / secs).toFixed(1)} fps; matched to their uav message: ${lat.length}`);
@@ -135,3 +145,56 @@ node -e '
 }
 measure "default scenario (uav_rate_hz 10)" "$CGS_ROOT/deploy/scenarios/default.ini"
 measure "default scenario at 30 Hz (step_s 1/30, uav_rate_hz 30)" "$TMP/default-30hz.ini"
+
+# ---- glass to glass on the map ------------------------------------------------------------
+CHROMIUM=${CGS_CHROMIUM:-/usr/bin/chromium}
+if [ ! -x "$CHROMIUM" ] || [ ! -d "$CGS_ROOT/tests/browser/node_modules/playwright-core" ]; then
+    echo "glass to glass: not measured (no Chromium or playwright-core: scripts/install-deps)"
+    exit 0
+fi
+echo "--- glass to glass: the map's video in Chromium, 30 Hz, frame code burnt in ---"
+rm -rf "$TMP/state" "$TMP/images"
+: >"$TMP/echo-uav.log"
+sed -i -e 's/^frame_code = false$/frame_code = true/' -e "s/^udp = .*/udp =/" "$TMP/imager.ini"
+sed -i "s|^scenario = .*|scenario = $TMP/default-30hz.ini|" "$EX"
+WPORT=$((20000 + RANDOM % 20000))
+start U uavsim "$B/uavsim" --exercise "$EX" --time-scale 1
+start EU echo-uav "$B/mscgs" echo uav --json --exercise "$EX"
+start EI echo-image "$B/mscgs" echo image --json --exercise "$EX"
+start R mtid "$B/mtid" --exercise "$EX" --instance mtid.uav1
+start T trackerd "$B/trackerd" --exercise "$EX"
+start G guidanced "$B/guidanced" --exercise "$EX"
+start I imagerd "$B/imagerd" --exercise "$EX" --instance imagerd.uav1 --out "$TMP/images"
+start S stationd "$B/stationd" --exercise "$EX" --port "$WPORT" --listen 127.0.0.1
+sleep "$WARM"
+node "$CGS_ROOT/tests/bench/glass.js" --url "http://127.0.0.1:$WPORT/" --chromium "$CHROMIUM" \
+    --seconds "$RUN" >"$TMP/shown.jsonl" 2>"$TMP/glass.err" || { cat "$TMP/glass.err"; }
+for p in "$S" "$I" "$G" "$T" "$R" "$EI" "$EU" "$U"; do stop "$p"; done
+grep '^#' "$TMP/shown.jsonl"
+node -e '
+    const fs = require("node:fs");
+    const [shown, images, uavs] = process.argv.slice(1);
+    const lines = (p) => fs.readFileSync(p, "utf8").split("\n").filter((l) => l.startsWith("{")).map((l) => JSON.parse(l));
+    const uav = new Map();
+    for (const m of lines(uavs)) uav.set(Math.round((m.header.sim_time_s || 0) * 1000), m.header.wall_time_s);
+    const img = new Map();
+    for (const m of lines(images)) img.set(Number(m.frame_number) % (1 << 20), m);
+    const fromFrame = [], fromEntity = [];
+    let unknown = 0;
+    const seen = new Set();
+    for (const s of lines(shown)) {
+        const m = img.get(s.n);
+        if (!m || seen.has(s.n)) { unknown += !m; continue; }
+        seen.add(s.n);
+        fromFrame.push(s.t - 1e3 * m.header.wall_time_s);
+        const w = uav.get(Math.round((m.header.sim_time_s || 0) * 1000));
+        if (w !== undefined) fromEntity.push(s.t - 1e3 * w);
+    }
+    const q = (xs, p) => { const v = [...xs].sort((a, b) => a - b); return v[Math.min(v.length - 1, Math.floor(p * v.length))]; };
+    console.log(`frames shown and read: ${seen.size} (${unknown} codes not among the frames published)`);
+    if (!fromFrame.length) { console.log("glass to glass: no frame read"); process.exit(0); }
+    console.log(`glass_frame_out_to_display_ms_median=${q(fromFrame, 0.5).toFixed(0)}`);
+    console.log(`glass_frame_out_to_display_ms_p95=${q(fromFrame, 0.95).toFixed(0)}`);
+    console.log(`glass_entity_to_display_ms_median=${q(fromEntity, 0.5).toFixed(0)}`);
+    console.log(`glass_entity_to_display_ms_p95=${q(fromEntity, 0.95).toFixed(0)}`);
+' "$TMP/shown.jsonl" "$TMP/echo-image.log" "$TMP/echo-uav.log"
