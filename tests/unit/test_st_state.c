@@ -606,6 +606,71 @@ static void test_clock_and_staleness (void **state)
     st_state_destroy (&st);
 }
 
+/* Video: malformed frames refused with nothing written; the UAV whose video
+ * is relayed (the first heard, then the picture's); a new stream (another
+ * UAV, a restarted imagerd's new epoch, or video that went stale and came
+ * back) restarts the pages. */
+static int s_video (st_state_t *st, uint32_t uav, const uint8_t *ts, size_t len, uint64_t epoch,
+                    double t, bool *relay, bool *restart)
+{
+    Cgs__VideoFrame m = CGS__VIDEO_FRAME__INIT;
+    Cgs__Header h = CGS__HEADER__INIT;
+    m.uav_id = uav;
+    m.ts.data = (uint8_t *)ts;
+    m.ts.len = len;
+    h.epoch = epoch;
+    h.sim_time_s = t;
+    return st_state_take_video (st, &m, &h, relay, restart);
+}
+
+static void test_video (void **state)
+{
+    (void)state;
+    st_state_t *st = st_state_new (&s_params);
+    static uint8_t ts[3 * 188];
+    memset (ts, 0, sizeof ts);
+    for (size_t i = 0; i < sizeof ts; i += 188)
+        ts[i] = 0x47;
+    bool relay = true, restart = true;
+    // Refused, and nothing written.
+    assert_int_equal (s_video (st, 5, NULL, 0, 100, 1, &relay, &restart), -EINVAL);
+    assert_int_equal (s_video (st, 5, ts, 0, 100, 1, &relay, &restart), -EINVAL);
+    assert_int_equal (s_video (st, 5, ts, 187, 100, 1, &relay, &restart), -EINVAL);
+    ts[188] = 0x48;
+    assert_int_equal (s_video (st, 5, ts, sizeof ts, 100, 1, &relay, &restart), -EINVAL);
+    assert_true (relay && restart);
+    ts[188] = 0x47;
+    // The first UAV heard is relayed; another's is not.
+    assert_int_equal (s_video (st, 5, ts, sizeof ts, 100, 1, &relay, &restart), 0);
+    assert_true (relay && !restart);
+    assert_int_equal (s_video (st, 6, ts, sizeof ts, 200, 1.1, &relay, &restart), 0);
+    assert_false (relay || restart);
+    assert_int_equal (s_video (st, 5, ts, 188, 100, 1.2, &relay, &restart), 0);
+    assert_true (relay && !restart);
+    // Its imagerd restarted: a new epoch starts the pages over.
+    assert_int_equal (s_video (st, 5, ts, sizeof ts, 101, 1.3, &relay, &restart), 0);
+    assert_true (relay && restart);
+    assert_int_equal (s_video (st, 5, ts, sizeof ts, 101, 1.4, &relay, &restart), 0);
+    assert_true (relay && !restart);
+    // The picture shown is UAV 6's: its video now, from the start.
+    Cgs__Image im = CGS__IMAGE__INIT;
+    im.uav_id = 6;
+    im.latest_path = "/tmp/images/latest.png";
+    assert_int_equal (st_state_take_image (st, &im, NULL), 0);
+    assert_int_equal (s_video (st, 5, ts, sizeof ts, 101, 1.5, &relay, &restart), 0);
+    assert_false (relay);
+    assert_int_equal (s_video (st, 6, ts, sizeof ts, 200, 1.6, &relay, &restart), 0);
+    assert_true (relay && restart);
+    assert_int_equal (s_video (st, 6, ts, sizeof ts, 200, 1.7, &relay, &restart), 0);
+    assert_true (relay && !restart);
+    // Not heard of for track_stale_s (60 s): the next frame starts over.
+    st_state_set_time (st, 70);
+    st_state_prune (st);
+    assert_int_equal (s_video (st, 6, ts, sizeof ts, 200, 70, &relay, &restart), 0);
+    assert_true (relay && restart);
+    st_state_destroy (&st);
+}
+
 static void test_full_tables (void **state)
 {
     (void)state;
@@ -636,6 +701,7 @@ int main (void)
         cmocka_unit_test (test_truth_and_image),
         cmocka_unit_test (test_clock_and_staleness),
         cmocka_unit_test (test_full_tables),
+        cmocka_unit_test (test_video),
     };
     return cmocka_run_group_tests (tests, NULL, NULL);
 }
