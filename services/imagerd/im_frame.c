@@ -182,6 +182,8 @@ int im_frame_klv (const im_camera_t *cam, const im_footprint_t *fp, const im_uav
         double roll = atan2 (-s_dot3 (cam->right, ug), s_dot3 (cam->right, rg)) * deg;
         ret->sensor_rel_roll_deg = fmod (roll + 360.0, 360.0);
     }
+    if (fp->clipped) // a ray met no ground: no frame centre, corners or slant range on it
+        goto target;
     cgs_enu_t d = {fp->center.e_m - cam->eye.e_m, fp->center.n_m - cam->eye.n_m,
                    fp->center.u_m - cam->eye.u_m};
     ret->slant_range_m = sqrt (s_dot3 (d, d));
@@ -196,6 +198,7 @@ int im_frame_klv (const im_camera_t *cam, const im_footprint_t *fp, const im_uav
             ret->corner_lat_deg[i] = g.lat_deg;
             ret->corner_lon_deg[i] = g.lon_deg;
         }
+target:
     if (has_target) {
         ret->has_target = true;
         ret->track_id = track_id;

@@ -83,7 +83,9 @@ void im_frame_overlay (double t_s, const im_uav_t *u, const im_camera_t *cam,
  * far-left, far-right, near-right, near-left); the target and its track id
  * when has_target. Heights: the exercise takes the terrain's heights as
  * above the ellipsoid (the geoid separation is ignored), so the true
- * altitude (MSL) and the ellipsoid height are one value. Angles are in the
+ * altitude (MSL) and the ellipsoid height are one value. A footprint with a
+ * ray that met no ground (clipped) gives no slant range, frame centre or
+ * corners: those tags are left out. Angles are in the
  * exercise's local frame (its north at the origin). -EINVAL when the eye
  * cannot be placed on the earth. */
 int im_frame_klv (const im_camera_t *cam, const im_footprint_t *fp, const im_uav_t *u,

@@ -183,6 +183,8 @@ static int s_read (cgs_config_t *cfg, void *arg, char *err, size_t errlen)
     int preset = 0;
     while (presets[preset] && strcmp (presets[preset], p.video_preset) != 0)
         preset++;
+    if (!presets[preset])
+        preset = 2; // a set built in code with a preset not in the list: veryfast
     if (rc == 0)
         rc = cgs_config_get_enum (cfg, "video", "preset", presets, preset, &preset, err, errlen);
     if (rc == 0)

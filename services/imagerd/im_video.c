@@ -23,7 +23,9 @@ struct im_video {
     AVFrame *frame;
     AVPacket *pkt;
     bool header_written, finished, started;
+    bool rebase; // the next frame follows the last, whatever its time
     int64_t last_pts, last_key_pts;
+    int64_t offset; // added to every frame's PTS (rebased after time went back)
     im_video_stats_t stats;
 };
 
@@ -231,8 +233,16 @@ int im_video_frame (im_video_t *self, const uint8_t *rgba, double time_s, const 
         self->last_pts = -1;
         self->last_key_pts = INT64_MIN / 2;
     }
-    // The time itself (simulation time): a restarted imagerd continues its file forward.
-    int64_t pts = llround (time_s * IM_VIDEO_CLOCK_HZ);
+    // The time itself (simulation time): a restarted imagerd continues its file
+    // forward. After im_video_continue, the offset makes this frame follow the last.
+    int64_t tick = llround (time_s * IM_VIDEO_CLOCK_HZ);
+    if (self->rebase && self->started) {
+        int64_t step = llround (IM_VIDEO_CLOCK_HZ / self->cfg.frame_rate_hz);
+        self->offset = self->last_pts + (step > 0 ? step : 1) - tick;
+        self->last_key_pts = INT64_MIN / 2; // and it is a keyframe
+    }
+    self->rebase = false;
+    int64_t pts = tick + self->offset;
     if (pts <= self->last_pts) {
         self->stats.refused++;
         snprintf (err, errlen, "a video frame at %.6f s is not after the last one", time_s);
@@ -251,6 +261,7 @@ int im_video_frame (im_video_t *self, const uint8_t *rgba, double time_s, const 
         rc = avformat_write_header (self->mux, &opts);
         av_dict_free (&opts);
         if (rc < 0) {
+            self->finished = true; // the muxer cannot be used again
             s_averror (rc, "cannot start the transport stream", err, errlen);
             return -EIO;
         }
@@ -319,6 +330,11 @@ int im_video_finish (im_video_t *self, char *err, size_t errlen)
     }
     avio_flush (self->mux->pb);
     return 0;
+}
+
+void im_video_continue (im_video_t *self)
+{
+    self->rebase = true;
 }
 
 void im_video_stats (const im_video_t *self, im_video_stats_t *ret)

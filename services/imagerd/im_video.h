@@ -1,10 +1,12 @@
 /* im_video — the imaging sensor's frames as STANAG 4609 motion imagery:
  * H.264 (libx264 through libavcodec, zero-latency tuning, no B-frames) and
  * one MISB ST 0601 KLV packet per frame, in an MPEG transport stream
- * (libavformat's muxer). The KLV goes in FFmpeg's default, asynchronous
- * carriage: stream type 0x06 with the "KLVA" registration descriptor, PES
- * stream id 0xBD, the packet's PTS that of its video frame. (FFmpeg 5.1's
- * synchronous carriage writes no metadata AU header: never used.)
+ * (libavformat's muxer). The KLV goes as FFmpeg's default writes it:
+ * stream type 0x06 with the "KLVA" registration descriptor, PES stream id
+ * 0xFC (metadata stream) with a PTS, that of its video frame, so a reader
+ * can pair each packet with its frame. MISB ST 1402's asynchronous form
+ * (stream id 0xBD, no PTS) would lose that pairing, and FFmpeg 5.1's
+ * synchronous form writes no metadata AU header: neither is used.
  *
  * The frame is converted from RGBA to YUV 4:2:0 (BT.601, limited range) by
  * libswscale. Every keyframe is an IDR with SPS and PPS in band, and the
@@ -66,6 +68,11 @@ int im_video_frame (im_video_t *self, const uint8_t *rgba, double time_s, const 
 /* Drain the encoder and end the stream; later frames are refused. 0 or a
  * negative errno with err filled. */
 int im_video_finish (im_video_t *self, char *err, size_t errlen);
+
+/* Time went back (a restarted exercise): the next frame, whatever its time,
+ * follows the last one in the stream by one nominal frame period, and is a
+ * keyframe; later frames keep that offset. */
+void im_video_continue (im_video_t *self);
 
 void im_video_stats (const im_video_t *self, im_video_stats_t *ret);
 

@@ -17,6 +17,7 @@
 
 struct im_vout {
     int fd;
+    off_t file_size; // whole packets written
     AVIOContext *udp;
     bool keep, broken; // broken: a frame's bytes could not all be kept
     uint8_t *frame;
@@ -50,6 +51,7 @@ static int s_open_file (im_vout_t *self, const char *path, char *err, size_t err
         }
         self->stats.cut_bytes = (uint64_t)(st.st_size - whole);
     }
+    self->file_size = whole;
     return 0;
 }
 
@@ -92,11 +94,17 @@ void im_vout_write (void *arg, const uint8_t *ts, size_t len)
 {
     im_vout_t *self = arg;
     if (self->fd >= 0) {
-        if (cgs_write_all (self->fd, ts, len) < 0) {
+        int rc = cgs_write_all (self->fd, ts, len);
+        if (rc < 0) {
             self->stats.file_errors++;
-            s_fail (self, "writing the video file: %s", strerror (errno));
+            s_fail (self, "writing the video file: %s", strerror (-rc));
+            // Back to the last whole packet, so later writes stay on the grid.
+            if (ftruncate (self->fd, self->file_size) < 0)
+                s_fail (self, "writing the video file: %s; and cannot cut it back: %s",
+                        strerror (-rc), strerror (errno));
         } else {
             self->stats.file_bytes += len;
+            self->file_size += (off_t)len;
         }
     }
     if (self->udp) {
@@ -120,6 +128,8 @@ void im_vout_write (void *arg, const uint8_t *ts, size_t len)
             uint8_t *f = realloc (self->frame, cap);
             if (!f) {
                 s_fail (self, "out of memory for a video frame's bytes");
+                if (!self->broken)
+                    self->stats.frames_lost++;
                 self->broken = true;
                 return;
             }

@@ -31,7 +31,8 @@ typedef struct {
 typedef struct {
     uint64_t file_bytes, file_errors;
     uint64_t datagrams, udp_errors;
-    uint64_t cut_bytes; // a partial packet cut off the file's end at open
+    uint64_t cut_bytes;   // a partial packet cut off the file's end at open
+    uint64_t frames_lost; // frames whose bytes could not be kept for the bus
     char last_error[160];
 } im_vout_stats_t;
 

@@ -392,6 +392,8 @@ static void s_on_uav (void *arg, const char *topic, const ProtobufCMessage *msg,
     }
     double period = 1.0 / app->params.frame_rate_hz;
     if (!app->started || t < app->next_frame_s - 2 * period) { // first, or time went back
+        if (app->started && app->video)
+            im_video_continue (app->video); // the video's time runs on
         app->started = true;
         app->next_frame_s = app->next_png_s = app->next_latest_s = t;
     }
@@ -612,15 +614,16 @@ int main (int argc, char **argv)
         im_vout_stats_t os;
         im_video_stats (app.video, &vs);
         im_vout_stats (app.vout, &os);
-        cgs_log (
-            os.file_errors || os.udp_errors ? LOG_WARNING : LOG_INFO,
-            "video: %llu frames (%llu keyframes, %llu KLV packets, %llu errors), %.1f MB of "
-            "transport stream; file %llu bytes (%llu errors), %llu datagrams (%llu errors)%s%s",
-            (unsigned long long)vs.frames, (unsigned long long)vs.keyframes,
-            (unsigned long long)vs.klv_packets, (unsigned long long)app.video_errors,
-            (double)vs.bytes / 1e6, (unsigned long long)os.file_bytes,
-            (unsigned long long)os.file_errors, (unsigned long long)os.datagrams,
-            (unsigned long long)os.udp_errors, os.last_error[0] ? "; last: " : "", os.last_error);
+        cgs_log (os.file_errors || os.udp_errors || os.frames_lost ? LOG_WARNING : LOG_INFO,
+                 "video: %llu frames (%llu keyframes, %llu KLV packets, %llu errors), %.1f MB of "
+                 "transport stream; file %llu bytes (%llu errors), %llu datagrams (%llu errors), "
+                 "%llu frames not on the bus (out of memory)%s%s",
+                 (unsigned long long)vs.frames, (unsigned long long)vs.keyframes,
+                 (unsigned long long)vs.klv_packets, (unsigned long long)app.video_errors,
+                 (double)vs.bytes / 1e6, (unsigned long long)os.file_bytes,
+                 (unsigned long long)os.file_errors, (unsigned long long)os.datagrams,
+                 (unsigned long long)os.udp_errors, (unsigned long long)os.frames_lost,
+                 os.last_error[0] ? "; last: " : "", os.last_error);
     }
 done:
     im_video_destroy (&app.video);

@@ -393,7 +393,24 @@ static void test_refused (void **state)
     im_video_stats (v, &st);
     assert_int_equal (st.refused, 3);
     assert_int_equal (im_video_frame (v, pic, 5.1, NULL, 0, NULL, err, sizeof err), 0);
+    // Time went back (a restarted exercise): after im_video_continue the next
+    // frame follows the last by one frame period (10 Hz), a keyframe, and the
+    // ones after keep that offset.
+    im_video_continue (v);
+    bool kf = false;
+    assert_int_equal (im_video_frame (v, pic, 0.5, NULL, 0, &kf, err, sizeof err), 0);
+    assert_true (kf);
+    assert_int_equal (im_video_frame (v, pic, 0.6, NULL, 0, &kf, err, sizeof err), 0);
+    assert_false (kf);
+    assert_int_equal (im_video_frame (v, pic, 0.6, NULL, 0, NULL, err, sizeof err), -EINVAL);
     assert_int_equal (im_video_finish (v, err, sizeof err), 0);
+    s_back_t b;
+    s_read_back (&ts, NULL, &b);
+    static const double want[] = {5.0, 5.1, 5.2, 5.3};
+    assert_int_equal (b.nvideo, 4);
+    for (int k = 0; k < 4; k++)
+        assert_int_equal (b.video_pts[k], llround (want[k] * IM_VIDEO_CLOCK_HZ));
+    s_back_free (&b);
     assert_int_equal (im_video_frame (v, pic, 6.0, NULL, 0, NULL, err, sizeof err), -EINVAL);
     assert_non_null (strstr (err, "ended"));
     im_video_destroy (&v);
@@ -603,6 +620,15 @@ static void test_klv_places (void **state)
     assert_true (k.corner_lon_deg[2] < k.frame_center_lon_deg);
     assert_false (k.has_target);
     assert_true (isnan (k.target_lat_deg));
+    // A ray that met no ground: no slant range, frame centre or corners.
+    im_footprint_t clipped = fp;
+    clipped.clipped = true;
+    im_klv_frame_t kc;
+    assert_int_equal (
+        im_frame_klv (&cam, &clipped, &u, geo, 1234.5, "", true, (cgs_enu_t){0}, 3, &kc), 0);
+    assert_true (isnan (kc.slant_range_m) && isnan (kc.frame_center_lat_deg) &&
+                 isnan (kc.corner_lat_deg[0]) && isnan (kc.corner_lon_deg[3]));
+    assert_true (kc.sensor_lat_deg == k.sensor_lat_deg && kc.has_target && kc.track_id == 3);
     assert_true (k.hfov_deg == 10 && k.vfov_deg == 8);
     // And it encodes.
     uint8_t buf[IM_KLV_MAX_PACKET];
