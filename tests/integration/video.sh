@@ -18,7 +18,8 @@
 #  - a decoded frame matches imagerd's PNG of the same frame (PSNR);
 #  - a restart cuts a partial packet off the file's end and appends; sent to
 #    a multicast group from 127.0.0.1 with TTL 0, a listener joined on
-#    loopback gets the same bytes, and ffprobe reads them.
+#    loopback gets the same bytes, and ffprobe reads them; those frames are
+#    infrared, encoded the same way.
 # TAP on stdout.
 # shellcheck source=tests/integration/lib.sh
 . "$(dirname "$0")/lib.sh"
@@ -154,8 +155,10 @@ check "its picture matches the PNG of the same frame (PSNR $psnr dB > 30)" \
 # The restarted imagerd sends to a multicast group from 127.0.0.1 with TTL 0,
 # to a listener that joined the group on loopback.
 GROUP=239.7.7.$((RANDOM % 200 + 1))
+# It renders the infrared view: those frames go out the same way.
 sed -i -e "s/^udp = .*/udp = $GROUP:$PORT/" -e 's/^ttl = 1$/ttl = 0/' \
-    -e 's/^local_address =$/local_address = 127.0.0.1/' "$TMP/imager.ini"
+    -e 's/^local_address =$/local_address = 127.0.0.1/' -e 's/^mode = visible$/mode = infrared/' \
+    "$TMP/imager.ini"
 start LM listen-group node -e 'const dgram = require("node:dgram"), fs = require("node:fs");
     const s = dgram.createSocket({ type: "udp4", reuseAddr: true });
     const ts = fs.openSync(process.argv[3], "w");
@@ -170,6 +173,7 @@ start I imagerd "$IMAGERD" --exercise "$EX" --instance imagerd.uav1 --out "$OUT"
 check "a restarted imagerd cuts the partial packet" wait_for 30 \
     grep -q "cut a partial packet (100 bytes)" "$TMP/imagerd.log"
 check "and appends" wait_for 30 bash -c "test \$(stat -c %s '$TS') -gt $size"
+check "it renders the infrared view" grep -q "640 x 480 px, infrared at" "$TMP/imagerd.log"
 check "it says it sends to the multicast group" \
     grep -q "UDP to $GROUP:$PORT (multicast)" "$TMP/imagerd.log"
 check "the group's listener on loopback gets the video" wait_for 30 \
@@ -179,6 +183,9 @@ sleep 0.3
 stop "$LM"
 gprobe=$(ffprobe -v error -show_entries stream=codec_name,codec_tag_string -of compact \
     "$TMP/group.ts" 2>&1)
+ffmpeg -v error -i "$TMP/group.ts" -frames:v 1 -vf format=rgb24 -f rawvideo "$TMP/ir.rgb"
+check "a decoded infrared frame is grey (R = G = B within the codec's error)" \
+    python3 -c "import sys; d = open(sys.argv[1], 'rb').read(); sys.exit(not d or max(max(abs(d[i] - d[i + 1]), abs(d[i + 1] - d[i + 2])) for i in range(0, len(d) - 2, 3 * 97)) > 24)" "$TMP/ir.rgb"
 check "ffprobe reads the multicast stream: H.264 and KLV" \
     bash -c "grep -q codec_name=h264 <<<'$gprobe' && grep -q 'codec_name=klv|codec_tag_string=KLVA' <<<'$gprobe'"
 check "the multicast bytes are the file's last bytes" \
