@@ -100,7 +100,7 @@ probe=$(ffprobe -v error -show_entries stream=codec_type,codec_name,codec_tag_st
 diag "$probe"
 check "ffprobe: an H.264 stream, 640 x 480" \
     grep -q 'codec_name=h264|codec_type=video|codec_tag_string=\[27\]\[0\]\[0\]\[0\]|width=640|height=480' <<<"$probe"
-check "ffprobe: a KLV data stream, codec tag KLVA (asynchronous carriage)" \
+check "ffprobe: a KLV data stream, codec tag KLVA" \
     grep -q 'codec_name=klv|codec_type=data|codec_tag_string=KLVA' <<<"$probe"
 nv=$(ffprobe -v error -select_streams v -show_entries packet=pts -of csv "$TS" | grep -c packet)
 nd=$(ffprobe -v error -select_streams d -show_entries packet=pts -of csv "$TS" | grep -c packet)
