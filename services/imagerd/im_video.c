@@ -150,7 +150,8 @@ static int s_open_muxer (im_video_t *self, char *err, size_t errlen)
     self->video->time_base = self->enc->time_base;
     self->video->avg_frame_rate = self->enc->framerate;
     self->klv->codecpar->codec_type = AVMEDIA_TYPE_DATA;
-    self->klv->codecpar->codec_id = AV_CODEC_ID_SMPTE_KLV; // profile unset: FFmpeg's default (KLVA, stream id 0xFC)
+    self->klv->codecpar->codec_id =
+        AV_CODEC_ID_SMPTE_KLV; // profile unset: FFmpeg's default (KLVA, stream id 0xFC)
     self->klv->time_base = self->enc->time_base;
     return 0;
 }
