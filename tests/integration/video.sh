@@ -131,6 +131,9 @@ n=$(sed -n 's/.*"packets":\([0-9]*\).*/\1/p' <<<"$res")
 is "${n:-0}" "$frames" "every packet decoded ($n)"
 m=$(sed -n 's/.*"matched":\([0-9]*\).*/\1/p' <<<"$res")
 check "most frames matched to their image message ($m of $n)" test "${m:-0}" -ge $((n * 3 / 4))
+pl=$(sed -n 's/.*"with_platform":\([0-9]*\).*/\1/p' <<<"$res")
+check "most frames' platform and sensor angles checked against their uav message ($pl of $m)" \
+    test "${pl:-0}" -ge $((${m:-0} * 3 / 4))
 tg=$(sed -n 's/.*"with_target":\([0-9]*\).*/\1/p' <<<"$res")
 check "frames after the designation carry the target and its track id ($tg)" test "${tg:-0}" -ge 20
 check "a flipped byte is detected" grep -q '"flip_detected":true' <<<"$res"
@@ -185,7 +188,10 @@ gprobe=$(ffprobe -v error -show_entries stream=codec_name,codec_tag_string -of c
     "$TMP/group.ts" 2>&1)
 ffmpeg -v error -i "$TMP/group.ts" -frames:v 1 -vf format=rgb24 -f rawvideo "$TMP/ir.rgb"
 check "a decoded infrared frame is grey (R = G = B within the codec's error)" \
-    python3 -c "import sys; d = open(sys.argv[1], 'rb').read(); sys.exit(not d or max(max(abs(d[i] - d[i + 1]), abs(d[i + 1] - d[i + 2])) for i in range(0, len(d) - 2, 3 * 97)) > 24)" "$TMP/ir.rgb"
+    node -e 'const d = require("node:fs").readFileSync(process.argv[1]); let worst = d.length ? 0 : 1e9;
+        for (let i = 0; i + 2 < d.length; i += 3 * 97)
+            worst = Math.max(worst, Math.abs(d[i] - d[i + 1]), Math.abs(d[i + 1] - d[i + 2]));
+        process.exit(worst > 24 ? 1 : 0);' "$TMP/ir.rgb"
 check "ffprobe reads the multicast stream: H.264 and KLV" \
     bash -c "grep -q codec_name=h264 <<<'$gprobe' && grep -q 'codec_name=klv|codec_tag_string=KLVA' <<<'$gprobe'"
 check "the multicast bytes are the file's last bytes" \

@@ -21,7 +21,8 @@
 //     CartConvert, each within its tag's quantisation;
 //   - against the `uav` message of the frame's time: platform heading,
 //     pitch and roll; the sensor's relative elevation at −depression,
-//     azimuth and roll at 0 (the fixed camera);
+//     azimuth and roll at 0 (the fixed camera); how many frames had one is
+//     counted (with_platform), and video.sh wants most;
 //   - against `intercept`: while a track is designated, tag 129 is its id
 //     and tags 40/41 lie within 1 m of that track's estimate (from `track`)
 //     moved on to the frame's time; with none, no target tags;
@@ -186,7 +187,7 @@ const near = (a, b, tol, what, k) => {
     if (!(Math.abs(a - b) <= tol)) fail(`frame ${k + 1}: ${what} ${a} is not ${b} (within ${tol})`);
 };
 const angle = (a, b) => Math.abs(((a - b + 540) % 360) - 180);
-let withTarget = 0, maxCentreM = 0, maxCentrePct = 0, offset = 0, full = 0;
+let withTarget = 0, withPlatform = 0, maxCentreM = 0, maxCentrePct = 0, offset = 0, full = 0;
 let dt0;
 matched.forEach(([d, im], j) => {
     const k = Number(im.frame_number) - 1;
@@ -234,6 +235,7 @@ matched.forEach(([d, im], j) => {
         near(d.rel_el, -(u.sensor?.depression_deg || 0), 1e-6, 'sensor relative elevation', k);
         if (angle(d.rel_az, 0) > 1e-6) fail(`frame ${k + 1}: relative azimuth ${d.rel_az}`);
         if (angle(d.rel_roll, 0) > 1e-6) fail(`frame ${k + 1}: relative roll ${d.rel_roll}`);
+        withPlatform++;
     }
     // Time: a constant offset from simulation time.
     const off = d.time_us - Math.round(t * 1e6);
@@ -274,6 +276,7 @@ console.log(JSON.stringify({
     packets: pkts.length,
     matched: matched.length,
     with_target: withTarget,
+    with_platform: withPlatform,
     offset_corners: offset,
     full_corners: full,
     max_centre_error_m: Number(maxCentreM.toFixed(3)),

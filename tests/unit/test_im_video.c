@@ -448,7 +448,10 @@ static void test_frame_code (void **state)
 static void test_file (void **state)
 {
     (void)state;
-    char path[] = "/tmp/test_im_video_XXXXXX";
+    char path[4096];
+    const char *dir = getenv ("TMPDIR");
+    snprintf (path, sizeof path, "%s/test_im_video_%s", dir && *dir ? dir : "/tmp",
+              "XXXXXX"); // mkstemp's template: it fills in the six characters
     int fd = mkstemp (path);
     assert_true (fd >= 0);
     uint8_t junk[3 * IM_VIDEO_TS_PACKET + 50];
