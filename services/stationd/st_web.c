@@ -7,6 +7,7 @@
 #include <civetweb.h>
 #include <dirent.h>
 #include <errno.h>
+#include <fcntl.h>
 #include <netinet/in.h>
 #include <pthread.h>
 #include <stdarg.h>
@@ -18,6 +19,7 @@
 #include <sys/socket.h>
 #include <sys/stat.h>
 #include <time.h>
+#include <unistd.h>
 
 #define S_PATH_MAX           4096
 #define S_REQUEST_MAX        4096        // bytes of one page message
@@ -342,14 +344,27 @@ static int s_image (struct mg_connection *conn, void *cbdata)
     snprintf (path, sizeof path, "%s", self->image_path);
     pthread_mutex_unlock (&self->lock);
     // Only a regular file named latest.png (not a link): the path comes off the bus.
+    // imagerd replaces it by renaming a new file over it, so it is opened once
+    // and sent from that one open file: its size and its bytes agree.
     const char *base = strrchr (path, '/');
+    int fd = path[0] && base && strcmp (base, "/latest.png") == 0
+                 ? open (path, O_RDONLY | O_NOFOLLOW | O_CLOEXEC)
+                 : -1;
     struct stat st;
-    if (!path[0] || !base || strcmp (base, "/latest.png") != 0 || lstat (path, &st) != 0 ||
-        !S_ISREG (st.st_mode)) {
+    uint8_t *png = NULL;
+    bool ok = fd >= 0 && fstat (fd, &st) == 0 && S_ISREG (st.st_mode) && st.st_size > 0 &&
+              st.st_size <= (off_t)64 << 20 && (png = malloc ((size_t)st.st_size)) &&
+              read (fd, png, (size_t)st.st_size) == (ssize_t)st.st_size;
+    if (fd >= 0)
+        close (fd);
+    if (!ok) {
+        free (png);
         mg_send_http_error (conn, 404, "%s", "no sensor image yet");
         return 404;
     }
-    mg_send_mime_file2 (conn, path, "image/png", "Cache-Control: no-store\r\n");
+    mg_send_http_ok (conn, "image/png", (long long)st.st_size); // with no-cache headers
+    mg_write (conn, png, (size_t)st.st_size);
+    free (png);
     return 200;
 }
 
