@@ -62,3 +62,13 @@ double cgs_footprint_signed_distance (const cgs_footprint_t *f, cgs_v2_t p)
         d = fmin (d, s_seg_dist (p, f->corner[i], f->corner[(i + 1) % 4]));
     return cgs_footprint_contains (f, p) ? -d : d;
 }
+
+cgs_enu_t cgs_footprint_corner_enu (const cgs_footprint_t *f, int i)
+{
+    return (cgs_enu_t){f->corner[i].e, f->corner[i].n, f->corner_up_m[i]};
+}
+
+cgs_enu_t cgs_footprint_center_enu (const cgs_footprint_t *f)
+{
+    return (cgs_enu_t){f->center.e, f->center.n, f->center_up_m};
+}

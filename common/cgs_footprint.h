@@ -6,6 +6,8 @@
 #ifndef CGS_FOOTPRINT_H
 #define CGS_FOOTPRINT_H
 
+#include "cgs_geo.h"
+
 #include <stdbool.h>
 
 /* A point or vector on the ground plane: east, north, metres (or m/s). */
@@ -21,6 +23,9 @@ typedef struct {
     bool clipped; // a ray met no ground within the sensor's range (its point is at that range)
 } cgs_footprint_t;
 
+/* Corner i (0..3), and the centre, as points of the local frame. */
+cgs_enu_t cgs_footprint_corner_enu (const cgs_footprint_t *f, int i);
+cgs_enu_t cgs_footprint_center_enu (const cgs_footprint_t *f);
 /* Scale a footprint about its centre by k (the display scale). */
 void cgs_footprint_scale (const cgs_footprint_t *f, double k, cgs_footprint_t *ret);
 /* True when p lies inside (or on the edge of) the convex quadrilateral. */

@@ -700,3 +700,33 @@ const char *cgs_msg_enum_short (const ProtobufCEnumDescriptor *desc, int value,
     }
     return *n == '_' && n[1] ? n + 1 : ev->name;
 }
+
+int cgs_msg_uav_camera (const Cgs__Uav *u, cgs_camera_in_t *in)
+{
+    if (!u || !in || !u->position || !u->sensor || !isfinite (u->position->east_m) ||
+        !isfinite (u->position->north_m) || !isfinite (u->position->up_m) ||
+        !isfinite (u->heading_deg) || !isfinite (u->pitch_deg) || !isfinite (u->roll_deg) ||
+        !isfinite (u->sensor->depression_deg) || !isfinite (u->sensor->hfov_deg) ||
+        !isfinite (u->sensor->vfov_deg))
+        return -EINVAL;
+    const Cgs__ImagingSensor *s = u->sensor;
+    bool staring = s->staring && s->stare_point && isfinite (s->stare_point->east_m) &&
+                   isfinite (s->stare_point->north_m) && isfinite (s->stare_point->up_m);
+    in->position = (cgs_enu_t){u->position->east_m, u->position->north_m, u->position->up_m};
+    in->heading_deg = u->heading_deg;
+    in->pitch_deg = u->pitch_deg;
+    in->roll_deg = u->roll_deg;
+    in->depression_deg = s->depression_deg;
+    in->hfov_deg = s->hfov_deg;
+    in->vfov_deg = s->vfov_deg;
+    in->point.stabilized = s->stabilized;
+    in->point.staring = staring;
+    in->point.stare_at =
+        staring ? (cgs_enu_t){s->stare_point->east_m, s->stare_point->north_m, s->stare_point->up_m}
+                : (cgs_enu_t){0, 0, 0};
+    in->point.gimbal_limited = s->gimbal_azimuth_limit_deg > 0;
+    in->point.gimbal_azimuth_deg = s->gimbal_azimuth_limit_deg;
+    in->point.gimbal_elevation_min_deg = s->gimbal_elevation_min_deg;
+    in->point.gimbal_elevation_max_deg = s->gimbal_elevation_max_deg;
+    return 0;
+}

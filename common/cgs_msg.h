@@ -13,6 +13,8 @@
 #include "tracking.pb-c.h"
 #include "world.pb-c.h"
 
+#include "cgs_camera.h"
+
 #include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
@@ -81,5 +83,14 @@ int cgs_msg_to_json (const ProtobufCMessage *msg, char **ret_json);
  * value is not one of the enum's. */
 const char *cgs_msg_enum_short (const ProtobufCEnumDescriptor *desc, int value,
                                 const char *fallback);
+
+/* The imaging sensor's camera as a `uav` message gives it, into in: the
+ * UAV's position and attitude, the sensor's depression angle and fields of
+ * view, stabilization, the stare point it is turned to (when staring) and
+ * the gimbal's limits; in's size and depth range are left as they were.
+ * -EINVAL (in unchanged) when the position, attitude or sensor is missing
+ * or not finite. Every service that needs the camera takes it this way and
+ * builds it with cgs_camera_make, so they all have the same one. */
+int cgs_msg_uav_camera (const Cgs__Uav *u, cgs_camera_in_t *in);
 
 #endif

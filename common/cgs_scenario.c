@@ -392,8 +392,9 @@ static int s_uav (s_ctx_t *c, const char *sec, cgs_scenario_uav_t *u)
 {
     static const char *const directions[] = {"clockwise", "anticlockwise", "counterclockwise",
                                              NULL};
+    static const char *const stares[] = {"off", "target", NULL};
     const cgs_dis_type_t uav_type = {1, 2, 225, 50, 0, 0, 0}; // platform, air, USA, unmanned
-    int rc, dir;
+    int rc, dir, stare;
     const char *path;
     if ((rc = s_get_marking (c, sec, u->name, u->marking)) < 0 ||
         (rc = s_get_dis_type (c, sec, "dis_type", uav_type, &u->dis_type)) < 0 ||
@@ -416,8 +417,44 @@ static int s_uav (s_ctx_t *c, const char *sec, cgs_scenario_uav_t *u)
         (rc = s_get_double (c, sec, "sensor_depression_deg", 45, 0, 90,
                             &u->sensor_depression_deg)) < 0 ||
         (rc = s_get_double (c, sec, "sensor_hfov_deg", 10, 0.1, 120, &u->sensor_hfov_deg)) < 0 ||
-        (rc = s_get_double (c, sec, "sensor_vfov_deg", 7.5, 0.1, 120, &u->sensor_vfov_deg)) < 0)
+        (rc = s_get_double (c, sec, "sensor_vfov_deg", 7.5, 0.1, 120, &u->sensor_vfov_deg)) < 0 ||
+        (rc = cgs_config_get_bool (c->cfg, sec, "sensor_stabilized", false, &u->sensor_stabilized,
+                                   c->err, c->errlen)) < 0 ||
+        (rc = cgs_config_get_enum (c->cfg, sec, "sensor_stare", stares, 0, &stare, c->err,
+                                   c->errlen)) < 0 ||
+        (rc = s_get_double (c, sec, "sensor_depression_min_deg", fmin (5, u->sensor_depression_deg),
+                            0, 90, &u->sensor_depression_min_deg)) < 0 ||
+        (rc =
+             s_get_double (c, sec, "sensor_depression_max_deg", fmax (89, u->sensor_depression_deg),
+                           0, 90, &u->sensor_depression_max_deg)) < 0 ||
+        (rc = s_get_double (c, sec, "sensor_hfov_min_deg", fmin (1, u->sensor_hfov_deg), 0.1, 120,
+                            &u->sensor_hfov_min_deg)) < 0 ||
+        (rc = s_get_double (c, sec, "sensor_hfov_max_deg", fmax (40, u->sensor_hfov_deg), 0.1, 120,
+                            &u->sensor_hfov_max_deg)) < 0 ||
+        (rc = s_get_double (c, sec, "gimbal_azimuth_limit_deg", 150, 1, 180,
+                            &u->gimbal_azimuth_limit_deg)) < 0 ||
+        (rc = s_get_double (c, sec, "gimbal_elevation_min_deg", -90, -90, 90,
+                            &u->gimbal_elevation_min_deg)) < 0 ||
+        (rc = s_get_double (c, sec, "gimbal_elevation_max_deg", 0, -90, 90,
+                            &u->gimbal_elevation_max_deg)) < 0)
         return rc;
+    u->sensor_stare_target = stare == 1;
+    if (u->sensor_depression_deg < u->sensor_depression_min_deg ||
+        u->sensor_depression_deg > u->sensor_depression_max_deg)
+        return s_key_error (c, sec, "sensor_depression_deg",
+                            "expected a depression between sensor_depression_min_deg and "
+                            "sensor_depression_max_deg (%.15g..%.15g), got %.15g",
+                            u->sensor_depression_min_deg, u->sensor_depression_max_deg,
+                            u->sensor_depression_deg);
+    if (u->sensor_hfov_deg < u->sensor_hfov_min_deg || u->sensor_hfov_deg > u->sensor_hfov_max_deg)
+        return s_key_error (c, sec, "sensor_hfov_deg",
+                            "expected a field of view between sensor_hfov_min_deg and "
+                            "sensor_hfov_max_deg (%.15g..%.15g), got %.15g",
+                            u->sensor_hfov_min_deg, u->sensor_hfov_max_deg, u->sensor_hfov_deg);
+    if (u->gimbal_elevation_min_deg > u->gimbal_elevation_max_deg)
+        return s_key_error (c, sec, "gimbal_elevation_max_deg",
+                            "expected at least gimbal_elevation_min_deg (%.15g), got %.15g",
+                            u->gimbal_elevation_min_deg, u->gimbal_elevation_max_deg);
     if (u->heading_deg == 360)
         u->heading_deg = 0;
     if (u->airspeed_mps < u->airspeed_min_mps || u->airspeed_mps > u->airspeed_max_mps)

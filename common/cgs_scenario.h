@@ -132,8 +132,17 @@ typedef struct {
     double sensor_depression_deg; // imaging sensor, below the horizon (default 45)
     double sensor_hfov_deg;       // horizontal field of view (default 10)
     double sensor_vfov_deg;       // vertical field of view (default 7.5)
-    char *radar_params;           // radar parameter file, "" when not given
-    char *bcis_params;            // BCIS parameter file, "" when not given
+    bool sensor_stabilized;       // levelled against the bank (default false)
+    bool sensor_stare_target;     // sensor_stare = off|target: staring at the designated target
+                                  // (default off)
+    double sensor_depression_min_deg, sensor_depression_max_deg; // the camera command's limits
+                                                                 // (default 5, 89)
+    double sensor_hfov_min_deg, sensor_hfov_max_deg;             // zoom limits (default 1, 40)
+    double gimbal_azimuth_limit_deg; // staring: either side of the nose (default 150)
+    double gimbal_elevation_min_deg, gimbal_elevation_max_deg; // staring: below (negative) or above
+                                                               // the body's plane (default −90, 0)
+    char *radar_params; // radar parameter file, "" when not given
+    char *bcis_params;  // BCIS parameter file, "" when not given
 } cgs_scenario_uav_t;
 
 typedef struct {

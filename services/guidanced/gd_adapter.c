@@ -215,6 +215,19 @@ static void s_publish (gd_adapter_t *self, s_uav_t *u)
     m.replans = st.replans;
     m.reason = (char *)st.reason;
     m.designation_number = st.designation_number;
+    Cgs__Enu target;
+    Cgs__EnuVelocity target_vel;
+    if (st.has_target) {
+        // At the message's time: where a camera staring at the target looks.
+        s_enu (self, &target,
+               gd_add (st.target, gd_scale (st.target_vel, self->sim_time_s - st.target_t_s)));
+        cgs__enu_velocity__init (&target_vel);
+        target_vel.east_mps = st.target_vel.e;
+        target_vel.north_mps = st.target_vel.n;
+        m.has_target = true;
+        m.target = &target;
+        m.target_velocity = &target_vel;
+    }
     cgs_port_publish (&self->port, "intercept", &m.base, self->sim_time_s);
 }
 
@@ -456,6 +469,10 @@ static void s_on_uav (gd_adapter_t *self, const Cgs__Uav *m, const Cgs__Header *
         .hfov_deg = sn->hfov_deg,
         .vfov_deg = sn->vfov_deg,
     };
+    cgs_camera_in_t cam = {0};
+    if (cgs_msg_uav_camera (m, &cam) == 0) {
+        g.camera = cam.point;
+    }
     gd_intercept_uav (u->core, &g);
     s_publish (self, u);
 }

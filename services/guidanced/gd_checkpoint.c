@@ -346,8 +346,8 @@ int gd_checkpoint_restore (gd_intercept_t *ic, const uint8_t *buf, size_t len, c
         const gd_uav_t *u = &x->uav;
         x->have_fp = false;
         if (x->have_uav) {
-            gd_sensor_t s = {u->position,       u->heading_deg, u->pitch_deg, u->roll_deg,
-                             u->depression_deg, u->hfov_deg,    u->vfov_deg,  x->p.max_range_m};
+            gd_sensor_t s;
+            gd_uav_sensor (u, x->p.max_range_m, &s);
             x->have_fp = gd_footprint (&s, x->terrain, &x->fp) == 0;
         }
         *ic = *x;

@@ -1,5 +1,6 @@
 /* gd_geom — intercept geometry, Dubins paths and the sensor footprint. */
 #include "gd_geom.h"
+#include "cgs_camera.h"
 
 #include <errno.h>
 #include <float.h>
@@ -477,62 +478,30 @@ size_t gd_dubins_sample (const gd_dubins_t *d, double step_deg, gd_v2_t *out, si
 
 /* ---- footprint ----------------------------------------------------------------------- */
 
-typedef struct {
-    double e, n, u;
-} s_v3_t;
-
-static s_v3_t s_v3 (double e, double n, double u)
-{
-    s_v3_t v = {e, n, u};
-    return v;
-}
-
-static s_v3_t s_comb (double a, s_v3_t x, double b, s_v3_t y)
-{
-    return s_v3 (a * x.e + b * y.e, a * x.n + b * y.n, a * x.u + b * y.u);
-}
-
-/* Where the ray from p along d meets the ground (cgs_terrain_ray). */
-static bool s_ray (const cgs_terrain_t *t, cgs_enu_t p, s_v3_t d, double max_range, gd_v2_t *ret,
-                   double *ret_up)
-{
-    cgs_enu_t hit;
-    bool met = cgs_terrain_ray (t, p, (cgs_enu_t){d.e, d.n, d.u}, max_range, &hit);
-    *ret = gd_v2 (hit.e_m, hit.n_m);
-    *ret_up = hit.u_m;
-    return met;
-}
-
 int gd_footprint (const gd_sensor_t *s, const cgs_terrain_t *terrain, gd_footprint_t *ret)
 {
-    if (!s || !ret || !isfinite (s->position.e_m) || !isfinite (s->position.n_m) ||
-        !isfinite (s->position.u_m) || !isfinite (s->heading_deg) || !isfinite (s->pitch_deg) ||
-        !isfinite (s->roll_deg) || !(s->depression_deg > -90 && s->depression_deg < 90) ||
-        !(s->hfov_deg > 0 && s->hfov_deg < 180) || !(s->vfov_deg > 0 && s->vfov_deg < 180) ||
-        !(s->max_range_m > 0))
+    if (!s || !ret || !(s->max_range_m > 0))
         return -EINVAL;
-    double h = s->heading_deg * S_DEG, th = s->pitch_deg * S_DEG, ph = s->roll_deg * S_DEG;
-    double ep = s->depression_deg * S_DEG;
-    // Body axes in east-north-up: forward, right (level before roll), up.
-    s_v3_t f = s_v3 (sin (h) * cos (th), cos (h) * cos (th), sin (th));
-    s_v3_t r0 = s_v3 (cos (h), -sin (h), 0);
-    s_v3_t u0 = s_v3 (r0.n * f.u - r0.u * f.n, r0.u * f.e - r0.e * f.u, r0.e * f.n - r0.n * f.e);
-    s_v3_t r = s_comb (cos (ph), r0, -sin (ph), u0);
-    s_v3_t u = s_comb (sin (ph), r0, cos (ph), u0);
-    // Camera: the body pitched down by the depression angle.
-    s_v3_t fc = s_comb (cos (ep), f, -sin (ep), u);
-    s_v3_t uc = s_comb (sin (ep), f, cos (ep), u);
-    double a = tan (s->hfov_deg * S_DEG / 2), b = tan (s->vfov_deg * S_DEG / 2);
-    const double sa[4] = {-a, -a, a, a}; // near-left, far-left, far-right, near-right
-    const double sb[4] = {-b, b, b, -b};
-    gd_footprint_t out = {0};
-    bool all = true;
-    for (int i = 0; i < 4; i++) {
-        s_v3_t d = s_comb (1.0, fc, 1.0, s_comb (sa[i], r, sb[i], uc));
-        all &= s_ray (terrain, s->position, d, s->max_range_m, &out.corner[i], &out.corner_up_m[i]);
-    }
-    all &= s_ray (terrain, s->position, fc, s->max_range_m, &out.center, &out.center_up_m);
-    out.clipped = !all;
-    *ret = out;
+    // The pixel size does not matter to the footprint: the corner rays are
+    // the image's corners whatever its size.
+    cgs_camera_in_t in = {
+        .position = s->position,
+        .heading_deg = s->heading_deg,
+        .pitch_deg = s->pitch_deg,
+        .roll_deg = s->roll_deg,
+        .depression_deg = s->depression_deg,
+        .hfov_deg = s->hfov_deg,
+        .vfov_deg = s->vfov_deg,
+        .width_px = 640,
+        .height_px = 480,
+        .near_m = 1,
+        .far_m = fmax (2, s->max_range_m),
+        .point = s->point,
+    };
+    cgs_camera_t cam;
+    int rc = cgs_camera_make (&in, &cam);
+    if (rc < 0)
+        return rc;
+    cgs_camera_footprint (&cam, terrain, s->max_range_m, ret);
     return 0;
 }

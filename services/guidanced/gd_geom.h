@@ -35,6 +35,7 @@
 #ifndef GD_GEOM_H
 #define GD_GEOM_H
 
+#include "cgs_camera.h"
 #include "cgs_footprint.h"
 #include "cgs_geo.h"
 #include "cgs_terrain.h"
@@ -195,14 +196,15 @@ size_t gd_dubins_sample (const gd_dubins_t *d, double step_deg, gd_v2_t *out, si
 /* ---- the imaging sensor's footprint ----------------------------------------------------- */
 
 typedef struct {
-    cgs_enu_t position;    // the sensor (the UAV), local frame, absolute up
-    double heading_deg;    // UAV heading, clockwise from north
-    double pitch_deg;      // nose up positive
-    double roll_deg;       // right wing down positive
-    double depression_deg; // ε: boresight below the body's forward axis
-    double hfov_deg;       // γ
-    double vfov_deg;       // β
-    double max_range_m;    // a ray that meets no ground within this is cut there
+    cgs_enu_t position;       // the sensor (the UAV), local frame, absolute up
+    double heading_deg;       // UAV heading, clockwise from north
+    double pitch_deg;         // nose up positive
+    double roll_deg;          // right wing down positive
+    double depression_deg;    // ε: boresight below the body's forward axis
+    double hfov_deg;          // γ
+    double vfov_deg;          // β
+    double max_range_m;       // a ray that meets no ground within this is cut there
+    cgs_camera_point_t point; // stabilization, stare point, gimbal
 } gd_sensor_t;
 
 /* The footprint (common/cgs_footprint.h: its corners, centre, and the
@@ -212,7 +214,8 @@ typedef cgs_footprint_t gd_footprint_t;
 /* The four ground vertices of the footprint trapezoid: the rays through
  * the corners of the image (pinhole camera: forward ± tan(γ/2)·right ±
  * tan(β/2)·up in the camera's axes) and the boresight, each met with the
- * terrain (terrain NULL: flat ground at height 0). 0 or -EINVAL. */
+ * terrain (terrain NULL: flat ground at height 0): common/cgs_camera's
+ * camera and footprint, the ones imagerd renders. 0 or -EINVAL. */
 int gd_footprint (const gd_sensor_t *s, const cgs_terrain_t *terrain, gd_footprint_t *ret);
 
 #endif

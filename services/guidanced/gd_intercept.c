@@ -454,16 +454,8 @@ void gd_intercept_uav (gd_intercept_t *self, const gd_uav_t *u)
         return;
     self->uav = *u;
     self->have_uav = true;
-    gd_sensor_t s = {
-        .position = u->position,
-        .heading_deg = u->heading_deg,
-        .pitch_deg = u->pitch_deg,
-        .roll_deg = u->roll_deg,
-        .depression_deg = u->depression_deg,
-        .hfov_deg = u->hfov_deg,
-        .vfov_deg = u->vfov_deg,
-        .max_range_m = self->p.max_range_m,
-    };
+    gd_sensor_t s;
+    gd_uav_sensor (u, self->p.max_range_m, &s);
     self->have_fp = gd_footprint (&s, self->terrain, &self->fp) == 0;
     if (self->need_plan && s_active (self->phase))
         s_plan (self);
@@ -1003,6 +995,10 @@ void gd_intercept_status (const gd_intercept_t *self, gd_status_t *ret)
     s.reason = self->reason;
     s.designation_s = self->designation_s;
     s.overflight_s = self->overflight_s;
+    s.has_target = s_active (self->phase) && self->have_track;
+    s.target = self->track.pos;
+    s.target_vel = self->track.vel;
+    s.target_t_s = self->track.t_s;
     s.y_u_m = self->wp.y_u_m;
     *ret = s;
 }
@@ -1027,4 +1023,19 @@ int gd_pick_nearest (const gd_track_t *tracks, size_t n, gd_v2_t p, gd_pick_t pi
     if (best >= 0 && ret_d_m)
         *ret_d_m = best_d;
     return best;
+}
+
+void gd_uav_sensor (const gd_uav_t *u, double max_range_m, gd_sensor_t *ret)
+{
+    *ret = (gd_sensor_t){
+        .position = u->position,
+        .heading_deg = u->heading_deg,
+        .pitch_deg = u->pitch_deg,
+        .roll_deg = u->roll_deg,
+        .depression_deg = u->depression_deg,
+        .hfov_deg = u->hfov_deg,
+        .vfov_deg = u->vfov_deg,
+        .max_range_m = max_range_m,
+        .point = u->camera,
+    };
 }

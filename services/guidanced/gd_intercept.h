@@ -74,6 +74,7 @@ typedef struct {
     double bank_limit_deg;     // for the smallest turn radius
     double depression_deg;     // imaging sensor: ε
     double hfov_deg, vfov_deg; // γ, β
+    cgs_camera_point_t camera; // stabilization, stare point, gimbal (as `uav` has them)
 } gd_uav_t;
 
 /* A track as heard on `track`. */
@@ -138,7 +139,11 @@ typedef struct {
     const char *reason; // why the latest change of phase or plan happened
     double designation_s;
     double overflight_s; // first time in the footprint (NaN before)
-    double y_u_m;        // of the latest plan (eq. 2)
+    bool has_target;     // the designated target's estimate (an active intercept with a track)
+    gd_v2_t target;      // its position at target_t_s
+    gd_v2_t target_vel;
+    double target_t_s;
+    double y_u_m; // of the latest plan (eq. 2)
 } gd_status_t;
 
 typedef struct gd_intercept gd_intercept_t;
@@ -164,6 +169,8 @@ int gd_intercept_set_scale (gd_intercept_t *self, uint32_t scale);
 /* The UAV's latest state: footprint, progress along the route, phase
  * changes that depend on where the UAV is. */
 void gd_intercept_uav (gd_intercept_t *self, const gd_uav_t *u);
+/* The imaging sensor of u, as gd_footprint takes it. */
+void gd_uav_sensor (const gd_uav_t *u, double max_range_m, gd_sensor_t *ret);
 /* A track update (any track: others are ignored). */
 void gd_intercept_track (gd_intercept_t *self, const gd_track_t *t);
 /* A turn event of a track (paper, equation 8): velocity after the turn. */

@@ -5,13 +5,12 @@
 #include <math.h>
 #include <stdio.h>
 
-int im_frame_camera (const im_params_t *p, const im_uav_t *u, double t, const cgs_enu_t *stare_at,
-                     im_camera_t *ret)
+int im_frame_camera (const im_params_t *p, const im_uav_t *u, double t, cgs_camera_t *ret)
 {
     if (!u->valid)
         return -EINVAL;
     double dt = isfinite (t - u->time_s) ? t - u->time_s : 0.0;
-    im_camera_in_t in = {
+    cgs_camera_in_t in = {
         .position = {u->position.e_m + u->velocity.e_m * dt, u->position.n_m + u->velocity.n_m * dt,
                      u->position.u_m + u->velocity.u_m * dt},
         .heading_deg = u->heading_deg,
@@ -24,21 +23,14 @@ int im_frame_camera (const im_params_t *p, const im_uav_t *u, double t, const cg
         .height_px = p->height_px,
         .near_m = p->near_m,
         .far_m = p->max_range_m,
-        .stabilized = p->stabilized,
+        .point = u->point,
     };
-    im_camera_t cam;
-    int rc = im_camera_make (&in, &cam);
-    if (rc < 0)
-        return rc;
-    if (stare_at)
-        im_camera_stare (&cam, *stare_at); // a target straight below keeps the fixed boresight
-    *ret = cam;
-    return 0;
+    return cgs_camera_make (&in, ret);
 }
 
-void im_frame_target (const im_camera_t *cam, const cgs_terrain_t *terrain, const im_entity_t *ents,
-                      size_t n, bool have_track, cgs_enu_t track_at, double gate_m,
-                      im_target_t *ret)
+void im_frame_target (const cgs_camera_t *cam, const cgs_terrain_t *terrain,
+                      const im_entity_t *ents, size_t n, bool have_track, cgs_enu_t track_at,
+                      double gate_m, im_target_t *ret)
 {
     im_target_t out = {0};
     const im_entity_t *best = NULL;
@@ -60,10 +52,10 @@ void im_frame_target (const im_camera_t *cam, const cgs_terrain_t *terrain, cons
                             (c.n_m - cam->eye.n_m) * (c.n_m - cam->eye.n_m) +
                             (c.u_m - cam->eye.u_m) * (c.u_m - cam->eye.u_m));
         double depth;
-        out.projected = im_camera_project (cam, c, &out.px_x, &out.px_y, &depth);
+        out.projected = cgs_camera_project (cam, c, &out.px_x, &out.px_y, &depth);
         if (out.projected)
             out.size_px = len / depth / cam->tan_h * cam->width_px / 2;
-        if (im_camera_in_view (cam, c)) {
+        if (cgs_camera_in_view (cam, c)) {
             out.occluded = terrain && !cgs_terrain_los (terrain, cam->eye, c);
             out.in_view = !out.occluded;
         }
@@ -71,7 +63,7 @@ void im_frame_target (const im_camera_t *cam, const cgs_terrain_t *terrain, cons
     *ret = out;
 }
 
-size_t im_frame_labels (const im_camera_t *cam, const cgs_terrain_t *terrain,
+size_t im_frame_labels (const cgs_camera_t *cam, const cgs_terrain_t *terrain,
                         const im_entity_t *ents, size_t n, im_label_t *ret, size_t cap)
 {
     size_t lim = cap < IM_LABELS_MAX ? cap : IM_LABELS_MAX, k = 0;
@@ -84,7 +76,7 @@ size_t im_frame_labels (const im_camera_t *cam, const cgs_terrain_t *terrain,
         im_model_extent (e->kind, &len, &wid, &hgt);
         cgs_enu_t top = {e->position.e_m, e->position.n_m, e->position.u_m + hgt};
         double x, y, depth;
-        if (!im_camera_in_view (cam, top) || !im_camera_project (cam, top, &x, &y, &depth) ||
+        if (!cgs_camera_in_view (cam, top) || !cgs_camera_project (cam, top, &x, &y, &depth) ||
             (terrain && !cgs_terrain_los (terrain, cam->eye, top)))
             continue;
         if (k == lim && (lim == 0 || depth >= dist[k - 1]))
@@ -109,25 +101,26 @@ void im_frame_status_lines (const im_entity_t *e, char lines[3][24])
     snprintf (lines[2], 24, "%.0f KM/H", isfinite (e->speed_mps) ? e->speed_mps * 3.6 : 0.0);
 }
 
-void im_frame_overlay (double t_s, const im_uav_t *u, const im_camera_t *cam,
-                       const im_footprint_t *fp, const cgs_geo_t *frame, char lines[4][96])
+void im_frame_overlay (double t_s, const im_uav_t *u, const cgs_camera_t *cam,
+                       const cgs_footprint_t *fp, const cgs_geo_t *frame, char lines[4][96])
 {
     int h = (int)floor (t_s / 3600), m = (int)floor (fmod (t_s, 3600) / 60);
     double s = fmod (t_s, 60);
     snprintf (lines[0], 96, "T+%02d:%02d:%04.1f  HDG %03.0f  DEP %.0f", h, m, s, cam->heading_deg,
               -cam->pitch_deg);
     snprintf (lines[1], 96, "ALT %.0f M AGL  %.0f M", u->altitude_agl_m, cam->eye.u_m);
-    double dx = fp->center.e_m - cam->eye.e_m, dy = fp->center.n_m - cam->eye.n_m;
-    double dz = fp->center.u_m - cam->eye.u_m;
+    cgs_enu_t ctr = cgs_footprint_center_enu (fp);
+    double dx = ctr.e_m - cam->eye.e_m, dy = ctr.n_m - cam->eye.n_m;
+    double dz = ctr.u_m - cam->eye.u_m;
     snprintf (lines[2], 96, "SLANT %.0f M%s", sqrt (dx * dx + dy * dy + dz * dz),
               fp->clipped ? "  NO GROUND" : "");
     cgs_geodetic_t g;
     char mgrs[48];
-    if (frame && cgs_geo_enu_to_geodetic (frame, fp->center, &g) == 0 &&
+    if (frame && cgs_geo_enu_to_geodetic (frame, ctr, &g) == 0 &&
         cgs_geo_to_mgrs (g, 5, mgrs, sizeof mgrs) == 0)
         snprintf (lines[3], 96, "CTR %s", mgrs);
     else
-        snprintf (lines[3], 96, "CTR E %.0f N %.0f", fp->center.e_m, fp->center.n_m);
+        snprintf (lines[3], 96, "CTR E %.0f N %.0f", ctr.e_m, ctr.n_m);
 }
 
 static double s_dot3 (cgs_enu_t a, cgs_enu_t b)
@@ -135,7 +128,7 @@ static double s_dot3 (cgs_enu_t a, cgs_enu_t b)
     return a.e_m * b.e_m + a.n_m * b.n_m + a.u_m * b.u_m;
 }
 
-int im_frame_klv (const im_camera_t *cam, const im_footprint_t *fp, const im_uav_t *u,
+int im_frame_klv (const cgs_camera_t *cam, const cgs_footprint_t *fp, const im_uav_t *u,
                   const cgs_geo_t *frame, double unix_time_s, const char *mission_id,
                   bool has_target, cgs_enu_t target, uint32_t track_id, im_klv_frame_t *ret)
 {
@@ -154,18 +147,18 @@ int im_frame_klv (const im_camera_t *cam, const im_footprint_t *fp, const im_uav
     ret->hfov_deg = u->hfov_deg;
     ret->vfov_deg = u->vfov_deg;
     // The platform's body axes: the camera's axes with no depression, not levelled.
-    im_camera_in_t in = {.position = cam->eye,
-                         .heading_deg = u->heading_deg,
-                         .pitch_deg = u->pitch_deg,
-                         .roll_deg = u->roll_deg,
-                         .hfov_deg = u->hfov_deg,
-                         .vfov_deg = u->vfov_deg,
-                         .width_px = 1,
-                         .height_px = 1,
-                         .near_m = 1,
-                         .far_m = 2};
-    im_camera_t body;
-    if (im_camera_make (&in, &body) == 0) {
+    cgs_camera_in_t in = {.position = cam->eye,
+                          .heading_deg = u->heading_deg,
+                          .pitch_deg = u->pitch_deg,
+                          .roll_deg = u->roll_deg,
+                          .hfov_deg = u->hfov_deg,
+                          .vfov_deg = u->vfov_deg,
+                          .width_px = 1,
+                          .height_px = 1,
+                          .near_m = 1,
+                          .far_m = 2};
+    cgs_camera_t body;
+    if (cgs_camera_make (&in, &body) == 0) {
         const double deg = 180.0 / M_PI;
         double x = s_dot3 (cam->forward, body.forward), y = s_dot3 (cam->forward, body.right);
         double z = s_dot3 (cam->forward, body.up);
@@ -184,17 +177,17 @@ int im_frame_klv (const im_camera_t *cam, const im_footprint_t *fp, const im_uav
     }
     if (fp->clipped) // a ray met no ground: no frame centre, corners or slant range on it
         goto target;
-    cgs_enu_t d = {fp->center.e_m - cam->eye.e_m, fp->center.n_m - cam->eye.n_m,
-                   fp->center.u_m - cam->eye.u_m};
+    cgs_enu_t ctr = cgs_footprint_center_enu (fp);
+    cgs_enu_t d = {ctr.e_m - cam->eye.e_m, ctr.n_m - cam->eye.n_m, ctr.u_m - cam->eye.u_m};
     ret->slant_range_m = sqrt (s_dot3 (d, d));
-    if (cgs_geo_enu_to_geodetic (frame, fp->center, &g) == 0) {
+    if (cgs_geo_enu_to_geodetic (frame, ctr, &g) == 0) {
         ret->frame_center_lat_deg = g.lat_deg;
         ret->frame_center_lon_deg = g.lon_deg;
         ret->frame_center_elev_m = g.height_m;
     }
     static const int order[4] = {1, 2, 3, 0}; // far-left, far-right, near-right, near-left
     for (int i = 0; i < 4; i++)
-        if (cgs_geo_enu_to_geodetic (frame, fp->corner[order[i]], &g) == 0) {
+        if (cgs_geo_enu_to_geodetic (frame, cgs_footprint_corner_enu (fp, order[i]), &g) == 0) {
             ret->corner_lat_deg[i] = g.lat_deg;
             ret->corner_lon_deg[i] = g.lon_deg;
         }

@@ -10,7 +10,7 @@
 #include <stdbool.h>
 #include <stddef.h>
 
-typedef enum { IM_MODE_VISIBLE = 0, IM_MODE_INFRARED = 1 } im_mode_t;
+typedef enum { IM_MODE_VISIBLE = 0, IM_MODE_INFRARED = 1, IM_MODE_SAR = 2 } im_mode_t;
 typedef enum { IM_WHITE_HOT = 0, IM_BLACK_HOT = 1 } im_polarity_t;
 
 typedef struct {

@@ -319,7 +319,7 @@ static void s_kind_color (cgs_kind_t k, float c[3])
     memcpy (c, colors[(unsigned)k < S_KINDS ? k : 0], 3 * sizeof *c);
 }
 
-int im_renderer_draw (im_renderer_t *self, const im_camera_t *cam, const im_params_t *p,
+int im_renderer_draw (im_renderer_t *self, const cgs_camera_t *cam, const im_params_t *p,
                       const im_entity_t *ents, size_t n, uint8_t *rgba, char *err, size_t errlen)
 {
     memset (&self->stats, 0, sizeof self->stats);
@@ -360,7 +360,7 @@ int im_renderer_draw (im_renderer_t *self, const im_camera_t *cam, const im_para
     glUniform1f (self->u.tmin, (float)p->display_min_k);
     glUniform1f (self->u.tmax, (float)p->display_max_k);
     double planes[6][4];
-    im_camera_frustum (cam, planes);
+    cgs_camera_frustum (cam, planes);
     // Terrain: each chunk in view at its level of detail.
     static const float identity[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
     glUniformMatrix3fv (self->u.rot, 1, GL_FALSE, identity);
@@ -370,7 +370,7 @@ int im_renderer_draw (im_renderer_t *self, const im_camera_t *cam, const im_para
         glBindVertexArray (self->terrain_vao);
         for (size_t i = 0; i < self->nchunks; i++) {
             const im_chunk_t *c = &self->chunks[i];
-            if (im_frustum_culls ((const double (*)[4])planes, c->lo, c->hi)) {
+            if (cgs_frustum_culls ((const double (*)[4])planes, c->lo, c->hi)) {
                 self->stats.chunks_culled++;
                 continue;
             }
@@ -389,7 +389,7 @@ int im_renderer_draw (im_renderer_t *self, const im_camera_t *cam, const im_para
         double r = self->model_radius[k];
         cgs_enu_t lo = {e->position.e_m - r, e->position.n_m - r, e->position.u_m - r};
         cgs_enu_t hi = {e->position.e_m + r, e->position.n_m + r, e->position.u_m + 2 * r};
-        if (im_frustum_culls ((const double (*)[4])planes, lo, hi))
+        if (cgs_frustum_culls ((const double (*)[4])planes, lo, hi))
             continue;
         double h = e->heading_deg * S_DEG;
         // Columns: model x (right), y (forward), z (up) in the local frame.

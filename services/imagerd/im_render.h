@@ -10,7 +10,7 @@
 #ifndef IM_RENDER_H
 #define IM_RENDER_H
 
-#include "im_camera.h"
+#include "cgs_camera.h"
 #include "im_params.h"
 #include "im_scene.h"
 
@@ -43,7 +43,7 @@ const char *im_renderer_gl (const im_renderer_t *self);
 
 /* Draw one frame and read it into rgba (width × height × 4 bytes, top row
  * first). 0, or -EIO with the reason in err (a GL error). */
-int im_renderer_draw (im_renderer_t *self, const im_camera_t *cam, const im_params_t *p,
+int im_renderer_draw (im_renderer_t *self, const cgs_camera_t *cam, const im_params_t *p,
                       const im_entity_t *ents, size_t n, uint8_t *rgba, char *err, size_t errlen);
 
 /* What the last draw did. */

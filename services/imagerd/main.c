@@ -7,12 +7,13 @@
  * for the map display, written by a thread off the rendering path. The
  * camera, scene, renderer and post-processing are in im_*.c; the OpenGL
  * context in ctx/ (one backend per build); this file wires them to the bus. */
+#include "cgs_ckpt.h"
 #include "cgs_entities.h"
 #include "cgs_log.h"
 #include "cgs_scenario.h"
 #include "cgs_sensor.h"
 #include "cgs_service.h"
-#include "im_camera.h"
+#include "cgs_camera.h"
 #include "im_ctx.h"
 #include "im_frame.h"
 #include "im_params.h"
@@ -42,6 +43,7 @@ typedef struct {
     cgs_service_t *svc;
     cgs_sensor_t sensor; // its UAV, scenario and terrain
     im_params_t params;
+    im_mode_t mode; // the sensor's mode now: the parameters' at first, then as commanded
     char out_dir[4096];
     char latest_path[4096 + 16]; // out_dir/latest.png, absolute
     im_ctx_t *ctx;
@@ -189,7 +191,7 @@ static void s_queue_png (s_app_t *app, const char *name)
 /* The frame as video: its KLV from the same camera and footprint as the
  * `image` message, H.264 and KLV muxed to the outputs, and its bytes on
  * `video` for the map. */
-static void s_encode (s_app_t *app, double t, const im_camera_t *cam, const im_footprint_t *fp,
+static void s_encode (s_app_t *app, double t, const cgs_camera_t *cam, const cgs_footprint_t *fp,
                       cgs_enu_t track_at)
 {
     const char *mission = app->params.video_mission_id[0]
@@ -225,7 +227,9 @@ static void s_encode (s_app_t *app, double t, const im_camera_t *cam, const im_f
 
 static void s_render (s_app_t *app, double t)
 {
-    const im_params_t *p = &app->params;
+    im_params_t pm = app->params; // with the mode as commanded
+    pm.mode = app->mode;
+    const im_params_t *p = &pm;
     cgs_enu_t track_at = {0};
     if (app->have_track) {
         double dt = t - app->track_t;
@@ -233,9 +237,8 @@ static void s_render (s_app_t *app, double t)
         track_at.n_m = app->track_pos.n_m + app->track_vel.n_m * dt;
         track_at.u_m = cgs_terrain_height_clamped (app->sensor.terrain, track_at.e_m, track_at.n_m);
     }
-    im_camera_t cam;
-    if (im_frame_camera (p, &app->uav, t, p->staring && app->have_track ? &track_at : NULL, &cam) <
-        0) {
+    cgs_camera_t cam;
+    if (im_frame_camera (p, &app->uav, t, &cam) < 0) {
         cgs_health_set_error (cgs_service_health (app->svc), "a frame's camera could not be made");
         return;
     }
@@ -249,8 +252,8 @@ static void s_render (s_app_t *app, double t)
     }
     if (p->mode == IM_MODE_INFRARED)
         im_post_infrared (&app->post, app->rgba, p);
-    im_footprint_t fp;
-    im_camera_footprint (&cam, app->sensor.terrain, p->max_range_m, &fp);
+    cgs_footprint_t fp;
+    cgs_camera_footprint (&cam, app->sensor.terrain, p->max_range_m, &fp);
     if (p->status_blocks) {
         static im_label_t labels[IM_LABELS_MAX];
         size_t nl =
@@ -310,10 +313,10 @@ static void s_render (s_app_t *app, double t)
     pose.hfov_deg = app->uav.hfov_deg;
     pose.vfov_deg = app->uav.vfov_deg;
     for (int i = 0; i < 4; i++) {
-        s_enu (&corners[i], fp.corner[i]);
+        s_enu (&corners[i], cgs_footprint_corner_enu (&fp, i));
         cptrs[i] = &corners[i];
     }
-    s_enu (&center, fp.center);
+    s_enu (&center, cgs_footprint_center_enu (&fp));
     f.n_corners = 4;
     f.corners = cptrs;
     f.center = &center;
@@ -329,8 +332,7 @@ static void s_render (s_app_t *app, double t)
     m.target_entity_id = tg.known ? tg.entity_id : 0;
     m.width_px = (uint32_t)p->width_px;
     m.height_px = (uint32_t)p->height_px;
-    m.mode = p->mode == IM_MODE_INFRARED ? CGS__IMAGE_MODE__IMAGE_MODE_INFRARED
-                                         : CGS__IMAGE_MODE__IMAGE_MODE_VISIBLE;
+    m.mode = (Cgs__ImageMode)p->mode; // the same values
     m.path = name;
     m.latest_path = latest ? app->latest_path : "";
     cgs_service_set_sim_time (app->svc, t);
@@ -377,8 +379,12 @@ static void s_on_uav (void *arg, const char *topic, const ProtobufCMessage *msg,
         .vfov_deg = s && s->vfov_deg > 0 ? s->vfov_deg : su->sensor_vfov_deg,
         .time_s = t,
     };
-    im_camera_t cam; // refused here, at intake, when no camera can be made of it
-    if (im_frame_camera (&app->params, &nu, t, NULL, &cam) < 0) {
+    cgs_camera_in_t ci = {0};
+    if (cgs_msg_uav_camera (u, &ci) == 0) {
+        nu.point = ci.point;
+    }
+    cgs_camera_t cam; // refused here, at intake, when no camera can be made of it
+    if (im_frame_camera (&app->params, &nu, t, &cam) < 0) {
         s_bad (app, "a uav message whose attitude or sensor (depression in (-90, 90), fields "
                     "of view in (0, 180)) cannot make a camera");
         return;
@@ -414,11 +420,77 @@ static void s_on_uav (void *arg, const char *topic, const ProtobufCMessage *msg,
     cgs_entities_evict (app->ents, t, S_STALE_S);
 }
 
+static const char *s_mode_name (im_mode_t m)
+{
+    return m == IM_MODE_INFRARED ? "infrared" : m == IM_MODE_SAR ? "SAR" : "visible";
+}
+
+/* The sensor's mode: visible, infrared (FLIR) or SAR. */
+static void s_on_mode (s_app_t *app, const Cgs__SetSensorMode *m, Cgs__Reply *reply)
+{
+    if (m->uav_id && m->uav_id != app->sensor.uav_id) {
+        reply->status = CGS__REPLY_STATUS__REPLY_STATUS_ERROR;
+        snprintf (app->detail, sizeof app->detail, "this imagerd serves %s (entity %u), not %u",
+                  app->sensor.uav_name, app->sensor.uav_id, m->uav_id);
+        reply->error = app->detail;
+        return;
+    }
+    if ((unsigned)m->mode > IM_MODE_SAR) {
+        reply->status = CGS__REPLY_STATUS__REPLY_STATUS_ERROR;
+        snprintf (app->detail, sizeof app->detail,
+                  "unknown sensor mode %d (visible 0, infrared 1, SAR 2)", (int)m->mode);
+        reply->error = app->detail;
+        return;
+    }
+    im_mode_t was = app->mode;
+    app->mode = (im_mode_t)m->mode;
+    snprintf (app->detail, sizeof app->detail, "%s: imaging sensor %s (was %s)",
+              app->sensor.uav_name, s_mode_name (app->mode), s_mode_name (was));
+    cgs_log (LOG_NOTICE, "%s", app->detail);
+    reply->detail = app->detail;
+}
+
+/* Saved state: a cgs_ckpt frame "IMGR", version 1: the mode (u32). */
+#define S_STATE_MAGIC   "IMGR"
+#define S_STATE_VERSION 1u
+#define S_STATE_WHAT    "imagerd state"
+
+static int s_save (void *arg, uint8_t **ret_buf, size_t *ret_len)
+{
+    s_app_t *app = arg;
+    cgs_ckpt_writer_t w;
+    cgs_ckpt_writer_init (&w, S_STATE_MAGIC, S_STATE_VERSION);
+    cgs_ckpt_put_u32 (&w, (uint32_t)app->mode);
+    return cgs_ckpt_writer_finish (&w, ret_buf, ret_len);
+}
+
+static int s_restore (s_app_t *app, const uint8_t *buf, size_t len, char *err, size_t errlen)
+{
+    cgs_ckpt_reader_t r;
+    int rc =
+        cgs_ckpt_open (&r, buf, len, S_STATE_MAGIC, S_STATE_VERSION, S_STATE_WHAT, err, errlen);
+    if (rc < 0)
+        return rc;
+    uint32_t mode = cgs_ckpt_get_u32 (&r);
+    if ((rc = cgs_ckpt_end (&r, S_STATE_WHAT, err, errlen)) < 0)
+        return rc;
+    if (mode > IM_MODE_SAR) {
+        snprintf (err, errlen, "an %s with an unknown mode %u", S_STATE_WHAT, mode);
+        return -EPROTO;
+    }
+    app->mode = (im_mode_t)mode;
+    return 0;
+}
+
 static void s_on_command (void *arg, const Cgs__Command *cmd, Cgs__Reply *reply)
 {
     s_app_t *app = arg;
     if (cmd->body_case == CGS__COMMAND__BODY_PING)
         return;
+    if (cmd->body_case == CGS__COMMAND__BODY_SET_SENSOR_MODE) {
+        s_on_mode (app, cmd->set_sensor_mode, reply);
+        return;
+    }
     if (cmd->body_case != CGS__COMMAND__BODY_SNAPSHOT) {
         reply->status = CGS__REPLY_STATUS__REPLY_STATUS_UNSUPPORTED;
         snprintf (app->detail, sizeof app->detail, "imagerd does not handle %s",
@@ -571,7 +643,8 @@ int main (int argc, char **argv)
     };
     cgs_service_info_t info = {
         .program = "imagerd",
-        .summary = "Imaging sensor of one UAV: renders its view headless (visible or infrared).",
+        .summary = "Imaging sensor of one UAV: renders its view headless (visible, infrared or "
+                   "SAR).",
         .options = options,
         .on_option = s_on_option,
         .option_arg = &app,
@@ -590,9 +663,20 @@ int main (int argc, char **argv)
         exit_code = 0;
         goto done;
     }
-    if (cgs_service_instance (app.svc)->command[0] &&
-        cgs_service_serve_commands (app.svc, s_on_command, NULL, &app) < 0)
-        goto done;
+    app.mode = app.params.mode;
+    if (cgs_service_instance (app.svc)->command[0]) {
+        if (cgs_service_serve_commands (app.svc, s_on_command, s_save, &app) < 0)
+            goto done;
+        const uint8_t *saved = NULL;
+        size_t saved_len = 0;
+        cgs_service_saved_state (app.svc, &saved, &saved_len);
+        if (saved_len > 0 && s_restore (&app, saved, saved_len, err, sizeof err) < 0) {
+            cgs_log (LOG_WARNING, "saved state ignored (%s); the mode is the parameters'", err);
+            cgs_health_set_error (cgs_service_health (app.svc), err);
+        } else if (saved_len > 0) {
+            cgs_log (LOG_NOTICE, "resumed in the saved mode: %s", s_mode_name (app.mode));
+        }
+    }
     if (cgs_service_subscribe (app.svc, "entity", s_on_entity, &app) < 0 ||
         cgs_service_subscribe (app.svc, "intercept", s_on_intercept, &app) < 0 ||
         cgs_service_subscribe (app.svc, "track", s_on_track, &app) < 0 ||

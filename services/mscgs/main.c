@@ -12,11 +12,13 @@
  *   mscgs keygen NAME [--dir DIR] | keygen --group [NAME] [--dir DIR]
  *   mscgs loiter|goto|route|altitude|speed|pause|resume|time-scale ...   (uavsim)
  *   mscgs designate|cancel|footprint-scale|intercept-mode ...            (guidanced)
+ *   mscgs camera ..., mscgs sensor MODE      (the imaging sensor: uavsim, imagerd)
  *   mscgs snapshot [N], mscgs fault INSTANCE ..., mscgs montecarlo ...
  */
 #include "cgs_service.h"
 #include "ms_cmd_admin.h"
 #include "ms_cmd_operator.h"
+#include "ms_cmd_sensor.h"
 #include "ms_cmd_status.h"
 #include "ms_montecarlo.h"
 #include "ms_opts.h"
@@ -47,6 +49,9 @@ static void s_usage (FILE *f)
                 "  intercept-mode head-on|mti-hits      the intercept (guidanced); --help\n"
                 "  snapshot [N]  write the imaging sensor's next N frames (default 1) as PNG\n"
                 "           files in imagerd's output folder [--to INSTANCE] [--uav ID]\n"
+                "  camera [--depression DEG] [--fov DEG] [--stabilized on|off]\n"
+                "           [--stare off|target|POS]   point the imaging sensor (uavsim)\n"
+                "  sensor visible|infrared|sar   the imaging sensor's mode (imagerd)\n"
                 "  fault INSTANCE crash | hang [S] | slow MS [S]   the debug-only fault\n"
                 "           channel of a test build (FAULT=1); --help\n"
                 "  montecarlo  whole scenes in lockstep, many runs, with the imaged rate and\n"
@@ -71,6 +76,8 @@ static const struct {
     {"topics", ms_topics_main},
     {"keygen", ms_keygen_main},
     {"snapshot", ms_snapshot_main},
+    {"camera", ms_camera_main},
+    {"sensor", ms_sensor_main},
     {"fault", ms_fault_main},
     {"montecarlo", ms_montecarlo_main},
     {"loiter", ms_task_main},

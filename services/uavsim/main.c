@@ -208,6 +208,15 @@ static void s_on_command (void *arg, const Cgs__Command *cmd, Cgs__Reply *reply)
     reply->detail = app->detail;
 }
 
+/* guidanced's target estimate, for a camera staring at the target. */
+static void s_on_intercept (void *arg, const char *topic, const ProtobufCMessage *msg,
+                            const Cgs__Header *hdr)
+{
+    (void)topic;
+    s_app_t *app = arg;
+    uavsim_adapter_on_intercept (app->adapter, (const Cgs__Intercept *)msg, hdr->sim_time_s);
+}
+
 static void s_on_checkpoint (void *arg)
 {
     s_app_t *app = arg;
@@ -302,6 +311,12 @@ int main (int argc, char **argv)
         app.time_scale = cgs_service_time_scale (app.svc); // --time-scale on the command line wins
     s_anchor (&app);
     s_publish_due (&app, true);
+    // guidanced's target estimates, for a camera staring at the target (an
+    // exercise without a guidanced has none to hear).
+    const cgs_instance_t *gd[1];
+    if (cgs_exercise_publishers_of (cgs_service_exercise (app.svc), "intercept", gd, 1) > 0 &&
+        cgs_service_subscribe (app.svc, "intercept", s_on_intercept, &app) < 0)
+        goto done;
     cgs_loop_t *loop = cgs_service_loop (app.svc);
     cgs_loop_add_timer (loop, S_TICK_S, s_on_tick, &app);
     cgs_loop_add_timer (loop, scn->settings.checkpoint_interval_s, s_on_checkpoint, &app);

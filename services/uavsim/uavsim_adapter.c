@@ -258,6 +258,40 @@ int uavsim_adapter_command (uavsim_adapter_t *self, const Cgs__Command *cmd, Cgs
             return 0;
         }
         break;
+    case CGS__COMMAND__BODY_SET_CAMERA: {
+        const Cgs__SetCamera *c = cmd->set_camera;
+        if ((i = s_uav (self, c->uav_id, reply)) < 0)
+            return 0;
+        uavsim_camera_cmd_t cc = {
+            .set = c->set,
+            .depression_deg = c->depression_deg,
+            .hfov_deg = c->hfov_deg,
+            .stabilized = c->stabilized,
+            .stare = (uavsim_stare_t)c->stare,
+            .stare_point = c->stare_point ? s_enu (c->stare_point) : (cgs_enu_t){NAN, NAN, 0},
+        };
+        char why[200];
+        const cgs_scenario_t *sc = uavsim_world_scenario (self->world);
+        uavsim_camera_t *cam = uavsim_world_camera (self->world, (size_t)i);
+        if (uavsim_camera_set (cam, &sc->uavs[i], uavsim_world_terrain (self->world), &cc, why,
+                               sizeof why) < 0) {
+            s_refuse (self, reply, why);
+            return 0;
+        }
+        static const char *const stares[] = {"off", "at a point", "at the designated target"};
+        snprintf (self->detail, sizeof self->detail,
+                  "camera of %s: depression %.1f deg, field of view %.2f x %.2f deg, %s, staring "
+                  "%s, at t=%.2f s",
+                  sc->uavs[i].name, cam->depression_deg, cam->hfov_deg, cam->vfov_deg,
+                  cam->stabilized ? "stabilized" : "not stabilized", stares[cam->stare],
+                  uavsim_world_time (self->world));
+        s_publish_uavs (self, uavsim_world_time (self->world));
+        cgs_port_log (&self->port, LOG_INFO, "%s (from %s #%llu)", self->detail,
+                      cmd->client_id ? cmd->client_id : "",
+                      (unsigned long long)cmd->command_number);
+        reply->detail = self->detail;
+        return 0;
+    }
     case CGS__COMMAND__BODY_PING:
     case CGS__COMMAND__BODY_PAUSE:
     case CGS__COMMAND__BODY_RESUME:
@@ -280,4 +314,16 @@ int uavsim_adapter_command (uavsim_adapter_t *self, const Cgs__Command *cmd, Cgs
                   cmd->client_id ? cmd->client_id : "", (unsigned long long)cmd->command_number);
     reply->detail = self->detail;
     return 0;
+}
+
+void uavsim_adapter_on_intercept (uavsim_adapter_t *self, const Cgs__Intercept *m, double t_s)
+{
+    int i = m->uav_id ? uavsim_world_find_uav (self->world, m->uav_id) : -1;
+    if (i < 0)
+        return;
+    bool have = m->track_id != 0 && m->has_target && m->target && m->target_velocity;
+    cgs_enu_t p = have ? s_enu (m->target) : (cgs_enu_t){0, 0, 0};
+    cgs_enu_t v = have ? (cgs_enu_t){m->target_velocity->east_mps, m->target_velocity->north_mps, 0}
+                       : (cgs_enu_t){0, 0, 0};
+    uavsim_camera_target (uavsim_world_camera (self->world, (size_t)i), have, p, v, t_s);
 }

@@ -1,7 +1,8 @@
 /* uavsim_adapter — uavsim's pure layer between the world and its
  * transport. It steps the world, publishes through its port what is due at
  * each step (`entity`, `uav` and `clock`, each at the scenario's rate), and
- * judges the UAV commands (route task, go to, loiter, altitude, speed): each
+ * judges the UAV commands (route task, go to, loiter, altitude, speed,
+ * camera): each
  * is applied whole or not at all, and a task's acceptance republishes the
  * UAVs at once. Pacing (the time scale, pause) belongs to the transport: the
  * daemon steps the adapter as wall time passes, the mscgs tool's lockstep
@@ -40,6 +41,10 @@ void uavsim_adapter_publish_clock (uavsim_adapter_t *self);
  * filled). The reply's texts live in the adapter until the
  * next command. */
 int uavsim_adapter_command (uavsim_adapter_t *self, const Cgs__Command *cmd, Cgs__Reply *reply);
+/* guidanced's `intercept` of time t_s: the designated target's estimate,
+ * where a camera staring at the target looks (another UAV's, or one without
+ * a UAV, is ignored). */
+void uavsim_adapter_on_intercept (uavsim_adapter_t *self, const Cgs__Intercept *m, double t_s);
 /* The world. */
 uavsim_world_t *uavsim_adapter_world (uavsim_adapter_t *self);
 

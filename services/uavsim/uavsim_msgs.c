@@ -24,6 +24,7 @@ struct uavsim_msgs {
     Cgs__EnuVelocity uav_vel;
     Cgs__LoiterOrbit loiter;
     Cgs__ImagingSensor sensor;
+    Cgs__Enu stare_point;
     Cgs__Enu route[UAVSIM_UAV_ROUTE_MAX];
     Cgs__Enu *route_ptrs[UAVSIM_UAV_ROUTE_MAX];
     Cgs__Clock clock;
@@ -237,16 +238,43 @@ Cgs__Uav *uavsim_msgs_uav (uavsim_msgs_t *self, uavsim_world_t *world, size_t i)
     m->n_route = n;
     m->route = self->route_ptrs;
     m->route_index = (uint32_t)u.route_index;
-    self->sensor.depression_deg = su->sensor_depression_deg;
-    self->sensor.hfov_deg = su->sensor_hfov_deg;
-    self->sensor.vfov_deg = su->sensor_vfov_deg;
+    const uavsim_camera_t *cs = uavsim_world_camera (world, i);
+    const cgs_terrain_t *terrain = uavsim_world_terrain (world);
+    cgs__enu__init (&self->stare_point);
+    self->sensor.depression_deg = cs->depression_deg;
+    self->sensor.hfov_deg = cs->hfov_deg;
+    self->sensor.vfov_deg = cs->vfov_deg;
+    self->sensor.stabilized = cs->stabilized;
+    self->sensor.stare = (Cgs__StareMode)cs->stare;
+    self->sensor.gimbal_azimuth_limit_deg = su->gimbal_azimuth_limit_deg;
+    self->sensor.gimbal_elevation_min_deg = su->gimbal_elevation_min_deg;
+    self->sensor.gimbal_elevation_max_deg = su->gimbal_elevation_max_deg;
+    cgs_enu_t stare_at;
+    bool staring = uavsim_camera_stare_at (cs, terrain, uavsim_world_time (world), &stare_at);
+    if (staring) {
+        self->stare_point.east_m = stare_at.e_m;
+        self->stare_point.north_m = stare_at.n_m;
+        self->stare_point.up_m = stare_at.u_m;
+        self->sensor.stare_point = &self->stare_point;
+    }
+    self->sensor.staring = staring;
     m->sensor = &self->sensor;
     m->bank_limit_deg = su->bank_limit_deg;
     m->radar_params = su->radar_params ? su->radar_params : "";
     m->bcis_params = su->bcis_params ? su->bcis_params : "";
     m->task_number = u.task_number;
-    uavsim_msgs_boresight (u.heading_deg, u.pitch_deg, u.roll_deg, su->sensor_depression_deg,
-                           &m->sensor_azimuth_deg, &m->sensor_elevation_deg);
+    // The camera's attitude, as every service will build the camera from this message.
+    cgs_camera_in_t in = {.width_px = 2, .height_px = 2, .near_m = 1, .far_m = 2};
+    cgs_camera_t cam;
+    if (cgs_msg_uav_camera (m, &in) == 0 && cgs_camera_make (&in, &cam) == 0) {
+        m->sensor_azimuth_deg = cam.heading_deg;
+        m->sensor_elevation_deg = cam.pitch_deg;
+        m->sensor_roll_deg = cam.roll_deg;
+        self->sensor.at_gimbal_limit = cam.at_gimbal_limit;
+    } else {
+        uavsim_msgs_boresight (u.heading_deg, u.pitch_deg, u.roll_deg, cs->depression_deg,
+                               &m->sensor_azimuth_deg, &m->sensor_elevation_deg);
+    }
     return m;
 }
 

@@ -9,13 +9,14 @@
 #include <string.h>
 
 #define S_MAGIC   "UWLD" // cgs_ckpt kind of the world's checkpoint
-#define S_VERSION 1u
+#define S_VERSION 2u     // 2: each UAV's camera settings after the entities
 #define S_WHAT    "uavsim world checkpoint"
 
 struct uavsim_world {
     cgs_scenario_t *scenario;
     cgs_terrain_t *terrain;
     uavsim_uav_model_t **uavs;
+    uavsim_camera_t *cameras; // each UAV's imaging sensor settings
     uavsim_vehicle_t **vehicles;
     double step_s;
     uint64_t tick;        // steps taken
@@ -35,6 +36,7 @@ void uavsim_world_destroy (uavsim_world_t **self_p)
             uavsim_vehicle_destroy (&self->vehicles[i]);
     }
     free (self->uavs);
+    free (self->cameras);
     free (self->vehicles);
     cgs_terrain_destroy (&self->terrain);
     cgs_scenario_destroy (&self->scenario);
@@ -205,9 +207,12 @@ int uavsim_world_new (cgs_scenario_t *scenario, const cgs_geo_t *frame, uavsim_w
     self->step_s = scenario->settings.step_s;
     self->fingerprint = s_fingerprint (scenario);
     self->uavs = calloc (scenario->uav_count ? scenario->uav_count : 1, sizeof *self->uavs);
+    self->cameras = calloc (scenario->uav_count ? scenario->uav_count : 1, sizeof *self->cameras);
     self->vehicles =
         calloc (scenario->vehicle_count ? scenario->vehicle_count : 1, sizeof *self->vehicles);
-    if (!self->uavs || !self->vehicles)
+    for (size_t i = 0; self->cameras && i < scenario->uav_count; i++)
+        uavsim_camera_init (&self->cameras[i], &scenario->uavs[i]);
+    if (!self->uavs || !self->cameras || !self->vehicles)
         goto fail;
     if ((rc = s_build_terrain (self, frame, err, errlen)) < 0)
         goto fail;
@@ -262,6 +267,11 @@ const cgs_terrain_t *uavsim_world_terrain (const uavsim_world_t *self)
     return self->terrain;
 }
 
+uavsim_camera_t *uavsim_world_camera (uavsim_world_t *self, size_t i)
+{
+    return i < self->scenario->uav_count ? &self->cameras[i] : NULL;
+}
+
 uavsim_uav_model_t *uavsim_world_uav (uavsim_world_t *self, size_t i)
 {
     return i < self->scenario->uav_count ? self->uavs[i] : NULL;
@@ -283,9 +293,10 @@ int uavsim_world_find_uav (const uavsim_world_t *self, uint32_t entity_id)
 }
 
 /* ---- checkpoint -------------------------------------------------------------------
- * A cgs_ckpt frame "UWLD", version 1. Payload: u64 fingerprint, u64 tick,
+ * A cgs_ckpt frame "UWLD", version 2. Payload: u64 fingerprint, u64 tick,
  * u32 uav count, u32 vehicle count, then each UAV's and each vehicle's own
- * frame (as bytes: its model decodes and checks it). */
+ * frame (as bytes: its model decodes and checks it), then each UAV's camera
+ * settings (uavsim_camera_save). */
 
 int uavsim_world_save (const uavsim_world_t *self, uint8_t **ret_buf, size_t *ret_len)
 {
@@ -308,6 +319,11 @@ int uavsim_world_save (const uavsim_world_t *self, uint8_t **ret_buf, size_t *re
         }
         cgs_ckpt_put_bytes (&w, b, n);
         free (b);
+    }
+    for (size_t i = 0; i < sc->uav_count; i++) {
+        uint8_t cam[UAVSIM_CAMERA_SAVED];
+        uavsim_camera_save (&self->cameras[i], cam);
+        cgs_ckpt_put_bytes (&w, cam, sizeof cam);
     }
     return cgs_ckpt_writer_finish (&w, ret_buf, ret_len);
 }
@@ -347,6 +363,17 @@ static int s_restore_entities (uavsim_world_t *self, cgs_ckpt_reader_t *r, char 
             return rc;
         }
     }
+    for (size_t i = 0; i < sc->uav_count; i++) {
+        size_t n = 0;
+        const uint8_t *b = cgs_ckpt_get_bytes (r, &n);
+        uavsim_camera_t *c = &self->cameras[i];
+        if (uavsim_camera_load (c, &sc->uavs[i], b, n) < 0) {
+            cgs_errf (err, errlen, "uav %s: its camera settings are damaged", sc->uavs[i].name);
+            return -EPROTO;
+        }
+        c->stare_point.u_m =
+            cgs_terrain_height_clamped (self->terrain, c->stare_point.e_m, c->stare_point.n_m);
+    }
     return 0;
 }
 
@@ -366,7 +393,7 @@ int uavsim_world_restore (uavsim_world_t *self, const uint8_t *buf, size_t len, 
     }
     // Every entity's frame is there, and nothing after them, before any is touched.
     cgs_ckpt_reader_t entities = r;
-    for (size_t i = 0; i < sc->uav_count + sc->vehicle_count; i++) {
+    for (size_t i = 0; i < 2 * sc->uav_count + sc->vehicle_count; i++) {
         size_t n;
         (void)cgs_ckpt_get_bytes (&r, &n);
     }

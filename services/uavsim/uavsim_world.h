@@ -7,6 +7,7 @@
 #define UAVSIM_WORLD_H
 
 #include "cgs_scenario.h"
+#include "uavsim_camera.h"
 #include "uavsim_uav.h"
 #include "uavsim_vehicle.h"
 
@@ -35,10 +36,13 @@ const cgs_terrain_t *uavsim_world_terrain (const uavsim_world_t *self);
 /* The flight model of UAV i (scenario order), and vehicle i's model. */
 uavsim_uav_model_t *uavsim_world_uav (uavsim_world_t *self, size_t i);
 const uavsim_vehicle_t *uavsim_world_vehicle (const uavsim_world_t *self, size_t i);
+/* UAV i's imaging sensor settings (NULL past the last UAV). */
+uavsim_camera_t *uavsim_world_camera (uavsim_world_t *self, size_t i);
 /* Index of the UAV with entity id (0: the only UAV, when there is one); -ENOENT. */
 int uavsim_world_find_uav (const uavsim_world_t *self, uint32_t entity_id);
 
-/* Serialise the dynamic state (time, every UAV, every vehicle) into a new
+/* Serialise the dynamic state (time, every UAV, every vehicle, every UAV's
+ * camera settings) into a new
  * malloc'd cgs_ckpt frame ("UWLD", each entity's own frame inside); 0 or
  * -ENOMEM. */
 int uavsim_world_save (const uavsim_world_t *self, uint8_t **ret_buf, size_t *ret_len);

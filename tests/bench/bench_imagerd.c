@@ -20,7 +20,7 @@
  * other benchmarks, are ignored). */
 #include "bench_util.h"
 #include "cgs_util.h"
-#include "im_camera.h"
+#include "cgs_camera.h"
 #include "im_ctx.h"
 #include "im_frame.h"
 #include "im_post.h"
@@ -48,10 +48,10 @@ static cgs_terrain_t *s_terrain (void)
 }
 
 /* The UAV on a 3 km loiter circle at 1200 m, 45° down, 10° × 7.5°; frame k. */
-static im_camera_t s_camera (const cgs_terrain_t *t, int w, int h, int k)
+static cgs_camera_t s_camera (const cgs_terrain_t *t, int w, int h, int k)
 {
     double a = k * 0.01, r = 3000;
-    im_camera_in_t in = {
+    cgs_camera_in_t in = {
         .position = {r * sin (a), -r * cos (a), cgs_terrain_height_clamped (t, 0, 0) + 1200},
         .heading_deg = fmod (a * 180 / M_PI + 90, 360),
         .roll_deg = 20,
@@ -63,8 +63,8 @@ static im_camera_t s_camera (const cgs_terrain_t *t, int w, int h, int k)
         .near_m = 5,
         .far_m = 20000,
     };
-    im_camera_t cam;
-    im_camera_make (&in, &cam);
+    cgs_camera_t cam;
+    cgs_camera_make (&in, &cam);
     return cam;
 }
 
@@ -108,12 +108,12 @@ static int s_bench (const cgs_terrain_t *t, const im_terrain_mesh_t *mesh, int w
     for (int run = 0; run < runs; run++) {
         double t0 = bench_wall_s ();
         for (int k = 0; k < frames; k++) {
-            im_camera_t cam = s_camera (t, w, h, k);
+            cgs_camera_t cam = s_camera (t, w, h, k);
             im_renderer_draw (r, &cam, &p, ents, S_VEHICLES, rgba, err, sizeof err);
             if (mode == IM_MODE_INFRARED)
                 im_post_infrared (&post, rgba, &p);
-            im_footprint_t fp;
-            im_camera_footprint (&cam, t, p.max_range_m, &fp);
+            cgs_footprint_t fp;
+            cgs_camera_footprint (&cam, t, p.max_range_m, &fp);
             im_uav_t u = {.valid = true, .altitude_agl_m = 1200};
             char lines[4][96];
             im_frame_overlay (k * 0.2, &u, &cam, &fp, NULL, lines);
@@ -128,7 +128,7 @@ static int s_bench (const cgs_terrain_t *t, const im_terrain_mesh_t *mesh, int w
         double l0 = bench_wall_s ();
         for (int k = 0; k < 10; k++) {
             ents[0].position.e_m += 1.0;
-            im_camera_t cam = s_camera (t, w, h, 0);
+            cgs_camera_t cam = s_camera (t, w, h, 0);
             im_renderer_draw (r, &cam, &p, ents, S_VEHICLES, rgba, err, sizeof err);
         }
         lat[run] = (bench_wall_s () - l0) / 10;
@@ -203,10 +203,10 @@ static int s_bench_video (const cgs_terrain_t *t, const im_terrain_mesh_t *mesh,
         double w0 = bench_wall_s (), c0 = bench_cpu_s (), tr = 0, te = 0;
         for (int k = 0; k < frames; k++) {
             double a0 = bench_wall_s ();
-            im_camera_t cam = s_camera (t, W, H, k);
+            cgs_camera_t cam = s_camera (t, W, H, k);
             im_renderer_draw (r, &cam, &p, ents, S_VEHICLES, rgba, err, sizeof err);
-            im_footprint_t fp;
-            im_camera_footprint (&cam, t, p.max_range_m, &fp);
+            cgs_footprint_t fp;
+            cgs_camera_footprint (&cam, t, p.max_range_m, &fp);
             im_uav_t u = {.valid = true, .altitude_agl_m = 1200, .hfov_deg = 10, .vfov_deg = 7.5};
             char lines[4][96];
             im_frame_overlay (k / 30.0, &u, &cam, &fp, NULL, lines);
@@ -216,8 +216,8 @@ static int s_bench_video (const cgs_terrain_t *t, const im_terrain_mesh_t *mesh,
             im_klv_frame_t kf;
             uint8_t klv[IM_KLV_MAX_PACKET];
             size_t kl = 0;
-            if (im_frame_klv (&cam, &fp, &u, geo, 1.7e9 + k / 30.0, "bench", true, fp.center, 7,
-                              &kf) == 0)
+            if (im_frame_klv (&cam, &fp, &u, geo, 1.7e9 + k / 30.0, "bench", true,
+                              cgs_footprint_center_enu (&fp), 7, &kf) == 0)
                 kl = im_klv_encode (&kf, klv, sizeof klv);
             if (im_video_frame (v, rgba, 10 + k / 30.0, klv, kl, NULL, err, sizeof err) < 0) {
                 fprintf (stderr, "bench_imagerd: %s\n", err);

@@ -2,7 +2,8 @@
  * with (test_im_render: the build's RENDER; test_im_render@ALT: the other):
  * golden images of a fixed scene within a small tolerance, a target's
  * rendered position against the camera's projection within a pixel, a view
- * with nothing in it drawing terrain only, the infrared mode's temperatures
+ * with nothing in it drawing terrain only, the footprint (guidanced's, the
+ * map's) at the rendered image's corners, the infrared mode's temperatures
  * and polarity, and a refused GALLIUM_DRIVER. Goldens are in
  * tests/data/golden; CGS_UPDATE_GOLDEN=1 writes them anew from this run. */
 #include <setjmp.h>
@@ -12,7 +13,8 @@
 
 #include <cmocka.h>
 
-#include "im_camera.h"
+#include "cgs_camera.h"
+#include "gd_geom.h"
 #include "im_ctx.h"
 #include "im_frame.h"
 #include "im_png.h"
@@ -75,10 +77,10 @@ static im_params_t s_params (int w, int h)
     return p;
 }
 
-static im_camera_t s_camera (cgs_enu_t eye, double heading, double roll, double depression,
-                             double hfov, int w, int h)
+static cgs_camera_t s_camera (cgs_enu_t eye, double heading, double roll, double depression,
+                              double hfov, int w, int h)
 {
-    im_camera_in_t in = {
+    cgs_camera_in_t in = {
         .position = eye,
         .heading_deg = heading,
         .roll_deg = roll,
@@ -90,8 +92,8 @@ static im_camera_t s_camera (cgs_enu_t eye, double heading, double roll, double 
         .near_m = 1,
         .far_m = 20000,
     };
-    im_camera_t cam;
-    assert_int_equal (im_camera_make (&in, &cam), 0);
+    cgs_camera_t cam;
+    assert_int_equal (cgs_camera_make (&in, &cam), 0);
     return cam;
 }
 
@@ -172,7 +174,7 @@ static void s_render_scene (im_mode_t mode, im_polarity_t pol, uint8_t *rgba)
     cgs_terrain_t *t = s_hills ();
     im_renderer_t *r = s_renderer (t, S_W, S_H, 16);
     double ground = cgs_terrain_height_clamped (t, 0, 0);
-    im_camera_t cam = s_camera ((cgs_enu_t){0, 0, ground + 800}, 0, 0, 45, 6, S_W, S_H);
+    cgs_camera_t cam = s_camera ((cgs_enu_t){0, 0, ground + 800}, 0, 0, 45, 6, S_W, S_H);
     cgs_enu_t aim;
     assert_true (cgs_terrain_ray (t, cam.eye, cam.forward, 1e4, &aim));
     im_entity_t ents[4];
@@ -183,7 +185,7 @@ static void s_render_scene (im_mode_t mode, im_polarity_t pol, uint8_t *rgba)
         ents[i].position.n_m = aim.n_m + at[i][1];
         ents[i].position.u_m =
             cgs_terrain_height_clamped (t, ents[i].position.e_m, ents[i].position.n_m);
-        assert_true (im_camera_in_view (&cam, ents[i].position));
+        assert_true (cgs_camera_in_view (&cam, ents[i].position));
     }
     im_params_t p = s_params (S_W, S_H);
     p.mode = mode;
@@ -272,7 +274,7 @@ static void test_black_hot_inverts (void **state)
 
 /* Render with and without the entity; the pixels that differ are its
  * silhouette: their count and centroid (pixel centres at +0.5). */
-static size_t s_silhouette (im_renderer_t *r, const im_camera_t *cam, const im_params_t *p,
+static size_t s_silhouette (im_renderer_t *r, const cgs_camera_t *cam, const im_params_t *p,
                             const im_entity_t *e, double *cx, double *cy)
 {
     size_t bytes = (size_t)p->width_px * (size_t)p->height_px * 4;
@@ -320,7 +322,7 @@ static void test_target_pixel_matches_projection (void **state)
         // 250 m up, 45° down, a 3° field of view: about 0.02 m a pixel.
         double hd = cases[k].heading * M_PI / 180;
         cgs_enu_t eye = {0, 0, 50 + 250};
-        im_camera_t cam = s_camera (eye, cases[k].heading, cases[k].roll, 45, 3, w, h);
+        cgs_camera_t cam = s_camera (eye, cases[k].heading, cases[k].roll, 45, 3, w, h);
         cgs_enu_t aim;
         cgs_terrain_ray (t, cam.eye, cam.forward, 1e4, &aim);
         im_entity_t e = {
@@ -348,6 +350,117 @@ static void test_target_pixel_matches_projection (void **state)
     cgs_terrain_destroy (&t);
 }
 
+/* One camera model: the footprint guidanced plans with (gd_footprint, the
+ * map's and the score's) is where the rendered image's corners meet the
+ * ground. A small model placed 10% inside each footprint corner (towards the
+ * centre) is drawn in that corner of the image; one placed 10% outside is
+ * not drawn at all. Over hills, for level flight, a banked turn, the same
+ * turn stabilized, and staring at a point (gimbal limited). */
+static void test_footprint_matches_image_corners (void **state)
+{
+    (void)state;
+    const int w = 640, h = 480;
+    cgs_terrain_t *t = s_hills ();
+    im_renderer_t *r = s_renderer (t, w, h, 16);
+    im_params_t p = s_params (w, h);
+    p.visibility_m = 1e7;
+    p.status_blocks = false;
+    const struct {
+        const char *what;
+        double heading, pitch, roll;
+        bool stabilized, staring;
+    } cases[] = {
+        {"level", 30, 0, 0, false, false},
+        {"banked turn", 200, 3, 25, false, false},
+        {"banked, stabilized", 200, 3, 25, true, false},
+        {"staring", 75, 2, -20, false, true},
+    };
+    for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
+        gd_sensor_t sn = {
+            .position = {-150, -120, 100 + 300},
+            .heading_deg = cases[k].heading,
+            .pitch_deg = cases[k].pitch,
+            .roll_deg = cases[k].roll,
+            .depression_deg = 45,
+            .hfov_deg = 4,
+            .vfov_deg = 3,
+            .max_range_m = 20000,
+            .point = {.stabilized = cases[k].stabilized,
+                      .staring = cases[k].staring,
+                      .stare_at = {60, -40, cgs_terrain_height_clamped (t, 60, -40)},
+                      .gimbal_limited = true,
+                      .gimbal_azimuth_deg = 150,
+                      .gimbal_elevation_min_deg = -90,
+                      .gimbal_elevation_max_deg = 0},
+        };
+        gd_footprint_t fp;
+        assert_int_equal (gd_footprint (&sn, t, &fp), 0);
+        assert_false (fp.clipped);
+        cgs_camera_in_t in = {
+            .position = sn.position,
+            .heading_deg = sn.heading_deg,
+            .pitch_deg = sn.pitch_deg,
+            .roll_deg = sn.roll_deg,
+            .depression_deg = sn.depression_deg,
+            .hfov_deg = sn.hfov_deg,
+            .vfov_deg = sn.vfov_deg,
+            .width_px = w,
+            .height_px = h,
+            .near_m = 1,
+            .far_m = 20000,
+            .point = sn.point,
+        };
+        cgs_camera_t cam;
+        assert_int_equal (cgs_camera_make (&in, &cam), 0);
+        // Image corners of near-left, far-left, far-right, near-right.
+        const double px[4][2] = {{0, h}, {0, 0}, {w, 0}, {w, h}};
+        for (int c = 0; c < 4; c++) {
+            for (int side = -1; side <= 1; side += 2) { // -1 inside, +1 outside
+                double f = 1 + 0.1 * side;
+                double e = fp.center.e + f * (fp.corner[c].e - fp.center.e);
+                double n = fp.center.n + f * (fp.corner[c].n - fp.center.n);
+                im_entity_t ent = {
+                    .id = 1,
+                    .kind = CGS_KIND_PERSON,
+                    .position = {e, n, cgs_terrain_height_clamped (t, e, n)},
+                };
+                double cx, cy;
+                size_t npx = s_silhouette (r, &cam, &p, &ent, &cx, &cy);
+                if (side > 0) {
+                    if (npx != 0)
+                        fail_msg ("%s, corner %d: a model 10%% outside the footprint drew %zu px",
+                                  cases[k].what, c, npx);
+                    continue;
+                }
+                double d = hypot (cx - px[c][0], cy - px[c][1]);
+                print_message ("# %s, corner %d: %zu px at (%.1f, %.1f), %.1f px from the "
+                               "image corner\n",
+                               cases[k].what, c, npx, cx, cy, d);
+                assert_true (npx > 10);
+                // 10% in along the ground is about 10% in across the image.
+                assert_true (d < 0.2 * hypot (w, h) / 2);
+                // A quarter in (clear of the image's edges), it is drawn where the
+                // camera projects it (the image message's target pixel).
+                ent.position.e_m = fp.center.e + 0.75 * (fp.corner[c].e - fp.center.e);
+                ent.position.n_m = fp.center.n + 0.75 * (fp.corner[c].n - fp.center.n);
+                ent.position.u_m =
+                    cgs_terrain_height_clamped (t, ent.position.e_m, ent.position.n_m);
+                assert_true (s_silhouette (r, &cam, &p, &ent, &cx, &cy) > 10);
+                im_target_t tg;
+                im_frame_target (&cam, t, &ent, 1, true, ent.position, 10, &tg);
+                assert_true (tg.known && tg.in_view);
+                double dp = hypot (cx - tg.px_x, cy - tg.px_y);
+                print_message ("#   a quarter in: %.2f px from its projection\n", dp);
+                assert_true (dp <= 1.5);
+            }
+        }
+        print_message ("# %s: boresight %.1f deg az, %.1f deg el, roll %.1f deg\n", cases[k].what,
+                       cam.heading_deg, cam.pitch_deg, cam.roll_deg);
+    }
+    im_renderer_destroy (&r);
+    cgs_terrain_destroy (&t);
+}
+
 /* A view with every entity outside it draws terrain only: the image equals
  * one without entities, and none was drawn. */
 static void test_nothing_in_view_draws_terrain_only (void **state)
@@ -365,9 +478,9 @@ static void test_nothing_in_view_draws_terrain_only (void **state)
         ents[i].position.u_m = cgs_terrain_height_clamped (t, at[i][0], at[i][1]);
     }
     double ground = cgs_terrain_height_clamped (t, 0, 0);
-    im_camera_t cam = s_camera ((cgs_enu_t){0, 0, ground + 800}, 0, 0, 45, 6, S_W, S_H);
+    cgs_camera_t cam = s_camera ((cgs_enu_t){0, 0, ground + 800}, 0, 0, 45, 6, S_W, S_H);
     for (int i = 0; i < 3; i++)
-        assert_false (im_camera_in_view (&cam, ents[i].position));
+        assert_false (cgs_camera_in_view (&cam, ents[i].position));
     size_t bytes = (size_t)S_W * S_H * 4;
     uint8_t *a = malloc (bytes), *b = malloc (bytes);
     assert_int_equal (im_renderer_draw (r, &cam, &p, ents, 3, a, s_err, sizeof s_err), 0);
@@ -380,7 +493,7 @@ static void test_nothing_in_view_draws_terrain_only (void **state)
     assert_memory_equal (a, b, bytes);
     // And terrain fills the view: no pixel has the sky's colour in a look 45°
     // down. The sky's colour is read from a look 20° up, whose top row is sky.
-    im_camera_t up = s_camera ((cgs_enu_t){0, 0, ground + 800}, 0, 0, -20, 6, S_W, S_H);
+    cgs_camera_t up = s_camera ((cgs_enu_t){0, 0, ground + 800}, 0, 0, -20, 6, S_W, S_H);
     assert_int_equal (im_renderer_draw (r, &up, &p, NULL, 0, b, s_err, sizeof s_err), 0);
     const uint8_t *sky_rgb = b + 4 * (S_W / 2);
     size_t sky_up = 0;
@@ -410,7 +523,7 @@ static void test_infrared_temperatures (void **state)
     p.mode = IM_MODE_INFRARED;
     p.sun_elevation_deg = -10; // night: the ground is at ambient everywhere
     p.blur_px = 0;
-    im_camera_t cam = s_camera ((cgs_enu_t){0, 0, 300}, 0, 0, 89, 4, w, h); // looking down
+    cgs_camera_t cam = s_camera ((cgs_enu_t){0, 0, 300}, 0, 0, 89, 4, w, h); // looking down
     im_entity_t e = {.id = 1, .kind = CGS_KIND_TRACKED, .position = {0, 5.2, 0}, .running = true};
     uint8_t *img = malloc ((size_t)w * h * 4);
     assert_int_equal (im_renderer_draw (r, &cam, &p, &e, 1, img, s_err, sizeof s_err), 0);
@@ -454,7 +567,7 @@ static void test_status_labels (void **state)
         }
     cgs_terrain_t *t = cgs_terrain_new_grid (N, N, -1600, -1600, 50, hgt);
     assert_non_null (t);
-    im_camera_t cam = s_camera ((cgs_enu_t){0, -1000, 1000}, 0, 0, 45, 30, 640, 480);
+    cgs_camera_t cam = s_camera ((cgs_enu_t){0, -1000, 1000}, 0, 0, 45, 30, 640, 480);
     im_entity_t e[] = {
         {.id = 1, .kind = CGS_KIND_WHEELED, .position = {100, 300, 0}, .marking = "FAR"},
         {.id = 2, .kind = CGS_KIND_TRACKED, .position = {0, -1500, 0}, .marking = "BEHIND"},
@@ -502,6 +615,7 @@ int main (void)
         cmocka_unit_test (test_golden_infrared),
         cmocka_unit_test (test_black_hot_inverts),
         cmocka_unit_test (test_target_pixel_matches_projection),
+        cmocka_unit_test (test_footprint_matches_image_corners),
         cmocka_unit_test (test_nothing_in_view_draws_terrain_only),
         cmocka_unit_test (test_infrared_temperatures),
         cmocka_unit_test (test_status_labels),

@@ -504,7 +504,8 @@ static double s_dot (cgs_enu_t a, cgs_enu_t b)
 /* The camera's boresight and right axis rebuilt from the relative angles and
  * the platform's body axes (azimuth about the body's up, clockwise seen from
  * above; elevation up; roll right side down). */
-static void s_rebuild (const im_camera_t *body, const im_klv_frame_t *k, cgs_enu_t *f, cgs_enu_t *r)
+static void s_rebuild (const cgs_camera_t *body, const im_klv_frame_t *k, cgs_enu_t *f,
+                       cgs_enu_t *r)
 {
     double az = k->sensor_rel_az_deg * M_PI / 180, el = k->sensor_rel_el_deg * M_PI / 180;
     double ro = k->sensor_rel_roll_deg * M_PI / 180;
@@ -547,20 +548,21 @@ static void test_klv_angles (void **state)
                           .hfov_deg = 10,
                           .vfov_deg = 7.5,
                           .time_s = 50};
-            p.stabilized = mode == 1;
-            im_camera_t cam, body;
-            cgs_enu_t target = {800, 900, 0};
-            assert_int_equal (im_frame_camera (&p, &u, 50, mode == 2 ? &target : NULL, &cam), 0);
+            u.point.stabilized = mode == 1;
+            u.point.staring = mode == 2;
+            u.point.stare_at = (cgs_enu_t){800, 900, 0};
+            cgs_camera_t cam, body;
+            assert_int_equal (im_frame_camera (&p, &u, 50, &cam), 0);
             im_uav_t level = u;
             level.depression_deg = 0;
-            im_params_t pb = p;
-            pb.stabilized = false;
-            assert_int_equal (im_frame_camera (&pb, &level, 50, NULL, &body), 0);
-            im_footprint_t fp;
-            im_camera_footprint (&cam, NULL, 20000, &fp);
+            level.point.stabilized = level.point.staring = false;
+            assert_int_equal (im_frame_camera (&p, &level, 50, &body), 0);
+            cgs_footprint_t fp;
+            cgs_camera_footprint (&cam, NULL, 20000, &fp);
             im_klv_frame_t k;
             assert_int_equal (
-                im_frame_klv (&cam, &fp, &u, geo, 1.7e9 + 50, "m", true, target, 42, &k), 0);
+                im_frame_klv (&cam, &fp, &u, geo, 1.7e9 + 50, "m", true, u.point.stare_at, 42, &k),
+                0);
             if (mode == 0) { // fixed: the mounting itself
                 assert_true (fabs (k.sensor_rel_az_deg) < 1e-9 ||
                              fabs (k.sensor_rel_az_deg - 360) < 1e-9);
@@ -592,10 +594,10 @@ static void test_klv_places (void **state)
                   .hfov_deg = 10,
                   .vfov_deg = 8,
                   .time_s = 0};
-    im_camera_t cam;
-    assert_int_equal (im_frame_camera (&p, &u, 0, NULL, &cam), 0);
-    im_footprint_t fp;
-    im_camera_footprint (&cam, NULL, 20000, &fp);
+    cgs_camera_t cam;
+    assert_int_equal (im_frame_camera (&p, &u, 0, &cam), 0);
+    cgs_footprint_t fp;
+    cgs_camera_footprint (&cam, NULL, 20000, &fp);
     im_klv_frame_t k;
     assert_int_equal (
         im_frame_klv (&cam, &fp, &u, geo, 1234.5, "exercise", false, (cgs_enu_t){0}, 0, &k), 0);
@@ -614,7 +616,7 @@ static void test_klv_places (void **state)
     // Upper left is far-left: looking east, the far corner to the north (left).
     static const int order[4] = {1, 2, 3, 0};
     for (int i = 0; i < 4; i++) {
-        cgs_geo_enu_to_geodetic (geo, fp.corner[order[i]], &g);
+        cgs_geo_enu_to_geodetic (geo, cgs_footprint_corner_enu (&fp, order[i]), &g);
         assert_true (k.corner_lat_deg[i] == g.lat_deg && k.corner_lon_deg[i] == g.lon_deg);
     }
     assert_true (k.corner_lat_deg[0] > k.frame_center_lat_deg); // upper left: north
@@ -624,7 +626,7 @@ static void test_klv_places (void **state)
     assert_false (k.has_target);
     assert_true (isnan (k.target_lat_deg));
     // A ray that met no ground: no slant range, frame centre or corners.
-    im_footprint_t clipped = fp;
+    cgs_footprint_t clipped = fp;
     clipped.clipped = true;
     im_klv_frame_t kc;
     assert_int_equal (

@@ -169,13 +169,25 @@ static void test_bad_checkpoints_change_nothing (void **state)
     // and a restore that fails part way leaves the world as it was.
     uint8_t *forged = malloc (len);
     memcpy (forged, ck, len);
-    forged[len - CGS_CKPT_TAIL - 10] ^= 0x01; // inside the last vehicle's frame
+    // Inside the last vehicle's frame, before the one UAV's camera settings
+    // (their 8-byte length and UAVSIM_CAMERA_SAVED bytes).
+    forged[len - CGS_CKPT_TAIL - 10 - 8 - UAVSIM_CAMERA_SAVED] ^= 0x01;
     s_reseal (forged, len);
     assert_int_equal (uavsim_world_restore (b, forged, len, err, sizeof err), -EBADMSG);
     assert_non_null (strstr (err, "vehicle b: "));
     size_t lf;
     uint8_t *now = s_save (b, &lf);
     assert_int_equal (lf, lb0);
+    assert_memory_equal (now, before, lf);
+    free (now);
+    // Sealed, the camera settings damaged: refused naming the UAV.
+    memcpy (forged, ck, len);
+    double bad = 500; // a depression of 500 degrees
+    memcpy (forged + len - CGS_CKPT_TAIL - UAVSIM_CAMERA_SAVED, &bad, sizeof bad);
+    s_reseal (forged, len);
+    assert_int_equal (uavsim_world_restore (b, forged, len, err, sizeof err), -EPROTO);
+    assert_non_null (strstr (err, "uav uav1: its camera settings"));
+    now = s_save (b, &lf);
     assert_memory_equal (now, before, lf);
     free (now);
     free (forged);

@@ -64,6 +64,13 @@ static void s_to_trk (void *arg, const char *topic, const ProtobufCMessage *m, c
     trk_adapter_on_message (arg, topic, m, h);
 }
 
+static void s_to_uavsim (void *arg, const char *topic, const ProtobufCMessage *m,
+                         const Cgs__Header *h)
+{
+    (void)topic;
+    uavsim_adapter_on_intercept (arg, (const Cgs__Intercept *)m, h->sim_time_s);
+}
+
 static void s_to_gd (void *arg, const char *topic, const ProtobufCMessage *m, const Cgs__Header *h)
 {
     gd_adapter_on_message (arg, topic, m, h);
@@ -194,6 +201,8 @@ static int s_build (s_run_t *r, char *err, size_t errlen)
             cgs_port_t port = ls_bus_port (ls_bus_source (r->bus, in->name));
             if (!(r->uavsim = uavsim_adapter_new (r->world, o, &port)))
                 return -ENOMEM;
+            if ((rc = ls_bus_subscribe (r->bus, "intercept", s_to_uavsim, r->uavsim)) < 0)
+                return rc;
         } else if (strcmp (in->program, "mtid") == 0 || strcmp (in->program, "bcisd") == 0) {
             if ((rc = s_sensor (r, in, in->program[0] == 'm', seed, err, errlen)) < 0)
                 return rc;

@@ -1,4 +1,5 @@
-/* test_im_camera — imagerd's pinhole camera against theory:
+/* test_cgs_camera — the shared pinhole camera (imagerd's image, guidanced's,
+ * the map's and the score's footprint) against theory:
  *   - the worked example (UAV 1000 m up heading north, level, ε = 45°,
  *     γ = 10°, β = 7.5°, 640 × 480): its axes by hand, the boresight on the
  *     ground at (0, 1000, 0) projecting to the image centre (320, 240), and
@@ -9,13 +10,15 @@
  *     rotations (yaw about up, pitch about right, roll about forward,
  *     depression about right), and projection follows the formula; the
  *     boresight's own angles with no depression equal the UAV's;
- *   - im_camera_ray and im_camera_project are inverses;
- *   - the footprint on flat ground equals guidanced's gd_footprint for the
- *     same pose (the map and the image agree), and a ground point is in view
- *     exactly when it lies inside that footprint;
+ *   - cgs_camera_ray and cgs_camera_project are inverses;
+ *   - the footprint on flat ground where independently rotated corner rays
+ *     meet the plane (and guidanced's gd_footprint is it), and a ground point
+ *     is in view exactly when it lies inside that footprint;
+ *   - the attitude a camera reports builds the same camera again;
+ *   - staring within and beyond the gimbal's limits;
  *   - stabilized takes the roll out; staring centres the target, level;
  *   - the frustum planes and box culling;
- *   - the view and projection matrices agree with im_camera_project;
+ *   - the view and projection matrices agree with cgs_camera_project;
  *   - bad input is refused.
  * Needs -Iservices/imagerd, -Iservices/guidanced (and -Icommon). */
 #include <setjmp.h>
@@ -33,7 +36,7 @@
 
 #include "cgs_terrain.h"
 #include "gd_geom.h"
-#include "im_camera.h"
+#include "cgs_camera.h"
 #include "test_util.h"
 
 /* Two vectors equal within tol, each component. */
@@ -140,9 +143,9 @@ static void s_pinhole (cgs_enu_t eye, s_axes_t a, double hfov_deg, double vfov_d
 }
 
 /* The worked example's pose. */
-static im_camera_in_t s_example (void)
+static cgs_camera_in_t s_example (void)
 {
-    return (im_camera_in_t){
+    return (cgs_camera_in_t){
         .position = {0, 0, 1000},
         .depression_deg = 45,
         .hfov_deg = 10,
@@ -157,12 +160,12 @@ static im_camera_in_t s_example (void)
 /* A random pose: anywhere over a 20 km square, 100–5000 m up, any heading,
  * pitch within ±15°, roll within ±40°, ε 5–85°, fields of view 1–40° by
  * 1–30°, one of a few image sizes. */
-static im_camera_in_t s_random_in (void)
+static cgs_camera_in_t s_random_in (void)
 {
     static const int sizes[][2] = {{640, 480}, {1280, 720}, {320, 240}, {101, 77}};
     int k = (int)s_uniform (0, 4);
     k = k > 3 ? 3 : k;
-    return (im_camera_in_t){
+    return (cgs_camera_in_t){
         .position = {s_uniform (-1e4, 1e4), s_uniform (-1e4, 1e4), s_uniform (100, 5000)},
         .heading_deg = s_uniform (0, 360),
         .pitch_deg = s_uniform (-15, 15),
@@ -177,7 +180,7 @@ static im_camera_in_t s_random_in (void)
     };
 }
 
-static gd_sensor_t s_sensor_of (const im_camera_in_t *in, double max_range_m)
+static gd_sensor_t s_sensor_of (const cgs_camera_in_t *in, double max_range_m)
 {
     return (gd_sensor_t){
         .position = in->position,
@@ -221,9 +224,9 @@ static double s_edge_dist (const gd_footprint_t *f, gd_v2_t p)
 static void test_worked_example (void **state)
 {
     (void)state;
-    im_camera_in_t in = s_example ();
-    im_camera_t cam;
-    assert_int_equal (im_camera_make (&in, &cam), 0);
+    cgs_camera_in_t in = s_example ();
+    cgs_camera_t cam;
+    assert_int_equal (cgs_camera_make (&in, &cam), 0);
     const double c = sqrt (0.5);
     assert_enu_near (cam.eye, s_v (0, 0, 1000), 0);
     assert_enu_near (cam.forward, s_v (0, c, -c), 1e-12);
@@ -236,26 +239,26 @@ static void test_worked_example (void **state)
     assert_near (cam.roll_deg, 0, 1e-9);
 
     double x, y, z;
-    assert_true (im_camera_project (&cam, s_v (0, 1000, 0), &x, &y, &z));
+    assert_true (cgs_camera_project (&cam, s_v (0, 1000, 0), &x, &y, &z));
     assert_near (x, 320, 1e-9);
     assert_near (y, 240, 1e-9);
     assert_near (z, 1000 * sqrt (2), 1e-9);
-    assert_true (im_camera_in_view (&cam, s_v (0, 1000, 0)));
+    assert_true (cgs_camera_in_view (&cam, s_v (0, 1000, 0)));
 
     // The boresight's footprint centre is the same point.
-    im_footprint_t fp;
-    im_camera_footprint (&cam, NULL, 1e5, &fp);
+    cgs_footprint_t fp;
+    cgs_camera_footprint (&cam, NULL, 1e5, &fp);
     assert_false (fp.clipped);
-    assert_enu_near (fp.center, s_v (0, 1000, 0), 1e-6);
+    assert_enu_near (cgs_footprint_center_enu (&fp), s_v (0, 1000, 0), 1e-6);
 
     // The hand numbers of the comment.
-    assert_true (im_camera_project (&cam, s_v (50, 1100, 0), &x, &y, &z));
+    assert_true (cgs_camera_project (&cam, s_v (50, 1100, 0), &x, &y, &z));
     assert_near (x, 320 * (1 + 50 / (2100 / sqrt (2)) / tan (5 * DEG)), 1e-9);
     assert_near (y, 240 * (1 - (100 / sqrt (2)) / (2100 / sqrt (2)) / tan (3.75 * DEG)), 1e-9);
     assert_near (x, 443.158, 1e-3);
     assert_near (y, 65.634, 1e-3);
     assert_near (z, 2100 / sqrt (2), 1e-9);
-    assert_true (im_camera_in_view (&cam, s_v (50, 1100, 0)));
+    assert_true (cgs_camera_in_view (&cam, s_v (50, 1100, 0)));
 
     // Ground points over the footprint against the formula with the hand axes.
     const s_axes_t a = {s_v (0, c, -c), s_v (1, 0, 0), s_v (0, c, c)};
@@ -263,21 +266,21 @@ static void test_worked_example (void **state)
         cgs_enu_t p = s_v (s_uniform (-300, 300), s_uniform (700, 1400), 0);
         double xe, ye;
         s_pinhole (in.position, a, 10, 7.5, 640, 480, p, &xe, &ye);
-        assert_true (im_camera_project (&cam, p, &x, &y, &z));
+        assert_true (cgs_camera_project (&cam, p, &x, &y, &z));
         assert_near (x, xe, 1e-8);
         assert_near (y, ye, 1e-8);
         assert_near (z, s_dot (s_sub (p, in.position), a.f), 1e-8);
         bool inside = xe >= 0 && xe <= 640 && ye >= 0 && ye <= 480;
-        assert_int_equal (im_camera_in_view (&cam, p), inside);
+        assert_int_equal (cgs_camera_in_view (&cam, p), inside);
     }
     // Left of the track is left in the image; nearer is lower.
-    assert_true (im_camera_project (&cam, s_v (-50, 1000, 0), &x, &y, &z));
+    assert_true (cgs_camera_project (&cam, s_v (-50, 1000, 0), &x, &y, &z));
     assert_true (x < 320);
-    assert_true (im_camera_project (&cam, s_v (0, 950, 0), &x, &y, &z));
+    assert_true (cgs_camera_project (&cam, s_v (0, 950, 0), &x, &y, &z));
     assert_true (y > 240);
     // Behind the camera: not projected.
-    assert_false (im_camera_project (&cam, s_v (0, -1000, 0), &x, &y, &z));
-    assert_false (im_camera_in_view (&cam, s_v (0, -1000, 0)));
+    assert_false (cgs_camera_project (&cam, s_v (0, -1000, 0), &x, &y, &z));
+    assert_false (cgs_camera_in_view (&cam, s_v (0, -1000, 0)));
 }
 
 /* Random poses: the axes equal those built by rotations, they are
@@ -288,9 +291,9 @@ static void test_random_poses_formula (void **state)
 {
     (void)state;
     for (int i = 0; i < 2000; i++) {
-        im_camera_in_t in = s_random_in ();
-        im_camera_t cam;
-        assert_int_equal (im_camera_make (&in, &cam), 0);
+        cgs_camera_in_t in = s_random_in ();
+        cgs_camera_t cam;
+        assert_int_equal (cgs_camera_make (&in, &cam), 0);
         s_axes_t a = s_axes (in.heading_deg, in.pitch_deg, in.roll_deg, in.depression_deg);
         assert_enu_near (cam.forward, a.f, 1e-12);
         assert_enu_near (cam.right, a.r, 1e-12);
@@ -308,7 +311,7 @@ static void test_random_poses_formula (void **state)
             double x, y, z, xe, ye;
             s_pinhole (in.position, a, in.hfov_deg, in.vfov_deg, in.width_px, in.height_px, p, &xe,
                        &ye);
-            assert_true (im_camera_project (&cam, p, &x, &y, &z));
+            assert_true (cgs_camera_project (&cam, p, &x, &y, &z));
             assert_near (x, xe, 1e-6 * in.width_px);
             assert_near (y, ye, 1e-6 * in.height_px);
             assert_near (z, depth, 1e-6 * depth);
@@ -323,10 +326,10 @@ static void test_boresight_angles (void **state)
 {
     (void)state;
     for (int i = 0; i < 500; i++) {
-        im_camera_in_t in = s_random_in ();
+        cgs_camera_in_t in = s_random_in ();
         in.depression_deg = 0;
-        im_camera_t cam;
-        assert_int_equal (im_camera_make (&in, &cam), 0);
+        cgs_camera_t cam;
+        assert_int_equal (cgs_camera_make (&in, &cam), 0);
         assert_near (fabs (remainder (cam.heading_deg - in.heading_deg, 360)), 0, 1e-9);
         assert_true (cam.heading_deg >= 0 && cam.heading_deg < 360);
         assert_near (cam.pitch_deg, in.pitch_deg, 1e-9);
@@ -335,7 +338,7 @@ static void test_boresight_angles (void **state)
         in = s_random_in ();
         in.roll_deg = 0;
         in.depression_deg = s_uniform (1, 60);
-        assert_int_equal (im_camera_make (&in, &cam), 0);
+        assert_int_equal (cgs_camera_make (&in, &cam), 0);
         assert_near (fabs (remainder (cam.heading_deg - in.heading_deg, 360)), 0, 1e-9);
         assert_near (cam.pitch_deg, in.pitch_deg - in.depression_deg, 1e-9);
         assert_near (cam.roll_deg, 0, 1e-9);
@@ -351,19 +354,19 @@ static void test_ray_project_inverse (void **state)
 {
     (void)state;
     for (int i = 0; i < 1000; i++) {
-        im_camera_in_t in = s_random_in ();
-        in.stabilized = s_uniform (0, 1) < 0.5;
-        im_camera_t cam;
-        assert_int_equal (im_camera_make (&in, &cam), 0);
-        assert_enu_near (im_camera_ray (&cam, in.width_px / 2.0, in.height_px / 2.0), cam.forward,
+        cgs_camera_in_t in = s_random_in ();
+        in.point.stabilized = s_uniform (0, 1) < 0.5;
+        cgs_camera_t cam;
+        assert_int_equal (cgs_camera_make (&in, &cam), 0);
+        assert_enu_near (cgs_camera_ray (&cam, in.width_px / 2.0, in.height_px / 2.0), cam.forward,
                          1e-12);
         for (int k = 0; k < 20; k++) {
             double x = s_uniform (0, in.width_px), y = s_uniform (0, in.height_px);
             double s = s_uniform (2, 50000);
-            cgs_enu_t d = im_camera_ray (&cam, x, y);
+            cgs_enu_t d = cgs_camera_ray (&cam, x, y);
             assert_near (s_norm (d), 1, 1e-12);
             double xb, yb, zb;
-            assert_true (im_camera_project (&cam, s_add (cam.eye, s_mul (s, d)), &xb, &yb, &zb));
+            assert_true (cgs_camera_project (&cam, s_add (cam.eye, s_mul (s, d)), &xb, &yb, &zb));
             assert_near (xb, x, 1e-7);
             assert_near (yb, y, 1e-7);
             assert_near (zb, s * s_dot (d, cam.forward), 1e-9 * s);
@@ -374,10 +377,10 @@ static void test_ray_project_inverse (void **state)
             cgs_enu_t p = s_add (cam.eye, s_v (s_uniform (-5000, 5000), s_uniform (-5000, 5000),
                                                s_uniform (-5000, 5000)));
             double x, y, z;
-            if (!im_camera_project (&cam, p, &x, &y, &z))
+            if (!cgs_camera_project (&cam, p, &x, &y, &z))
                 continue;
             cgs_enu_t d = s_sub (p, cam.eye);
-            cgs_enu_t ray = im_camera_ray (&cam, x, y);
+            cgs_enu_t ray = cgs_camera_ray (&cam, x, y);
             assert_near (s_norm (s_cross (ray, d)) / s_norm (d), 0, 1e-9);
             assert_true (s_dot (ray, d) > 0);
         }
@@ -387,32 +390,141 @@ static void test_ray_project_inverse (void **state)
 /* ---- the footprint: the map and the image agree ---------------------------------------- */
 
 /* For many random poses (rays above the horizon included) the footprint on
- * flat ground equals guidanced's: corners, centre and clipping. */
-static void test_footprint_equals_guidance (void **state)
+ * flat ground is where the corner rays, built independently by rotations
+ * (s_axes: f ± tan(γ/2)·r ± tan(β/2)·u), meet the plane u = 0: exactly,
+ * when they meet it within the range; clipped when one does not. And
+ * guidanced's gd_footprint is this very footprint. */
+static void test_footprint_closed_form (void **state)
 {
     (void)state;
     int clipped = 0, n = 3000;
     for (int i = 0; i < n; i++) {
-        im_camera_in_t in = s_random_in ();
+        cgs_camera_in_t in = s_random_in ();
         if (i % 5 == 0) // shallow looks, some of them above the horizon
             in.depression_deg = s_uniform (-10, 15);
         double max_range = s_uniform (5000, 50000);
-        im_camera_t cam;
-        assert_int_equal (im_camera_make (&in, &cam), 0);
-        im_footprint_t fp;
-        im_camera_footprint (&cam, NULL, max_range, &fp);
+        cgs_camera_t cam;
+        assert_int_equal (cgs_camera_make (&in, &cam), 0);
+        cgs_footprint_t fp;
+        cgs_camera_footprint (&cam, NULL, max_range, &fp);
+        s_axes_t a = s_axes (in.heading_deg, in.pitch_deg, in.roll_deg, in.depression_deg);
+        double ta = tan (in.hfov_deg * DEG / 2), tb = tan (in.vfov_deg * DEG / 2);
+        const double sa[5] = {-1, -1, 1, 1, 0}, sb[5] = {-1, 1, 1, -1, 0};
+        bool any_clipped = false;
+        for (int k = 0; k < 5; k++) {
+            cgs_enu_t d = s_add (a.f, s_add (s_mul (sa[k] * ta, a.r), s_mul (sb[k] * tb, a.u)));
+            d = s_mul (1 / s_norm (d), d);
+            double t = d.u_m < 0 ? -in.position.u_m / d.u_m : INFINITY;
+            if (!(t <= max_range)) {
+                any_clipped = true;
+                continue;
+            }
+            cgs_enu_t want = s_add (in.position, s_mul (t, d));
+            cgs_enu_t got =
+                k < 4 ? cgs_footprint_corner_enu (&fp, k) : cgs_footprint_center_enu (&fp);
+            // cgs_terrain_ray bisects to a millimetre or so on flat ground.
+            assert_enu_near (got, want, 1e-2 + 1e-6 * t);
+        }
+        assert_int_equal (fp.clipped, any_clipped);
+        clipped += fp.clipped;
         gd_sensor_t s = s_sensor_of (&in, max_range);
         gd_footprint_t g;
         assert_int_equal (gd_footprint (&s, NULL, &g), 0);
-        assert_int_equal (fp.clipped, g.clipped);
-        clipped += fp.clipped;
-        for (int k = 0; k < 4; k++)
-            assert_enu_near (fp.corner[k], s_v (g.corner[k].e, g.corner[k].n, g.corner_up_m[k]),
-                             1e-6);
-        assert_enu_near (fp.center, s_v (g.center.e, g.center.n, g.center_up_m), 1e-6);
+        assert_memory_equal (&g, &fp, sizeof g);
     }
     // Both kinds were met.
     assert_true (clipped > 20 && clipped < n - 20);
+}
+
+/* The attitude (azimuth, elevation, roll) a camera reports builds the same
+ * camera again (cgs_camera_make_attitude): how every service rebuilds it
+ * from the `uav` message. Random poses, stabilized and staring ones too. */
+static void test_attitude_round_trip (void **state)
+{
+    (void)state;
+    for (int i = 0; i < 3000; i++) {
+        cgs_camera_in_t in = s_random_in ();
+        in.point.stabilized = i % 3 == 1;
+        in.point.staring = i % 3 == 2;
+        in.point.stare_at = s_v (in.position.e_m + s_uniform (-3000, 3000),
+                                 in.position.n_m + s_uniform (-3000, 3000), 0);
+        cgs_camera_t cam, back;
+        assert_int_equal (cgs_camera_make (&in, &cam), 0);
+        cgs_camera_attitude_t at = {
+            .position = cam.eye,
+            .azimuth_deg = cam.heading_deg,
+            .elevation_deg = cam.pitch_deg,
+            .roll_deg = cam.roll_deg,
+            .hfov_deg = in.hfov_deg,
+            .vfov_deg = in.vfov_deg,
+            .width_px = in.width_px,
+            .height_px = in.height_px,
+            .near_m = in.near_m,
+            .far_m = in.far_m,
+        };
+        assert_int_equal (cgs_camera_make_attitude (&at, &back), 0);
+        assert_enu_near (back.forward, cam.forward, 1e-9);
+        assert_enu_near (back.right, cam.right, 1e-9);
+        assert_enu_near (back.up, cam.up, 1e-9);
+    }
+    // Straight down: the azimuth comes from the camera's up axis.
+    cgs_camera_attitude_t down = {.position = s_v (0, 0, 1000),
+                                  .azimuth_deg = 30,
+                                  .elevation_deg = -90,
+                                  .hfov_deg = 10,
+                                  .vfov_deg = 7.5,
+                                  .width_px = 64,
+                                  .height_px = 48,
+                                  .near_m = 1,
+                                  .far_m = 5000};
+    cgs_camera_t c;
+    assert_int_equal (cgs_camera_make_attitude (&down, &c), 0);
+    assert_near (c.heading_deg, 30, 1e-9);
+    assert_near (c.pitch_deg, -90, 1e-9);
+    down.elevation_deg = -91;
+    assert_int_equal (cgs_camera_make_attitude (&down, &c), -EINVAL);
+}
+
+/* Staring within the gimbal's limits looks straight at the point; beyond
+ * them the camera is held at the limit (its direction in the body axes at
+ * the limiting azimuth or elevation) and says so. */
+static void test_gimbal_limits (void **state)
+{
+    (void)state;
+    cgs_camera_in_t in = s_example (); // 1000 m up, heading north, level
+    in.point.staring = true;
+    in.point.gimbal_limited = true;
+    in.point.gimbal_azimuth_deg = 90;
+    in.point.gimbal_elevation_min_deg = -80;
+    in.point.gimbal_elevation_max_deg = -10;
+    cgs_camera_t cam;
+    // Ahead and to the right, 45° down: within the limits.
+    in.point.stare_at = s_v (1000, 1000 * sqrt (2), 0);
+    assert_int_equal (cgs_camera_make (&in, &cam), 0);
+    assert_false (cam.at_gimbal_limit);
+    double x, y, z;
+    assert_true (cgs_camera_project (&cam, in.point.stare_at, &x, &y, &z));
+    assert_near (x, in.width_px / 2.0, 1e-6);
+    assert_near (y, in.height_px / 2.0, 1e-6);
+    // Behind: azimuth 180° relative, held at 90° (to the right: atan2 gives +180).
+    in.point.stare_at = s_v (1, -1000, 0);
+    assert_int_equal (cgs_camera_make (&in, &cam), 0);
+    assert_true (cam.at_gimbal_limit);
+    assert_near (cam.heading_deg, 90, 1e-6);
+    assert_near (cam.pitch_deg, -45, 1e-4); // elevation kept: about atan(1000/1000)
+    // Straight below is beyond -80°: held at -80°.
+    in.point.stare_at = s_v (0, 1, 0);
+    assert_int_equal (cgs_camera_make (&in, &cam), 0);
+    assert_true (cam.at_gimbal_limit);
+    assert_near (cam.pitch_deg, -80, 1e-6);
+    // Near the horizon: above -10°, held at -10°.
+    in.point.stare_at = s_v (0, 100000, 0);
+    assert_int_equal (cgs_camera_make (&in, &cam), 0);
+    assert_true (cam.at_gimbal_limit);
+    assert_near (cam.pitch_deg, -10, 1e-6);
+    // Limits out of order are refused.
+    in.point.gimbal_elevation_min_deg = 0;
+    assert_int_equal (cgs_camera_make (&in, &cam), -EINVAL);
 }
 
 /* On flat ground, a point is in view exactly when it lies inside the
@@ -424,11 +536,11 @@ static void test_in_view_matches_footprint (void **state)
     (void)state;
     long agree = 0, inside = 0, outside = 0, poses = 0, edge = 0;
     for (int i = 0; poses < 400 && i < 5000; i++) {
-        im_camera_in_t in = s_random_in ();
+        cgs_camera_in_t in = s_random_in ();
         in.depression_deg = s_uniform (20, 85);
         const double max_range = 50000;
-        im_camera_t cam;
-        assert_int_equal (im_camera_make (&in, &cam), 0);
+        cgs_camera_t cam;
+        assert_int_equal (cgs_camera_make (&in, &cam), 0);
         gd_sensor_t s = s_sensor_of (&in, max_range);
         gd_footprint_t g;
         assert_int_equal (gd_footprint (&s, NULL, &g), 0);
@@ -448,7 +560,7 @@ static void test_in_view_matches_footprint (void **state)
                 continue;
             }
             bool in_fp = cgs_footprint_contains (&g, p);
-            bool in_img = im_camera_in_view (&cam, s_v (p.e, p.n, 0));
+            bool in_img = cgs_camera_in_view (&cam, s_v (p.e, p.n, 0));
             if (in_fp != in_img)
                 fail_msg ("pose %d point (%.3f, %.3f): footprint says %d, image says %d "
                           "(edge distance %.4f m)",
@@ -468,7 +580,7 @@ static void test_in_view_matches_footprint (void **state)
 
 /* ---- stabilized and staring -------------------------------------------------------------- */
 
-static void s_assert_same_camera (const im_camera_t *a, const im_camera_t *b, double tol)
+static void s_assert_same_camera (const cgs_camera_t *a, const cgs_camera_t *b, double tol)
 {
     assert_enu_near (a->eye, b->eye, 0);
     assert_enu_near (a->forward, b->forward, tol);
@@ -489,22 +601,22 @@ static void test_stabilized_removes_roll (void **state)
 {
     (void)state;
     for (int i = 0; i < 200; i++) {
-        im_camera_in_t in = s_random_in ();
+        cgs_camera_in_t in = s_random_in ();
         in.roll_deg = i == 0 ? 30 : s_uniform (-60, 60);
         if (fabs (in.roll_deg) < 1)
             in.roll_deg = 30;
-        im_camera_in_t level = in;
+        cgs_camera_in_t level = in;
         level.roll_deg = 0;
-        in.stabilized = true;
-        im_camera_t a, b, c, d;
-        assert_int_equal (im_camera_make (&in, &a), 0);
-        assert_int_equal (im_camera_make (&level, &b), 0);
-        level.stabilized = true;
-        assert_int_equal (im_camera_make (&level, &c), 0);
+        in.point.stabilized = true;
+        cgs_camera_t a, b, c, d;
+        assert_int_equal (cgs_camera_make (&in, &a), 0);
+        assert_int_equal (cgs_camera_make (&level, &b), 0);
+        level.point.stabilized = true;
+        assert_int_equal (cgs_camera_make (&level, &c), 0);
         s_assert_same_camera (&a, &b, 0);
         s_assert_same_camera (&a, &c, 0);
-        in.stabilized = false;
-        assert_int_equal (im_camera_make (&in, &d), 0);
+        in.point.stabilized = false;
+        assert_int_equal (cgs_camera_make (&in, &d), 0);
         assert_true (s_norm (s_sub (d.right, a.right)) > 1e-3);
         // Stabilized, the image's right is level.
         assert_near (a.right.u_m, 0, 1e-12);
@@ -518,19 +630,19 @@ static void test_stare (void **state)
 {
     (void)state;
     for (int i = 0; i < 1000; i++) {
-        im_camera_in_t in = s_random_in ();
-        im_camera_t cam;
-        assert_int_equal (im_camera_make (&in, &cam), 0);
+        cgs_camera_in_t in = s_random_in ();
+        cgs_camera_t cam;
+        assert_int_equal (cgs_camera_make (&in, &cam), 0);
         cgs_enu_t t = s_v (in.position.e_m + s_uniform (-8000, 8000),
                            in.position.n_m + s_uniform (-8000, 8000), s_uniform (-100, 300));
-        assert_int_equal (im_camera_stare (&cam, t), 0);
+        assert_int_equal (cgs_camera_stare (&cam, t), 0);
         double x, y, z;
-        assert_true (im_camera_project (&cam, t, &x, &y, &z));
+        assert_true (cgs_camera_project (&cam, t, &x, &y, &z));
         assert_near (x, in.width_px / 2.0, 1e-6);
         assert_near (y, in.height_px / 2.0, 1e-6);
         cgs_enu_t d = s_sub (t, in.position);
         assert_near (z, s_norm (d), 1e-6);
-        assert_true (im_camera_in_view (&cam, t));
+        assert_true (cgs_camera_in_view (&cam, t));
         assert_near (cam.roll_deg, 0, 1e-9);
         assert_near (cam.right.u_m, 0, 1e-12);
         assert_true (cam.up.u_m > 0);
@@ -554,20 +666,20 @@ static void test_stare (void **state)
         assert_near (-m[2], s_norm (d), 1e-3 * (1 + s_norm (d)) + 2e-3 * s_norm (t));
     }
     // Straight below, straight above and at the eye: refused, unchanged.
-    im_camera_in_t in = s_example ();
-    im_camera_t cam, before;
-    assert_int_equal (im_camera_make (&in, &cam), 0);
+    cgs_camera_in_t in = s_example ();
+    cgs_camera_t cam, before;
+    assert_int_equal (cgs_camera_make (&in, &cam), 0);
     before = cam;
-    assert_int_equal (im_camera_stare (&cam, s_v (0, 0, 0)), -EINVAL);
+    assert_int_equal (cgs_camera_stare (&cam, s_v (0, 0, 0)), -EINVAL);
     assert_memory_equal (&cam, &before, sizeof cam);
-    assert_int_equal (im_camera_stare (&cam, s_v (0, 0, 2000)), -EINVAL);
+    assert_int_equal (cgs_camera_stare (&cam, s_v (0, 0, 2000)), -EINVAL);
     assert_memory_equal (&cam, &before, sizeof cam);
-    assert_int_equal (im_camera_stare (&cam, s_v (0, 0, 1000)), -EINVAL);
+    assert_int_equal (cgs_camera_stare (&cam, s_v (0, 0, 1000)), -EINVAL);
     assert_memory_equal (&cam, &before, sizeof cam);
-    assert_int_equal (im_camera_stare (&cam, s_v (NAN, 0, 0)), -EINVAL);
+    assert_int_equal (cgs_camera_stare (&cam, s_v (NAN, 0, 0)), -EINVAL);
     assert_memory_equal (&cam, &before, sizeof cam);
     // Nearly below (1 m off at 1000 m) is still a bearing.
-    assert_int_equal (im_camera_stare (&cam, s_v (1, 0, 0)), 0);
+    assert_int_equal (cgs_camera_stare (&cam, s_v (1, 0, 0)), 0);
     assert_near (cam.heading_deg, 90, 1e-9);
 }
 
@@ -587,41 +699,41 @@ static void s_box (cgs_enu_t c, double half, cgs_enu_t *lo, cgs_enu_t *hi)
 static void test_frustum_example (void **state)
 {
     (void)state;
-    im_camera_in_t in = s_example ();
+    cgs_camera_in_t in = s_example ();
     in.far_m = 5000;
-    im_camera_t cam;
-    assert_int_equal (im_camera_make (&in, &cam), 0);
+    cgs_camera_t cam;
+    assert_int_equal (cgs_camera_make (&in, &cam), 0);
     double pl[6][4];
-    im_camera_frustum (&cam, pl);
+    cgs_camera_frustum (&cam, pl);
     for (int i = 0; i < 6; i++)
         assert_near (sqrt (pl[i][0] * pl[i][0] + pl[i][1] * pl[i][1] + pl[i][2] * pl[i][2]), 1,
                      1e-12);
     cgs_enu_t lo, hi;
     s_box (s_v (0, 1000, 0), 5, &lo, &hi);
-    assert_false (im_frustum_culls (pl, lo, hi));
+    assert_false (cgs_frustum_culls (pl, lo, hi));
     s_box (s_sub (cam.eye, s_mul (500, cam.forward)), 5, &lo, &hi);
-    assert_true (im_frustum_culls (pl, lo, hi));
+    assert_true (cgs_frustum_culls (pl, lo, hi));
     s_box (s_add (cam.eye, s_mul (5100, cam.forward)), 5, &lo, &hi);
-    assert_true (im_frustum_culls (pl, lo, hi));
+    assert_true (cgs_frustum_culls (pl, lo, hi));
     s_box (s_add (cam.eye, s_mul (5000, cam.forward)), 20, &lo, &hi);
-    assert_false (im_frustum_culls (pl, lo, hi));
+    assert_false (cgs_frustum_culls (pl, lo, hi));
     // At 1414 m depth the image is ±123.7 m wide: 300 m east is out.
     s_box (s_v (300, 1000, 0), 5, &lo, &hi);
-    assert_true (im_frustum_culls (pl, lo, hi));
+    assert_true (cgs_frustum_culls (pl, lo, hi));
     s_box (s_v (-300, 1000, 0), 5, &lo, &hi);
-    assert_true (im_frustum_culls (pl, lo, hi));
+    assert_true (cgs_frustum_culls (pl, lo, hi));
     // A box about the eye reaches past the near plane into the view.
     s_box (cam.eye, 10, &lo, &hi);
-    assert_false (im_frustum_culls (pl, lo, hi));
+    assert_false (cgs_frustum_culls (pl, lo, hi));
     // A big box (a terrain chunk) overlapping the view from outside the
     // side planes on both sides.
     lo = s_v (-2000, 900, -10);
     hi = s_v (2000, 1100, 10);
-    assert_false (im_frustum_culls (pl, lo, hi));
+    assert_false (cgs_frustum_culls (pl, lo, hi));
 
     // The plane through the eye of the left side contains the ray through
     // the left edge of the image; the near and far planes sit at depth near and far.
-    cgs_enu_t dl = im_camera_ray (&cam, 0, s_uniform (0, 480));
+    cgs_enu_t dl = cgs_camera_ray (&cam, 0, s_uniform (0, 480));
     cgs_enu_t p = s_add (cam.eye, s_mul (700, dl));
     int on = 0;
     for (int i = 0; i < 4; i++)
@@ -641,31 +753,31 @@ static void test_frustum_random (void **state)
     (void)state;
     long kept = 0, culled = 0;
     for (int i = 0; i < 500; i++) {
-        im_camera_in_t in = s_random_in ();
+        cgs_camera_in_t in = s_random_in ();
         in.near_m = s_uniform (0.5, 20);
         in.far_m = s_uniform (2000, 30000);
-        in.stabilized = s_uniform (0, 1) < 0.5;
-        im_camera_t cam;
-        assert_int_equal (im_camera_make (&in, &cam), 0);
+        in.point.stabilized = s_uniform (0, 1) < 0.5;
+        cgs_camera_t cam;
+        assert_int_equal (cgs_camera_make (&in, &cam), 0);
         double pl[6][4];
-        im_camera_frustum (&cam, pl);
+        cgs_camera_frustum (&cam, pl);
         for (int k = 0; k < 100; k++) {
             // Points about the view: along rays through pixels up to half the
             // image outside it, at depths to 1.2 × far; some behind.
             double x = s_uniform (-0.5, 1.5) * in.width_px,
                    y = s_uniform (-0.5, 1.5) * in.height_px;
             double s = s_uniform (-0.1, 1.2) * in.far_m;
-            cgs_enu_t p = s_add (cam.eye, s_mul (s, im_camera_ray (&cam, x, y)));
-            double z = s * s_dot (im_camera_ray (&cam, x, y), cam.forward);
+            cgs_enu_t p = s_add (cam.eye, s_mul (s, cgs_camera_ray (&cam, x, y)));
+            double z = s * s_dot (cgs_camera_ray (&cam, x, y), cam.forward);
             cgs_enu_t lo, hi;
             s_box (p, 1e-4, &lo, &hi);
             double mx = fmax (-x, x - in.width_px), my = fmax (-y, y - in.height_px);
-            if (im_camera_in_view (&cam, p) && z > in.near_m + 0.01 && z < in.far_m - 0.01 &&
+            if (cgs_camera_in_view (&cam, p) && z > in.near_m + 0.01 && z < in.far_m - 0.01 &&
                 mx < -1 && my < -1) {
-                assert_false (im_frustum_culls (pl, lo, hi));
+                assert_false (cgs_frustum_culls (pl, lo, hi));
                 kept++;
             } else if (z < in.near_m - 0.01 || z > in.far_m + 0.01 || mx > 1 || my > 1) {
-                assert_true (im_frustum_culls (pl, lo, hi));
+                assert_true (cgs_frustum_culls (pl, lo, hi));
                 culled++;
             }
         }
@@ -676,7 +788,7 @@ static void test_frustum_random (void **state)
 /* ---- the matrices ----------------------------------------------------------------------- */
 
 /* proj·view·(p, 1) divided by w gives normalised device coordinates that
- * map to the pixel im_camera_project gives (x = (ndc_x + 1)/2·w, y = (1 −
+ * map to the pixel cgs_camera_project gives (x = (ndc_x + 1)/2·w, y = (1 −
  * ndc_y)/2·h); w is the depth; ndc_z is OpenGL's depth, −1 at near and +1
  * at far. The view matrix's upper 3 × 3 is a rotation (rows right, up,
  * −forward). Matrices are float: tolerances follow. */
@@ -684,13 +796,13 @@ static void test_matrices (void **state)
 {
     (void)state;
     for (int i = 0; i < 500; i++) {
-        im_camera_in_t in = s_random_in ();
+        cgs_camera_in_t in = s_random_in ();
         in.position.e_m /= 4, in.position.n_m /= 4;
         in.near_m = s_uniform (0.5, 20);
         in.far_m = s_uniform (5000, 30000);
-        in.stabilized = s_uniform (0, 1) < 0.5;
-        im_camera_t cam;
-        assert_int_equal (im_camera_make (&in, &cam), 0);
+        in.point.stabilized = s_uniform (0, 1) < 0.5;
+        cgs_camera_t cam;
+        assert_int_equal (cgs_camera_make (&in, &cam), 0);
         const float *v = cam.view, *pr = cam.proj;
         assert_near (v[0], cam.right.e_m, 1e-7);
         assert_near (v[4], cam.right.n_m, 1e-7);
@@ -709,9 +821,9 @@ static void test_matrices (void **state)
         for (int k = 0; k < 50; k++) {
             double x = s_uniform (0, in.width_px), y = s_uniform (0, in.height_px);
             double s = s_uniform (in.near_m * 2 + 1, in.far_m * 0.9);
-            cgs_enu_t p = s_add (cam.eye, s_mul (s, im_camera_ray (&cam, x, y)));
+            cgs_enu_t p = s_add (cam.eye, s_mul (s, cgs_camera_ray (&cam, x, y)));
             double px, py, depth;
-            assert_true (im_camera_project (&cam, p, &px, &py, &depth));
+            assert_true (cgs_camera_project (&cam, p, &px, &py, &depth));
             double e[4], c[4];
             for (int r = 0; r < 4; r++)
                 e[r] = v[r] * p.e_m + v[4 + r] * p.n_m + v[8 + r] * p.u_m + v[12 + r];
@@ -744,16 +856,16 @@ static void test_matrices (void **state)
 static void test_make_rejects_bad_input (void **state)
 {
     (void)state;
-    im_camera_t cam;
-    im_camera_in_t in = s_example ();
-    assert_int_equal (im_camera_make (&in, &cam), 0);
-    assert_int_equal (im_camera_make (NULL, &cam), -EINVAL);
-    assert_int_equal (im_camera_make (&in, NULL), -EINVAL);
+    cgs_camera_t cam;
+    cgs_camera_in_t in = s_example ();
+    assert_int_equal (cgs_camera_make (&in, &cam), 0);
+    assert_int_equal (cgs_camera_make (NULL, &cam), -EINVAL);
+    assert_int_equal (cgs_camera_make (&in, NULL), -EINVAL);
 #define S_BAD(field, value)                                                                        \
     do {                                                                                           \
-        im_camera_in_t b_ = s_example ();                                                          \
+        cgs_camera_in_t b_ = s_example ();                                                         \
         b_.field = (value);                                                                        \
-        if (im_camera_make (&b_, &cam) != -EINVAL)                                                 \
+        if (cgs_camera_make (&b_, &cam) != -EINVAL)                                                \
             fail_msg ("%s = %s accepted", #field, #value);                                         \
     } while (0)
     S_BAD (position.e_m, NAN);
@@ -785,12 +897,12 @@ static void test_make_rejects_bad_input (void **state)
 #undef S_BAD
     // The edges that are allowed.
     in.depression_deg = -89.9;
-    assert_int_equal (im_camera_make (&in, &cam), 0);
+    assert_int_equal (cgs_camera_make (&in, &cam), 0);
     in.depression_deg = 89.9;
-    assert_int_equal (im_camera_make (&in, &cam), 0);
+    assert_int_equal (cgs_camera_make (&in, &cam), 0);
     in.width_px = in.height_px = 1;
     in.hfov_deg = in.vfov_deg = 179;
-    assert_int_equal (im_camera_make (&in, &cam), 0);
+    assert_int_equal (cgs_camera_make (&in, &cam), 0);
 }
 
 int main (void)
@@ -800,7 +912,9 @@ int main (void)
         cmocka_unit_test (test_random_poses_formula),
         cmocka_unit_test (test_boresight_angles),
         cmocka_unit_test (test_ray_project_inverse),
-        cmocka_unit_test (test_footprint_equals_guidance),
+        cmocka_unit_test (test_footprint_closed_form),
+        cmocka_unit_test (test_attitude_round_trip),
+        cmocka_unit_test (test_gimbal_limits),
         cmocka_unit_test (test_in_view_matches_footprint),
         cmocka_unit_test (test_stabilized_removes_roll),
         cmocka_unit_test (test_stare),
