@@ -2,15 +2,17 @@
  * takes every topic the map shows into its picture (st_state), pushes the
  * picture to every open page at push_hz, relays the imaging sensor's live
  * video (topic `video`) to the pages that play it, and turns each page's
- * operator actions into guidanced and uavsim commands, answering that page
- * with the result. The web server is st_web (CivetWeb); the terrain's shaded relief is
- * made once at start (st_relief). This file wires them to the bus. */
+ * operator actions into guidanced, uavsim and imagerd commands (st_request),
+ * answering that page with the result. The web server is st_web (CivetWeb);
+ * the terrain's shaded relief is made once at start (st_relief). This file
+ * wires them to the bus. */
 #include "cgs_geo.h"
 #include "cgs_log.h"
 #include "cgs_scenario.h"
 #include "cgs_service.h"
 #include "st_params.h"
 #include "st_relief.h"
+#include "st_request.h"
 #include "st_state.h"
 #include "st_web.h"
 
@@ -47,9 +49,15 @@ typedef struct {
     uint64_t commands_ok, commands_refused, commands_unanswered, bad_requests, unauthorised;
 } s_app_t;
 
-/* Each open page's command clients, made on its first command. */
+/* Each open page's command clients, one per instance it commanded, made on
+ * its first command to it. */
+#define S_PAGE_CLIENTS 20 // guidanced, uavsim and an imagerd per UAV (the oldest is reused)
+
 typedef struct {
-    cgs_cmd_client_t *guidanced, *uavsim;
+    struct {
+        const cgs_instance_t *to;
+        cgs_cmd_client_t *client;
+    } clients[S_PAGE_CLIENTS];
 } s_page_t;
 
 static void s_count (uint64_t *counter)
@@ -282,29 +290,13 @@ static void s_bad_request (s_app_t *app, st_web_conn_t *conn, const char *why)
     s_answer (conn, o);
 }
 
-/* A finite number field; false when absent or not a number. */
-static bool s_number (json_object *req, const char *key, double *ret)
-{
-    json_object *v;
-    if (!json_object_object_get_ex (req, key, &v))
-        return false;
-    json_type t = json_object_get_type (v);
-    if (t != json_type_double && t != json_type_int)
-        return false;
-    double d = json_object_get_double (v);
-    if (!isfinite (d))
-        return false;
-    *ret = d;
-    return true;
-}
-
 static void s_mgrs (s_app_t *app, st_web_conn_t *conn, json_object *req, int64_t n)
 {
     double e, no;
     json_object *o = s_reply_head ("mgrs", n, NULL);
     cgs_geodetic_t g;
     char grid[64];
-    if (!s_number (req, "e", &e) || !s_number (req, "n", &no) || fabs (e) > 1e7 ||
+    if (!st_request_number (req, "e", &e) || !st_request_number (req, "n", &no) || fabs (e) > 1e7 ||
         fabs (no) > 1e7) {
         json_object_object_add (o, "error", json_object_new_string ("mgrs needs numbers e and n"));
     } else if (cgs_geo_enu_to_geodetic (app->frame, (cgs_enu_t){e, no, 0}, &g) < 0 ||
@@ -318,6 +310,20 @@ static void s_mgrs (s_app_t *app, st_web_conn_t *conn, json_object *req, int64_t
     s_answer (conn, o);
 }
 
+/* The page's client slot for instance to: its own, else a free one, else
+ * the last one (its client closed for the new instance's). */
+static cgs_cmd_client_t **s_client (s_page_t *page, const cgs_instance_t *to)
+{
+    size_t i = 0;
+    while (i + 1 < S_PAGE_CLIENTS && page->clients[i].to && page->clients[i].to != to)
+        i++;
+    if (page->clients[i].to != to) {
+        cgs_cmd_client_destroy (&page->clients[i].client);
+        page->clients[i].to = to;
+    }
+    return &page->clients[i].client;
+}
+
 /* Send cmd to the instance and answer the page with the result. */
 static void s_command (s_app_t *app, st_web_conn_t *conn, s_page_t *page, int64_t n, const char *op,
                        const cgs_instance_t *to, Cgs__Command *cmd)
@@ -326,11 +332,11 @@ static void s_command (s_app_t *app, st_web_conn_t *conn, s_page_t *page, int64_
         s_count (&app->commands_unanswered);
         return s_refuse (conn, n, op, "the exercise names no instance to take that command");
     }
-    cgs_cmd_client_t **client =
-        strcmp (to->program, "uavsim") == 0 ? &page->uavsim : &page->guidanced;
+    cgs_cmd_client_t **client = s_client (page, to);
     if (!*client &&
         (!(*client = cgs_cmd_client_new (cgs_service_ctx (app->svc), to->command, "stationd")) ||
          cgs_curve_protect_client (cgs_service_curve (app->svc), *client, to->public_key) < 0)) {
+        cgs_cmd_client_destroy (client); // never left unprotected for the next command
         s_count (&app->commands_unanswered);
         return s_refuse (conn, n, op, "cannot make a command client");
     }
@@ -380,21 +386,12 @@ static void s_on_request (void *arg, st_web_conn_t *conn, const char *text, size
     }
     op = json_object_get_string (v);
     int64_t n = json_object_object_get_ex (req, "req", &v) ? json_object_get_int64 (v) : 0;
-    double uav = 0, value = 0, e = 0, no = 0;
-    if (json_object_object_get_ex (req, "uav_id", &v) &&
-        (!s_number (req, "uav_id", &uav) || uav < 0 || uav > UINT32_MAX || uav != floor (uav)))
-        uav = -1; // given, but not a UAV id: refused, never taken as "the only UAV"
     if (strcmp (op, "mgrs") == 0) {
         s_mgrs (app, conn, req, n);
         json_object_put (req);
         return;
     }
-    static const char *const ops[] = {"designate",       "cancel",         "altitude", "speed",
-                                      "footprint_scale", "intercept_mode", NULL};
-    bool known = false;
-    for (int i = 0; ops[i]; i++)
-        known |= strcmp (op, ops[i]) == 0;
-    if (!known) {
+    if (!st_request_is_command (op)) {
         char why[160];
         snprintf (why, sizeof why, "unknown op \"%.40s\"", op);
         s_bad_request (app, conn, why);
@@ -417,99 +414,25 @@ static void s_on_request (void *arg, st_web_conn_t *conn, const char *text, size
         }
         st_web_conn_set_user (conn, page);
     }
-    Cgs__Command cmd = CGS__COMMAND__INIT;
-    Cgs__Designate d = CGS__DESIGNATE__INIT;
-    Cgs__Enu point = CGS__ENU__INIT;
-    Cgs__HitRef hit = CGS__HIT_REF__INIT;
-    Cgs__Cancel c = CGS__CANCEL__INIT;
-    Cgs__SetAltitude alt = CGS__SET_ALTITUDE__INIT;
-    Cgs__SetSpeed spd = CGS__SET_SPEED__INIT;
-    Cgs__SetFootprintScale fs = CGS__SET_FOOTPRINT_SCALE__INIT;
-    Cgs__SetInterceptMode im = CGS__SET_INTERCEPT_MODE__INIT;
-    const cgs_instance_t *to = app->guidanced;
-    const char *why = NULL;
-    uint32_t uav_id = (uint32_t)fmax (0, uav);
-    if (uav < 0) {
-        why = "uav_id must be a whole number >= 0";
-    } else if (strcmp (op, "designate") == 0) {
-        double hit_id = 0, radar = 0;
-        if (s_number (req, "hit", &hit_id)) {
-            // The clicked hit: guidanced designates the track that took it.
-            // A radar given must be a whole number (absent: any radar).
-            bool radar_given = json_object_object_get_ex (req, "radar", NULL);
-            if (!(hit_id >= 1 && hit_id <= UINT32_MAX && hit_id == floor (hit_id)) ||
-                (radar_given && !(s_number (req, "radar", &radar) && radar >= 0 &&
-                                  radar <= UINT32_MAX && radar == floor (radar)))) {
-                why = "designate: hit and radar must be whole numbers (a hit id >= 1)";
-            } else {
-                hit.hit_id = (uint32_t)hit_id;
-                hit.radar_uav_id = (uint32_t)radar;
-                d.uav_id = uav_id;
-                d.target_case = CGS__DESIGNATE__TARGET_HIT;
-                d.hit = &hit;
-                cmd.body_case = CGS__COMMAND__BODY_DESIGNATE;
-                cmd.designate = &d;
-            }
-        } else if (!s_number (req, "e", &e) || !s_number (req, "n", &no)) {
-            why = "designate needs the clicked hit (hit, radar) or a point (e, n)";
-        } else {
-            point.east_m = e;
-            point.north_m = no;
-            d.uav_id = uav_id;
-            d.target_case = CGS__DESIGNATE__TARGET_POINT;
-            d.point = &point;
-            cmd.body_case = CGS__COMMAND__BODY_DESIGNATE;
-            cmd.designate = &d;
-        }
-    } else if (strcmp (op, "cancel") == 0) {
-        c.uav_id = uav_id;
-        cmd.body_case = CGS__COMMAND__BODY_CANCEL;
-        cmd.cancel = &c;
-    } else if (strcmp (op, "altitude") == 0 || strcmp (op, "speed") == 0) {
-        to = app->uavsim;
-        if (!s_number (req, "value", &value)) {
-            why = "needs a number value";
-        } else if (op[0] == 'a') {
-            alt.uav_id = uav_id;
-            alt.altitude_agl_m = value;
-            cmd.body_case = CGS__COMMAND__BODY_SET_ALTITUDE;
-            cmd.set_altitude = &alt;
-        } else {
-            spd.uav_id = uav_id;
-            spd.airspeed_mps = value;
-            cmd.body_case = CGS__COMMAND__BODY_SET_SPEED;
-            cmd.set_speed = &spd;
-        }
-    } else if (strcmp (op, "footprint_scale") == 0) {
-        if (!s_number (req, "value", &value) || value < 0 || value > 1000 ||
-            value != floor (value)) {
-            why = "footprint_scale needs a value 1, 5 or 10";
-        } else {
-            fs.uav_id = uav_id;
-            fs.scale = (uint32_t)value; // guidanced says why anything but 1, 5, 10 is refused
-            cmd.body_case = CGS__COMMAND__BODY_SET_FOOTPRINT_SCALE;
-            cmd.set_footprint_scale = &fs;
-        }
-    } else { // intercept_mode
-        const char *m = json_object_object_get_ex (req, "value", &v) &&
-                                json_object_is_type (v, json_type_string)
-                            ? json_object_get_string (v)
-                            : "";
-        if (strcmp (m, "head-on") != 0 && strcmp (m, "mti-hits") != 0) {
-            why = "intercept_mode needs the value \"head-on\" or \"mti-hits\"";
-        } else {
-            im.uav_id = uav_id;
-            im.method = m[0] == 'h' ? CGS__INTERCEPT_METHOD__INTERCEPT_METHOD_HEAD_ON
-                                    : CGS__INTERCEPT_METHOD__INTERCEPT_METHOD_MTI_HITS;
-            cmd.body_case = CGS__COMMAND__BODY_SET_INTERCEPT_MODE;
-            cmd.set_intercept_mode = &im;
-        }
-    }
-    if (why) {
+    st_command_t c;
+    char why[512];
+    if (st_request_command (req, op, &c, why, sizeof why) < 0) {
         s_count (&app->bad_requests);
         s_refuse (conn, n, op, why);
+    } else if (c.to == ST_TO_IMAGERD) {
+        // The imagerd of the command's UAV (the exercise and the scenario
+        // are read only, so the page's thread may look).
+        const cgs_instance_t *to = NULL;
+        if (st_request_imagerd (cgs_service_exercise (app->svc), app->scenario, c.uav_id, &to, why,
+                                sizeof why) < 0) {
+            s_count (&app->commands_unanswered);
+            s_refuse (conn, n, op, why);
+        } else {
+            s_command (app, conn, page, n, op, to, &c.cmd);
+        }
     } else {
-        s_command (app, conn, page, n, op, to, &cmd);
+        s_command (app, conn, page, n, op, c.to == ST_TO_UAVSIM ? app->uavsim : app->guidanced,
+                   &c.cmd);
     }
     json_object_put (req);
 }
@@ -518,8 +441,8 @@ static void s_on_page_closed (void *arg, void *user)
 {
     (void)arg;
     s_page_t *page = user;
-    cgs_cmd_client_destroy (&page->guidanced);
-    cgs_cmd_client_destroy (&page->uavsim);
+    for (size_t i = 0; i < S_PAGE_CLIENTS; i++)
+        cgs_cmd_client_destroy (&page->clients[i].client);
     free (page);
 }
 

@@ -101,6 +101,7 @@ void st_state_set_clock (st_state_t *self, double t_s, uint64_t epoch)
     for (int i = 0; i < ST_UAVS_MAX; i++) {
         self->uavs[i].heard_s = fmin (self->uavs[i].heard_s, t_s);
         self->intercepts[i].heard_s = fmin (self->intercepts[i].heard_s, t_s);
+        self->sensor_modes[i].heard_s = fmin (self->sensor_modes[i].heard_s, t_s);
     }
     self->video_heard_s = fmin (self->video_heard_s, t_s);
 }
@@ -156,6 +157,24 @@ int st_state_take_uav (st_state_t *self, const Cgs__Uav *m, const Cgs__Header *h
         u->loiter_e = m->loiter->center->east_m;
         u->loiter_n = m->loiter->center->north_m;
         u->loiter_radius_m = m->loiter->radius_m;
+    }
+    const Cgs__ImagingSensor *c = m->sensor;
+    if (c) {
+        // Values that are not finite are shown as unknown (null).
+        u->has_camera = true;
+        u->camera = (st_camera_t){.depression_deg = c->depression_deg,
+                                  .hfov_deg = c->hfov_deg,
+                                  .vfov_deg = c->vfov_deg,
+                                  .stabilized = c->stabilized,
+                                  .stare = c->stare,
+                                  .has_point = s_enu_ok (c->stare_point),
+                                  .staring = c->staring,
+                                  .at_limit = c->at_gimbal_limit,
+                                  .az_limit_deg = c->gimbal_azimuth_limit_deg,
+                                  .el_min_deg = c->gimbal_elevation_min_deg,
+                                  .el_max_deg = c->gimbal_elevation_max_deg};
+        if (u->camera.has_point)
+            u->camera.point = (st_xy_t){c->stare_point->east_m, c->stare_point->north_m};
     }
     return 0;
 }
@@ -507,11 +526,33 @@ static void s_image_footprint (st_state_t *self, const Cgs__Image *m)
     self->has_image_fp = true;
 }
 
+/* The mode of the UAV's sensor, from each of its image messages (a full
+ * table forgets nothing: the mode of a UAV beyond it is not shown). */
+static void s_sensor_mode (st_state_t *self, const Cgs__Image *m)
+{
+    if (m->uav_id == 0)
+        return;
+    st_sensor_mode_t *free_slot = NULL;
+    for (int i = 0; i < ST_UAVS_MAX; i++) {
+        st_sensor_mode_t *s = &self->sensor_modes[i];
+        if (s->valid && s->uav_id == m->uav_id) {
+            free_slot = s;
+            break;
+        }
+        if (!s->valid && !free_slot)
+            free_slot = s;
+    }
+    if (free_slot)
+        *free_slot = (st_sensor_mode_t){
+            .valid = true, .uav_id = m->uav_id, .mode = m->mode, .heard_s = self->now_s};
+}
+
 int st_state_take_image (st_state_t *self, const Cgs__Image *m, const Cgs__Header *hdr)
 {
     if (!m)
         return -EINVAL;
     s_time_from (self, hdr);
+    s_sensor_mode (self, m);
     if (!m->latest_path || !m->latest_path[0]) {
         s_image_footprint (self, m);
         return 0; // a frame that did not refresh latest.png: nothing new to show
@@ -621,6 +662,9 @@ void st_state_prune (st_state_t *self)
             self->uavs[i].valid = false;
         if (self->intercepts[i].valid && now - self->intercepts[i].heard_s > self->p.track_stale_s)
             self->intercepts[i].valid = false;
+        if (self->sensor_modes[i].valid &&
+            now - self->sensor_modes[i].heard_s > self->p.track_stale_s)
+            self->sensor_modes[i].valid = false; // its imagerd stopped
     }
     if (self->has_video && now - self->video_heard_s > self->p.track_stale_s)
         self->has_video = false; // its imagerd stopped: a new stream will start over

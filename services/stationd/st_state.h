@@ -1,6 +1,8 @@
 /* st_state — the tactical map's picture: what stationd keeps of every topic
- * (UAVs, MTI hits by scan, BCIS replies, tracks, intercepts, ground truth,
- * the latest sensor image and its footprint, which UAV's video is relayed)
+ * (UAVs and how their cameras are set, each UAV's sensor mode as its latest
+ * image says, MTI hits by scan, BCIS replies, tracks, intercepts, ground
+ * truth, the latest sensor image and its footprint, which UAV's video is
+ * relayed)
  * and the JSON it pushes to every browser. Hits of
  * the scan in progress and of the last complete scan are current (yellow);
  * the complete scans before them, up to history_scans, are the grey history.

@@ -65,6 +65,19 @@ typedef struct {
     uint64_t epoch; // trackerd's
 } st_track_t;
 
+/* How the UAV's imaging sensor is set, from `uav.sensor`. */
+typedef struct {
+    double depression_deg;     // below the body's forward axis
+    double hfov_deg, vfov_deg; // fields of view
+    bool stabilized;
+    int stare;      // CGS__STARE_MODE__*
+    bool has_point; // stare_point given
+    st_xy_t point;  // where it stares (POINT: the point; TARGET: the estimate)
+    bool staring;   // turned to the stare point now
+    bool at_limit;  // held at the gimbal's limit
+    double az_limit_deg, el_min_deg, el_max_deg; // the gimbal's limits
+} st_camera_t;
+
 typedef struct {
     bool valid;
     uint32_t id;
@@ -73,8 +86,18 @@ typedef struct {
     double cmd_alt_agl_m, cmd_airspeed_mps;
     int mode;
     double loiter_e, loiter_n, loiter_radius_m;
+    bool has_camera; // the message carried the sensor
+    st_camera_t camera;
     double heard_s;
 } st_uav_t;
+
+/* A UAV's imaging sensor mode, as its latest `image` message says. */
+typedef struct {
+    bool valid;
+    uint32_t uav_id;
+    int mode; // CGS__IMAGE_MODE__*
+    double heard_s;
+} st_sensor_mode_t;
 
 typedef struct {
     bool valid;
@@ -108,6 +131,7 @@ struct st_state {
     size_t track_count, track_cap;
     st_uav_t uavs[ST_UAVS_MAX];
     st_intercept_t intercepts[ST_UAVS_MAX];
+    st_sensor_mode_t sensor_modes[ST_UAVS_MAX];
     cgs_entities_t *truth;
     bool has_image;
     bool image_shown;           // st_state_image_shown was told of a frame

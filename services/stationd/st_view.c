@@ -52,6 +52,32 @@ static const char *s_mode_name (int m)
     }
 }
 
+static const char *s_image_mode_name (int m)
+{
+    switch (m) {
+    case CGS__IMAGE_MODE__IMAGE_MODE_VISIBLE:
+        return "visible";
+    case CGS__IMAGE_MODE__IMAGE_MODE_INFRARED:
+        return "infrared";
+    case CGS__IMAGE_MODE__IMAGE_MODE_SAR:
+        return "sar";
+    default:
+        return "unknown";
+    }
+}
+
+static const char *s_stare_name (int s)
+{
+    switch (s) {
+    case CGS__STARE_MODE__STARE_MODE_POINT:
+        return "point";
+    case CGS__STARE_MODE__STARE_MODE_TARGET:
+        return "target";
+    default:
+        return "off";
+    }
+}
+
 static const char *s_intercept_state_name (int s)
 {
     return cgs_msg_enum_short (&cgs__intercept_state__descriptor, s, "IDLE");
@@ -100,6 +126,38 @@ static json_object *s_xy (st_xy_t p)
     return a;
 }
 
+/* How the UAV's camera is set (uav.sensor), or NULL (null) when not told. */
+static json_object *s_json_camera (const st_uav_t *u)
+{
+    if (!u->has_camera)
+        return NULL;
+    const st_camera_t *c = &u->camera;
+    json_object *o = json_object_new_object ();
+    cgs_json_add (o, "depression_deg", cgs_json_fixed (c->depression_deg, 2));
+    cgs_json_add (o, "hfov_deg", cgs_json_fixed (c->hfov_deg, 2));
+    cgs_json_add (o, "vfov_deg", cgs_json_fixed (c->vfov_deg, 2));
+    cgs_json_add (o, "stabilized", json_object_new_boolean (c->stabilized));
+    cgs_json_add (o, "stare", json_object_new_string (s_stare_name (c->stare)));
+    cgs_json_add (o, "stare_point", c->has_point ? s_xy (c->point) : NULL);
+    cgs_json_add (o, "staring", json_object_new_boolean (c->staring));
+    cgs_json_add (o, "at_gimbal_limit", json_object_new_boolean (c->at_limit));
+    json_object *g = json_object_new_object ();
+    cgs_json_add (g, "azimuth_limit_deg", cgs_json_fixed (c->az_limit_deg, 1));
+    cgs_json_add (g, "elevation_min_deg", cgs_json_fixed (c->el_min_deg, 1));
+    cgs_json_add (g, "elevation_max_deg", cgs_json_fixed (c->el_max_deg, 1));
+    cgs_json_add (o, "gimbal", g);
+    return o;
+}
+
+/* The live mode of the UAV's imaging sensor (its latest image's), or NULL. */
+static json_object *s_json_sensor_mode (const st_state_t *self, uint32_t uav_id)
+{
+    for (int i = 0; i < ST_UAVS_MAX; i++)
+        if (self->sensor_modes[i].valid && self->sensor_modes[i].uav_id == uav_id)
+            return json_object_new_string (s_image_mode_name (self->sensor_modes[i].mode));
+    return NULL;
+}
+
 static json_object *s_json_uavs (const st_state_t *self)
 {
     json_object *a = json_object_new_array ();
@@ -124,6 +182,8 @@ static json_object *s_json_uavs (const st_state_t *self)
         cgs_json_add (l, "n", s_m (u->loiter_n));
         cgs_json_add (l, "radius_m", s_m (u->loiter_radius_m));
         cgs_json_add (o, "loiter", l);
+        cgs_json_add (o, "camera", s_json_camera (u));
+        cgs_json_add (o, "sensor_mode", s_json_sensor_mode (self, u->id));
         json_object_array_add (a, o);
     }
     return a;
@@ -308,10 +368,7 @@ static json_object *s_json_image (const st_state_t *self)
     cgs_json_add (o, "uav_id", json_object_new_int64 (self->image_uav));
     cgs_json_add (o, "frame", json_object_new_int64 ((int64_t)self->image_shown_frame));
     cgs_json_add (o, "url", json_object_new_string (url));
-    cgs_json_add (o, "mode",
-                  json_object_new_string (self->image_mode == CGS__IMAGE_MODE__IMAGE_MODE_INFRARED
-                                              ? "infrared"
-                                              : "visible"));
+    cgs_json_add (o, "mode", json_object_new_string (s_image_mode_name (self->image_mode)));
     cgs_json_add (o, "target_in_view", json_object_new_boolean (self->image_target_in_view));
     // The camera's newest footprint (the KLV of the video gives the same one).
     cgs_json_add (o, "footprint", self->has_image_fp ? s_corners (self->image_fp) : NULL);

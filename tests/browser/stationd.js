@@ -22,7 +22,15 @@
  * dropped to the next keyframe and counted while the others play on; a
  * fresh /video client starts at a keyframe; a foreign Origin is refused on
  * /video; without MSE, or with a /video that fails, the panel shows the
- * latest picture and says why. Screenshots of every step go to --artifacts.
+ * latest picture and says why. The imaging sensor: FLIR and SAR chosen from
+ * the Sensors menu are accepted by imagerd and the status says which mode is
+ * live as the `image` messages say (and follows a mode switched elsewhere);
+ * the camera panel's depression, zoom and Stabilized reach uavsim and come
+ * back on the `uav` state, out-of-range values are refused (by the page, by
+ * uavsim with its reason, by stationd for malformed ones); "At point…" and a
+ * click on the map make the camera stare there (staring true, the point
+ * marked); a page without the token has these controls disabled and its
+ * commands are refused. Screenshots of every step go to --artifacts.
  *
  * Output: one "ok - NAME" or "not ok - NAME" line per check and "# ..."
  * comments (stationd.sh numbers them as TAP). Exit code 0 when the script ran
@@ -84,7 +92,10 @@ async function poll(fn, ms, every = 100) {
 
 const VIEWPORT = { width: 1400, height: 900 };
 const ACTIVE = ['TO_SECONDARY', 'TO_WAYPOINT', 'APPROACH', 'PRECISION', 'OVERFLIGHT'];
-const OPERATOR_CONTROLS = ['#cancel', '#alt-input', '#alt-set', '#speed-input', '#speed-set', '#fp-scale', '#method'];
+const OPERATOR_CONTROLS = ['#cancel', '#alt-input', '#alt-set', '#speed-input', '#speed-set', '#fp-scale', '#method',
+  '#sensor-eo', '#sensor-flir', '#sensor-sar', '#cam-depression', '#cam-depression-set', '#cam-fov', '#cam-fov-set',
+  '#cam-stabilized', '#stare-off', '#stare-target', '#stare-point'];
+const MODE_LABELS = { visible: 'Visible (EO)', infrared: 'FLIR (infrared)', sar: 'SAR' };
 const pages = [];       // every page opened, with its errors and state frames
 let shot = 0;
 
@@ -652,6 +663,218 @@ async function videoSteps(browser, main) {
   await br.context.close();
 }
 
+// ---- the imaging sensor's mode and the camera --------------------------------------------
+
+// The first UAV's live sensor mode and camera, and what the panel says.
+async function sensorView(page) {
+  return page.evaluate(() => {
+    const u = window.cgs.state.uavs[0] || {};
+    const checked = ['sensor-eo', 'sensor-flir', 'sensor-sar'].find((id) => document.getElementById(id).checked) || null;
+    return {
+      mode: u.sensor_mode || null, camera: u.camera || null, image_mode: window.cgs.state.image ? window.cgs.state.image.mode : null,
+      status: document.getElementById('status-sensor').textContent, checked,
+      camera_text: document.getElementById('camera-state').textContent,
+    };
+  });
+}
+
+// Click a mode in the Sensors menu; the reply.
+async function clickMode(p, id) {
+  const n0 = await repliesNow(p);
+  await p.check(id);
+  return replyAfter(p, n0, 'sensor_mode', 10000).catch(() => null);
+}
+
+// Wait until the live mode is want and the status says it (and says
+// nothing pending); the last view either way.
+async function modeLive(p, want, ms) {
+  let last = null;
+  await poll(async () => {
+    last = await sensorView(p);
+    return last.mode === want && last.status === MODE_LABELS[want];
+  }, ms, 200);
+  return last;
+}
+
+// One camera command from the panel: fn does the clicking; the reply.
+async function cameraCommand(p, fn) {
+  const n0 = await repliesNow(p);
+  await fn();
+  return replyAfter(p, n0, 'camera', 10000).catch(() => null);
+}
+
+// The first UAV's camera (the `uav` state's) once test(camera) holds, or null.
+async function cameraState(p, test, ms) {
+  return poll(async () => {
+    const c = await p.evaluate(() => (window.cgs.state.uavs[0] || {}).camera || null);
+    return c && test(c) ? c : null;
+  }, ms, 100);
+}
+
+async function sensorSteps(browser, main) {
+  const p = main.page;
+  await p.evaluate(() => { document.querySelectorAll('details').forEach((d) => { d.open = true; }); });
+  // What the page sends, from now on.
+  await p.evaluate(() => { window.cgsSent = []; });
+  const sentOf = (op) => p.evaluate((op) => window.cgsSent.filter((m) => m.op === op), op);
+
+  // The live mode, from the `image` messages: visible at first.
+  const first = await modeLive(p, 'visible', 20000);
+  check(first.mode === 'visible' && first.status === 'Visible (EO)' && first.checked === 'sensor-eo',
+    'the status says the visible camera is live, and the Sensors menu has Visible (EO) chosen', first);
+
+  // FLIR, then SAR, from the menu; the status follows the frames.
+  const flir = await clickMode(p, '#sensor-flir');
+  check(flir && flir.ok === true && /^imagerd/.test(flir.server || ''), 'choosing FLIR is accepted by imagerd (' + (await text(p, '#result')) + ')', flir);
+  const toFlir = await modeLive(p, 'infrared', 20000);
+  check(toFlir.mode === 'infrared' && toFlir.status === 'FLIR (infrared)' && toFlir.checked === 'sensor-flir',
+    'the status says FLIR is live once its frames say so (' + toFlir.status + ')', toFlir);
+  await p.locator('#status-sensor').scrollIntoViewIfNeeded();
+  await screenshot(p, 'sensor-flir');
+  const sar = await clickMode(p, '#sensor-sar');
+  check(sar && sar.ok === true, 'choosing SAR is accepted by imagerd (' + (await text(p, '#result')) + ')', sar);
+  const toSar = await modeLive(p, 'sar', 30000);
+  check(toSar.mode === 'sar' && toSar.status === 'SAR' && toSar.checked === 'sensor-sar',
+    'the status says SAR is live once its frames say so (' + toSar.status + ')', toSar);
+  const imgSar = await poll(() => p.evaluate(() => window.cgs.state.image && window.cgs.state.image.mode === 'sar' &&
+    /· sar ·/.test(document.getElementById('image-caption').textContent)), 20000);
+  check(imgSar, 'and the sensor image is a SAR one (' + (await text(p, '#image-caption')) + ')');
+  await screenshot(p, 'sensor-sar');
+  const modesSent = await sentOf('sensor_mode');
+  check(modesSent.length === 2 && modesSent.every((m) => m.uav_id === 1) && modesSent.map((m) => m.mode).join() === 'infrared,sar',
+    'the page sent sensor_mode infrared, then sar, for UAV 1', modesSent);
+  // Switched elsewhere (mscgs sensor): the page follows the frames, not its
+  // clicks. (imagerd busy making SAR chips may be slow to answer: tried again.)
+  let back = null;
+  for (let attempt = 1; attempt <= 4 && !(back && back.mode === 'visible'); attempt++) {
+    const t0 = Date.now();
+    const said = await new Promise((resolve) => execFile(opt.mscgs, ['sensor', 'visible', '--exercise', opt.exercise],
+      { timeout: 20000 }, (err, stdout, stderr) => resolve((err ? 'failed: ' : '') + String(stdout || '') + String(stderr || ''))));
+    diag('mscgs sensor visible (try ' + attempt + ', ' + ((Date.now() - t0) / 1000).toFixed(1) + ' s): ' + said.trim());
+    back = await modeLive(p, 'visible', 10000);
+  }
+  check(back.mode === 'visible' && back.status === 'Visible (EO)' && back.checked === 'sensor-eo',
+    'switched back by `mscgs sensor visible`, the status and the menu follow the frames (' + back.status + ')', back);
+  // A mode the server does not know is refused with the reason.
+  const badMode = await rawCommand(p, '', { op: 'sensor_mode', req: 921, uav_id: 1, mode: 'x-ray' });
+  check(badMode.reply && badMode.reply.ok === false && /sensor_mode needs the mode/.test(badMode.reply.error || ''),
+    'stationd refuses an unknown sensor mode, saying why', badMode.reply);
+
+  // The camera's depression: set from the panel, seen on `uav`.
+  const cam0 = await cameraState(p, (c) => typeof c.depression_deg === 'number', 5000);
+  diag('camera at first: ' + JSON.stringify(cam0) + '; panel: ' + (await text(p, '#camera-state')));
+  check(cam0 && (await p.inputValue('#cam-depression')) === String(Math.round(cam0.depression_deg * 10) / 10),
+    'the camera panel is filled from the UAV\'s camera (' + (await p.inputValue('#cam-depression')) + '° down)');
+  const dep = await cameraCommand(p, async () => {
+    await p.fill('#cam-depression', '30');
+    await p.click('#cam-depression-set');
+  });
+  check(dep && dep.ok === true && dep.server === 'uavsim', 'a depression of 30° is accepted by uavsim (' + (await text(p, '#result')) + ')', dep);
+  const dep30 = await cameraState(p, (c) => c.depression_deg === 30, 10000);
+  check(dep30, 'and the uav state\'s depression becomes 30°');
+  check(/^30° down/.test(await text(p, '#camera-state')), 'the panel says so (' + (await text(p, '#camera-state')) + ')');
+  // Out of the page's range: refused by the page, nothing sent; out of the
+  // scenario's: refused by uavsim, with its reason.
+  let n0 = await repliesNow(p);
+  const sent0 = (await sentOf('camera')).length;
+  await p.fill('#cam-depression', '120');
+  await p.click('#cam-depression-set');
+  await sleep(300);
+  const wide = await text(p, '#result');
+  check(/^camera: the depression must be/.test(wide) && (await repliesNow(p)) === n0 && (await sentOf('camera')).length === sent0,
+    'a depression of 120° is refused by the page, which sends nothing (' + wide + ')');
+  const low = await cameraCommand(p, async () => {
+    await p.fill('#cam-depression', '1');
+    await p.click('#cam-depression-set');
+  });
+  const lowText = await text(p, '#result');
+  check(low && low.ok === false && /^refused: /.test(lowText) && (await p.getAttribute('#result', 'class')).includes('err'),
+    'a depression of 1° (under the scenario\'s least) is refused by uavsim, and #result shows why (' + lowText + ')', low);
+  // Zoom.
+  const fov = await cameraCommand(p, async () => {
+    await p.fill('#cam-fov', '5');
+    await p.click('#cam-fov-set');
+  });
+  const fov5 = await cameraState(p, (c) => c.hfov_deg === 5, 10000);
+  check(fov && fov.ok === true && fov5 && Math.abs(fov5.vfov_deg - 3.75) < 0.01,
+    'a field of view of 5° is accepted, and the uav state\'s becomes 5° × ' + (fov5 ? fov5.vfov_deg : '?') + '° (the aspect kept)', fov);
+  // Stabilized, on and off.
+  const stabOn = await cameraCommand(p, () => p.check('#cam-stabilized'));
+  const on = await cameraState(p, (c) => c.stabilized === true, 10000);
+  check(stabOn && stabOn.ok === true && on && (await p.isChecked('#cam-stabilized')), 'ticking Stabilized makes the camera stabilized', stabOn);
+  const stabOff = await cameraCommand(p, () => p.uncheck('#cam-stabilized'));
+  const off = await cameraState(p, (c) => c.stabilized === false, 10000);
+  check(stabOff && stabOff.ok === true && off && !(await p.isChecked('#cam-stabilized')), 'unticking it makes it not stabilized', stabOff);
+  const camSent = await sentOf('camera');
+  check(camSent.length === 5 && camSent.every((m) => m.uav_id === 1 && Object.keys(m).length === 4) &&
+    camSent[0].depression === 30 && camSent[2].fov === 5 && camSent[3].stabilized === true && camSent[4].stabilized === false,
+  'each camera command carries only the field set', camSent);
+
+  // Stare at a clicked point: the orbit's centre, which the gimbal reaches
+  // from anywhere on the orbit.
+  const u = await p.evaluate(() => window.cgs.state.uavs[0]);
+  const aim = u.loiter ? [u.loiter.e + 100, u.loiter.n + 100] : [100, 100];
+  const px = await p.evaluate((a) => window.cgs.pixelOf(a[0], a[1]), aim);
+  await p.click('#stare-point');
+  const armed = await p.getAttribute('#stare-point', 'aria-pressed');
+  const stare = await cameraCommand(p, () => p.mouse.click(px[0], px[1]));
+  const clicked = await p.evaluate((q) => {
+    const r = window.cgs.map.getTargetElement().getBoundingClientRect();
+    return window.cgs.map.getCoordinateFromPixel([q[0] - r.left, q[1] - r.top]);
+  }, px);
+  const staring = await cameraState(p, (c) => c.stare === 'point' && c.staring === true, 15000);
+  const sentStare = (await sentOf('camera')).pop();
+  diag('stare: clicked ' + clicked.map((x) => x.toFixed(1)).join(', ') + '; sent ' + JSON.stringify(sentStare) + '; camera ' + JSON.stringify(staring));
+  check(armed === 'true' && stare && stare.ok === true && (await p.getAttribute('#stare-point', 'aria-pressed')) === 'false',
+    '"At point…" then a click on the map sends the stare point, accepted (' + (stare ? stare.detail || stare.error : 'no reply') + ')', stare);
+  check(sentStare && sentStare.stare && Math.abs(sentStare.stare.e - clicked[0]) < 0.2 && Math.abs(sentStare.stare.n - clicked[1]) < 0.2,
+    'the point sent is the clicked one (' + JSON.stringify(sentStare && sentStare.stare) + ')');
+  check(staring && staring.at_gimbal_limit === false && Math.hypot(staring.stare_point[0] - clicked[0], staring.stare_point[1] - clicked[1]) < 1,
+    'the uav state says the camera is staring at that point', staring);
+  const marker = await poll(() => p.evaluate((pt) => {
+    const l = window.cgs.map.getAllLayers().find((x) => x.get('name') === 'uav');
+    return l.getSource().getFeatures().some((f) => f.getGeometry() && f.getGeometry().getType() === 'Point' &&
+      Math.hypot(f.getGeometry().getCoordinates()[0] - pt[0], f.getGeometry().getCoordinates()[1] - pt[1]) < 1);
+  }, staring ? staring.stare_point : [NaN, NaN]), 5000);
+  const stareText = await text(p, '#camera-state');
+  check(marker && /staring at E -?\d+ N -?\d+/.test(stareText), 'the map marks the stare point and the panel says staring (' + stareText + ')');
+  await screenshot(p, 'camera-staring');
+  // The designation is untouched by that click (it was not a designation).
+  check((await sentOf('designate')).length === 0, 'the stare click designated nothing');
+  const tgt = await cameraCommand(p, () => p.click('#stare-target'));
+  const onTarget = await cameraState(p, (c) => c.stare === 'target', 10000);
+  check(tgt && tgt.ok === true && onTarget && (await p.getAttribute('#stare-target', 'class')).includes('on'),
+    'On target is accepted and shown (' + (await text(p, '#camera-state')) + ')', tgt);
+  const stareOff = await cameraCommand(p, () => p.click('#stare-off'));
+  const notStaring = await cameraState(p, (c) => c.stare === 'off' && c.staring === false, 10000);
+  check(stareOff && stareOff.ok === true && notStaring, 'Off stops staring', stareOff);
+  // Malformed camera commands are refused by stationd, with the reason.
+  const bad = await rawCommand(p, '', { op: 'camera', req: 922, uav_id: 1, depression: '30' });
+  const none = await rawCommand(p, '', { op: 'camera', req: 923, uav_id: 1 });
+  check(bad.reply && bad.reply.ok === false && /camera: depression must be/.test(bad.reply.error || '') &&
+    none.reply && none.reply.ok === false && /camera needs at least one of/.test(none.reply.error || ''),
+  'stationd refuses malformed camera commands, saying why', [bad.reply, none.reply]);
+
+  // A page without the token: the sensor and camera controls are disabled,
+  // and "At point…" cannot be armed.
+  const viewer = await openPage(browser, opt['token-url'], 'sensor-viewer');
+  let ready = true;
+  try {
+    await waitReady(viewer.page, 20000);
+  } catch (err) {
+    ready = false;
+  }
+  const v = viewer.page;
+  const sensorControls = OPERATOR_CONTROLS.slice(7);
+  const dis = ready ? await Promise.all(sensorControls.map((sel) => v.isDisabled(sel))) : [];
+  check(ready && dis.length && dis.every(Boolean), 'on a page without the token the sensor-mode and camera controls are disabled',
+    sensorControls.filter((sel, k) => !dis[k]));
+  const vStatus = ready ? await modeLive(v, 'visible', 10000) : null;
+  check(vStatus && vStatus.status === 'Visible (EO)', 'while it shows the live mode all the same (' + (vStatus && vStatus.status) + ')');
+  await screenshot(v, 'sensor-viewer');
+  await viewer.context.close();
+}
+
 // ---- the steps ---------------------------------------------------------------------------
 
 async function main() {
@@ -884,7 +1107,8 @@ async function steps(browser) {
   await p.selectOption('#method', 'head-on');
   await replyAfter(p, n0, 'intercept_mode', 8000).catch(() => null);
 
-  check(await p.isDisabled('#sensor-flir') && await p.isDisabled('#sensor-sar'), 'the Sensors menu lists FLIR and SAR greyed');
+  check(await p.isEnabled('#sensor-eo') && await p.isEnabled('#sensor-flir') && await p.isEnabled('#sensor-sar'),
+    'the Sensors menu offers Visible (EO), FLIR and SAR to an operator');
   await p.evaluate(() => { document.querySelectorAll('details').forEach((d) => { d.open = true; }); });
   const grey = await poll(async () => ((await layerOf('hits-old')) || {}).features > 0, 20000);
   check(grey, 'the grey history of earlier scans is drawn', await layerOf('hits-old'));
@@ -1022,6 +1246,10 @@ async function steps(browser) {
   const raw = await rawCommand(v, '', { op: 'altitude', req: 901, uav_id: 1, value: 1300 });
   check(raw.reply && raw.reply.ok === false && /operators' access token/.test(raw.reply.error || ''),
     'stationd refuses a command without the token, saying so', raw.reply);
+  const rawCam = await rawCommand(v, '', { op: 'camera', req: 903, uav_id: 1, stare: { e: 0, n: 0 } });
+  const rawMode = await rawCommand(v, '', { op: 'sensor_mode', req: 904, uav_id: 1, mode: 'sar' });
+  check([rawCam, rawMode].every((r) => r.reply && r.reply.ok === false && /operators' access token/.test(r.reply.error || '')),
+    'and its camera and sensor-mode commands too', [rawCam.reply, rawMode.reply]);
   const wrong = await rawCommand(v, '?token=wrong-token-9', { op: 'cancel', req: 902, uav_id: 1 });
   check(wrong.hello && wrong.hello.operator === false && wrong.reply && wrong.reply.ok === false && /access token/.test(wrong.reply.error || ''),
     'and one with a wrong token', wrong);
@@ -1094,6 +1322,9 @@ async function steps(browser) {
   // slows the sanitizer build's services).
   for (const rec of pages) if (rec !== main) await rec.context.close();
   await videoSteps(browser, main);
+
+  // 11. The imaging sensor's mode and the camera.
+  await sensorSteps(browser, main);
 
   // No page error and no console error on any page, from start to end.
   for (const rec of pages) {

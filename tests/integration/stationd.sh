@@ -7,7 +7,11 @@
 # configured, a page without it watches but its commands are refused with
 # the reason, and one with it commands; malformed JSON, unknown ops and bad
 # values get an error with the reason, are counted, and stationd keeps
-# serving; a Host that is another name for a loopback server (DNS
+# serving; the camera command reaches uavsim (its settings and a stare at a
+# point come back on the picture's UAV, one outside the scenario's limits
+# comes back refused with uavsim's reason), malformed camera and
+# sensor-mode commands are refused by stationd, and a sensor mode for a UAV
+# with no imagerd taking commands is refused saying so; a Host that is another name for a loopback server (DNS
 # rebinding), messages over 4 KiB and pages beyond threads - 2 (pages and
 # live-video WebSockets together) are refused and counted, and /video
 # refuses another site's Origin too; the cursor's MGRS equals GeographicLib's own tools'; a command
@@ -175,7 +179,10 @@ probe "$WS?token=$TOKEN" --send 'not json' --send '[1,2]' --send '{"op":"fly-awa
     --send '{"op":"designate","req":9,"uav_id":-1,"e":0,"n":0}' --send '{"op":"cancel","req":10,"uav_id":"1"}' \
     --send '{"op":"designate","req":11,"hit":2.5,"radar":1}' \
     --send '{"op":"designate","req":12,"hit":5,"radar":"uav1"}' \
-    --send-size 5000 --replies 12 >"$TMP/bad.jsonl"
+    --send '{"op":"camera","req":13,"fov":"wide"}' --send '{"op":"camera","req":14,"uav_id":1}' \
+    --send '{"op":"camera","req":15,"stare":{"e":1}}' --send '{"op":"camera","req":16,"depression":95}' \
+    --send '{"op":"sensor_mode","req":17,"mode":"x-ray"}' \
+    --send-size 5000 --replies 17 >"$TMP/bad.jsonl"
 check "malformed JSON gets an error" bash -c "[ \$(grep -c '\"type\":\"error\",\"error\":\"expected a JSON object' '$TMP/bad.jsonl') -eq 2 ]"
 check "an unknown op gets an error naming it" grep -q 'unknown op \\"fly-away\\"' "$TMP/bad.jsonl"
 check "designate without numbers is refused with the reason" grep -q '"req":5,.*"error":"designate needs the clicked hit (hit, radar) or a point (e, n)' "$TMP/bad.jsonl"
@@ -187,12 +194,60 @@ check "uavsim's own reason comes back for a bad altitude" \
     grep -q '"req":8,"op":"altitude","ok":false,"server":"uavsim","error":"altitude must be' "$TMP/bad.jsonl"
 check "a negative UAV id is refused" grep -q '"req":9,.*"error":"uav_id must be' "$TMP/bad.jsonl"
 check "so is one that is not a number, never taken as the only UAV" grep -q '"req":10,.*"error":"uav_id must be' "$TMP/bad.jsonl"
+check "a camera command with a field of view that is not a number is refused, saying which" \
+    grep -q '"req":13,"op":"camera","ok":false,"error":"camera: fov' "$TMP/bad.jsonl"
+check "so is one that sets nothing" grep -q '"req":14,.*"error":"camera needs at least one of depression, fov, stabilized, stare' "$TMP/bad.jsonl"
+check "and a stare point without its north" grep -q '"req":15,.*"error":"camera: stare must be' "$TMP/bad.jsonl"
+check "and a depression beyond 90 degrees" grep -q '"req":16,.*"error":"camera: depression must be' "$TMP/bad.jsonl"
+check "an unknown sensor mode is refused" grep -q '"req":17,"op":"sensor_mode","ok":false,"error":"sensor_mode needs the mode' "$TMP/bad.jsonl"
 check "a message over 4096 bytes is refused unread" grep -q '"error":"a message must be one text frame of at most 4096 bytes"' "$TMP/bad.jsonl"
-check "stationd counts them in health" wait_for 10 counter_ge bad_requests 8
+check "stationd counts them in health" wait_for 10 counter_ge bad_requests 13
 check "the oversized one apart" counter_ge oversized_requests 1
 check "and the unauthorised command" counter_ge unauthorised 2
 check "and the refused Origin" counter_ge origin_refused 1
 check "and keeps serving" bash -c "node '$PROBE' '$WS' --seconds 1 | grep -q '\"type\":\"state\"'"
+
+# ---- the camera and the sensor mode ---------------------------------------------------
+# uav_has PATTERN: the first UAV of the next picture (its JSON) matches PATTERN.
+uav_has () {
+    node -e '
+        const WebSocket = require(process.argv[1]);
+        const ws = new WebSocket(process.argv[2]);
+        setTimeout(() => process.exit(1), 5000);
+        ws.on("error", () => process.exit(2));
+        ws.on("message", (d) => {
+            const m = JSON.parse(d.toString());
+            if (m.type !== "state" || !m.uavs.length) return;
+            console.log(JSON.stringify(m.uavs[0]));
+            process.exit(0);
+        });' "$CGS_ROOT/tests/browser/node_modules/ws" "$WS" | tee "$TMP/uav.json" | grep -q "$1"
+}
+check "the picture's UAV carries its camera, not staring, and no sensor mode without an imagerd" \
+    uav_has '"camera":{"depression_deg":[0-9.]*,"hfov_deg":[0-9.]*,"vfov_deg":[0-9.]*,"stabilized":false,"stare":"off","stare_point":null,"staring":false,"at_gimbal_limit":false,.*"sensor_mode":null'
+diag "$(cat "$TMP/uav.json")"
+probe "$WS?token=$TOKEN" --origin "http://127.0.0.1:$PORT" \
+    --send '{"op":"camera","req":20,"uav_id":1,"depression":30,"fov":6,"stabilized":true}' \
+    --send '{"op":"camera","req":21,"uav_id":1,"stare":{"e":150,"n":-250}}' \
+    --send '{"op":"sensor_mode","req":22,"uav_id":1,"mode":"sar"}' --replies 3 --seconds 15 >"$TMP/camera.jsonl"
+while IFS= read -r line; do diag "$line"; done < <(grep '"type":"reply"' "$TMP/camera.jsonl")
+check "a camera command reaches uavsim, which takes it" \
+    grep -q '"req":20,"op":"camera","ok":true,"server":"uavsim","detail":"camera of uav1: depression 30.0 deg, field of view 6.00 x 4.50 deg, stabilized' "$TMP/camera.jsonl"
+check "and the picture's UAV carries the new settings" wait_for 10 uav_has \
+    '"camera":{"depression_deg":30,"hfov_deg":6,"vfov_deg":4.5,"stabilized":true,'
+check "a stare at a point is taken" grep -q '"req":21,"op":"camera","ok":true,"server":"uavsim",.*staring at a point' "$TMP/camera.jsonl"
+check "and the camera stares there" wait_for 15 uav_has '"stare":"point","stare_point":\[150,-250\],"staring":true,"at_gimbal_limit":false'
+check "a sensor mode without an imagerd for the UAV is refused, saying so" \
+    grep -q '"req":22,"op":"sensor_mode","ok":false,"error":"the exercise has no imagerd for uav1 that takes commands' "$TMP/camera.jsonl"
+check "counted: commands_ok and commands_unanswered" wait_for 10 bash -c \
+    "[ \$('$MSCGS' status --exercise '$EX' 2>/dev/null | grep -o 'commands_ok=[0-9]*' | head -1 | cut -d= -f2) -ge 3 ]"
+probe "$WS" --send '{"op":"camera","req":23,"uav_id":1,"stare":"off"}' \
+    --send '{"op":"sensor_mode","req":24,"uav_id":1,"mode":"infrared"}' --replies 2 >"$TMP/camera-view.jsonl"
+check "without the token camera and sensor-mode commands are refused" bash -c \
+    "[ \$(grep -c '\"ok\":false,\"error\":\"commands need the operators' '$TMP/camera-view.jsonl') -eq 2 ]"
+probe "$WS?token=$TOKEN" --origin "http://127.0.0.1:$PORT" \
+    --send '{"op":"camera","req":25,"uav_id":1,"depression":1}' --replies 1 >"$TMP/camera-low.jsonl"
+check "a depression under the scenario's least comes back refused with uavsim's reason" \
+    grep -q '"req":25,"op":"camera","ok":false,"server":"uavsim","error":".*outside the scenario' "$TMP/camera-low.jsonl"
 
 # ---- MGRS against GeographicLib's tools --------------------------------------------
 for pt in "1234.5 -6789.2" "-15000 12000" "0 0"; do

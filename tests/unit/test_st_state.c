@@ -7,7 +7,15 @@
  * to the boundary; tracks are updated in place, removed when deleted, stale or superseded by a
  * restarted tracker, and carry their newest hit; the footprint is drawn scaled about its centre
  * (area k² times the true one) and the range is the ground distance UAV to track; ground truth
- * leaves out the UAVs; bad messages are refused whole. */
+ * leaves out the UAVs; bad messages are refused whole; each UAV carries how
+ * its camera is set (uav.sensor) and its sensor's live mode (its latest
+ * image's, SAR too).
+ *
+ * Also st_request, the page's commands: each op's input is checked (types,
+ * finite numbers, ranges, known values) and refused with the reason, and
+ * made into the command with exactly the fields given (the camera's `set`
+ * bits and values, the sensor mode), for the right service; the imagerd of
+ * a UAV is the exercise's imagerd whose `uav =` names it. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -15,6 +23,7 @@
 
 #include <cmocka.h>
 
+#include "st_request.h"
 #include "st_state.h"
 
 #include <errno.h>
@@ -24,6 +33,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 static const st_state_params_t s_params = {20, 5.0, 60.0, 30.0};
 
@@ -689,6 +699,408 @@ static void test_full_tables (void **state)
     st_state_destroy (&st);
 }
 
+/* ---- the camera and the sensor mode on the picture -------------------------------- */
+
+static json_object *s_uav0 (json_object *picture)
+{
+    json_object *uavs = s_get (picture, "uavs");
+    assert_int_equal (json_object_array_length (uavs), 1);
+    return json_object_array_get_idx (uavs, 0);
+}
+
+static void test_camera_and_sensor_mode (void **state)
+{
+    (void)state;
+    st_state_t *st = st_state_new (&s_params);
+    Cgs__Uav u = CGS__UAV__INIT;
+    Cgs__Enu up = CGS__ENU__INIT;
+    u.entity_id = 3;
+    u.position = &up;
+    // Without the sensor: no camera, and no mode before an image.
+    assert_int_equal (st_state_take_uav (st, &u, NULL), 0);
+    json_object *o = s_picture (st);
+    json_object *j = s_uav0 (o);
+    assert_true (json_object_get_type (s_get (j, "camera")) == json_type_null);
+    assert_true (json_object_get_type (s_get (j, "sensor_mode")) == json_type_null);
+    json_object_put (o);
+    // Set, staring at a point and held at the gimbal's limit.
+    Cgs__ImagingSensor c = CGS__IMAGING_SENSOR__INIT;
+    Cgs__Enu sp = CGS__ENU__INIT;
+    sp.east_m = 1234.56;
+    sp.north_m = -789.04;
+    c.depression_deg = 32.5;
+    c.hfov_deg = 6;
+    c.vfov_deg = 4.5;
+    c.stabilized = true;
+    c.stare = CGS__STARE_MODE__STARE_MODE_POINT;
+    c.stare_point = &sp;
+    c.staring = true;
+    c.at_gimbal_limit = true;
+    c.gimbal_azimuth_limit_deg = 150;
+    c.gimbal_elevation_min_deg = -90;
+    u.sensor = &c;
+    assert_int_equal (st_state_take_uav (st, &u, NULL), 0);
+    o = s_picture (st);
+    json_object *cam = s_get (s_uav0 (o), "camera");
+    assert_true (fabs (s_num (cam, "depression_deg") - 32.5) < 1e-9);
+    assert_true (fabs (s_num (cam, "hfov_deg") - 6) < 1e-9);
+    assert_true (fabs (s_num (cam, "vfov_deg") - 4.5) < 1e-9);
+    assert_true (json_object_get_boolean (s_get (cam, "stabilized")));
+    assert_string_equal (json_object_get_string (s_get (cam, "stare")), "point");
+    json_object *pt = s_get (cam, "stare_point");
+    assert_true (fabs (json_object_get_double (json_object_array_get_idx (pt, 0)) - 1234.6) < 1e-9);
+    assert_true (fabs (json_object_get_double (json_object_array_get_idx (pt, 1)) + 789.0) < 1e-9);
+    assert_true (json_object_get_boolean (s_get (cam, "staring")));
+    assert_true (json_object_get_boolean (s_get (cam, "at_gimbal_limit")));
+    json_object *g = s_get (cam, "gimbal");
+    assert_true (fabs (s_num (g, "azimuth_limit_deg") - 150) < 1e-9);
+    assert_true (fabs (s_num (g, "elevation_min_deg") + 90) < 1e-9);
+    assert_true (fabs (s_num (g, "elevation_max_deg")) < 1e-9);
+    json_object_put (o);
+    // Off, without a point; a value that is not finite is unknown (null).
+    c.stare = CGS__STARE_MODE__STARE_MODE_OFF;
+    c.stare_point = NULL;
+    c.staring = false;
+    c.at_gimbal_limit = false;
+    c.stabilized = false;
+    c.hfov_deg = NAN;
+    assert_int_equal (st_state_take_uav (st, &u, NULL), 0);
+    o = s_picture (st);
+    cam = s_get (s_uav0 (o), "camera");
+    assert_string_equal (json_object_get_string (s_get (cam, "stare")), "off");
+    assert_true (json_object_get_type (s_get (cam, "stare_point")) == json_type_null);
+    assert_true (json_object_get_type (s_get (cam, "hfov_deg")) == json_type_null);
+    assert_false (json_object_get_boolean (s_get (cam, "staring")));
+    assert_false (json_object_get_boolean (s_get (cam, "stabilized")));
+    json_object_put (o);
+    c.stare = CGS__STARE_MODE__STARE_MODE_TARGET;
+    assert_int_equal (st_state_take_uav (st, &u, NULL), 0);
+    o = s_picture (st);
+    assert_string_equal (json_object_get_string (s_get (s_get (s_uav0 (o), "camera"), "stare")),
+                         "target");
+    json_object_put (o);
+
+    // The live mode: every image message of the UAV says it (those that did
+    // not refresh latest.png too); another UAV's does not.
+    static const struct {
+        Cgs__ImageMode mode;
+        const char *path, *name;
+    } seq[] = {{CGS__IMAGE_MODE__IMAGE_MODE_VISIBLE, "/i/latest.png", "visible"},
+               {CGS__IMAGE_MODE__IMAGE_MODE_INFRARED, "", "infrared"},
+               {CGS__IMAGE_MODE__IMAGE_MODE_SAR, "/i/latest.png", "sar"}};
+    Cgs__Image im = CGS__IMAGE__INIT;
+    for (size_t i = 0; i < 3; i++) {
+        im.uav_id = 3;
+        im.frame_number = i + 1;
+        im.mode = seq[i].mode;
+        im.latest_path = (char *)seq[i].path;
+        assert_int_equal (st_state_take_image (st, &im, NULL), 0);
+        st_state_image_shown (st, i + 1);
+        o = s_picture (st);
+        assert_string_equal (json_object_get_string (s_get (s_uav0 (o), "sensor_mode")),
+                             seq[i].name);
+        json_object_put (o);
+    }
+    im.uav_id = 9;
+    im.mode = CGS__IMAGE_MODE__IMAGE_MODE_VISIBLE;
+    im.latest_path = "";
+    assert_int_equal (st_state_take_image (st, &im, NULL), 0);
+    o = s_picture (st);
+    assert_string_equal (json_object_get_string (s_get (s_uav0 (o), "sensor_mode")), "sar");
+    // The picture's image says SAR too.
+    assert_string_equal (json_object_get_string (s_get (s_get (o, "image"), "mode")), "sar");
+    json_object_put (o);
+    // Its imagerd not heard of for track_stale_s: the mode is no longer known.
+    st_state_set_time (st, 61);
+    assert_int_equal (st_state_take_uav (st, &u, NULL), 0);
+    st_state_prune (st);
+    o = s_picture (st);
+    assert_true (json_object_get_type (s_get (s_uav0 (o), "sensor_mode")) == json_type_null);
+    json_object_put (o);
+    st_state_destroy (&st);
+}
+
+/* ---- st_request: the page's commands ---------------------------------------------- */
+
+/* The command made of a page's message text: st_request_command's result,
+ * the reason in why. */
+static int s_request (const char *text, st_command_t *c, char *why, size_t whylen)
+{
+    json_object *req = json_tokener_parse (text);
+    assert_non_null (req);
+    json_object *op;
+    assert_true (json_object_object_get_ex (req, "op", &op));
+    assert_true (st_request_is_command (json_object_get_string (op)));
+    *why = '\0';
+    int rc = st_request_command (req, json_object_get_string (op), c, why, whylen);
+    json_object_put (req);
+    return rc;
+}
+
+/* text is refused, the reason starting with want. */
+static void s_refused (const char *text, const char *want)
+{
+    st_command_t c;
+    char why[512];
+    if (s_request (text, &c, why, sizeof why) != -EINVAL)
+        fail_msg ("%s was not refused", text);
+    if (strncmp (why, want, strlen (want)) != 0)
+        fail_msg ("%s: refused with \"%s\", not \"%s...\"", text, why, want);
+}
+
+static void test_request_ops (void **state)
+{
+    (void)state;
+    assert_false (st_request_is_command ("mgrs"));
+    assert_false (st_request_is_command ("fly-away"));
+    assert_false (st_request_is_command (NULL));
+    st_command_t c;
+    char why[512];
+    // designate: a hit by its id, or a point.
+    assert_int_equal (s_request ("{\"op\":\"designate\",\"uav_id\":2,\"hit\":17,\"radar\":2}", &c,
+                                 why, sizeof why),
+                      0);
+    assert_int_equal (c.to, ST_TO_GUIDANCED);
+    assert_int_equal (c.cmd.body_case, CGS__COMMAND__BODY_DESIGNATE);
+    assert_int_equal (c.cmd.designate->uav_id, 2);
+    assert_int_equal (c.cmd.designate->target_case, CGS__DESIGNATE__TARGET_HIT);
+    assert_int_equal (c.cmd.designate->hit->hit_id, 17);
+    assert_int_equal (c.cmd.designate->hit->radar_uav_id, 2);
+    assert_int_equal (s_request ("{\"op\":\"designate\",\"e\":10.5,\"n\":-3}", &c, why, sizeof why),
+                      0);
+    assert_int_equal (c.cmd.designate->target_case, CGS__DESIGNATE__TARGET_POINT);
+    assert_true (c.cmd.designate->point->east_m == 10.5 && c.cmd.designate->point->north_m == -3);
+    assert_int_equal (c.uav_id, 0);
+    s_refused ("{\"op\":\"designate\",\"hit\":2.5,\"radar\":1}", "designate: hit and radar");
+    s_refused ("{\"op\":\"designate\",\"hit\":5,\"radar\":\"uav1\"}", "designate: hit and radar");
+    s_refused ("{\"op\":\"designate\",\"e\":\"x\",\"n\":1}", "designate needs the clicked hit");
+    // The UAV id, when given, is a whole number >= 0, for every op.
+    s_refused ("{\"op\":\"cancel\",\"uav_id\":-1}", "uav_id must be a whole number >= 0");
+    s_refused ("{\"op\":\"camera\",\"uav_id\":\"1\",\"depression\":30}", "uav_id must be");
+    s_refused ("{\"op\":\"sensor_mode\",\"uav_id\":1.5,\"mode\":\"sar\"}", "uav_id must be");
+    assert_int_equal (s_request ("{\"op\":\"cancel\",\"uav_id\":4}", &c, why, sizeof why), 0);
+    assert_int_equal (c.cmd.body_case, CGS__COMMAND__BODY_CANCEL);
+    assert_int_equal (c.cmd.cancel->uav_id, 4);
+    // uavsim's, and guidanced's settings.
+    assert_int_equal (s_request ("{\"op\":\"altitude\",\"value\":1300}", &c, why, sizeof why), 0);
+    assert_int_equal (c.to, ST_TO_UAVSIM);
+    assert_true (c.cmd.set_altitude->altitude_agl_m == 1300);
+    assert_int_equal (s_request ("{\"op\":\"speed\",\"value\":41}", &c, why, sizeof why), 0);
+    assert_int_equal (c.cmd.body_case, CGS__COMMAND__BODY_SET_SPEED);
+    s_refused ("{\"op\":\"speed\",\"value\":\"fast\"}", "needs a number value");
+    assert_int_equal (s_request ("{\"op\":\"footprint_scale\",\"value\":5}", &c, why, sizeof why),
+                      0);
+    assert_int_equal (c.cmd.set_footprint_scale->scale, 5);
+    s_refused ("{\"op\":\"footprint_scale\",\"value\":2.5}", "footprint_scale needs");
+    assert_int_equal (
+        s_request ("{\"op\":\"intercept_mode\",\"value\":\"mti-hits\"}", &c, why, sizeof why), 0);
+    assert_int_equal (c.cmd.set_intercept_mode->method,
+                      CGS__INTERCEPT_METHOD__INTERCEPT_METHOD_MTI_HITS);
+    s_refused ("{\"op\":\"intercept_mode\",\"value\":\"sideways\"}", "intercept_mode needs");
+}
+
+static void test_request_camera (void **state)
+{
+    (void)state;
+    st_command_t c;
+    char why[512];
+    // Only what is given is set: its bit and its value, the others zero.
+    assert_int_equal (
+        s_request ("{\"op\":\"camera\",\"uav_id\":1,\"depression\":30}", &c, why, sizeof why), 0);
+    assert_int_equal (c.to, ST_TO_UAVSIM);
+    assert_int_equal (c.cmd.body_case, CGS__COMMAND__BODY_SET_CAMERA);
+    const Cgs__SetCamera *k = c.cmd.set_camera;
+    assert_int_equal (k->uav_id, 1);
+    assert_int_equal (k->set, ST_CAMERA_SET_DEPRESSION);
+    assert_int_equal (k->set, 1);
+    assert_true (k->depression_deg == 30 && k->hfov_deg == 0 && !k->stabilized);
+    assert_null (k->stare_point);
+    assert_int_equal (s_request ("{\"op\":\"camera\",\"fov\":6.5}", &c, why, sizeof why), 0);
+    assert_int_equal (c.cmd.set_camera->set, 2);
+    assert_true (c.cmd.set_camera->hfov_deg == 6.5 && c.cmd.set_camera->depression_deg == 0);
+    assert_int_equal (s_request ("{\"op\":\"camera\",\"stabilized\":false}", &c, why, sizeof why),
+                      0);
+    assert_int_equal (c.cmd.set_camera->set, 4);
+    assert_false (c.cmd.set_camera->stabilized);
+    assert_int_equal (s_request ("{\"op\":\"camera\",\"stabilized\":true}", &c, why, sizeof why),
+                      0);
+    assert_true (c.cmd.set_camera->stabilized);
+    // Stare: off, at the target, at a point.
+    assert_int_equal (s_request ("{\"op\":\"camera\",\"stare\":\"off\"}", &c, why, sizeof why), 0);
+    assert_int_equal (c.cmd.set_camera->set, 8);
+    assert_int_equal (c.cmd.set_camera->stare, CGS__STARE_MODE__STARE_MODE_OFF);
+    assert_null (c.cmd.set_camera->stare_point);
+    assert_int_equal (s_request ("{\"op\":\"camera\",\"stare\":\"target\"}", &c, why, sizeof why),
+                      0);
+    assert_int_equal (c.cmd.set_camera->set, 8);
+    assert_int_equal (c.cmd.set_camera->stare, CGS__STARE_MODE__STARE_MODE_TARGET);
+    assert_int_equal (s_request ("{\"op\":\"camera\",\"uav_id\":2,\"stare\":{\"e\":-1500.25,"
+                                 "\"n\":820}}",
+                                 &c, why, sizeof why),
+                      0);
+    k = c.cmd.set_camera;
+    assert_int_equal (k->set, 8);
+    assert_int_equal (k->uav_id, 2);
+    assert_int_equal (k->stare, CGS__STARE_MODE__STARE_MODE_POINT);
+    assert_non_null (k->stare_point);
+    assert_true (k->stare_point->east_m == -1500.25 && k->stare_point->north_m == 820);
+    assert_true (k->stare_point->up_m == 0);
+    // All four at once: every bit.
+    assert_int_equal (s_request ("{\"op\":\"camera\",\"depression\":-10,\"fov\":40,"
+                                 "\"stabilized\":true,\"stare\":\"target\"}",
+                                 &c, why, sizeof why),
+                      0);
+    k = c.cmd.set_camera;
+    assert_int_equal (k->set, 15);
+    assert_true (k->depression_deg == -10 && k->hfov_deg == 40 && k->stabilized);
+    assert_int_equal (k->stare, CGS__STARE_MODE__STARE_MODE_TARGET);
+    // The command packs and unpacks as it was made (its body points into c).
+    size_t len = cgs__command__get_packed_size (&c.cmd);
+    uint8_t buf[256];
+    assert_true (len <= sizeof buf);
+    cgs__command__pack (&c.cmd, buf);
+    Cgs__Command *back = cgs__command__unpack (NULL, len, buf);
+    assert_non_null (back);
+    assert_int_equal (back->body_case, CGS__COMMAND__BODY_SET_CAMERA);
+    assert_int_equal (back->set_camera->set, 15);
+    assert_true (back->set_camera->hfov_deg == 40);
+    cgs__command__free_unpacked (back, NULL);
+    // Refused: wrong types, numbers out of range, unknown stare values, nothing to set.
+    s_refused ("{\"op\":\"camera\"}", "camera needs at least one of");
+    s_refused ("{\"op\":\"camera\",\"uav_id\":1,\"zoom\":3}", "camera needs at least one of");
+    s_refused ("{\"op\":\"camera\",\"depression\":\"30\"}", "camera: depression must be");
+    s_refused ("{\"op\":\"camera\",\"depression\":null}", "camera: depression must be");
+    s_refused ("{\"op\":\"camera\",\"depression\":90.5}", "camera: depression must be");
+    s_refused ("{\"op\":\"camera\",\"depression\":-91}", "camera: depression must be");
+    s_refused ("{\"op\":\"camera\",\"depression\":1e400}", "camera: depression must be");
+    s_refused ("{\"op\":\"camera\",\"fov\":0}", "camera: fov");
+    s_refused ("{\"op\":\"camera\",\"fov\":-5}", "camera: fov");
+    s_refused ("{\"op\":\"camera\",\"fov\":180}", "camera: fov");
+    s_refused ("{\"op\":\"camera\",\"fov\":true}", "camera: fov");
+    s_refused ("{\"op\":\"camera\",\"stabilized\":1}", "camera: stabilized must be true or false");
+    s_refused ("{\"op\":\"camera\",\"stabilized\":\"on\"}", "camera: stabilized must be");
+    s_refused ("{\"op\":\"camera\",\"stare\":\"on\"}", "camera: stare must be");
+    s_refused ("{\"op\":\"camera\",\"stare\":true}", "camera: stare must be");
+    s_refused ("{\"op\":\"camera\",\"stare\":[1,2]}", "camera: stare must be");
+    s_refused ("{\"op\":\"camera\",\"stare\":{\"e\":1}}", "camera: stare must be");
+    s_refused ("{\"op\":\"camera\",\"stare\":{\"e\":\"1\",\"n\":2}}", "camera: stare must be");
+    s_refused ("{\"op\":\"camera\",\"stare\":{\"e\":2e7,\"n\":0}}", "camera: stare must be");
+    s_refused ("{\"op\":\"camera\",\"stare\":{\"e\":0,\"n\":-1e400}}", "camera: stare must be");
+    // One bad field refuses the whole command.
+    s_refused ("{\"op\":\"camera\",\"depression\":30,\"fov\":\"wide\"}", "camera: fov");
+}
+
+static void test_request_sensor_mode (void **state)
+{
+    (void)state;
+    static const struct {
+        const char *name;
+        Cgs__ImageMode mode;
+    } modes[] = {{"visible", CGS__IMAGE_MODE__IMAGE_MODE_VISIBLE},
+                 {"infrared", CGS__IMAGE_MODE__IMAGE_MODE_INFRARED},
+                 {"sar", CGS__IMAGE_MODE__IMAGE_MODE_SAR}};
+    st_command_t c;
+    char why[512], text[128];
+    for (size_t i = 0; i < 3; i++) {
+        snprintf (text, sizeof text, "{\"op\":\"sensor_mode\",\"uav_id\":3,\"mode\":\"%s\"}",
+                  modes[i].name);
+        assert_int_equal (s_request (text, &c, why, sizeof why), 0);
+        assert_int_equal (c.to, ST_TO_IMAGERD);
+        assert_int_equal (c.uav_id, 3);
+        assert_int_equal (c.cmd.body_case, CGS__COMMAND__BODY_SET_SENSOR_MODE);
+        assert_int_equal (c.cmd.set_sensor_mode->uav_id, 3);
+        assert_int_equal (c.cmd.set_sensor_mode->mode, modes[i].mode);
+    }
+    s_refused ("{\"op\":\"sensor_mode\"}", "sensor_mode needs the mode");
+    s_refused ("{\"op\":\"sensor_mode\",\"mode\":\"flir\"}", "sensor_mode needs the mode");
+    s_refused ("{\"op\":\"sensor_mode\",\"mode\":\"SAR\"}", "sensor_mode needs the mode");
+    s_refused ("{\"op\":\"sensor_mode\",\"mode\":2}", "sensor_mode needs the mode");
+    s_refused ("{\"op\":\"sensor_mode\",\"value\":\"sar\"}", "sensor_mode needs the mode");
+}
+
+/* An exercise file of that text in a fresh folder, loaded. */
+static cgs_exercise_t *s_exercise (const char *text)
+{
+    char dir[] = "/tmp/test_st_request.XXXXXX", path[64], err[512] = "";
+    assert_non_null (mkdtemp (dir));
+    snprintf (path, sizeof path, "%s/ex.ini", dir);
+    FILE *f = fopen (path, "w");
+    assert_non_null (f);
+    fputs (text, f);
+    fclose (f);
+    cgs_exercise_t *ex = NULL;
+    if (cgs_exercise_load (path, &ex, err, sizeof err) < 0)
+        fail_msg ("%s", err);
+    unlink (path);
+    rmdir (dir);
+    return ex;
+}
+
+#define S_EX_HEAD "[exercise]\norigin = geo 35.96 -121.23 0\n"
+
+static void test_request_imagerd (void **state)
+{
+    (void)state;
+    char err[512] = "", why[512];
+    cgs_scenario_t *sc = NULL;
+    if (cgs_scenario_load_string ("s.ini",
+                                  "[uav alpha]\nid = 7\nposition = 0 0\n"
+                                  "[uav bravo]\nid = 8\nposition = 5000 0\n"
+                                  "[uav charlie]\nid = 9\nposition = 9000 0\n",
+                                  NULL, 1, &sc, err, sizeof err) < 0)
+        fail_msg ("%s", err);
+    cgs_exercise_t *ex = s_exercise (
+        S_EX_HEAD
+        "[service uavsim]\npublish = ipc:///tmp/t-uavsim.pub\ncommand = ipc:///tmp/t-u.cmd\n"
+        "[service imagerd.alpha]\npublish = ipc:///tmp/t-imagerd.alpha.pub\nuav = alpha\n"
+        "command = ipc:///tmp/t-ia.cmd\n"
+        "[service imagerd.bravo0]\npublish = ipc:///tmp/t-imagerd.bravo0.pub\nuav = bravo\n"
+        "command = ipc:///tmp/t-ib0.cmd\nenabled = no\n"
+        "[service imagerd.bravo]\npublish = ipc:///tmp/t-imagerd.bravo.pub\nuav = bravo\n"
+        "command = ipc:///tmp/t-ib.cmd\n"
+        "[service imagerd.charlie]\npublish = ipc:///tmp/t-imagerd.charlie.pub\nuav = charlie\n");
+    const cgs_instance_t *in = NULL;
+    // The imagerd whose uav names the UAV of that entity id.
+    assert_int_equal (st_request_imagerd (ex, sc, 7, &in, why, sizeof why), 0);
+    assert_string_equal (in->name, "imagerd.alpha");
+    assert_string_equal (in->command, "ipc:///tmp/t-ia.cmd");
+    // An enabled one before one the exercise leaves out.
+    assert_int_equal (st_request_imagerd (ex, sc, 8, &in, why, sizeof why), 0);
+    assert_string_equal (in->name, "imagerd.bravo");
+    // One without a command endpoint cannot take it: refused, saying why.
+    in = NULL;
+    assert_int_equal (st_request_imagerd (ex, sc, 9, &in, why, sizeof why), -ENOENT);
+    assert_null (in);
+    assert_non_null (strstr (why, "no imagerd for charlie that takes commands"));
+    assert_int_equal (st_request_imagerd (ex, sc, 5, &in, why, sizeof why), -ENOENT);
+    assert_string_equal (why, "the scenario has no UAV of entity id 5");
+    // Several imagerd and no UAV named: no way to choose.
+    assert_int_equal (st_request_imagerd (ex, sc, 0, &in, why, sizeof why), -ENOENT);
+    assert_non_null (strstr (why, "say which UAV"));
+    assert_int_equal (st_request_imagerd (ex, NULL, 7, &in, why, sizeof why), -ENOENT);
+    assert_non_null (strstr (why, "without a scenario"));
+    cgs_exercise_destroy (&ex);
+    // The only one, without a scenario (it checks the UAV id itself).
+    ex = s_exercise (
+        S_EX_HEAD "[service imagerd.alpha]\npublish = ipc:///tmp/t-imagerd.alpha.pub\nuav = alpha\n"
+                  "command = ipc:///tmp/t-ia.cmd\n");
+    assert_int_equal (st_request_imagerd (ex, NULL, 7, &in, why, sizeof why), 0);
+    assert_string_equal (in->name, "imagerd.alpha");
+    assert_int_equal (st_request_imagerd (ex, sc, 0, &in, why, sizeof why), 0);
+    assert_string_equal (in->name, "imagerd.alpha");
+    cgs_exercise_destroy (&ex);
+    // None at all.
+    ex = s_exercise (
+        S_EX_HEAD
+        "[service uavsim]\npublish = ipc:///tmp/t-uavsim.pub\ncommand = ipc:///tmp/t-u.cmd\n");
+    assert_int_equal (st_request_imagerd (ex, sc, 7, &in, why, sizeof why), -ENOENT);
+    assert_non_null (strstr (why, "no imagerd for alpha"));
+    assert_int_equal (st_request_imagerd (ex, NULL, 0, &in, why, sizeof why), -ENOENT);
+    assert_non_null (strstr (why, "no imagerd that takes commands"));
+    cgs_exercise_destroy (&ex);
+    cgs_scenario_destroy (&sc);
+}
+
 int main (void)
 {
     const struct CMUnitTest tests[] = {
@@ -702,6 +1114,11 @@ int main (void)
         cmocka_unit_test (test_clock_and_staleness),
         cmocka_unit_test (test_full_tables),
         cmocka_unit_test (test_video),
+        cmocka_unit_test (test_camera_and_sensor_mode),
+        cmocka_unit_test (test_request_ops),
+        cmocka_unit_test (test_request_camera),
+        cmocka_unit_test (test_request_sensor_mode),
+        cmocka_unit_test (test_request_imagerd),
     };
     return cmocka_run_group_tests (tests, NULL, NULL);
 }

@@ -215,7 +215,8 @@ export function applyTracks(tracks) {
   if (newTracks.length) src.tracks.addFeatures(newTracks);
 }
 
-// UAVs: symbol with name, leader along heading, loiter circle.
+// UAVs: symbol with name, leader along heading, loiter circle, and where
+// the camera stares (staring at a point or at the target).
 const uavRecs = new Map();
 
 function uavLeaderEnd(u, e, n) {
@@ -239,6 +240,19 @@ function loiterKey(u) {
   return u.mode === 'loiter' && lo ? lo.e + ',' + lo.n + ',' + lo.radius_m : '';
 }
 
+// The stare point shown: [e, n, atLimit] or null.
+function stareOf(u) {
+  const c = u.camera;
+  if (!c || c.stare === 'off' || !Array.isArray(c.stare_point) || c.stare_point.length < 2) return null;
+  return [num(c.stare_point[0], 0), num(c.stare_point[1], 0), c.at_gimbal_limit === true ? 1 : 0];
+}
+
+function updateStare(rec, u) {
+  const p = stareOf(u);
+  setOptionalGeom(rec.stare, p, (f) => new ol.geom.Point([f[0], f[1]]));
+  setStyle(rec.stare, p && p[2] ? S.stareLimit : S.stare);
+}
+
 function createUav(u) {
   const e = num(u.e, 0);
   const n = num(u.n, 0);
@@ -249,7 +263,10 @@ function createUav(u) {
   rec.loiter = new ol.Feature(uavLoiterGeom(u));
   rec.loiter.cgsStyle = S.loiter;
   rec.loiterKey = loiterKey(u);
-  src.uav.addFeatures([rec.loiter, rec.f]);
+  rec.stare = new ol.Feature();
+  rec.stare.cgsStyle = S.stare;
+  updateStare(rec, u);
+  src.uav.addFeatures([rec.loiter, rec.stare, rec.f]);
   return rec;
 }
 
@@ -268,11 +285,13 @@ function updateUav(rec, u) {
     rec.loiterKey = lk;
     rec.loiter.setGeometry(uavLoiterGeom(u));
   }
+  updateStare(rec, u);
 }
 
 function removeUav(rec) {
   src.uav.removeFeature(rec.f);
   src.uav.removeFeature(rec.loiter);
+  src.uav.removeFeature(rec.stare);
   releaseSymbols(rec);
 }
 

@@ -1,7 +1,9 @@
 /*
  * input.js — what the operator does: clicks on the map (designation by a
- * current hit's id), the cursor's MGRS read-out, the command buttons,
- * inputs and selects, and the Sensors and Map Features check boxes.
+ * current hit's id, or, after "At point…", the point the camera is to stare
+ * at), the cursor's MGRS read-out, the command buttons, inputs and selects,
+ * the imaging sensor's mode and camera controls, and the Sensors and Map
+ * Features check boxes.
  */
 import { applyTruth } from './features.js';
 import { cgs } from './hooks.js';
@@ -12,6 +14,12 @@ import { setText } from './util.js';
 
 const PICK_PX = 10;                  // designation: click tolerance, pixels
 const MGRS_INTERVAL_MS = 100;        // at most 10 cursor look-ups a second
+// The camera's values the page sends (the server refuses what is outside
+// the scenario's limits, with the reason).
+const DEPRESSION_MIN_DEG = 0;
+const DEPRESSION_MAX_DEG = 90;
+const FOV_MIN_DEG = 0.1;
+const FOV_MAX_DEG = 90;
 
 // An operator command to the selected UAV; its reply lands in #result.
 function command(op, extra) {
@@ -121,6 +129,27 @@ function setValue(op, input) {
   command(op, { value: v });
 }
 
+// A camera setting from an input: a number within [lo, hi] degrees, or the
+// reason it is not (nothing sent).
+function setCamera(field, what, input, lo, hi) {
+  const v = Number(input.value);
+  if (input.value === '' || !isFinite(v) || v < lo || v > hi) {
+    showResult('camera: the ' + what + ' must be a number of degrees from ' + lo + ' to ' + hi, 'err');
+    return;
+  }
+  command('camera', { [field]: v });
+}
+
+// "At point…": the next click on the map is where the camera stares.
+let stareArmed = false;
+
+function armStare(on) {
+  stareArmed = on;
+  ui.starePoint.setAttribute('aria-pressed', on ? 'true' : 'false');
+  map.getTargetElement().classList.toggle('picking', on);
+  map.getTargetElement().style.cursor = on ? 'crosshair' : '';
+}
+
 // A check box that shows or hides with apply(checked), applied at once.
 function bindToggle(box, apply) {
   const onChange = () => apply(box.checked);
@@ -131,6 +160,13 @@ function bindToggle(box, apply) {
 // Every handler of the map and the panel's controls.
 export function bindInput() {
   map.on('singleclick', (ev) => {
+    if (stareArmed) {
+      armStare(false);
+      const e = Math.round(ev.coordinate[0] * 10) / 10;
+      const n = Math.round(ev.coordinate[1] * 10) / 10;
+      command('camera', { stare: { e: e, n: n } });
+      return;
+    }
     const hit = nearestCurrentHit(ev.coordinate);
     if (!hit) {
       showResult('click a yellow MTI hit (the current scan\'s) to designate its track', 'info');
@@ -147,7 +183,7 @@ export function bindInput() {
   map.on('pointermove', (ev) => {
     if (ev.dragging) return;
     onPointerMove(ev.coordinate);
-    const over = !!nearestCurrentHit(ev.coordinate);
+    const over = stareArmed || !!nearestCurrentHit(ev.coordinate);
     map.getTargetElement().style.cursor = over ? 'crosshair' : '';
   });
 
@@ -164,6 +200,49 @@ export function bindInput() {
   ui.method.addEventListener('change', () => {
     holdEdit('intercept_mode');
     command('intercept_mode', { value: ui.method.value });
+  });
+
+  // The imaging sensor's mode: the radio clicked is held until a frame in
+  // that mode comes (the status says which is live).
+  ui.sensorModes.forEach((r) => r.addEventListener('change', () => {
+    if (!r.checked) return;
+    holdEdit('sensor_mode');
+    command('sensor_mode', { mode: r.value });
+  }));
+
+  // The camera.
+  const setDepression = () => setCamera('depression', 'depression', ui.camDepression, DEPRESSION_MIN_DEG, DEPRESSION_MAX_DEG);
+  const setFov = () => setCamera('fov', 'field of view', ui.camFov, FOV_MIN_DEG, FOV_MAX_DEG);
+  ui.camDepressionSet.addEventListener('click', setDepression);
+  ui.camFovSet.addEventListener('click', setFov);
+  ui.camDepression.addEventListener('keydown', (ev) => { if (ev.key === 'Enter') setDepression(); });
+  ui.camFov.addEventListener('keydown', (ev) => { if (ev.key === 'Enter') setFov(); });
+  ui.camStabilized.addEventListener('change', () => {
+    holdEdit('camera');
+    command('camera', { stabilized: ui.camStabilized.checked });
+  });
+  ui.stareOff.addEventListener('click', () => {
+    armStare(false);
+    command('camera', { stare: 'off' });
+  });
+  ui.stareTarget.addEventListener('click', () => {
+    armStare(false);
+    command('camera', { stare: 'target' });
+  });
+  ui.starePoint.addEventListener('click', () => {
+    if (stareArmed) {
+      armStare(false);
+      showResult('stare: no point chosen', 'info');
+      return;
+    }
+    armStare(true);
+    showResult('stare: click the map where the camera is to look (Esc cancels)', 'info');
+  });
+  document.addEventListener('keydown', (ev) => {
+    if (ev.key === 'Escape' && stareArmed) {
+      armStare(false);
+      showResult('stare: no point chosen', 'info');
+    }
   });
 
   const applyMti = () => showMti(ui.sensorMti.checked, ui.showTracks.checked);

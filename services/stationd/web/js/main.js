@@ -1,8 +1,9 @@
 /*
  * main.js — the browser front end of the mscgs ground station (served by
  * stationd): a tactical map of the exercise in its local east/north metre
- * frame, the operator's intercept and flight controls, the intercept status
- * and the imaging sensor's live video (or its latest frame). This module
+ * frame, the operator's intercept, flight, sensor-mode and camera controls,
+ * the intercept status and the imaging sensor's live video (or its latest
+ * frame). This module
  * wires the others:
  *
  *   hooks.js     window.cgs, the state the browser tests and benchmark read

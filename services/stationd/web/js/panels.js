@@ -1,15 +1,20 @@
 /*
  * panels.js — the side panel and the page's messages: the connection and
- * simulation time, the access note, the UAV selector, the status panel,
- * the flight inputs and the intercept selects as the server reports them,
- * the sensor image (the latest picture, or the live video video.js plays,
- * with the line that says which), and the result line (a command sent,
- * accepted or refused with the reason).
+ * simulation time, the access note, the UAV selector, the status panel
+ * (with the imaging sensor's live mode, as its frames say), the flight
+ * inputs, the intercept selects, the sensor mode and the camera's settings
+ * as the server reports them, the sensor image (the latest picture, or the
+ * live video video.js plays, with the line that says which), and the result
+ * line (a command sent, accepted or refused with the reason).
  */
 import { cgs } from './hooks.js';
 import { $, num, setText } from './util.js';
 
 const EDIT_HOLD_MS = 3000;           // a select the operator just changed is not overwritten for this long, at most
+const MODE_HOLD_MS = 10000;          // the sensor mode clicked, until a frame in it comes (at most)
+
+// The imaging sensor's modes as the page names them.
+export const MODE_LABELS = { visible: 'Visible (EO)', infrared: 'FLIR (infrared)', sar: 'SAR' };
 
 function fmtRange(m) {
   if (typeof m !== 'number' || !isFinite(m) || m < 0) return '—';
@@ -61,6 +66,17 @@ export const ui = {
   speedSet: $('speed-set'),
   fpScale: $('fp-scale'),
   method: $('method'),
+  statusSensor: $('status-sensor'),
+  sensorModes: [$('sensor-eo'), $('sensor-flir'), $('sensor-sar')],
+  camDepression: $('cam-depression'),
+  camDepressionSet: $('cam-depression-set'),
+  camFov: $('cam-fov'),
+  camFovSet: $('cam-fov-set'),
+  camStabilized: $('cam-stabilized'),
+  stareOff: $('stare-off'),
+  stareTarget: $('stare-target'),
+  starePoint: $('stare-point'),
+  cameraState: $('camera-state'),
   image: $('sensor-image'),
   video: $('sensor-video'),
   videoStatus: $('video-status'),
@@ -72,19 +88,44 @@ export const ui = {
   showTracks: $('show-tracks'),
   truth: $('truth'),
 };
-const OPERATOR_CONTROLS = [ui.cancel, ui.altInput, ui.altSet, ui.speedInput, ui.speedSet, ui.fpScale, ui.method];
+const OPERATOR_CONTROLS = [ui.cancel, ui.altInput, ui.altSet, ui.speedInput, ui.speedSet, ui.fpScale, ui.method,
+  ...ui.sensorModes, ui.camDepression, ui.camDepressionSet, ui.camFov, ui.camFovSet, ui.camStabilized,
+  ui.stareOff, ui.stareTarget, ui.starePoint];
 
 let operator = false;       // this page may command (the hello says)
 let selectedUav = null;     // uav_id commands go to
 let uavSelect = null;       // the #uav <select>, only with several UAVs
 let prefilledFor = null;    // UAV whose commanded values filled the inputs
+let cameraFilledFor = null; // UAV whose camera settings filled the camera inputs
 let imageFrame = null;
 let videoShown = false;     // the live video plays in place of the picture
-// A select the operator just changed keeps its value until the server
-// reports it, the command is refused, or EDIT_HOLD_MS pass.
-const holdScale = { sel: ui.fpScale, until: 0, want: null };
-const holdMethod = { sel: ui.method, until: 0, want: null };
-const holds = new Map([['footprint_scale', holdScale], ['intercept_mode', holdMethod]]);
+
+// The checked one of the sensor mode's radio buttons ('' none).
+function checkedMode() {
+  const r = ui.sensorModes.find((x) => x.checked);
+  return r ? r.value : '';
+}
+
+// A control the operator just changed keeps its value until the server
+// reports it, the command is refused, or ms pass: el, its value as a string
+// (read) and set (write); a select is also left alone while it has the
+// focus (focus).
+function makeHold(el, read, write, ms, focus) {
+  return { el: el, read: read, write: write, ms: ms, focus: focus, until: 0, want: null };
+}
+function setSelect(sel, v) {
+  if (sel.value !== v && Array.prototype.some.call(sel.options, (o) => o.value === v)) sel.value = v;
+}
+const holdScale = makeHold(ui.fpScale, () => ui.fpScale.value, (v) => setSelect(ui.fpScale, v), EDIT_HOLD_MS, true);
+const holdMethod = makeHold(ui.method, () => ui.method.value, (v) => setSelect(ui.method, v), EDIT_HOLD_MS, true);
+const holdMode = makeHold(null, checkedMode, (v) => {
+  ui.sensorModes.forEach((r) => { r.checked = r.value === v; });
+}, MODE_HOLD_MS, false);
+const holdStabilized = makeHold(ui.camStabilized, () => String(ui.camStabilized.checked), (v) => {
+  ui.camStabilized.checked = v === 'true';
+}, EDIT_HOLD_MS, false);
+const holds = new Map([['footprint_scale', holdScale], ['intercept_mode', holdMethod], ['sensor_mode', holdMode],
+  ['camera', holdStabilized]]);
 
 export function showResult(text, kind) {
   ui.result.textContent = text;
@@ -99,12 +140,12 @@ export function showReply(m, op) {
   else showResult('refused: ' + (m.error || 'no reason given'), 'err');
 }
 
-// The operator changed the select of command `op`: it keeps that value for
-// a while (see holdScale).
+// The operator changed the control of command `op`: it keeps that value
+// for a while (see makeHold).
 export function holdEdit(op) {
   const hold = holds.get(op);
-  hold.until = performance.now() + EDIT_HOLD_MS;
-  hold.want = hold.sel.value;
+  hold.until = performance.now() + hold.ms;
+  hold.want = hold.read();
 }
 
 export const canCommand = () => operator;
@@ -147,6 +188,7 @@ function updateUavSelector(uavs) {
     uavSelect.addEventListener('change', () => {
       selectedUav = Number(uavSelect.value);
       prefilledFor = null;
+      cameraFilledFor = null;
       if (cgs.state) updatePanels(cgs.state);
     });
     ui.uavRow.appendChild(uavSelect);
@@ -171,15 +213,61 @@ function findBy(arr, field, value) {
   return null;
 }
 
-// A select follows the server unless the operator is on it or has just
-// changed it (see holdScale).
-function syncSelect(sel, value, hold) {
+// A control follows the server unless the operator has just changed it
+// (or, a select, is on it): see makeHold.
+function syncHeld(hold, value) {
   if (value === undefined || value === null) return;
   const v = String(value);
   if (v === hold.want) hold.until = 0;
-  if (document.activeElement === sel || performance.now() < hold.until) return;
+  if ((hold.focus && document.activeElement === hold.el) || performance.now() < hold.until) return;
   hold.want = null;
-  if (sel.value !== v && Array.prototype.some.call(sel.options, (o) => o.value === v)) sel.value = v;
+  hold.write(v);
+}
+
+function fmtDeg(x, digits) {
+  return typeof x === 'number' && isFinite(x) ? String(Math.round(x * 10 ** digits) / 10 ** digits) + '°' : '—';
+}
+
+function fmtPoint(p) {
+  return Array.isArray(p) && p.length >= 2 ? 'E ' + Math.round(num(p[0], 0)) + ' N ' + Math.round(num(p[1], 0)) : 'no point';
+}
+
+// The imaging sensor: its live mode (its latest frame's; a mode clicked
+// and not yet live is shown pending), the mode's radio buttons, and how the
+// camera is set.
+function updateSensor(u) {
+  const live = u && u.sensor_mode ? u.sensor_mode : null;
+  syncHeld(holdMode, live);
+  const pending = holdMode.want && holdMode.want !== live && performance.now() < holdMode.until ? holdMode.want : null;
+  let text = live ? MODE_LABELS[live] || live : '—';
+  if (pending) text += ' · switching to ' + (MODE_LABELS[pending] || pending) + '…';
+  setText(ui.statusSensor, text);
+  ui.statusSensor.className = pending ? 'pending' : '';
+
+  const c = u ? u.camera : null;
+  if (!c) {
+    setText(ui.cameraState, '—');
+    ui.cameraState.className = 'hint';
+    [ui.stareOff, ui.stareTarget, ui.starePoint].forEach((b) => b.classList.remove('on'));
+    return;
+  }
+  if (cameraFilledFor !== u.id) {
+    cameraFilledFor = u.id;
+    if (typeof c.depression_deg === 'number') ui.camDepression.value = String(Math.round(c.depression_deg * 10) / 10);
+    if (typeof c.hfov_deg === 'number') ui.camFov.value = String(Math.round(c.hfov_deg * 10) / 10);
+  }
+  syncHeld(holdStabilized, c.stabilized === true);
+  ui.stareOff.classList.toggle('on', c.stare === 'off');
+  ui.stareTarget.classList.toggle('on', c.stare === 'target');
+  ui.starePoint.classList.toggle('on', c.stare === 'point');
+  let stare = 'stare off';
+  if (c.stare === 'point') stare = (c.staring ? 'staring at ' : 'to stare at ') + fmtPoint(c.stare_point);
+  else if (c.stare === 'target') stare = c.staring ? 'staring at the target (' + fmtPoint(c.stare_point) + ')' : 'to stare at the target: none designated';
+  const parts = [fmtDeg(c.depression_deg, 1) + ' down', 'FOV ' + fmtDeg(c.hfov_deg, 2) + ' × ' + fmtDeg(c.vfov_deg, 2),
+    c.stabilized ? 'stabilized' : 'not stabilized', stare];
+  if (c.at_gimbal_limit) parts.push('held at the gimbal\'s limit');
+  setText(ui.cameraState, parts.join(' · '));
+  ui.cameraState.className = 'hint' + (c.at_gimbal_limit ? ' limit' : '');
 }
 
 export function updatePanels(st) {
@@ -223,9 +311,10 @@ export function updatePanels(st) {
   }
 
   if (icpt) {
-    syncSelect(ui.fpScale, icpt.scale, holdScale);
-    syncSelect(ui.method, icpt.method, holdMethod);
+    syncHeld(holdScale, icpt.scale);
+    syncHeld(holdMethod, icpt.method);
   }
+  updateSensor(u);
 }
 
 // Which of the video, the picture and the "no image yet" box shows.

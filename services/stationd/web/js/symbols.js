@@ -1,7 +1,7 @@
 /*
  * symbols.js — how things look on the map: the shared OpenLayers styles
- * (hits, BCIS replies, footprint, route, waypoints, target ring, leaders,
- * loiter circle) and the MIL-STD-2525 symbols of tracks, UAVs and ground
+ * (hits, BCIS replies, footprint, route, waypoints, target ring, the
+ * camera's stare point, leaders, loiter circle) and the MIL-STD-2525 symbols of tracks, UAVs and ground
  * truth (milsymbol, global `ms`), composed with their labels into shared
  * sprite sheets. Styles are one object per look, never one per feature or
  * update.
@@ -128,6 +128,27 @@ S.target = new ol.style.Style({
     stroke: new ol.style.Stroke({ color: C_PURPLE, width: 3 }),
   }),
 });
+
+// Where the imaging sensor stares (a point, or the target's estimate): a
+// white cross in a ring, red while the gimbal holds it at its limit.
+function stareStyle(color) {
+  return [
+    new ol.style.Style({
+      image: new ol.style.Circle({ radius: 9, stroke: new ol.style.Stroke({ color: 'rgba(0,0,0,0.6)', width: 4 }) }),
+    }),
+    new ol.style.Style({
+      image: new ol.style.Circle({ radius: 9, stroke: new ol.style.Stroke({ color: color, width: 2 }) }),
+    }),
+    new ol.style.Style({
+      image: new ol.style.RegularShape({
+        points: 4, radius: 6, radius2: 0, angle: 0,
+        stroke: new ol.style.Stroke({ color: color, width: 2 }),
+      }),
+    }),
+  ];
+}
+S.stare = stareStyle('#ffffff');
+S.stareLimit = stareStyle('#ff5a52');
 
 // Leaders (tracks, UAVs) are drawn from a LineString kept on the feature.
 function leaderGeometry(f) {
