@@ -322,9 +322,10 @@ $(O)/obj/gen/%.o: $(O)/gen/%.c | $(O)/gen/.stamp
 	$(CC) $(CPPFLAGS) $(CFLAGS) -c $< -o $@
 
 # The only sources that include GDAL's headers: the terrain's DEM import,
-# stationd's relief, and their tests.
+# stationd's relief, imagerd's SAR GeoTIFF, and their tests.
 GDAL_SRCS := common/cgs_terrain_dem.c services/stationd/st_relief.c \
-             tests/unit/test_terrain.c tests/unit/test_st_relief.c
+             services/imagerd/im_geotiff.c \
+             tests/unit/test_terrain.c tests/unit/test_st_relief.c tests/unit/test_im_geotiff.c
 $(patsubst %.c,$(O)/obj/%.o,$(GDAL_SRCS)): CPPFLAGS += $(GDAL_CFLAGS)
 
 $(O)/obj/%.o: %.c | $(O)/gen/.stamp

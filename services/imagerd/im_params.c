@@ -50,6 +50,7 @@ void im_params_defaults (im_params_t *p)
         .video_map = true,
         .video_ttl = 1,
     };
+    im_sar_params_defaults (&p->sar);
 }
 
 #define S_R(sec, k, field, lo, hi)                                                                 \
@@ -113,9 +114,9 @@ static bool s_relations (const im_params_t *p, const char **sec, const char **ke
         *sec = "infrared", *key = "display_max_k";
         snprintf (msg, msglen, "expected more than display_min_k (%g), got %g", p->display_min_k,
                   p->display_max_k);
-    } else if ((unsigned)p->mode > IM_MODE_INFRARED) {
+    } else if ((unsigned)p->mode > IM_MODE_SAR) {
         *sec = "infrared", *key = "mode";
-        snprintf (msg, msglen, "expected visible or infrared, got %d", (int)p->mode);
+        snprintf (msg, msglen, "expected visible, infrared or sar, got %d", (int)p->mode);
     } else if (p->video && (p->width_px % 2 || p->height_px % 2)) {
         *sec = "camera", *key = p->width_px % 2 ? "width_px" : "height_px";
         snprintf (msg, msglen, "expected an even size for the video (H.264 4:2:0), got %d x %d",
@@ -140,7 +141,9 @@ int im_params_check (const im_params_t *p, char *err, size_t errlen)
     if (!cgs_config_table_out_of_range (s_reals, S_NREALS, s_ints, S_NINTS, p, &sec, &key, msg,
                                         sizeof msg))
         s_relations (p, &sec, &key, msg, sizeof msg);
-    return key ? cgs_config_value_error (NULL, sec, key, msg, err, errlen) : 0;
+    if (key)
+        return cgs_config_value_error (NULL, sec, key, msg, err, errlen);
+    return im_sar_params_check (&p->sar, err, errlen);
 }
 
 static int s_read (cgs_config_t *cfg, void *arg, char *err, size_t errlen)
@@ -149,11 +152,17 @@ static int s_read (cgs_config_t *cfg, void *arg, char *err, size_t errlen)
     int rc = cgs_config_check_repeated (cfg, err, errlen);
     if (rc == 0)
         rc = cgs_config_get_table (cfg, s_reals, S_NREALS, s_ints, S_NINTS, &p, err, errlen);
-    if (rc == 0)
-        rc = cgs_config_get_bool (cfg, "camera", "stabilized", p.stabilized, &p.stabilized, err,
-                                  errlen);
-    if (rc == 0)
-        rc = cgs_config_get_bool (cfg, "camera", "staring", p.staring, &p.staring, err, errlen);
+    // The camera's pointing moved to uavsim, so that every service builds the
+    // same camera: an older file that still sets it is told where it went.
+    static const char *const moved[][2] = {{"stabilized", "sensor_stabilized"},
+                                           {"staring", "sensor_stare = target"}};
+    for (int k = 0; rc == 0 && k < 2; k++)
+        if (cgs_config_has (cfg, "camera", moved[k][0]))
+            rc = cgs_config_error (cfg, "camera", moved[k][0], 0, err, errlen,
+                                   "no longer imagerd's: the scenario's [uav] %s sets it (and "
+                                   "`mscgs camera` or the map at run time), so that the image "
+                                   "and the footprint agree",
+                                   moved[k][1]);
     if (rc == 0)
         rc = cgs_config_get_bool (cfg, "overlay", "enabled", p.overlay, &p.overlay, err, errlen);
     if (rc == 0)
@@ -162,7 +171,7 @@ static int s_read (cgs_config_t *cfg, void *arg, char *err, size_t errlen)
     if (rc == 0)
         rc = cgs_config_get_bool (cfg, "overlay", "frame_code", p.frame_code, &p.frame_code, err,
                                   errlen);
-    static const char *const modes[] = {"visible", "infrared", NULL};
+    static const char *const modes[] = {"visible", "infrared", "sar", NULL};
     static const char *const polarities[] = {"white-hot", "black-hot", NULL};
     int mode = (int)p.mode, polarity = (int)p.polarity;
     if (rc == 0)
@@ -212,6 +221,8 @@ static int s_read (cgs_config_t *cfg, void *arg, char *err, size_t errlen)
     if (rc == 0 && p.video_local[0] && inet_pton (AF_INET, p.video_local, &ia) != 1)
         rc = cgs_config_error (cfg, "video", "local_address", 0, err, errlen,
                                "expected an IPv4 address of this host, got '%s'", p.video_local);
+    if (rc == 0)
+        rc = im_sar_params_read (cfg, &p.sar, err, errlen);
     if (rc == 0)
         rc = cgs_config_check_unused (cfg, err, errlen);
     if (rc == 0) {

@@ -3,12 +3,17 @@
  * every error names the file, the line, the section and key, and what was
  * expected. Pure: no logging, no globals.
  *
- * Sections: [camera], [scene], [overlay], [infrared], [output], [video]. */
+ * Sections: [camera], [scene], [overlay], [infrared], [output], [video], [sar]. */
 #ifndef IM_PARAMS_H
 #define IM_PARAMS_H
 
 #include <stdbool.h>
 #include <stddef.h>
+
+// [sar]'s struct only: the rest of im_sar.h needs im_render.h, which needs this header.
+#define IM_SAR_PARAMS_ONLY
+#include "im_sar.h"
+#undef IM_SAR_PARAMS_ONLY
 
 typedef enum { IM_MODE_VISIBLE = 0, IM_MODE_INFRARED = 1, IM_MODE_SAR = 2 } im_mode_t;
 typedef enum { IM_WHITE_HOT = 0, IM_BLACK_HOT = 1 } im_polarity_t;
@@ -17,8 +22,6 @@ typedef struct {
     // [camera]
     int width_px, height_px;
     double frame_rate_hz; // frames per second of simulation time
-    bool stabilized;      // levelled against the UAV's bank
-    bool staring;         // kept on the designated target
     double near_m;        // nearest depth drawn
     double max_range_m;   // farthest depth drawn, and where a footprint ray is cut
     // [scene]
@@ -60,6 +63,8 @@ typedef struct {
     int video_ttl;              // multicast TTL (0: this host only)
     char video_local[64];       // multicast: the local address to send from ("" the route's)
     char video_mission_id[128]; // KLV tag 3; "" the exercise's name
+    // [sar]: the SAR mode's chip (mode = sar)
+    im_sar_params_t sar;
 } im_params_t;
 
 /* The defaults (deploy/params/imager.ini documents each). */

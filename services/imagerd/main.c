@@ -20,6 +20,8 @@
 #include "im_png.h"
 #include "im_post.h"
 #include "im_render.h"
+#include "im_geotiff.h"
+#include "im_sar.h"
 #include "im_scene.h"
 #include "im_video.h"
 #include "im_vout.h"
@@ -74,6 +76,15 @@ typedef struct {
     bool have_unix;
     uint64_t video_errors;
     im_klv_frame_t klv;
+    /* SAR mode: the imager, made when first needed, and its latest chip. */
+    im_sar_t *sar;
+    bool sar_have;               // a chip was made
+    bool sar_fresh;              // the frame being made shows a new chip
+    double sar_t;                // simulation time of the latest chip
+    double sar_wall, sar_cost_s; // wall clock when it was started, and what it took
+    double next_tif_s;           // latest-sar.tif written again from this time
+    uint64_t sar_errors, sar_chips;
+    char sar_error[200];
 } s_app_t;
 
 static void s_bad (s_app_t *app, const char *what)
@@ -225,6 +236,144 @@ static void s_encode (s_app_t *app, double t, const cgs_camera_t *cam, const cgs
     cgs_service_publish (app->svc, "video", &m.base);
 }
 
+/* Where to centre a chip so that the target's return is at its centre: a
+ * mover's return falls R·v_r/V⊥ along cross range from it (hundreds of
+ * metres, kilometres when the radar looks near its flight path), and that
+ * shift depends on where the chip looks; a fixed point over the chip's
+ * geometry alone (im_sar_plan), with the track's velocity. */
+static cgs_enu_t s_sar_aim (const s_app_t *app, const cgs_camera_t *cam, cgs_enu_t target)
+{
+    cgs_enu_t center = target;
+    for (int it = 0; it < 8; it++) {
+        im_sar_geom_t g = {.radar = cam->eye, .radar_vel = app->uav.velocity, .center = center};
+        im_sar_chip_t c;
+        cgs_enu_t seen;
+        if (im_sar_plan (app->sar, &g, &c) < 0 ||
+            !im_sar_apparent (&c, target, app->track_vel, app->sensor.terrain, &seen))
+            break;
+        double moved = hypot (seen.e_m - center.e_m, seen.n_m - center.n_m);
+        center = seen;
+        if (moved < c.pixel_m)
+            break;
+    }
+    return center;
+}
+
+/* SAR mode: a new spotlight chip once the last one's aperture has been
+ * flown (a SAR image takes that long to collect; at least every 0.2 s of
+ * simulation time), else the last chip again; into app->rgba, letterboxed,
+ * with its ground area as the frame's footprint. The chip is centred on the
+ * designated target's estimate, else where the camera's boresight meets the
+ * ground. A moving target's return falls R·v_r/V along cross range from it
+ * (SAR's moving-target shift): the chip is centred where the last chip put
+ * the target's return, so the target is in it, at its apparent place.
+ * -1 when there is no chip to show. */
+static int s_sar_frame (s_app_t *app, double t, const cgs_camera_t *cam, size_t n,
+                        const cgs_enu_t *target, cgs_footprint_t *ret_fp)
+{
+    const im_params_t *p = &app->params;
+    char err[256] = "";
+    if (!app->sar && !(app->sar = im_sar_new (&p->sar, app->sensor.seed, err, sizeof err))) {
+        cgs_health_set_error (cgs_service_health (app->svc), err);
+        if (app->sar_errors++ == 0)
+            cgs_log (LOG_ERR, "SAR: %s", err);
+        return -1;
+    }
+    const im_sar_chip_t *last = im_sar_chip (app->sar);
+    double every = fmax (0.2, app->sar_have && last ? last->aperture_s : 0.0);
+    double now = cgs_loop_now ();
+    app->sar_fresh = false;
+    // At most half the wall clock goes to chips, so commands and the bus are
+    // served between them at any time scale.
+    if (!app->sar_have || t < app->sar_t ||
+        (t - app->sar_t >= every && now - app->sar_wall >= 2 * app->sar_cost_s)) {
+        cgs_footprint_t cfp;
+        cgs_camera_footprint (cam, app->sensor.terrain, p->max_range_m, &cfp);
+        cgs_enu_t center = cgs_footprint_center_enu (&cfp);
+        if (target)
+            center = s_sar_aim (app, cam, *target);
+        im_sar_geom_t g = {.radar = cam->eye, .radar_vel = app->uav.velocity, .center = center};
+        im_sar_scene_t sc = {.terrain = app->sensor.terrain, .ents = app->draw, .nents = n};
+        int rc = im_sar_image (app->sar, &g, &sc, NULL);
+        app->sar_wall = now;
+        app->sar_cost_s = cgs_loop_now () - now;
+        if (rc < 0) {
+            snprintf (err, sizeof err,
+                      rc == -EDOM ? "SAR: no image of (%.0f, %.0f): the grazing angle is outside "
+                                    "1..85 degrees, the range under 100 m, or the look too near "
+                                    "the flight path"
+                                  : "SAR: no image of (%.0f, %.0f): %s",
+                      g.center.e_m, g.center.n_m, strerror (-rc));
+            cgs_health_set_error (cgs_service_health (app->svc), err);
+            if (strcmp (err, app->sar_error) != 0) // said once until it changes
+                cgs_log (LOG_WARNING, "%s", err);
+            snprintf (app->sar_error, sizeof app->sar_error, "%s", err);
+            app->sar_errors++;
+            if (!app->sar_have)
+                return -1;
+        } else {
+            app->sar_have = app->sar_fresh = true;
+            app->sar_t = t;
+            app->sar_chips++;
+            app->sar_error[0] = '\0';
+        }
+    }
+    im_sar_to_rgba (app->sar, app->rgba, p->width_px, p->height_px);
+    const im_sar_chip_t *c = im_sar_chip (app->sar);
+    cgs_footprint_t fp = {0};
+    for (int i = 0; i < 4; i++) {
+        fp.corner[i] = (cgs_v2_t){c->corners[i].e_m, c->corners[i].n_m};
+        fp.corner_up_m[i] = c->corners[i].u_m;
+    }
+    fp.center = (cgs_v2_t){c->center.e_m, c->center.n_m};
+    fp.center_up_m = c->center.u_m;
+    *ret_fp = fp;
+    return 0;
+}
+
+/* The SAR chip as a GeoTIFF in the output folder, named as the PNG file
+ * png_name with .tif for .png. */
+static void s_geotiff (s_app_t *app, double t, const char *png_name)
+{
+    char path[sizeof app->out_dir + 80], err[256];
+    snprintf (path, sizeof path, "%s/%.*s.tif", app->out_dir, (int)(strlen (png_name) - 4),
+              png_name);
+    if (im_geotiff_write (path, app->sar, app->sensor.frame, app->sensor.terrain,
+                          app->have_unix ? app->unix_at_zero + t : t, err, sizeof err) < 0) {
+        cgs_health_set_error (cgs_service_health (app->svc), err);
+        if (app->sar_errors++ == 0)
+            cgs_log (LOG_WARNING, "SAR GeoTIFF: %s", err);
+    }
+}
+
+/* In SAR mode, where the target's vehicle falls in the frame: its range and
+ * Doppler put it in the chip (a moving vehicle shifted along cross range). */
+static void s_sar_target (const s_app_t *app, double t, size_t n, im_target_t *tg)
+{
+    const im_sar_chip_t *c = im_sar_chip (app->sar);
+    const im_params_t *p = &app->params;
+    tg->in_view = tg->projected = tg->occluded = false;
+    for (size_t i = 0; c && tg->known && i < n; i++) {
+        const im_entity_t *e = &app->draw[i];
+        if (e->id != tg->entity_id)
+            continue;
+        double h = e->heading_deg * M_PI / 180.0, len, wid, hgt;
+        cgs_enu_t v = {e->speed_mps * sin (h), e->speed_mps * cos (h), 0};
+        // Where it was when the chip shown was made.
+        double back = app->sar_t - t;
+        cgs_enu_t at = {e->position.e_m + v.e_m * back, e->position.n_m + v.n_m * back, 0};
+        at.u_m = cgs_terrain_height_clamped (app->sensor.terrain, at.e_m, at.n_m);
+        double x, y;
+        if (im_sar_ground_to_px (c, p->width_px, p->height_px, at, v, &x, &y)) {
+            im_model_extent (e->kind, &len, &wid, &hgt);
+            double side = fmin (p->width_px, p->height_px);
+            tg->projected = tg->in_view = true;
+            tg->px_x = x, tg->px_y = y;
+            tg->size_px = len / (c->pixel_m * c->size_px / side);
+        }
+    }
+}
+
 static void s_render (s_app_t *app, double t)
 {
     im_params_t pm = app->params; // with the mode as commanded
@@ -244,17 +393,23 @@ static void s_render (s_app_t *app, double t)
     }
     size_t n = s_entities_at (app, t);
     char err[256] = "";
-    if (im_renderer_draw (app->ren, &cam, p, app->draw, n, app->rgba, err, sizeof err) < 0) {
-        if (app->render_errors++ == 0)
-            cgs_log (LOG_ERR, "%s", err);
-        cgs_health_set_error (cgs_service_health (app->svc), err);
-        return;
-    }
-    if (p->mode == IM_MODE_INFRARED)
-        im_post_infrared (&app->post, app->rgba, p);
     cgs_footprint_t fp;
-    cgs_camera_footprint (&cam, app->sensor.terrain, p->max_range_m, &fp);
-    if (p->status_blocks) {
+    bool sar = p->mode == IM_MODE_SAR;
+    if (sar) {
+        if (s_sar_frame (app, t, &cam, n, app->have_track ? &track_at : NULL, &fp) < 0)
+            return;
+    } else {
+        if (im_renderer_draw (app->ren, &cam, p, app->draw, n, app->rgba, err, sizeof err) < 0) {
+            if (app->render_errors++ == 0)
+                cgs_log (LOG_ERR, "%s", err);
+            cgs_health_set_error (cgs_service_health (app->svc), err);
+            return;
+        }
+        if (p->mode == IM_MODE_INFRARED)
+            im_post_infrared (&app->post, app->rgba, p);
+        cgs_camera_footprint (&cam, app->sensor.terrain, p->max_range_m, &fp);
+    }
+    if (p->status_blocks && !sar) {
         static im_label_t labels[IM_LABELS_MAX];
         size_t nl =
             im_frame_labels (&cam, app->sensor.terrain, app->draw, n, labels, IM_LABELS_MAX);
@@ -277,6 +432,8 @@ static void s_render (s_app_t *app, double t)
     im_target_t tg;
     im_frame_target (&cam, app->sensor.terrain, app->draw, n, app->have_track, track_at, S_GATE_M,
                      &tg);
+    if (sar)
+        s_sar_target (app, t, n, &tg);
     app->frames++;
     if (p->frame_code)
         im_post_frame_code (app->rgba, p->width_px, p->height_px, app->frames);
@@ -294,10 +451,18 @@ static void s_render (s_app_t *app, double t)
     if (*name) {
         s_queue_png (app, name);
         app->pngs++;
+        if (sar) // the chip, ground-projected, beside it
+            s_geotiff (app, t, name);
     }
     bool latest = p->latest_rate_hz > 0 && t >= app->next_latest_s;
+    if (sar && app->sar_fresh && p->latest_rate_hz > 0 &&
+        (t >= app->next_tif_s || t < app->next_tif_s - 1.0 / p->latest_rate_hz)) {
+        s_geotiff (app, t, "latest-sar.png"); // each new chip, at most at the latest.png rate
+        app->next_tif_s = t + 1.0 / p->latest_rate_hz;
+    }
     if (latest) {
         s_queue_png (app, "latest.png");
+
         app->next_latest_s = fmax (app->next_latest_s + 1.0 / p->latest_rate_hz, t);
     }
     // The message.
@@ -450,7 +615,9 @@ static void s_on_mode (s_app_t *app, const Cgs__SetSensorMode *m, Cgs__Reply *re
     reply->detail = app->detail;
 }
 
-/* Saved state: a cgs_ckpt frame "IMGR", version 1: the mode (u32). */
+/* Saved state: a cgs_ckpt frame "IMGR", version 1: the mode (u32) and the
+ * parameters' mode then (u32). A parameter file whose mode has changed
+ * since wins over the saved mode: it is the newer word. */
 #define S_STATE_MAGIC   "IMGR"
 #define S_STATE_VERSION 1u
 #define S_STATE_WHAT    "imagerd state"
@@ -461,6 +628,7 @@ static int s_save (void *arg, uint8_t **ret_buf, size_t *ret_len)
     cgs_ckpt_writer_t w;
     cgs_ckpt_writer_init (&w, S_STATE_MAGIC, S_STATE_VERSION);
     cgs_ckpt_put_u32 (&w, (uint32_t)app->mode);
+    cgs_ckpt_put_u32 (&w, (uint32_t)app->params.mode);
     return cgs_ckpt_writer_finish (&w, ret_buf, ret_len);
 }
 
@@ -471,9 +639,14 @@ static int s_restore (s_app_t *app, const uint8_t *buf, size_t len, char *err, s
         cgs_ckpt_open (&r, buf, len, S_STATE_MAGIC, S_STATE_VERSION, S_STATE_WHAT, err, errlen);
     if (rc < 0)
         return rc;
-    uint32_t mode = cgs_ckpt_get_u32 (&r);
+    uint32_t mode = cgs_ckpt_get_u32 (&r), then = cgs_ckpt_get_u32 (&r);
     if ((rc = cgs_ckpt_end (&r, S_STATE_WHAT, err, errlen)) < 0)
         return rc;
+    if (then != (uint32_t)app->params.mode) {
+        snprintf (err, errlen, "the parameters' mode changed since (%s), so it is the mode",
+                  s_mode_name (app->params.mode));
+        return 1;
+    }
     if (mode > IM_MODE_SAR) {
         snprintf (err, errlen, "an %s with an unknown mode %u", S_STATE_WHAT, mode);
         return -EPROTO;
@@ -670,9 +843,12 @@ int main (int argc, char **argv)
         const uint8_t *saved = NULL;
         size_t saved_len = 0;
         cgs_service_saved_state (app.svc, &saved, &saved_len);
-        if (saved_len > 0 && s_restore (&app, saved, saved_len, err, sizeof err) < 0) {
+        int rr = saved_len > 0 ? s_restore (&app, saved, saved_len, err, sizeof err) : 0;
+        if (rr < 0) {
             cgs_log (LOG_WARNING, "saved state ignored (%s); the mode is the parameters'", err);
             cgs_health_set_error (cgs_service_health (app.svc), err);
+        } else if (rr > 0) {
+            cgs_log (LOG_NOTICE, "saved mode not taken: %s", err);
         } else if (saved_len > 0) {
             cgs_log (LOG_NOTICE, "resumed in the saved mode: %s", s_mode_name (app.mode));
         }
@@ -720,6 +896,10 @@ done:
                  (unsigned long long)st.written, (unsigned long long)st.dropped,
                  (unsigned long long)st.failed, st.failed ? "; last: " : "", st.last_error);
     }
+    if (app.sar_chips || app.sar_errors)
+        cgs_log (app.sar_errors ? LOG_WARNING : LOG_INFO, "SAR: %llu chips, %llu without an image",
+                 (unsigned long long)app.sar_chips, (unsigned long long)app.sar_errors);
+    im_sar_destroy (&app.sar);
     im_renderer_destroy (&app.ren);
     im_ctx_destroy (&app.ctx);
     im_post_fini (&app.post);

@@ -121,6 +121,18 @@ out=$(M sensor sar 2>&1)
 diag "$out"
 check "mscgs sensor sar is acknowledged" grep -q 'imaging sensor SAR (was infrared)' <<<"$out"
 check "the frames become SAR" wait_for 10 mode_is IMAGE_MODE_SAR
+img=$(M echo image --json --count 2 --timeout 10 2>/dev/null | tail -1)
+# The SAR frame's footprint is its chip: a square of [sar] scene_m (256 m) on the ground.
+side=$(sed -n 's/.*"corners":\[{"east_m":\([-0-9.e]*\),"north_m":\([-0-9.e]*\)[^}]*},{"east_m":\([-0-9.e]*\),"north_m":\([-0-9.e]*\).*/\1 \2 \3 \4/p' <<<"$img")
+diag "chip's near-left and far-left corners: $side"
+check "a SAR frame's footprint is its 256 m chip" \
+    awk -v c="$side" 'BEGIN { split(c, a, " "); d = sqrt((a[3] - a[1])^2 + (a[4] - a[2])^2); exit !(d > 255 && d < 257) }'
+check "the chip is written as a GeoTIFF (latest-sar.tif)" wait_for 20 test -s "$TMP/images/latest-sar.tif"
+gdalinfo "$TMP/images/latest-sar.tif" >"$TMP/gdalinfo.txt" 2>&1
+is "$?" 0 "gdalinfo reads it"
+check "north-up in a UTM zone (WGS 84)" grep -q 'UTM zone' "$TMP/gdalinfo.txt"
+check "with nodata 0 and the chip's grazing angle" \
+    bash -c "grep -q 'NoData Value=0' '$TMP/gdalinfo.txt' && grep -qi 'grazing' '$TMP/gdalinfo.txt'"
 M sensor radio >"$TMP/radio.log" 2>&1
 is "$?" 2 "an unknown mode is a usage error (exit 2)"
 stop "$I"

@@ -1,7 +1,8 @@
 #!/bin/bash
 # video.sh — imagerd's video (STANAG 4609: H.264 and MISB ST 0601 KLV in
 # MPEG-TS) in the default scenario, with the real uavsim, mtid, trackerd and
-# guidanced (the scenario's operator designates at t = 120 s), checked by
+# guidanced (the scenario's operator designates at t = 120 s; the sensor is
+# switched to SAR during the intercept and shows the target), checked by
 # readers nobody here wrote:
 #  - ffprobe: an H.264 stream at the camera's size and a KLV data stream
 #    (codec tag KLVA), one KLV packet per video frame, as many as imagerd
@@ -84,6 +85,15 @@ check "mscgs snapshot 2 is acknowledged" grep -q 'next 2 frames' <<<"$out"
 check "two snapshot files are written" wait_for 20 bash -c \
     "test \$(ls '$OUT' | grep -c '^snapshot-.*\.png$') -ge 2"
 sleep 2
+# SAR during the intercept: the chip is centred on the designated target's
+# return (a mover's falls R·v_r/V along cross range), and it is in view.
+out=$(M sensor sar 2>&1)
+diag "$out"
+check "mscgs sensor sar during the intercept is acknowledged" grep -q 'imaging sensor SAR' <<<"$out"
+sar_target () { grep '"mode":"IMAGE_MODE_SAR"' "$TMP/echo-image.log" | grep -q '"target_in_view":true'; }
+check "SAR frames show the designated target" wait_for 60 sar_target
+diag "SAR frames: $(grep -c '"mode":"IMAGE_MODE_SAR"' "$TMP/echo-image.log"), with the target in view: $(grep '"mode":"IMAGE_MODE_SAR"' "$TMP/echo-image.log" | grep -c '"target_in_view":true')"
+M sensor visible >/dev/null 2>&1
 stop "$I"
 is "$EXIT_CODE" 0 "imagerd stops on SIGTERM with exit code 0"
 for t in image uav intercept track; do eval "stop \$E_$t"; done

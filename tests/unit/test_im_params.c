@@ -4,7 +4,9 @@
  * (ranges, the relations between keys: a power-of-two chunk, max_range_m
  * beyond near_m, display_max_k above display_min_k; the mode and polarity
  * names); a refused file leaves the parameters as they were; a set built
- * in code is checked too. */
+ * in code is checked too. The [sar] section (the SAR mode's chip): every
+ * key, its errors on its line, and its relations (bandwidth under a quarter
+ * of the centre frequency, a chip whose grid fits). */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -26,8 +28,6 @@ static const char *const s_keys[][2] = {
     {"camera", "width_px"},
     {"camera", "height_px"},
     {"camera", "frame_rate_hz"},
-    {"camera", "stabilized"},
-    {"camera", "staring"},
     {"camera", "near_m"},
     {"camera", "max_range_m"},
     {"scene", "sun_azimuth_deg"},
@@ -65,6 +65,21 @@ static const char *const s_keys[][2] = {
     {"video", "ttl"},
     {"video", "local_address"},
     {"video", "mission_id"},
+    {"sar", "fc_hz"},
+    {"sar", "bandwidth_hz"},
+    {"sar", "integration_deg"},
+    {"sar", "window"},
+    {"sar", "looks"},
+    {"sar", "scene_m"},
+    {"sar", "size_px"},
+    {"sar", "geometry"},
+    {"sar", "speckle"},
+    {"sar", "ground_gamma_db"},
+    {"sar", "woods_gamma_db"},
+    {"sar", "vehicle_rcs_m2"},
+    {"sar", "nesz_db"},
+    {"sar", "display_max_db"},
+    {"sar", "dynamic_range_db"},
 };
 
 static void s_assert_equal (const im_params_t *a, const im_params_t *b)
@@ -77,8 +92,6 @@ static void s_assert_equal (const im_params_t *a, const im_params_t *b)
     S_SAME (width_px);
     S_SAME (height_px);
     S_SAME (frame_rate_hz);
-    S_SAME (stabilized);
-    S_SAME (staring);
     S_SAME (near_m);
     S_SAME (max_range_m);
     S_SAME (sun_azimuth_deg);
@@ -113,6 +126,21 @@ static void s_assert_equal (const im_params_t *a, const im_params_t *b)
     S_SAME (video_file);
     S_SAME (video_map);
     S_SAME (video_ttl);
+    S_SAME (sar.fc_hz);
+    S_SAME (sar.bandwidth_hz);
+    S_SAME (sar.integration_deg);
+    S_SAME (sar.window);
+    S_SAME (sar.looks);
+    S_SAME (sar.scene_m);
+    S_SAME (sar.size_px);
+    S_SAME (sar.geometry);
+    S_SAME (sar.speckle);
+    S_SAME (sar.ground_gamma_db);
+    S_SAME (sar.woods_gamma_db);
+    S_SAME (sar.vehicle_rcs_m2);
+    S_SAME (sar.nesz_db);
+    S_SAME (sar.display_max_db);
+    S_SAME (sar.dynamic_range_db);
 #undef S_SAME
 #define S_SAME_STR(f)                                                                              \
     do {                                                                                           \
@@ -133,8 +161,6 @@ static im_params_t s_not_defaults (void)
         .width_px = 1280,
         .height_px = 720,
         .frame_rate_hz = 10,
-        .stabilized = true,
-        .staring = true,
         .near_m = 2,
         .max_range_m = 30000,
         .sun_azimuth_deg = 200,
@@ -173,6 +199,21 @@ static im_params_t s_not_defaults (void)
         .video_ttl = 0,
         .video_local = "127.0.0.1",
         .video_mission_id = "training-7",
+        .sar = {.fc_hz = 10e9,
+                .bandwidth_hz = 300e6,
+                .integration_deg = 1.5,
+                .window = IM_SAR_WINDOW_HAMMING,
+                .looks = 4,
+                .scene_m = 512,
+                .size_px = 512,
+                .geometry = IM_SAR_SLANT,
+                .speckle = false,
+                .ground_gamma_db = -15,
+                .woods_gamma_db = -9,
+                .vehicle_rcs_m2 = 50,
+                .nesz_db = -25,
+                .display_max_db = 0,
+                .dynamic_range_db = 30},
     };
 }
 
@@ -208,8 +249,6 @@ static void test_defaults (void **state)
     assert_int_equal (p.width_px, 640);
     assert_int_equal (p.height_px, 480);
     assert_true (p.frame_rate_hz == 5);
-    assert_false (p.stabilized);
-    assert_false (p.staring);
     assert_true (p.near_m == 5);
     assert_true (p.max_range_m == 20000);
     assert_true (p.sun_azimuth_deg == 135);
@@ -245,6 +284,21 @@ static void test_defaults (void **state)
     assert_int_equal (p.video_ttl, 1);
     assert_string_equal (p.video_local, "");
     assert_string_equal (p.video_mission_id, "");
+    assert_true (p.sar.fc_hz == 9.6e9);
+    assert_true (p.sar.bandwidth_hz == 133e6);
+    assert_true (p.sar.integration_deg == 0.79);
+    assert_int_equal (p.sar.window, IM_SAR_WINDOW_TAYLOR);
+    assert_int_equal (p.sar.looks, 1);
+    assert_true (p.sar.scene_m == 256);
+    assert_int_equal (p.sar.size_px, 256);
+    assert_int_equal (p.sar.geometry, IM_SAR_GROUND);
+    assert_true (p.sar.speckle);
+    assert_true (p.sar.ground_gamma_db == -12);
+    assert_true (p.sar.woods_gamma_db == -7);
+    assert_true (p.sar.vehicle_rcs_m2 == 100);
+    assert_true (p.sar.nesz_db == -30);
+    assert_true (p.sar.display_max_db == 5);
+    assert_true (p.sar.dynamic_range_db == 40);
     char err[256] = "";
     assert_int_equal (im_params_check (&p, err, sizeof err), 0);
     im_params_t q = s_not_defaults ();
@@ -276,7 +330,7 @@ static void test_shipped_file (void **state)
     for (size_t i = 0; i < sizeof s_keys / sizeof s_keys[0]; i++)
         if (!cgs_config_has (cfg, s_keys[i][0], s_keys[i][1]))
             fail_msg ("%s has no [%s] %s", path, s_keys[i][0], s_keys[i][1]);
-    assert_int_equal (cgs_config_section_count (cfg), 6);
+    assert_int_equal (cgs_config_section_count (cfg), 7);
     cgs_config_destroy (&cfg);
 }
 
@@ -290,8 +344,6 @@ static void test_values (void **state)
             "width_px = 1280\n"
             "height_px = 720\n"
             "frame_rate_hz = 10\n"
-            "stabilized = yes\n"
-            "staring = on\n"
             "near_m = 2\n"
             "max_range_m = 30000\n"
             "[scene]\n"
@@ -334,7 +386,23 @@ static void test_values (void **state)
             "udp = 239.1.2.5:5600\n"
             "ttl = 0\n"
             "local_address = 127.0.0.1\n"
-            "mission_id = training-7\n",
+            "mission_id = training-7\n"
+            "[sar]\n"
+            "fc_hz = 10e9\n"
+            "bandwidth_hz = 300e6\n"
+            "integration_deg = 1.5\n"
+            "window = hamming\n"
+            "looks = 4\n"
+            "scene_m = 512\n"
+            "size_px = 512\n"
+            "geometry = slant\n"
+            "speckle = false\n"
+            "ground_gamma_db = -15\n"
+            "woods_gamma_db = -9\n"
+            "vehicle_rcs_m2 = 50\n"
+            "nesz_db = -25\n"
+            "display_max_db = 0\n"
+            "dynamic_range_db = 30\n",
             &p);
     im_params_t want = s_not_defaults ();
     s_assert_equal (&p, &want);
@@ -343,8 +411,8 @@ static void test_values (void **state)
     want.mode = IM_MODE_VISIBLE;
     want.polarity = IM_WHITE_HOT;
     s_assert_equal (&p, &want);
-    s_load ("[camera]\nstabilized = 0\n[overlay]\nenabled = 1\n", &p);
-    want.stabilized = false;
+    s_load ("[camera]\nnear_m = 1\n[overlay]\nenabled = 1\n", &p);
+    want.near_m = 1;
     want.overlay = true;
     s_assert_equal (&p, &want);
     // An empty file changes nothing.
@@ -392,9 +460,15 @@ static void test_range_errors (void **state)
              "i.ini:2: [infrared] noise_k: expected a number in [0, 50], got 'nan'");
     s_fails ("[output]\npng_rate_hz = 101\n",
              "i.ini:2: [output] png_rate_hz: expected a number in [0, 100], got '101'");
-    s_fails ("[camera]\nstabilized = maybe\n",
-             "i.ini:2: [camera] stabilized: expected true/false, yes/no, on/off or 1/0, got "
-             "'maybe'");
+    // The camera's pointing is uavsim's now: an older file is told where it went.
+    s_fails ("[camera]\nstabilized = yes\n",
+             "i.ini:2: [camera] stabilized: no longer imagerd's: the scenario's [uav] "
+             "sensor_stabilized sets it (and `mscgs camera` or the map at run time), so that "
+             "the image and the footprint agree");
+    s_fails ("[camera]\nwidth_px = 320\nstaring = on\n",
+             "i.ini:3: [camera] staring: no longer imagerd's: the scenario's [uav] sensor_stare "
+             "= target sets it (and `mscgs camera` or the map at run time), so that the image "
+             "and the footprint agree");
     s_fails ("[overlay]\nenabled = 2\n",
              "i.ini:2: [overlay] enabled: expected true/false, yes/no, on/off or 1/0, got '2'");
 }
@@ -475,7 +549,8 @@ static void test_enum_and_file_errors (void **state)
 {
     (void)state;
     s_fails ("[infrared]\nmode = thermal\n",
-             "i.ini:2: [infrared] mode: expected one of 'visible', 'infrared', got 'thermal'");
+             "i.ini:2: [infrared] mode: expected one of 'visible', 'infrared', 'sar', got "
+             "'thermal'");
     s_fails ("[infrared]\npolarity = green-hot\n",
              "i.ini:2: [infrared] polarity: expected one of 'white-hot', 'black-hot', got "
              "'green-hot'");
@@ -518,7 +593,7 @@ static void test_check (void **state)
     im_params_defaults (&p);
     p.mode = (im_mode_t)7;
     assert_int_equal (im_params_check (&p, err, sizeof err), -EINVAL);
-    assert_string_equal (err, "[infrared] mode: expected visible or infrared, got 7");
+    assert_string_equal (err, "[infrared] mode: expected visible, infrared or sar, got 7");
     im_params_defaults (&p);
     p.polarity = (im_polarity_t)-1;
     assert_int_equal (im_params_check (&p, err, sizeof err), -EINVAL);
@@ -538,13 +613,64 @@ static void test_check (void **state)
                          "[infrared] attenuation_per_km: expected a number in [0, 10], got 11");
 }
 
+// The [sar] section: the mode, every key's errors on its line, relations.
+static void test_sar (void **state)
+{
+    (void)state;
+    im_params_t p;
+    im_params_defaults (&p);
+    s_load ("[infrared]\nmode = sar\n[sar]\nwindow = RECT\ngeometry = Slant\n", &p);
+    assert_int_equal (p.mode, IM_MODE_SAR);
+    assert_int_equal (p.sar.window, IM_SAR_WINDOW_RECT);
+    assert_int_equal (p.sar.geometry, IM_SAR_SLANT);
+    s_fails ("[sar]\nfc_hz = 5e8\n",
+             "i.ini:2: [sar] fc_hz: expected a number in [1000000000, 100000000000], got "
+             "'5e8'");
+    s_fails ("[sar]\nlooks = 17\n",
+             "i.ini:2: [sar] looks: expected an integer in [1, 16], got '17'");
+    s_fails ("[sar]\n\nsize_px = 32\n",
+             "i.ini:3: [sar] size_px: expected an integer in [64, 2048], got '32'");
+    s_fails ("[sar]\nintegration_deg = 0\n",
+             "i.ini:2: [sar] integration_deg: expected a number in [0.05, 20], got '0'");
+    s_fails ("[sar]\nnesz_db = 3\n",
+             "i.ini:2: [sar] nesz_db: expected a number in [-100, 0], got '3'");
+    s_fails ("[sar]\ndynamic_range_db = 0\n",
+             "i.ini:2: [sar] dynamic_range_db: expected a number in [1, 120], got '0'");
+    s_fails ("[sar]\nwindow = kaiser\n",
+             "i.ini:2: [sar] window: expected one of 'rect', 'hamming', 'taylor', got 'kaiser'");
+    s_fails ("[sar]\ngeometry = oblique\n",
+             "i.ini:2: [sar] geometry: expected one of 'ground', 'slant', got 'oblique'");
+    s_fails ("[sar]\nspeckle = some\n",
+             "i.ini:2: [sar] speckle: expected true/false, yes/no, on/off or 1/0, got 'some'");
+    s_fails ("[sar]\nfc_hz = 2e9\nbandwidth_hz = 600e6\n",
+             "i.ini:3: [sar] bandwidth_hz: expected at most a quarter of fc_hz (5e+08), got 6e+08");
+    s_fails ("[sar]\nsize_px = 2048\nscene_m = 4000\n",
+             "i.ini:3: [sar] scene_m: expected a smaller chip for the resolution (its grid would "
+             "be 8000 cells a side, at most 4096), got 4000");
+    s_fails ("[sar]\nspeckle = no\nblur = 1\n", "i.ini:3: [sar] unknown key 'blur'");
+    // A set built in code.
+    char err[256] = "";
+    im_params_defaults (&p);
+    p.sar.looks = 0;
+    assert_int_equal (im_params_check (&p, err, sizeof err), -EINVAL);
+    assert_string_equal (err, "[sar] looks: expected an integer in [1, 16], got 0");
+    im_params_defaults (&p);
+    p.mode = IM_MODE_SAR;
+    assert_int_equal (im_params_check (&p, err, sizeof err), 0);
+}
+
 int main (void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test (test_defaults),        cmocka_unit_test (test_shipped_file),
-        cmocka_unit_test (test_values),          cmocka_unit_test (test_range_errors),
-        cmocka_unit_test (test_relation_errors), cmocka_unit_test (test_enum_and_file_errors),
-        cmocka_unit_test (test_check),           cmocka_unit_test (test_video),
+        cmocka_unit_test (test_defaults),
+        cmocka_unit_test (test_shipped_file),
+        cmocka_unit_test (test_values),
+        cmocka_unit_test (test_range_errors),
+        cmocka_unit_test (test_relation_errors),
+        cmocka_unit_test (test_enum_and_file_errors),
+        cmocka_unit_test (test_check),
+        cmocka_unit_test (test_video),
+        cmocka_unit_test (test_sar),
     };
     return cmocka_run_group_tests (tests, NULL, NULL);
 }
