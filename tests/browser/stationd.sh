@@ -15,7 +15,10 @@
 # MSE, the picture shows and says so), its KLV footprint agrees with the
 # image message's, its delay from the bus to the screen is measured, a page
 # that stops reading is dropped to the next keyframe and counted, and a
-# foreign Origin is refused on /video. Also: a stationd told to listen
+# foreign Origin is refused on /video; the Sensors menu switches imagerd to
+# FLIR and SAR and the status follows the frames, the camera panel sets the
+# depression, zoom, stabilization and a stare at a clicked point (and a
+# watching page cannot). Also: a stationd told to listen
 # on 0.0.0.0 without a token refuses to start, naming the key; both
 # stationd stop with exit code 0 and clean logs. Screenshots of every step go
 # to $CGS_BUILD/test-artifacts/browser/NN-step.png. TAP on stdout.
