@@ -85,6 +85,8 @@ typedef struct {
     double next_tif_s;           // latest-sar.tif written again from this time
     uint64_t sar_errors, sar_chips;
     char sar_error[200];
+    char sar_short[96]; // the reason on a frame without a chip
+    bool sar_blank;     // this frame has no chip
 } s_app_t;
 
 static void s_bad (s_app_t *app, const char *what)
@@ -305,12 +307,16 @@ static int s_sar_frame (s_app_t *app, double t, const cgs_camera_t *cam, size_t 
                                   : "SAR: no image of (%.0f, %.0f): %s",
                       g.center.e_m, g.center.n_m, strerror (-rc));
             cgs_health_set_error (cgs_service_health (app->svc), err);
-            if (strcmp (err, app->sar_error) != 0) // said once until it changes
+            // Said once until the reason changes (or a chip is made).
+            char why[32];
+            snprintf (why, sizeof why, "%d", rc);
+            if (strcmp (why, app->sar_error) != 0)
                 cgs_log (LOG_WARNING, "%s", err);
-            snprintf (app->sar_error, sizeof app->sar_error, "%s", err);
+            snprintf (app->sar_error, sizeof app->sar_error, "%s", why);
             app->sar_errors++;
-            if (!app->sar_have)
-                return -1;
+            snprintf (app->sar_short, sizeof app->sar_short, "%s",
+                      rc == -EDOM ? "SAR: NO IMAGE - GRAZING, RANGE OR LOOK TOO NEAR THE TRACK"
+                                  : "SAR: NO IMAGE");
         } else {
             app->sar_have = app->sar_fresh = true;
             app->sar_t = t;
@@ -318,8 +324,22 @@ static int s_sar_frame (s_app_t *app, double t, const cgs_camera_t *cam, size_t 
             app->sar_error[0] = '\0';
         }
     }
-    im_sar_to_rgba (app->sar, app->rgba, p->width_px, p->height_px);
     const im_sar_chip_t *c = im_sar_chip (app->sar);
+    app->sar_blank = !app->sar_have;
+    if (app->sar_blank) {
+        // No chip yet (the geometry refuses one): a dark frame that says why,
+        // so the sensor's mode shows and the reason is on the picture; the
+        // camera's footprint stands for it.
+        for (size_t i = 0; i < (size_t)p->width_px * (size_t)p->height_px; i++) {
+            uint8_t *o = app->rgba + 4 * i;
+            o[0] = o[1] = o[2] = 16, o[3] = 255;
+        }
+        const char *line = app->sar_short;
+        im_post_overlay (app->rgba, p->width_px, p->height_px, &line, 1);
+        cgs_camera_footprint (cam, app->sensor.terrain, p->max_range_m, ret_fp);
+        return 0;
+    }
+    im_sar_to_rgba (app->sar, app->rgba, p->width_px, p->height_px);
     cgs_footprint_t fp = {0};
     for (int i = 0; i < 4; i++) {
         fp.corner[i] = (cgs_v2_t){c->corners[i].e_m, c->corners[i].n_m};
@@ -350,7 +370,7 @@ static void s_geotiff (s_app_t *app, double t, const char *png_name)
  * Doppler put it in the chip (a moving vehicle shifted along cross range). */
 static void s_sar_target (const s_app_t *app, double t, size_t n, im_target_t *tg)
 {
-    const im_sar_chip_t *c = im_sar_chip (app->sar);
+    const im_sar_chip_t *c = app->sar_blank ? NULL : im_sar_chip (app->sar);
     const im_params_t *p = &app->params;
     tg->in_view = tg->projected = tg->occluded = false;
     for (size_t i = 0; c && tg->known && i < n; i++) {
@@ -451,7 +471,7 @@ static void s_render (s_app_t *app, double t)
     if (*name) {
         s_queue_png (app, name);
         app->pngs++;
-        if (sar) // the chip, ground-projected, beside it
+        if (sar && !app->sar_blank) // the chip, ground-projected, beside it
             s_geotiff (app, t, name);
     }
     bool latest = p->latest_rate_hz > 0 && t >= app->next_latest_s;

@@ -117,16 +117,25 @@ out=$(M sensor flir 2>&1)
 diag "$out"
 check "mscgs sensor flir is acknowledged" grep -q 'imaging sensor infrared (was visible)' <<<"$out"
 check "the frames become infrared" wait_for 10 mode_is IMAGE_MODE_INFRARED
+# Looking almost straight down no SAR image can be made (grazing over 85°):
+# the frames still say SAR, dark, and the log and health say why.
+M camera --depression 88 >/dev/null 2>&1
+sleep 1 # imagerd hears the new depression on uav
 out=$(M sensor sar 2>&1)
 diag "$out"
 check "mscgs sensor sar is acknowledged" grep -q 'imaging sensor SAR (was infrared)' <<<"$out"
 check "the frames become SAR" wait_for 10 mode_is IMAGE_MODE_SAR
-img=$(M echo image --json --count 2 --timeout 10 2>/dev/null | tail -1)
+check "with no chip at 88 degrees down, imagerd says why" wait_for 30 \
+    grep -q 'SAR: no image of .*grazing angle is outside' "$TMP/imagerd-1.log"
+M camera --depression 30 >/dev/null 2>&1
 # The SAR frame's footprint is its chip: a square of [sar] scene_m (256 m) on the ground.
-side=$(sed -n 's/.*"corners":\[{"east_m":\([-0-9.e]*\),"north_m":\([-0-9.e]*\)[^}]*},{"east_m":\([-0-9.e]*\),"north_m":\([-0-9.e]*\).*/\1 \2 \3 \4/p' <<<"$img")
-diag "chip's near-left and far-left corners: $side"
-check "a SAR frame's footprint is its 256 m chip" \
+chip_side () {
+    local img side
+    img=$("$MSCGS" echo image --json --count 2 --timeout 10 --exercise "$EX" 2>/dev/null | tail -1)
+    side=$(sed -n 's/.*"corners":\[{"east_m":\([-0-9.e]*\),"north_m":\([-0-9.e]*\)[^}]*},{"east_m":\([-0-9.e]*\),"north_m":\([-0-9.e]*\).*/\1 \2 \3 \4/p' <<<"$img")
     awk -v c="$side" 'BEGIN { split(c, a, " "); d = sqrt((a[3] - a[1])^2 + (a[4] - a[2])^2); exit !(d > 255 && d < 257) }'
+}
+check "at 30 degrees down a SAR frame's footprint is its 256 m chip" wait_for 20 chip_side
 check "the chip is written as a GeoTIFF (latest-sar.tif)" wait_for 20 test -s "$TMP/images/latest-sar.tif"
 gdalinfo "$TMP/images/latest-sar.tif" >"$TMP/gdalinfo.txt" 2>&1
 is "$?" 0 "gdalinfo reads it"
