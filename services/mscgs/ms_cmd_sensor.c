@@ -15,7 +15,7 @@
 int ms_camera_main (int argc, char **argv)
 {
     const char *exercise = NULL, *to = NULL, *stabilized = NULL, *stare = NULL;
-    double depression = NAN, fov = NAN;
+    double depression = NAN, fov = NAN, wait_s = MS_TOOL_WAIT_S;
     uint32_t uav = 0;
     const ms_opt_t opts[] = {
         {.name = "depression",
@@ -38,6 +38,7 @@ int ms_camera_main (int argc, char **argv)
          .str = &stare},
         MS_TOOL_OPT_UAV (&uav),
         MS_TOOL_OPT_TO (&to),
+        MS_TOOL_OPT_WAIT (&wait_s),
         MS_TOOL_OPT_EXERCISE (&exercise),
         MS_OPTS_HELP,
         MS_OPTS_END,
@@ -102,7 +103,7 @@ int ms_camera_main (int argc, char **argv)
     Cgs__Command cmd = CGS__COMMAND__INIT;
     cmd.body_case = CGS__COMMAND__BODY_SET_CAMERA;
     cmd.set_camera = &c;
-    int rc = ms_tool_send ("camera", ex, to, "uavsim", &cmd, MS_TOOL_WAIT_S);
+    int rc = ms_tool_send ("camera", ex, to, "uavsim", &cmd, wait_s);
     cgs_exercise_destroy (&ex);
     return rc;
 }
@@ -113,12 +114,10 @@ int ms_sensor_main (int argc, char **argv)
 {
     const char *exercise = NULL, *to = NULL;
     Cgs__SetSensorMode m = CGS__SET_SENSOR_MODE__INIT;
+    double wait_s = MS_TOOL_WAIT_S;
     const ms_opt_t opts[] = {
-        MS_TOOL_OPT_UAV (&m.uav_id),
-        MS_TOOL_OPT_TO (&to),
-        MS_TOOL_OPT_EXERCISE (&exercise),
-        MS_OPTS_HELP,
-        MS_OPTS_END,
+        MS_TOOL_OPT_UAV (&m.uav_id),      MS_TOOL_OPT_TO (&to), MS_TOOL_OPT_WAIT (&wait_s),
+        MS_TOOL_OPT_EXERCISE (&exercise), MS_OPTS_HELP,         MS_OPTS_END,
     };
     const ms_cmd_t spec = {
         .name = "sensor",
@@ -154,7 +153,7 @@ int ms_sensor_main (int argc, char **argv)
     Cgs__Command cmd = CGS__COMMAND__INIT;
     cmd.body_case = CGS__COMMAND__BODY_SET_SENSOR_MODE;
     cmd.set_sensor_mode = &m;
-    int rc = ms_tool_send ("sensor", ex, to, "imagerd", &cmd, MS_TOOL_WAIT_S);
+    int rc = ms_tool_send ("sensor", ex, to, "imagerd", &cmd, wait_s);
     cgs_exercise_destroy (&ex);
     return rc;
 }

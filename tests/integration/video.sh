@@ -85,15 +85,6 @@ check "mscgs snapshot 2 is acknowledged" grep -q 'next 2 frames' <<<"$out"
 check "two snapshot files are written" wait_for 20 bash -c \
     "test \$(ls '$OUT' | grep -c '^snapshot-.*\.png$') -ge 2"
 sleep 2
-# SAR during the intercept: the chip is centred on the designated target's
-# return (a mover's falls R·v_r/V along cross range), and it is in view.
-out=$(M sensor sar 2>&1)
-diag "$out"
-check "mscgs sensor sar during the intercept is acknowledged" grep -q 'imaging sensor SAR' <<<"$out"
-sar_target () { grep '"mode":"IMAGE_MODE_SAR"' "$TMP/echo-image.log" | grep -q '"target_in_view":true'; }
-check "SAR frames show the designated target" wait_for 60 sar_target
-diag "SAR frames: $(grep -c '"mode":"IMAGE_MODE_SAR"' "$TMP/echo-image.log"), with the target in view: $(grep '"mode":"IMAGE_MODE_SAR"' "$TMP/echo-image.log" | grep -c '"target_in_view":true')"
-M sensor visible >/dev/null 2>&1
 stop "$I"
 is "$EXIT_CODE" 0 "imagerd stops on SIGTERM with exit code 0"
 for t in image uav intercept track; do eval "stop \$E_$t"; done
@@ -191,6 +182,20 @@ check "it says it sends to the multicast group" \
     grep -q "UDP to $GROUP:$PORT (multicast)" "$TMP/imagerd.log"
 check "the group's listener on loopback gets the video" wait_for 30 \
     bash -c "test \$(stat -c %s '$TMP/group.ts') -ge 18800"
+# SAR during the intercept (the restarted imagerd; its frames are not in the
+# KLV check above: a chip holds imagerd's loop, about 0.7 s in this build,
+# and the track it then holds can be newer than a queued frame's time).
+# The chip is centred on the designated target's return (a mover's falls
+# R·v_r/V along cross range); a frame with the target in it is waited for.
+start E echo-image2 "$MSCGS" echo image --json --exercise "$EX"
+out=$(M sensor sar --wait 20 2>&1)
+diag "$out"
+check "mscgs sensor sar during the intercept is acknowledged" grep -q 'imaging sensor SAR' <<<"$out"
+sar_target () { grep '"mode":"IMAGE_MODE_SAR"' "$TMP/echo-image2.log" | grep -q '"target_in_view":true'; }
+check "SAR frames show the designated target" wait_for 90 sar_target
+diag "SAR frames: $(grep -c '"mode":"IMAGE_MODE_SAR"' "$TMP/echo-image2.log"), with the target in view: $(grep '"mode":"IMAGE_MODE_SAR"' "$TMP/echo-image2.log" | grep -c '"target_in_view":true')"
+M sensor infrared --wait 20 >/dev/null 2>&1
+stop "$E"
 stop "$I"
 sleep 0.3
 stop "$LM"
