@@ -25,7 +25,7 @@ EX=$TMP/exercise.ini
 {
     scenario_ground size_m=12000 resolution_m=50 relief_m=150
     scenario_uav altitude_agl_m=1000 airspeed_mps=30 loiter_radius_m=900 \
-        sensor_depression_min_deg=20 sensor_hfov_max_deg=30
+        sensor_depression_min_deg=20 sensor_depression_max_deg=89.5 sensor_hfov_max_deg=30
     scenario_vehicle apc hostile APC "0 1200" "0 3000" 8 kind=tracked end=reverse
 } >"$TMP/scenario.ini"
 sed -e 's/^width_px = 640$/width_px = 320/' -e 's/^height_px = 480$/height_px = 240/' \
@@ -117,17 +117,18 @@ out=$(M sensor flir 2>&1)
 diag "$out"
 check "mscgs sensor flir is acknowledged" grep -q 'imaging sensor infrared (was visible)' <<<"$out"
 check "the frames become infrared" wait_for 10 mode_is IMAGE_MODE_INFRARED
-# Looking almost straight down no SAR image can be made (grazing over 85°):
-# the frames still say SAR, dark, and the log and health say why.
-M camera --depression 88 >/dev/null 2>&1
+# Looking almost straight down, levelled against the bank, no SAR image can
+# be made (grazing over 85°): the frames still say SAR, dark, and the log
+# and health say why.
+M camera --depression 89.5 --stabilized on >/dev/null 2>&1
 sleep 1 # imagerd hears the new depression on uav
 out=$(M sensor sar 2>&1)
 diag "$out"
 check "mscgs sensor sar is acknowledged" grep -q 'imaging sensor SAR (was infrared)' <<<"$out"
 check "the frames become SAR" wait_for 10 mode_is IMAGE_MODE_SAR
-check "with no chip at 88 degrees down, imagerd says why" wait_for 30 \
+check "with no chip at 89.5 degrees down, imagerd says why" wait_for 30 \
     grep -q 'SAR: no image of .*grazing angle is outside' "$TMP/imagerd-1.log"
-M camera --depression 30 >/dev/null 2>&1
+M camera --depression 30 --stabilized off >/dev/null 2>&1
 # The SAR frame's footprint is its chip: a square of [sar] scene_m (256 m) on the ground.
 chip_side () {
     local img side
