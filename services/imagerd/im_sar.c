@@ -68,6 +68,9 @@ void im_sar_params_defaults (im_sar_params_t *p)
         .looks = 1,
         .scene_m = 256,
         .size_px = 256,
+        .max_widen = 16,
+        .gmti = true,
+        .gmti_sigma_mps = 0.25,
         .geometry = IM_SAR_GROUND,
         .speckle = true,
         .ground_gamma_db = -12,
@@ -88,6 +91,8 @@ static const cgs_config_real_t s_reals[] = {
     S_R ("bandwidth_hz", bandwidth_hz, 1e6, 3e9),
     S_R ("integration_deg", integration_deg, 0.05, 20.0),
     S_R ("scene_m", scene_m, 16.0, 10000.0),
+    S_R ("max_widen", max_widen, 1.0, IM_SAR_WIDEN_MAX),
+    S_R ("gmti_sigma_mps", gmti_sigma_mps, 0.0, 10.0),
     S_R ("ground_gamma_db", ground_gamma_db, -100.0, 10.0),
     S_R ("woods_gamma_db", woods_gamma_db, -100.0, 10.0),
     S_R ("vehicle_rcs_m2", vehicle_rcs_m2, 0.0, 10000.0),
@@ -216,6 +221,8 @@ int im_sar_params_read (cgs_config_t *cfg, im_sar_params_t *p, char *err, size_t
                                   errlen);
     if (rc == 0)
         rc = cgs_config_get_bool (cfg, "sar", "speckle", q.speckle, &q.speckle, err, errlen);
+    if (rc == 0)
+        rc = cgs_config_get_bool (cfg, "sar", "gmti", q.gmti, &q.gmti, err, errlen);
     q.window = (im_sar_window_t)window;
     q.geometry = (im_sar_geometry_t)geometry;
     if (rc == 0) {
@@ -466,7 +473,8 @@ typedef struct {
 
 struct im_sar {
     im_sar_params_t p;
-    s_plan_t pl;
+    s_plan_t pl0; // as configured
+    s_plan_t pl;  // the chip being made: pl0 widened (im_sar_geom_t.widen)
     uint64_t rng;
     fftw_complex *g, *o; // spreading grid, internal output grid
     fftw_plan fwd, inv;
@@ -535,7 +543,8 @@ im_sar_t *im_sar_new (const im_sar_params_t *p, uint64_t seed, char *err, size_t
         goto nomem;
     self->p = *p;
     self->rng = seed ^ 0x5a52u;
-    s_plan (p, &self->pl);
+    s_plan (p, &self->pl0);
+    self->pl = self->pl0;
     const s_plan_t *pl = &self->pl;
     size_t ng2 = (size_t)pl->n_g * pl->n_g, no2 = (size_t)pl->n_out * pl->n_out;
     size_t px = (size_t)p->size_px * p->size_px;
@@ -1097,11 +1106,27 @@ static void s_fold (im_sar_t *self, const s_frame_t *f, const s_filter_t *fl, do
 
 /* ---- the chip -------------------------------------------------------------------- */
 
-/* The geometry of a chip collected over frame f. */
-static void s_chip_of (const im_sar_t *self, const s_frame_t *pf, im_sar_chip_t *ret)
+/* The configured plan widened w times: the same grids (so the same FFTW
+ * plans and cost), every length w times longer, the spectral support w times
+ * narrower (the resolutions w times coarser). */
+static void s_plan_widened (const im_sar_t *self, double w, s_plan_t *ret)
+{
+    s_plan_t pl = self->pl0;
+    pl.k_u /= w, pl.k_v /= w;
+    pl.d *= w, pl.d_o *= w, pl.d_g *= w, pl.len *= w;
+    *ret = pl;
+}
+
+static double s_widen_of (const im_sar_geom_t *g)
+{
+    return isfinite (g->widen) && g->widen > 1 ? fmin (g->widen, IM_SAR_WIDEN_MAX) : 1.0;
+}
+
+/* The geometry of a chip collected over frame f with plan pl (widened w). */
+static void s_chip_of (const im_sar_t *self, const s_plan_t *pl, double w, const s_frame_t *pf,
+                       im_sar_chip_t *ret)
 {
     const im_sar_params_t *p = &self->p;
-    const s_plan_t *pl = &self->pl;
     const s_frame_t f = *pf;
     const int size = p->size_px;
     // The chip's geometry.
@@ -1117,7 +1142,8 @@ static void s_chip_of (const im_sar_t *self, const s_frame_t *pf, im_sar_chip_t 
         .cross_dir = f.ex,
         .slant_range_m = f.r_0,
         .grazing_deg = f.psi / S_DEG,
-        .aperture_s = p->integration_deg * S_DEG * f.r_0 / f.vperp,
+        .aperture_s = p->integration_deg / w * S_DEG * f.r_0 / f.vperp,
+        .widen = w,
     };
     double vs = s_dot (f.vhat, f.l0);
     c.squint_deg = asin (fmax (-1, fmin (1, vs))) / S_DEG;
@@ -1138,13 +1164,21 @@ static void s_chip_of (const im_sar_t *self, const s_frame_t *pf, im_sar_chip_t 
     *ret = c;
 }
 
+const im_sar_params_t *im_sar_params (const im_sar_t *self)
+{
+    return &self->p;
+}
+
 int im_sar_plan (const im_sar_t *self, const im_sar_geom_t *g, im_sar_chip_t *ret_chip)
 {
     s_frame_t f;
     int rc = s_frame (g->radar, g->radar_vel, g->center, self->p.geometry, &f);
     if (rc < 0)
         return rc;
-    s_chip_of (self, &f, ret_chip);
+    double w = s_widen_of (g);
+    s_plan_t pl;
+    s_plan_widened (self, w, &pl);
+    s_chip_of (self, &pl, w, &f, ret_chip);
     return 0;
 }
 
@@ -1155,6 +1189,8 @@ int im_sar_image (im_sar_t *self, const im_sar_geom_t *g, const im_sar_scene_t *
     if ((scene->nents && !scene->ents) || (scene->npoints && !scene->points))
         return -EINVAL;
     const im_sar_params_t *p = &self->p;
+    double w = s_widen_of (g);
+    s_plan_widened (self, w, &self->pl);
     const s_plan_t *pl = &self->pl;
     s_frame_t f;
     int rc = s_frame (g->radar, g->radar_vel, g->center, p->geometry, &f);
@@ -1207,7 +1243,7 @@ int im_sar_image (im_sar_t *self, const im_sar_geom_t *g, const im_sar_scene_t *
         self->grey[k] = (uint8_t)(gl <= 0 ? 0 : gl >= 255 ? 255 : lrint (gl));
     }
     im_sar_chip_t c;
-    s_chip_of (self, &f, &c);
+    s_chip_of (self, pl, w, &f, &c);
     c.scatterers = self->nsc;
     self->chip = c;
     self->have_chip = true;

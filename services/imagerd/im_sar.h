@@ -60,6 +60,8 @@ typedef enum {
  *    honest;
  *  - 256 m in 256 pixels: 1 m pixels, about one a resolution cell, the
  *    complex image sampled at its Nyquist rate (1.13 m). */
+#define IM_SAR_WIDEN_MAX 64.0 // the most a chip is widened (im_sar_geom_t.widen)
+
 typedef struct {
     double fc_hz;           // centre frequency
     double bandwidth_hz;    // chirp bandwidth: slant range resolution 0.886·c/(2B) (rect)
@@ -68,6 +70,10 @@ typedef struct {
     int looks;              // independent speckle draws averaged (1..16)
     double scene_m;         // chip side on its plane, metres
     int size_px;            // chip side, pixels (64..2048)
+    double max_widen;       // imagerd widens a chip up to this many times to hold the
+                            // designated target's return (im_sar_geom_t.widen; 1: never)
+    bool gmti;              // a moving-target channel measures the designated target's
+    double gmti_sigma_mps;  // radial velocity in each chip that holds it, with this σ
     im_sar_geometry_t geometry;
     bool speckle;            // random phase per scatterer (false: a smooth, speckle-free image)
     double ground_gamma_db;  // bare ground γ: σ0 = γ·cos(incidence)
@@ -106,6 +112,10 @@ typedef struct {
     cgs_enu_t radar;     // antenna at the aperture's centre, local frame, metres
     cgs_enu_t radar_vel; // platform velocity, m/s: the synthetic aperture lies along it
     cgs_enu_t center;    // chip centre, on the ground
+    // Widen the chip this many times (1..IM_SAR_WIDEN_MAX; 0 or 1: as
+    // configured): scene and resolutions w times the configured, on the same
+    // pixel count, the integration angle w times smaller; the same cost.
+    double widen;
 } im_sar_geom_t;
 
 /* A point scatterer: a corner reflector, a calibration or test target. */
@@ -140,6 +150,7 @@ typedef struct {
     double grazing_deg;   // at the centre, above the horizontal
     double squint_deg;    // line of sight from broadside, positive ahead
     double aperture_s;    // time to turn through the integration angle
+    double widen;         // scene and resolutions this many times the configured
     double range_res_m;   // 3 dB width along range_dir on the chip's plane, window included
     double cross_res_m;   // 3 dB width along cross_dir
     // The corners on the ground (at the centre's height): near-left, far-left,
@@ -171,6 +182,8 @@ int im_sar_image (im_sar_t *self, const im_sar_geom_t *g, const im_sar_scene_t *
  * -EDOM for a collection it refuses by its geometry. */
 int im_sar_plan (const im_sar_t *self, const im_sar_geom_t *g, im_sar_chip_t *ret_chip);
 
+/* The parameters it was made with. */
+const im_sar_params_t *im_sar_params (const im_sar_t *self);
 /* The last chip's geometry; NULL before the first. */
 const im_sar_chip_t *im_sar_chip (const im_sar_t *self);
 /* The chip's side, pixels. */

@@ -25,7 +25,9 @@
  *   - vehicles: bright at their place, a moving one where its Doppler puts it;
  *   - the chip's geometry: corners, up is far, the frame's letterbox, pixel
  *     to ground and back on terrain;
- *   - bad parameters and geometries refused with a reason. */
+ *   - bad parameters and geometries refused with a reason;
+ *   - a widened chip is the chip of the scaled parameters (to the bit), its
+ *     point response w times wider. */
 #include "im_sar.h"
 #include "im_sar_ref.h"
 #include "test_util.h"
@@ -983,6 +985,71 @@ static void test_refusals (void **state)
     im_sar_destroy (NULL);
 }
 
+/* A widened chip (im_sar_geom_t.widen) is the chip the scaled parameters
+ * make: scene and resolutions w times, integration angle and aperture time
+ * w times smaller; its point response is w times wider. */
+static void test_widened (void **state)
+{
+    (void)state;
+    const double w = 4;
+    im_sar_params_t p = s_params (IM_SAR_WINDOW_RECT, IM_SAR_SLANT);
+    im_sar_geom_t g = s_geom (10), gw = g;
+    gw.widen = w;
+    im_sar_point_t pt = {.position = {21, -37, 0}, .rcs_m2 = 100};
+    im_sar_scene_t sc = {.points = &pt, .npoints = 1, .no_clutter = true};
+    im_sar_chip_t c, cw, cs;
+    im_sar_t *sar = s_image (&p, &g, &sc, &c), *sarw = s_image (&p, &gw, &sc, &cw);
+    assert_near (c.widen, 1, 0);
+    assert_near (cw.widen, w, 0);
+    assert_rel (cw.pixel_m, w * c.pixel_m, 1e-12);
+    assert_rel (cw.range_res_m, w * c.range_res_m, 1e-12);
+    assert_rel (cw.cross_res_m, w * c.cross_res_m, 1e-12);
+    assert_rel (cw.aperture_s, c.aperture_s / w, 1e-12);
+    // im_sar_plan says the same before the chip is made.
+    im_sar_chip_t pw;
+    assert_int_equal (im_sar_plan (sar, &gw, &pw), 0);
+    assert_rel (pw.pixel_m, cw.pixel_m, 1e-12);
+    assert_rel (s_dist (pw.corners[0], pw.corners[2]), s_dist (cw.corners[0], cw.corners[2]),
+                1e-12);
+    // The measured response: w times the theory's widths, where the geometry puts it.
+    double lambda = S_C / p.fc_hz;
+    double wr = 0.8859 * S_C / (2 * p.bandwidth_hz),
+           wx = 0.8859 * lambda / (2 * p.integration_deg * S_DEG);
+    double gx, gy;
+    assert_true (im_sar_chip_to_px (&cw, pt.position, (cgs_enu_t){0, 0, 0}, &gx, &gy));
+    s_pt_resp_t f = s_fast (sarw, &cw, gx, gy);
+    assert_rel (f.wy, w * wr, 0.01);
+    assert_rel (f.wx, w * wx, 0.01);
+    assert_near (f.x, gx, 0.05);
+    assert_near (f.y, gy, 0.05);
+    // And the whole chip (over terrain, with its clutter) is the one the
+    // scaled parameters make.
+    cgs_terrain_fbm_t fb;
+    cgs_terrain_fbm_defaults (&fb);
+    fb.seed = 9, fb.size_m = 2000, fb.resolution_m = 10, fb.relief_m = 80, fb.feature_m = 400;
+    cgs_terrain_t *hills = cgs_terrain_new_fbm (&fb);
+    assert_non_null (hills);
+    im_sar_scene_t sct = {.terrain = hills, .points = &pt, .npoints = 1};
+    im_sar_params_t ps = p;
+    ps.bandwidth_hz /= w, ps.integration_deg /= w, ps.scene_m *= w;
+    im_sar_t *a = s_image (&p, &gw, &sct, &cw), *b = s_image (&ps, &g, &sct, &cs);
+    assert_rel (cs.pixel_m, cw.pixel_m, 1e-12);
+    const double *ia = im_sar_intensity (a), *ib = im_sar_intensity (b);
+    double worst = 0, top = 0;
+    for (int i = 0; i < p.size_px * p.size_px; i++)
+        worst = fmax (worst, fabs (ia[i] - ib[i])), top = fmax (top, ib[i]);
+    assert_true (top > 0);
+    assert_true (worst <= 1e-9 * top);
+    printf ("# widened x%.0f: range %.3f m (theory %.3f), cross %.3f (theory %.3f); "
+            "the scaled parameters' chip within %.1e of its peak\n",
+            w, f.wy, w * wr, f.wx, w * wx, worst / top);
+    cgs_terrain_destroy (&hills);
+    im_sar_destroy (&a);
+    im_sar_destroy (&b);
+    im_sar_destroy (&sar);
+    im_sar_destroy (&sarw);
+}
+
 int main (void)
 {
     const struct CMUnitTest tests[] = {
@@ -992,7 +1059,7 @@ int main (void)
         cmocka_unit_test (test_shadow),         cmocka_unit_test (test_moving_target),
         cmocka_unit_test (test_fast_vs_ref),    cmocka_unit_test (test_speckle),
         cmocka_unit_test (test_vehicles),       cmocka_unit_test (test_geometry),
-        cmocka_unit_test (test_refusals),
+        cmocka_unit_test (test_refusals),       cmocka_unit_test (test_widened),
     };
     return cmocka_run_group_tests (tests, NULL, NULL);
 }
