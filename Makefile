@@ -14,6 +14,7 @@
 #   make montecarlo whole scenes in lockstep: every scenario family, the table
 #                   (MC_RUNS, MC_SEED, MC_JOBS, MC_FAMILIES)
 #   make validate-lockstep  the lockstep against the live system, 20 seeds
+#   make validate-sar  SAR chips that hold the designated target, live, 8 seeds
 #   make soak       long fault injection: 30+ trials a service, a long exercise
 #   make install    install binaries, the page, systemd units, configs (PREFIX, DESTDIR)
 #   make install-built  the same, of a build already made (O=...), building nothing
@@ -146,13 +147,13 @@ JOBS    ?= $(shell nproc 2>/dev/null || echo 2)
 # Keep objects that pattern chains would otherwise delete as intermediates.
 .SECONDARY:
 
-.PHONY: all run test test-systemd test-build check-layers bench bench-multicast bench-translators bench-video montecarlo validate-lockstep soak fault-build fuzz fuzz-build install install-built clean format deps help
+.PHONY: all run test test-systemd test-build check-layers bench bench-multicast bench-translators bench-video montecarlo validate-lockstep validate-sar soak fault-build fuzz fuzz-build install install-built clean format deps help
 .DEFAULT_GOAL := all
 
 all: $(BINS) $(WEB_FILES)
 
 help:
-	@sed -n '2,19p' Makefile | sed 's/^# \{0,1\}//'
+	@sed -n '2,20p' Makefile | sed 's/^# \{0,1\}//'
 
 deps:
 	@scripts/install-deps
@@ -224,6 +225,10 @@ montecarlo: deps
 validate-lockstep: deps
 	@$(MAKE) --no-print-directory -j$(JOBS) O=build/release SAN=0 all
 	@tests/lockstep/validate.sh build/release 20 20
+
+validate-sar: deps
+	@$(MAKE) --no-print-directory -j$(JOBS) O=build/release SAN=0 all
+	@tests/measure/sar.sh build/release 8 4 360
 
 # Long fault injection (opt-in: not part of `make test`): at least 30 trials
 # of each service, then a long exercise that checks memory and message loss

@@ -22,6 +22,7 @@
 #include "im_render.h"
 #include "im_geotiff.h"
 #include "im_sar.h"
+#include "im_sar_aim.h"
 #include "im_scene.h"
 #include "im_video.h"
 #include "im_vout.h"
@@ -37,9 +38,11 @@
 #define S_STALE_S 10.0 // an entity not heard of for this long (simulation time) is forgotten
 #define S_MAX_FPS                                                                                  \
     30.0 // frames due faster than this on average (wall clock) are skipped and counted
-#define S_GATE_M     150.0 // the designated track's vehicle is the ground entity this near it
-#define S_PNG_QUEUE  8     // frames waiting for the PNG writer before one is dropped
-#define S_MOVING_MPS 0.5   // a vehicle this fast has its engine running
+#define S_GATE_M       150.0 // the designated track's vehicle is the ground entity this near it
+#define S_PNG_QUEUE    8     // frames waiting for the PNG writer before one is dropped
+#define S_MOVING_MPS   0.5   // a vehicle this fast has its engine running
+#define S_SAR_SIGMAS   2.5   // a widened SAR chip holds the target's return within this many σ
+#define S_SAR_MARGIN_M 10.0  // and the vehicle's own size
 
 typedef struct {
     cgs_service_t *svc;
@@ -61,6 +64,12 @@ typedef struct {
     bool have_track;
     cgs_enu_t track_pos, track_vel;
     double track_t;
+    double track_cov[16]; // its covariance (east, north, ve, vn), row-major
+    bool have_cov;
+    int sar_how; // chips as configured (1), widened by the SAR's measurement (2) or the track (3)
+    im_sar_gmti_t sar_gmti; // the SAR's measurement of the designated target
+    uint64_t sar_rng;       // its noise
+    uint64_t sar_gmti_hits, sar_gmti_misses;
     uint8_t *rgba;
     bool started;
     double next_frame_s, next_png_s, next_latest_s, next_frame_wall;
@@ -120,6 +129,7 @@ static void s_on_intercept (void *arg, const char *topic, const ProtobufCMessage
             cgs_log (LOG_INFO, "designated track %u: looking for its vehicle", id);
         app->track_id = id;
         app->have_track = false;
+        app->sar_gmti.have = false;
     }
 }
 
@@ -143,6 +153,11 @@ static void s_on_track (void *arg, const char *topic, const ProtobufCMessage *ms
         app->track_pos = (cgs_enu_t){t->position->east_m, t->position->north_m, 0};
         app->track_vel = (cgs_enu_t){t->velocity->east_mps, t->velocity->north_mps, 0};
         app->track_t = hdr->sim_time_s;
+        app->have_cov = t->n_covariance == 16;
+        for (size_t k = 0; app->have_cov && k < 16; k++)
+            app->have_cov = isfinite (t->covariance[k]);
+        if (app->have_cov)
+            memcpy (app->track_cov, t->covariance, sizeof app->track_cov);
     }
 }
 
@@ -238,29 +253,6 @@ static void s_encode (s_app_t *app, double t, const cgs_camera_t *cam, const cgs
     cgs_service_publish (app->svc, "video", &m.base);
 }
 
-/* Where to centre a chip so that the target's return is at its centre: a
- * mover's return falls R·v_r/V⊥ along cross range from it (hundreds of
- * metres, kilometres when the radar looks near its flight path), and that
- * shift depends on where the chip looks; a fixed point over the chip's
- * geometry alone (im_sar_plan), with the track's velocity. */
-static cgs_enu_t s_sar_aim (const s_app_t *app, const cgs_camera_t *cam, cgs_enu_t target)
-{
-    cgs_enu_t center = target;
-    for (int it = 0; it < 8; it++) {
-        im_sar_geom_t g = {.radar = cam->eye, .radar_vel = app->uav.velocity, .center = center};
-        im_sar_chip_t c;
-        cgs_enu_t seen;
-        if (im_sar_plan (app->sar, &g, &c) < 0 ||
-            !im_sar_apparent (&c, target, app->track_vel, app->sensor.terrain, &seen))
-            break;
-        double moved = hypot (seen.e_m - center.e_m, seen.n_m - center.n_m);
-        center = seen;
-        if (moved < c.pixel_m)
-            break;
-    }
-    return center;
-}
-
 /* SAR mode: a new spotlight chip once the last one's aperture has been
  * flown (a SAR image takes that long to collect; at least every 0.2 s of
  * simulation time), else the last chip again; into app->rgba, letterboxed,
@@ -292,9 +284,39 @@ static int s_sar_frame (s_app_t *app, double t, const cgs_camera_t *cam, size_t 
         cgs_footprint_t cfp;
         cgs_camera_footprint (cam, app->sensor.terrain, p->max_range_m, &cfp);
         cgs_enu_t center = cgs_footprint_center_enu (&cfp);
-        if (target)
-            center = s_sar_aim (app, cam, *target);
-        im_sar_geom_t g = {.radar = cam->eye, .radar_vel = app->uav.velocity, .center = center};
+        im_sar_aim_t aim = {.widen = 1};
+        int aimed = 0;
+        if (target) {
+            // Aimed where the designated target's return is expected, and
+            // widened to hold it (im_sar_aim.h).
+            im_sar_track_t trk = {.pos = app->track_pos,
+                                  .vel = app->track_vel,
+                                  .t_s = app->track_t,
+                                  .has_cov = app->have_cov};
+            memcpy (trk.cov, app->track_cov, sizeof trk.cov);
+            aimed = im_sar_aim (app->sar, cam->eye, app->uav.velocity, app->sensor.terrain, &trk,
+                                &app->sar_gmti, t, p->sar.max_widen, &aim);
+            center = aim.center;
+        }
+        double widen = aim.widen;
+        // Said when the chips become widened or not, or the aim changes
+        // between the track and the SAR's own measurement (not every chip).
+        int how = !target ? 0 : widen <= 1 ? 1 : aim.by_gmti ? 2 : 3;
+        if (aimed == 0 && how != app->sar_how) {
+            if (how >= 2)
+                cgs_log (LOG_INFO,
+                         "SAR: chips widened (now %g times: %.0f m, resolution %g times coarser) "
+                         "to hold the designated target's return (%.0f m standard deviation, by "
+                         "%s)",
+                         widen, widen * p->sar.scene_m, widen, aim.sigma_m,
+                         how == 2 ? "its radial velocity measured by the SAR"
+                                  : "the track's radial velocity");
+            else if (app->sar_how >= 2)
+                cgs_log (LOG_INFO, "SAR: chips as configured again (%.0f m)", p->sar.scene_m);
+            app->sar_how = how;
+        }
+        im_sar_geom_t g = {
+            .radar = cam->eye, .radar_vel = app->uav.velocity, .center = center, .widen = widen};
         im_sar_scene_t sc = {.terrain = app->sensor.terrain, .ents = app->draw, .nents = n};
         int rc = im_sar_image (app->sar, &g, &sc, NULL);
         app->sar_wall = now;
@@ -368,11 +390,14 @@ static void s_geotiff (s_app_t *app, double t, const char *png_name)
 
 /* In SAR mode, where the target's vehicle falls in the frame: its range and
  * Doppler put it in the chip (a moving vehicle shifted along cross range). */
-static void s_sar_target (const s_app_t *app, double t, size_t n, im_target_t *tg)
+static void s_sar_target (s_app_t *app, double t, size_t n, im_target_t *tg)
 {
     const im_sar_chip_t *c = app->sar_blank ? NULL : im_sar_chip (app->sar);
     const im_params_t *p = &app->params;
     tg->in_view = tg->projected = tg->occluded = false;
+    // A new chip measures the designated target when its return is in it
+    // (the moving-target channel), else the next is aimed by the track.
+    bool measured = false;
     for (size_t i = 0; c && tg->known && i < n; i++) {
         const im_entity_t *e = &app->draw[i];
         if (e->id != tg->entity_id)
@@ -384,6 +409,9 @@ static void s_sar_target (const s_app_t *app, double t, size_t n, im_target_t *t
         cgs_enu_t at = {e->position.e_m + v.e_m * back, e->position.n_m + v.n_m * back, 0};
         at.u_m = cgs_terrain_height_clamped (app->sensor.terrain, at.e_m, at.n_m);
         double x, y;
+        if (app->sar_fresh && p->sar.gmti)
+            measured = im_sar_gmti_measure (c, app->sensor.terrain, at, v, app->sar_t,
+                                            p->sar.gmti_sigma_mps, &app->sar_rng, &app->sar_gmti);
         if (im_sar_ground_to_px (c, p->width_px, p->height_px, at, v, &x, &y)) {
             im_model_extent (e->kind, &len, &wid, &hgt);
             double side = fmin (p->width_px, p->height_px);
@@ -391,6 +419,12 @@ static void s_sar_target (const s_app_t *app, double t, size_t n, im_target_t *t
             tg->px_x = x, tg->px_y = y;
             tg->size_px = len / (c->pixel_m * c->size_px / side);
         }
+    }
+    if (c && app->sar_fresh && p->sar.gmti && tg->known) {
+        if (measured)
+            app->sar_gmti_hits++;
+        else
+            app->sar_gmti_misses++, app->sar_gmti.have = false;
     }
 }
 
@@ -446,6 +480,11 @@ static void s_render (s_app_t *app, double t)
     if (p->overlay) {
         char lines[4][96];
         im_frame_overlay (t, &app->uav, &cam, &fp, app->sensor.frame, lines);
+        const im_sar_chip_t *sc = sar && !app->sar_blank ? im_sar_chip (app->sar) : NULL;
+        if (sc) // the chip's range, resolution and widening
+            snprintf (lines[2], sizeof lines[2], "SLANT %.0f M  SAR RES %.1f M%s",
+                      sc->slant_range_m, fmax (sc->range_res_m, sc->cross_res_m),
+                      sc->widen > 1 ? "  WIDE" : "");
         const char *ptrs[4] = {lines[0], lines[1], lines[2], lines[3]};
         im_post_overlay (app->rgba, p->width_px, p->height_px, ptrs, 4);
     }
@@ -857,6 +896,7 @@ int main (int argc, char **argv)
         goto done;
     }
     app.mode = app.params.mode;
+    app.sar_rng = app.sensor.seed ^ 0x67d71u;
     if (cgs_service_instance (app.svc)->command[0]) {
         if (cgs_service_serve_commands (app.svc, s_on_command, s_save, &app) < 0)
             goto done;
@@ -917,8 +957,12 @@ done:
                  (unsigned long long)st.failed, st.failed ? "; last: " : "", st.last_error);
     }
     if (app.sar_chips || app.sar_errors)
-        cgs_log (app.sar_errors ? LOG_WARNING : LOG_INFO, "SAR: %llu chips, %llu without an image",
-                 (unsigned long long)app.sar_chips, (unsigned long long)app.sar_errors);
+        cgs_log (app.sar_errors ? LOG_WARNING : LOG_INFO,
+                 "SAR: %llu chips, %llu without an image; the designated target measured in %llu "
+                 "of %llu",
+                 (unsigned long long)app.sar_chips, (unsigned long long)app.sar_errors,
+                 (unsigned long long)app.sar_gmti_hits,
+                 (unsigned long long)(app.sar_gmti_hits + app.sar_gmti_misses));
     im_sar_destroy (&app.sar);
     im_renderer_destroy (&app.ren);
     im_ctx_destroy (&app.ctx);

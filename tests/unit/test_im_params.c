@@ -72,6 +72,9 @@ static const char *const s_keys[][2] = {
     {"sar", "looks"},
     {"sar", "scene_m"},
     {"sar", "size_px"},
+    {"sar", "max_widen"},
+    {"sar", "gmti"},
+    {"sar", "gmti_sigma_mps"},
     {"sar", "geometry"},
     {"sar", "speckle"},
     {"sar", "ground_gamma_db"},
@@ -133,6 +136,9 @@ static void s_assert_equal (const im_params_t *a, const im_params_t *b)
     S_SAME (sar.looks);
     S_SAME (sar.scene_m);
     S_SAME (sar.size_px);
+    S_SAME (sar.max_widen);
+    S_SAME (sar.gmti);
+    S_SAME (sar.gmti_sigma_mps);
     S_SAME (sar.geometry);
     S_SAME (sar.speckle);
     S_SAME (sar.ground_gamma_db);
@@ -205,6 +211,9 @@ static im_params_t s_not_defaults (void)
                 .window = IM_SAR_WINDOW_HAMMING,
                 .looks = 4,
                 .scene_m = 512,
+                .max_widen = 4,
+                .gmti = false,
+                .gmti_sigma_mps = 0.5,
                 .size_px = 512,
                 .geometry = IM_SAR_SLANT,
                 .speckle = false,
@@ -290,6 +299,9 @@ static void test_defaults (void **state)
     assert_int_equal (p.sar.window, IM_SAR_WINDOW_TAYLOR);
     assert_int_equal (p.sar.looks, 1);
     assert_true (p.sar.scene_m == 256);
+    assert_true (p.sar.max_widen == 16);
+    assert_true (p.sar.gmti);
+    assert_true (p.sar.gmti_sigma_mps == 0.25);
     assert_int_equal (p.sar.size_px, 256);
     assert_int_equal (p.sar.geometry, IM_SAR_GROUND);
     assert_true (p.sar.speckle);
@@ -394,6 +406,9 @@ static void test_values (void **state)
             "window = hamming\n"
             "looks = 4\n"
             "scene_m = 512\n"
+            "max_widen = 4\n"
+            "gmti = false\n"
+            "gmti_sigma_mps = 0.5\n"
             "size_px = 512\n"
             "geometry = slant\n"
             "speckle = false\n"
