@@ -477,21 +477,43 @@ static void s_on_uav (gd_adapter_t *self, const Cgs__Uav *m, const Cgs__Header *
     s_publish (self, u);
 }
 
+/* The intercepts' changes so far (gd_intercept_changes), summed. */
+static uint64_t s_changes (const gd_adapter_t *self)
+{
+    uint64_t n = 0;
+    for (size_t i = 0; i < self->uav_count; i++)
+        n += gd_intercept_changes (self->uavs[i].core);
+    return n;
+}
+
+/* An intercept that changed on its own (a deletion, a hand-over, a phase or
+ * a plan) makes the state dirty: what the tracker said once must survive a
+ * restart. */
+static void s_dirty_if_changed (gd_adapter_t *self, uint64_t before)
+{
+    if (s_changes (self) != before)
+        self->dirty = true;
+}
+
 void gd_adapter_on_message (gd_adapter_t *self, const char *topic, const ProtobufCMessage *msg,
                             const Cgs__Header *hdr)
 {
+    uint64_t before = s_changes (self);
     if (strcmp (topic, "uav") == 0)
         s_on_uav (self, (const Cgs__Uav *)msg, hdr);
     else if (strcmp (topic, "track") == 0)
         s_on_track (self, (const Cgs__TrackBatch *)msg, hdr);
     else if (strcmp (topic, "track.turn") == 0)
         s_on_turn (self, (const Cgs__TrackTurn *)msg);
+    s_dirty_if_changed (self, before);
 }
 
 void gd_adapter_tick (gd_adapter_t *self)
 {
+    uint64_t before = s_changes (self);
     for (size_t i = 0; i < self->uav_count; i++)
         gd_intercept_tick (self->uavs[i].core, self->sim_time_s);
+    s_dirty_if_changed (self, before);
 }
 
 /* ---- commands ---------------------------------------------------------------------------- */

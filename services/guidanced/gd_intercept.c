@@ -30,6 +30,7 @@ static void s_reason (gd_intercept_t *self, const char *fmt, ...)
     va_start (ap, fmt);
     vsnprintf (self->reason, sizeof self->reason, fmt, ap);
     va_end (ap);
+    self->changes++;
 }
 
 /* After a plan's reason: say when the horizon cut the plan short, so the
@@ -970,6 +971,11 @@ int gd_intercept_set_scale (gd_intercept_t *self, uint32_t scale)
 const gd_task_t *gd_intercept_task (const gd_intercept_t *self)
 {
     return &self->task;
+}
+
+uint64_t gd_intercept_changes (const gd_intercept_t *self)
+{
+    return self->changes;
 }
 
 void gd_intercept_status (const gd_intercept_t *self, gd_status_t *ret)

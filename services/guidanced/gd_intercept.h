@@ -188,6 +188,11 @@ void gd_intercept_time_back (gd_intercept_t *self, double t_s);
 
 /* The lateral task wanted now (kind NONE until the first). */
 const gd_task_t *gd_intercept_task (const gd_intercept_t *self);
+/* How many changes of phase, plan or designated track it has made (each
+ * with its reason): one that moves changed what a restart must find (the
+ * designated track's deletion and its successor are said once by the
+ * tracker, never again), so its owner saves the state. */
+uint64_t gd_intercept_changes (const gd_intercept_t *self);
 /* The present status. */
 void gd_intercept_status (const gd_intercept_t *self, gd_status_t *ret);
 /* The UAV's planning turn radius (metres) at its present speed; 0 before any UAV state. */

@@ -59,6 +59,7 @@ struct gd_intercept {
     uint32_t replans;
     double time_to_go_s;
     char reason[256];
+    uint64_t changes; // reasons given: gd_intercept_changes
     gd_task_t task;
 };
 

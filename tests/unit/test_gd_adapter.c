@@ -1081,6 +1081,49 @@ static void test_save_restore (void **state)
     s_fx_free (&b);
 }
 
+/* The tracker says once that the designated track was deleted, and once
+ * which new track continues it: each change is saved, so a guidanced that
+ * restarts in between still waits for the successor, and takes it. */
+static void test_deletion_saved (void **state)
+{
+    (void)state;
+    s_fx_t *a = s_fx_new (s_one);
+    s_scene (a, 10);
+    Cgs__Reply r;
+    assert_int_equal (s_designate_track (a, 1, 7, &r), 0);
+    s_assert_ok (&r, "uav1: designated track 7");
+    assert_true (gd_adapter_take_dirty (a->gd));
+    const uint32_t hid[2] = {100, 200};
+    s_trk_t t7 = s_t7;
+    t7.e = 5900;
+    s_tracks_hits (a, 20, &t7, 1, hid, 4);
+    (void)gd_adapter_take_dirty (a->gd);
+    uint64_t before = gd_intercept_changes (gd_adapter_intercept (a->gd, 0));
+    t7.status = S_DELETED;
+    s_tracks_hits (a, 30, &t7, 1, hid, 5);
+    assert_true (gd_intercept_changes (gd_adapter_intercept (a->gd, 0)) > before);
+    assert_string_equal (s_status (a, 0).reason, "track 7 was deleted: flying on its prediction");
+    assert_true (gd_adapter_take_dirty (a->gd)); // saved: the tracker will not say it again
+    uint8_t *buf = NULL;
+    size_t len = 0;
+    s_save (a, &buf, &len);
+    // Restarted: the successor, where track 7's target is by then, takes over.
+    s_fx_t *b = s_fx_new (s_one);
+    char err[256] = "";
+    assert_int_equal (gd_adapter_restore (b->gd, buf, len, err, sizeof err), 0);
+    s_uav_msg (b, 1, 60, 0, 0, 45);
+    s_trk_t t17 = {17, S_CONFIRMED, false, 5900 - 10 * 50, 0, -10, 0};
+    const uint32_t hid17[1] = {300};
+    s_tracks_hits (b, 70, &t17, 1, hid17, 9);
+    assert_int_equal (s_status (b, 0).track_id, 17);
+    assert_string_equal (s_status (b, 0).reason,
+                         "track 7 was deleted; its target goes on as track 17");
+    assert_true (gd_adapter_take_dirty (b->gd)); // the hand-over is saved too
+    free (buf);
+    s_fx_free (&a);
+    s_fx_free (&b);
+}
+
 /* A state as s_state_frame writes it: the counters, then a record per UAV
  * (entity ids[i], delivered, pending and its command number 3, 4, 7 for
  * the first, 0 for the others) each with the intercept checkpoint core. */
@@ -1295,21 +1338,14 @@ static void test_reset_and_names (void **state)
 int main (void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test (test_designate),
-        cmocka_unit_test (test_designate_by_hit),
-        cmocka_unit_test (test_time_back),
-        cmocka_unit_test (test_designate_no_tracks),
-        cmocka_unit_test (test_settings),
-        cmocka_unit_test (test_tasks),
-        cmocka_unit_test (test_tasks_two_uavs),
-        cmocka_unit_test (test_track_table),
-        cmocka_unit_test (test_intercept_messages),
-        cmocka_unit_test (test_script),
-        cmocka_unit_test (test_script_skipped),
-        cmocka_unit_test (test_save_restore),
-        cmocka_unit_test (test_restore_unknown_uav),
-        cmocka_unit_test (test_restore_damaged),
-        cmocka_unit_test (test_reset_and_names),
+        cmocka_unit_test (test_designate),          cmocka_unit_test (test_designate_by_hit),
+        cmocka_unit_test (test_time_back),          cmocka_unit_test (test_designate_no_tracks),
+        cmocka_unit_test (test_settings),           cmocka_unit_test (test_tasks),
+        cmocka_unit_test (test_tasks_two_uavs),     cmocka_unit_test (test_track_table),
+        cmocka_unit_test (test_intercept_messages), cmocka_unit_test (test_script),
+        cmocka_unit_test (test_script_skipped),     cmocka_unit_test (test_save_restore),
+        cmocka_unit_test (test_deletion_saved),     cmocka_unit_test (test_restore_unknown_uav),
+        cmocka_unit_test (test_restore_damaged),    cmocka_unit_test (test_reset_and_names),
     };
     return cmocka_run_group_tests (tests, NULL, NULL);
 }
