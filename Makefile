@@ -38,7 +38,7 @@ FAULT   ?= $(if $(filter 1,$(SAN)),1,0)
 
 CC      ?= cc
 CXX     ?= c++
-PKGS     = libzmq libsodium libprotobuf-c geographiclib gdal inih libsystemd zlib fftw3 gsl libpng json-c libxml-2.0 libavcodec libavformat libavutil libswscale
+PKGS     = libzmq libsodium libprotobuf-c geographiclib gdal inih libsystemd zlib libzstd fftw3 gsl libpng json-c libxml-2.0 libavcodec libavformat libavutil libswscale
 # GDAL's include flags go only to the files that use GDAL (GDAL_SRCS, below);
 # every program links it.
 PKG_CFLAGS := $(shell pkg-config --cflags $(filter-out gdal,$(PKGS)) 2>/dev/null)
@@ -89,9 +89,10 @@ PROTO_C     := $(patsubst proto/%.proto,$(O)/gen/%.pb-c.c,$(PROTOS))
 PROTO_H     := $(PROTO_C:.c=.h)
 COMMON_C    := $(wildcard common/*.c)
 COMMON_CXX  := $(wildcard common/*.cpp)
+FDS_C       := $(O)/gen/cgs_fds.c
 LIB_OBJS    := $(patsubst %.c,$(O)/obj/%.o,$(COMMON_C)) \
                $(patsubst %.cpp,$(O)/obj/%.o,$(COMMON_CXX)) \
-               $(patsubst $(O)/gen/%.c,$(O)/obj/gen/%.o,$(PROTO_C))
+               $(patsubst $(O)/gen/%.c,$(O)/obj/gen/%.o,$(PROTO_C) $(FDS_C))
 LIB         := $(O)/lib/libcgs.a
 
 SERVICES    := $(patsubst services/%/main.c,%,$(wildcard services/*/main.c))
@@ -320,6 +321,13 @@ $(O)/gen/.stamp: $(PROTOS)
 	@touch $@
 
 $(PROTO_C) $(PROTO_H): $(O)/gen/.stamp ;
+
+# Every message's schema as a google.protobuf.FileDescriptorSet (what MCAP
+# recordings carry, so other tools decode them: cgs_schemas.h).
+$(FDS_C): $(PROTOS)
+	@mkdir -p $(O)/gen
+	protoc --proto_path=proto --include_imports --descriptor_set_out=$(O)/gen/cgs_fds.bin $(PROTOS)
+	cd $(O)/gen && xxd -i cgs_fds.bin >cgs_fds.c.tmp && mv cgs_fds.c.tmp cgs_fds.c
 
 # --- objects -------------------------------------------------------------------
 $(O)/obj/gen/%.o: $(O)/gen/%.c | $(O)/gen/.stamp
