@@ -9,6 +9,7 @@
 #   make bench-multicast  the bus over multicast against tcp, and under loss (root)
 #   make bench-translators  the gateway's CPU at 1,000 vehicles, DIS alone and with
 #                   STANAG 4607 and Cursor on Target on
+#   make bench-record  mscgs record at 1,000 vehicles, 10x: messages/s, CPU, MB per hour
 #   make bench-video  imagerd's live video: frame rate, CPU, entity update to the wire,
 #                   glass to glass on the map
 #   make montecarlo whole scenes in lockstep: every scenario family, the table
@@ -148,13 +149,13 @@ JOBS    ?= $(shell nproc 2>/dev/null || echo 2)
 # Keep objects that pattern chains would otherwise delete as intermediates.
 .SECONDARY:
 
-.PHONY: all run test test-systemd test-build check-layers bench bench-multicast bench-translators bench-video montecarlo validate-lockstep validate-sar soak fault-build fuzz fuzz-build install install-built clean format deps help
+.PHONY: all run test test-systemd test-build check-layers bench bench-multicast bench-translators bench-video bench-record montecarlo validate-lockstep validate-sar soak fault-build fuzz fuzz-build install install-built clean format deps help
 .DEFAULT_GOAL := all
 
 all: $(BINS) $(WEB_FILES)
 
 help:
-	@sed -n '2,20p' Makefile | sed 's/^# \{0,1\}//'
+	@sed -n '2,21p' Makefile | sed 's/^# \{0,1\}//'
 
 deps:
 	@scripts/install-deps
@@ -205,6 +206,10 @@ bench-translators: deps
 bench-video: deps
 	@$(MAKE) --no-print-directory -j$(JOBS) O=build/release SAN=0 all
 	@tests/bench/video.sh build/release
+
+bench-record: deps
+	@$(MAKE) --no-print-directory -j$(JOBS) O=build/release SAN=0 all
+	@tests/bench/record.sh build/release
 
 bench-multicast: deps
 	@$(MAKE) --no-print-directory -j$(JOBS) O=build/release SAN=0 all build/release/bench/bench_mcast

@@ -19,6 +19,7 @@
 #include "ms_cmd_admin.h"
 #include "ms_cmd_operator.h"
 #include "ms_cmd_sensor.h"
+#include "ms_cmd_record.h"
 #include "ms_cmd_status.h"
 #include "ms_montecarlo.h"
 #include "ms_opts.h"
@@ -36,7 +37,8 @@ static void s_usage (FILE *f)
                 "commands:\n"
                 "  run      start every built service of the exercise on this machine\n");
     ms_opts_list (ms_run_options (), 11, f);
-    fprintf (f, "  echo     print the messages of a topic: echo TOPIC [--json] [--count N]\n"
+    fprintf (f, "  record   record every topic into an MCAP file: record [--out FILE] [--topics T,..]\n"
+                "  echo     print the messages of a topic: echo TOPIC [--json] [--count N]\n"
                 "           [--timeout S]\n"
                 "  status   a table of every service's health [--wait S]\n"
                 "  ping     ask a service's command endpoint for a reply: ping INSTANCE\n"
@@ -71,6 +73,7 @@ static const struct {
 } s_commands[] = {
     {"run", ms_run_main},
     {"echo", ms_echo_main},
+    {"record", ms_record_main},
     {"status", ms_status_main},
     {"ping", ms_ping_main},
     {"topics", ms_topics_main},

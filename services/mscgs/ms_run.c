@@ -149,6 +149,8 @@ typedef struct {
     double duration_s;
     double stop_after_intercept_s; // stop this long after the intercept ends; < 0: never
     bool resume;                   // keep the state of the previous run in OUT/state
+    bool record;                   // `mscgs record` into OUT/recording.mcap
+    pid_t rec_pid;                 // the recorder (0: none running)
     char out[PATH_MAX];
     char logs[PATH_MAX + 8];
     char state[PATH_MAX + 8];
@@ -161,6 +163,23 @@ typedef struct {
     double start;
     bool tty;
 } s_run_t;
+
+/* In a child about to exec: its output appended to log, its input
+ * /dev/null, in a process group of its own, stopped when mscgs dies. */
+static void s_child_stdio (const char *log)
+{
+    int fd = open (log, O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC, 0644);
+    if (fd >= 0) {
+        dup2 (fd, STDOUT_FILENO);
+        dup2 (fd, STDERR_FILENO);
+    }
+    int devnull = open ("/dev/null", O_RDONLY);
+    if (devnull >= 0)
+        dup2 (devnull, STDIN_FILENO);
+    setpgid (0, 0);                    // Ctrl-C reaches mscgs, which stops the children in order
+    prctl (PR_SET_PDEATHSIG, SIGTERM); // and if mscgs dies, they stop too
+    signal (SIGPIPE, SIG_DFL);
+}
 
 static void s_child_start (s_run_t *run, s_child_t *ch)
 {
@@ -175,17 +194,7 @@ static void s_child_start (s_run_t *run, s_child_t *ch)
         return;
     }
     if (pid == 0) {
-        int fd = open (log, O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC, 0644);
-        if (fd >= 0) {
-            dup2 (fd, STDOUT_FILENO);
-            dup2 (fd, STDERR_FILENO);
-        }
-        int devnull = open ("/dev/null", O_RDONLY);
-        if (devnull >= 0)
-            dup2 (devnull, STDIN_FILENO);
-        setpgid (0, 0); // Ctrl-C reaches mscgs, which stops the children in order
-        prctl (PR_SET_PDEATHSIG, SIGTERM); // and if mscgs dies, they stop too
-        signal (SIGPIPE, SIG_DFL);
+        s_child_stdio (log);
         const char *argv[16];
         int n = 0;
         argv[n++] = ch->binary;
@@ -222,11 +231,64 @@ static void s_child_start (s_run_t *run, s_child_t *ch)
     ch->started_at = cgs_loop_now ();
 }
 
+/* --record: `mscgs record` (this program) into OUT/recording.mcap, its
+ * log OUT/logs/record.log; started before the services, stopped after. */
+static void s_recorder_start (s_run_t *run)
+{
+    char log[PATH_MAX + 80], file[PATH_MAX + 32], self[PATH_MAX + 16];
+    snprintf (log, sizeof log, "%s/record.log", run->logs);
+    snprintf (file, sizeof file, "%s/recording.mcap", run->out);
+    snprintf (self, sizeof self, "%s/mscgs", ms_tool_exe_dir ());
+    pid_t pid = fork ();
+    if (pid < 0) {
+        fprintf (stderr, "mscgs run: cannot start the recorder: %s\n", strerror (errno));
+        return;
+    }
+    if (pid == 0) {
+        s_child_stdio (log);
+        execl (self, self, "record", "--exercise", run->exercise_path, "--out", file, (char *)NULL);
+        fprintf (stderr, "mscgs run: cannot execute %s: %s\n", self, strerror (errno));
+        _exit (127);
+    }
+    run->rec_pid = pid;
+    printf ("mscgs run: recording every topic into %s\n", file);
+    usleep (300000); // its subscriptions out before the services' first messages
+}
+
+/* Stop the recorder (after the services: their last words are recorded). */
+static void s_recorder_stop (s_run_t *run)
+{
+    if (run->rec_pid <= 0)
+        return;
+    kill (run->rec_pid, SIGTERM);
+    int status = 0;
+    double deadline = cgs_loop_now () + 10.0;
+    while (waitpid (run->rec_pid, &status, WNOHANG) == 0) {
+        if (cgs_loop_now () > deadline) {
+            fprintf (stderr, "mscgs run: the recorder did not stop in 10 s; killing it\n");
+            kill (run->rec_pid, SIGKILL);
+            waitpid (run->rec_pid, &status, 0);
+            break;
+        }
+        usleep (20000);
+    }
+    run->rec_pid = 0;
+    if (WIFEXITED (status) && WEXITSTATUS (status) == 0)
+        printf ("mscgs run: recording in %s/recording.mcap\n", run->out);
+    else
+        fprintf (stderr, "mscgs run: the recorder failed (see %s/record.log)\n", run->logs);
+}
+
 static void s_reap (s_run_t *run)
 {
     int status;
     pid_t pid;
     while ((pid = waitpid (-1, &status, WNOHANG)) > 0) {
+        if (pid == run->rec_pid) {
+            fprintf (stderr, "mscgs run: the recorder stopped (see %s/record.log)\n", run->logs);
+            run->rec_pid = 0;
+            continue;
+        }
         for (size_t i = 0; i < run->nchildren; i++) {
             s_child_t *ch = &run->children[i];
             if (ch->pid != pid)
@@ -501,6 +563,9 @@ static const ms_opt_t s_opts[] = {
      .help = "logs, state and outputs (default ./out)",
      .str = &s_out},
     {.name = "resume", .help = "keep the state the previous run left", .flag = &s_run.resume},
+    {.name = "record",
+     .help = "record every topic into DIR/recording.mcap (mscgs record)",
+     .flag = &s_run.record},
     {.name = "stop-after-intercept",
      .value = "S",
      .help = "stop S seconds of simulation time\nafter the intercept ends (DONE, LOST, CANCELLED)",
@@ -519,7 +584,7 @@ static const ms_cmd_t s_spec = {
              "DIR/logs, state to DIR/state, a summary to DIR/summary.txt (with how the\n"
              "intercept imaged its true target, also in DIR/summary.json). A run starts\n"
              "from the scenario; --resume keeps the state the previous run left in\n"
-             "DIR/state.\n",
+             "DIR/state. --record records every topic into DIR/recording.mcap.\n",
     .opts = s_opts,
 };
 
@@ -604,6 +669,8 @@ int ms_run_main (int argc, char **argv)
     cgs_sub_on (s_run.sub, "mti.truth", s_run_on_mti_truth, &s_run);
     cgs_sub_on (s_run.sub, "entity", s_run_on_entity, &s_run);
     ms_tool_connect_publishers (s_run.sub, s_run.ex, "health"); // every service publishes health
+    if (s_run.record)
+        s_recorder_start (&s_run);
     s_run.start = cgs_loop_now ();
     s_run.tty = isatty (STDOUT_FILENO);
     for (size_t i = 0; i < s_run.nchildren; i++)
@@ -671,6 +738,7 @@ int ms_run_main (int argc, char **argv)
         }
         usleep (20000);
     }
+    s_recorder_stop (&s_run);
     s_write_summary (&s_run);
     printf ("mscgs run: done; logs in %s, summary in %s/summary.txt\n", s_run.logs, s_run.out);
     cgs_sub_destroy (&s_run.sub);

@@ -6,7 +6,8 @@
 # a summary in the output folder; `mscgs status` sees the service up while it
 # runs. Then the real stationd with `port = 0`: mscgs run says the system
 # chooses the map's port and prints the address once stationd reports it,
-# and the page is served there. TAP on stdout.
+# and the page is served there; with --record the run's topics go to
+# OUT/recording.mcap, which @mcap/core reads. TAP on stdout.
 # shellcheck source=tests/integration/lib.sh
 . "$(dirname "$0")/lib.sh"
 
@@ -94,7 +95,7 @@ INI
     exercise_service stationd params="$TMP/station-any.ini"
 } >"$EX2"
 printf '[http]\nlisten = 127.0.0.1\nport = 0\n' >"$TMP/station-any.ini"
-start RUN2 run-map "$MSCGS" run --exercise "$EX2" --duration 12 --out "$TMP/out-map"
+start RUN2 run-map "$MSCGS" run --exercise "$EX2" --duration 12 --out "$TMP/out-map" --record
 check "mscgs run says the system chooses the map's port" \
     wait_for 10 grep -q "tactical map (stationd) on a free port the system chooses" "$TMP/run-map.log"
 map_url () { sed -n 's|^mscgs run: tactical map (stationd) at \(http://127\.0\.0\.1:[1-9][0-9]*/\)$|\1|p' "$TMP/run-map.log" | head -1; }
@@ -105,5 +106,17 @@ diag "the map: ${URL:-none}"
 check "the page is served at that address" bash -c "curl -sf '${URL:-http://127.0.0.1:1/}' | grep -qi '<html'"
 check "mscgs run stops at --duration" wait_exit "$RUN2" 40
 is "$EXIT_CODE" 0 "mscgs run exits 0"
+# --record: every topic into the output folder, closed after the services stop.
+check "mscgs run --record says where it records" \
+    grep -q "^mscgs run: recording every topic into $TMP/out-map/recording.mcap$" "$TMP/run-map.log"
+check "and that the recording is closed" \
+    grep -q "^mscgs run: recording in $TMP/out-map/recording.mcap$" "$TMP/run-map.log"
+if [ -d "$CGS_ROOT/tests/interop/node_modules/@mcap/core" ]; then
+    rec=$(node "$CGS_ROOT/tests/interop/mcap_check.mjs" "$TMP/out-map/recording.mcap" 2>&1)
+    check "@mcap/core reads it, with stationd's health in it" \
+        node -e 'const o = JSON.parse(process.argv[1]); process.exit(o.complete && o.topics.health.sources.stationd > 0 ? 0 : 1)' "$rec"
+else
+    check "@mcap/core is installed (npm ci in tests/interop)" false
+fi
 
 finish
