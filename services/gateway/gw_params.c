@@ -413,6 +413,8 @@ static int s_read (cgs_config_t *cfg, void *arg, char *err, size_t errlen)
                                  err, errlen);
     p.route_action_id = action;
     if (rc == 0)
+        rc = cgs_config_get_bool (cfg, "dis", "pcapng", p.dis_pcapng, &p.dis_pcapng, err, errlen);
+    if (rc == 0)
         rc = cgs_config_get_int (cfg, "external", "first_entity_id", first, 65535, 2000000000L,
                                  &first, err, errlen);
     p.first_entity_id = first;

@@ -71,6 +71,7 @@ typedef struct {
     int entity_id_base;    // DIS entity number = base + internal id (default 0)
     bool absolute_time;    // timestamps absolute (UTC past the hour) or relative
     long route_action_id;  // Action Request action id of a route task (default 40)
+    bool dis_pcapng;       // write the DIS sent to OUT/INSTANCE.pcapng (default no)
     // [dead_reckoning]
     double position_threshold_m;      // default 1
     double orientation_threshold_deg; // default 3

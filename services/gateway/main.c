@@ -12,6 +12,7 @@
 #include "cgs_cmd.h"
 #include "cgs_iface.h"
 #include "cgs_log.h"
+#include "cgs_pcapng.h"
 #include "cgs_service.h"
 #include "cgs_util.h"
 #include "gw_cot.h"
@@ -99,6 +100,11 @@ typedef struct {
     int fd;
     struct sockaddr_in dest[GW_PEERS_MAX];
     size_t ndest;
+    /* [dis] pcapng: every datagram sent, as captured. */
+    cgs_pcapng_t *pcap;
+    char pcap_path[PATH_MAX];
+    struct sockaddr_in pcap_src[GW_PEERS_MAX]; // the source each destination sees
+    double pcap_flushed;                       // wall time of the last flush
     cgs_iface_t ifc; // the interface the parameters name (zeroed: none named)
     gw_out_t *out;
     gw_in_t *in;
@@ -199,6 +205,31 @@ static gw_header_t s_header (s_app_t *app, double t_s)
 
 /* ---- sending ------------------------------------------------------------------------------- */
 
+/* The datagrams of mm just sent, into the pcapng file; written out at
+ * least every 0.5 s (and each second by s_counters). */
+static void s_capture (s_app_t *app, const struct mmsghdr *mm, size_t n)
+{
+    struct timespec ts;
+    clock_gettime (CLOCK_REALTIME, &ts);
+    uint64_t now_ns = (uint64_t)ts.tv_sec * 1000000000u + (uint64_t)ts.tv_nsec;
+    for (size_t i = 0; i < n; i++) {
+        const struct sockaddr_in *to = mm[i].msg_hdr.msg_name;
+        size_t d = (size_t)(to - app->dest);
+        const struct iovec *v = mm[i].msg_hdr.msg_iov;
+        if (cgs_pcapng_udp (app->pcap, now_ns, &app->pcap_src[d < app->ndest ? d : 0], to,
+                            v->iov_base, v->iov_len) == -EIO)
+            break;
+    }
+    double now = cgs_loop_now ();
+    if (now - app->pcap_flushed >= 0.5) {
+        cgs_pcapng_flush (app->pcap);
+        app->pcap_flushed = now;
+    }
+    if (*cgs_pcapng_error (app->pcap) && app->send_errors == 0) {
+        cgs_health_set_error (cgs_service_health (app->svc), cgs_pcapng_error (app->pcap));
+    }
+}
+
 /* Send n PDUs (bufs/lens) to every destination. */
 static void s_send (s_app_t *app, uint8_t *const *bufs, const size_t *lens, size_t n)
 {
@@ -230,6 +261,8 @@ static void s_send (s_app_t *app, uint8_t *const *bufs, const size_t *lens, size
                         }
                         break;
                     }
+                    if (app->pcap)
+                        s_capture (app, mm + at, (size_t)sent);
                     at += (size_t)sent;
                 }
                 k = 0;
@@ -1154,6 +1187,13 @@ static void s_counters (s_app_t *app)
     cgs_health_set_counter (h, "tasks_accepted", app->tasks_accepted);
     cgs_health_set_counter (h, "tasks_refused", app->tasks_refused);
     cgs_health_set_counter (h, "send_errors", app->send_errors);
+    if (app->pcap) {
+        cgs_pcapng_flush (app->pcap);
+        app->pcap_flushed = cgs_loop_now ();
+        cgs_health_set_counter (h, "pcapng_packets", cgs_pcapng_packets (app->pcap));
+        if (*cgs_pcapng_error (app->pcap))
+            cgs_health_set_error (h, cgs_pcapng_error (app->pcap));
+    }
     cgs_health_set_counter (h, "table_full", app->table_full);
     if (app->gmti) {
         const gw_gmti_stats_t *g = gw_gmti_stats (app->gmti);
@@ -1296,6 +1336,31 @@ static int s_translators (s_app_t *app, char *err, size_t errlen)
     uint32_t ex = cgs_exercise_id (cgs_service_exercise (app->svc));
     const char *params = cgs_service_params_path (app->svc);
     char where[160];
+    if (p->dis_pcapng) {
+        const char *dir = *app->out_dir ? app->out_dir : cgs_service_state_dir (app->svc);
+        snprintf (app->pcap_path, sizeof app->pcap_path, "%s/%s.pcapng", dir,
+                  cgs_service_instance_name (app->svc));
+        // A restarted gateway appends a section (a partial block cut off first).
+        if (!(app->pcap = cgs_pcapng_open (app->pcap_path, "mscgs gateway", true, err, errlen)))
+            return -EIO;
+        // The source address each destination sees: the route's, and our port.
+        struct sockaddr_in local = {0};
+        socklen_t ll = sizeof local;
+        getsockname (app->fd, (struct sockaddr *)&local, &ll);
+        for (size_t d = 0; d < app->ndest; d++) {
+            app->pcap_src[d] = local;
+            int t = socket (AF_INET, SOCK_DGRAM | SOCK_CLOEXEC, 0);
+            struct sockaddr_in via = {0};
+            socklen_t vl = sizeof via;
+            if (t >= 0 &&
+                connect (t, (const struct sockaddr *)&app->dest[d], sizeof app->dest[d]) == 0 &&
+                getsockname (t, (struct sockaddr *)&via, &vl) == 0)
+                app->pcap_src[d].sin_addr = via.sin_addr;
+            if (t >= 0)
+                close (t);
+        }
+        cgs_log (LOG_INFO, "DIS capture: %s (pcapng)", app->pcap_path);
+    }
     if (p->s4607_file || p->s4607_udp.mode != GW_UDP_OFF) {
         if (!(app->gmti = gw_gmti_new (p, app->geo, ex, s_on_packet, app))) {
             snprintf (err, errlen, "out of memory");
@@ -1517,6 +1582,14 @@ int main (int argc, char **argv)
                  gw_cotout_stats (app.cotout)->events + app.cot_replies, app.cot_in,
                  app.cot_rejected, app.cot_ignored, app.cot_designations, app.cot_refused);
 done:
+    if (app.pcap) {
+        char perr[320] = "";
+        uint64_t n = cgs_pcapng_packets (app.pcap);
+        if (cgs_pcapng_close (&app.pcap, perr, sizeof perr) < 0)
+            cgs_log (LOG_ERR, "%s", perr);
+        else
+            cgs_log (LOG_INFO, "DIS capture: %" PRIu64 " datagrams in %s", n, app.pcap_path);
+    }
     if (app.s4607_fd >= 0 && close (app.s4607_fd) != 0)
         cgs_log (LOG_ERR, "cannot write %s: %s", app.s4607_path, strerror (errno));
     gw_udp_close (&app.s4607_udp);

@@ -12,7 +12,10 @@
 # with an Action Response (a retransmission is answered, not done twice; one
 # to an entity that is not a UAV is rejected with the reason); garbage, bad
 # lengths and other exercises are rejected or ignored, counted, and the
-# gateway keeps running. TAP on stdout.
+# gateway keeps running. The gateway's own capture of what it sent
+# ([dis] pcapng), over five runs appended to one file, holds every datagram
+# the peer received: tshark reads it, editcap cuts it and mergecap joins it.
+# TAP on stdout.
 # shellcheck source=tests/integration/lib.sh
 . "$(dirname "$0")/lib.sh"
 
@@ -51,6 +54,7 @@ mode = unicast
 peer = 127.0.0.1:$PEERPORT
 [dis]
 version = $1
+pcapng = yes
 EOF
 }
 # Flat ground; the UAV circles the origin; two movers drive north 5 km
@@ -293,6 +297,27 @@ check "with the scenario's entity ids and markings" bash -c \
     "grep -qP '\t1\t1\t1\t1\tuav1' '$TMP/tshark.txt' && grep -qP '\t1\t1\t1\t2\tTARGET' '$TMP/tshark.txt' && grep -qP '\t1\t1\t1\t3\tOTHER' '$TMP/tshark.txt' && grep -qP '\t1\t1\t1\t4\tFRIEND TRK' '$TMP/tshark.txt'"
 check "and only those" bash -c \
     "! awk -F'\t' '\$3 == 1 && !(\$4 == 1 && \$5 == 1 && \$6 >= 1 && \$6 <= 4)' '$TMP/tshark.txt' | grep -q ."
+
+# ---- the gateway's own capture ([dis] pcapng) ----------------------------------------------
+# Five runs of the gateway (versions 7, 3..6, 7 again) appended their sections
+# to one file; every datagram the peer received is in it.
+GWCAP=$(sed -n 's/.*DIS capture: \(.*\) (pcapng)$/\1/p' "$TMP/gateway-7.log" | head -1)
+check "the gateway says where it captures DIS ($GWCAP)" test -s "${GWCAP:-/nonexistent}"
+caps=$(tshark -r "$GWCAP" -d "udp.port==$PEERPORT,dis" -Y dis -T fields -e dis.pdu_type 2>"$TMP/gwcap.err" | wc -l)
+is "$caps" "$datagrams" "tshark reads as many DIS PDUs from it as the peer received ($datagrams)"
+sections=$(capinfos -T -m "$GWCAP" 2>/dev/null | tail -1)
+diag "capinfos: $sections"
+check "capinfos reads it whole" capinfos "$GWCAP"
+is "$(grep -o 'mscgs gateway' <<<"$sections" | wc -l)" 6 "a section for each of the six gateway runs (appended)"
+half=$((caps / 2))
+editcap -r "$GWCAP" "$TMP/first.pcapng" "1-$half" >/dev/null 2>&1
+editcap "$GWCAP" "$TMP/second.pcapng" "1-$half" >/dev/null 2>&1
+mergecap -w "$TMP/joined.pcapng" "$TMP/first.pcapng" "$TMP/second.pcapng" 2>/dev/null
+n1=$(tshark -r "$TMP/first.pcapng" 2>/dev/null | wc -l)
+n2=$(tshark -r "$TMP/second.pcapng" 2>/dev/null | wc -l)
+nj=$(tshark -r "$TMP/joined.pcapng" -d "udp.port==$PEERPORT,dis" -Y dis 2>/dev/null | wc -l)
+check "editcap cuts it in two ($n1 + $n2) and mergecap joins them again ($nj)" \
+    bash -c "[ $n1 -eq $half ] && [ $((n1 + n2)) -eq $caps ] && [ $nj -eq $caps ]"
 
 stop "$G"
 stop "$T"

@@ -48,6 +48,7 @@ static void s_assert_equal (const gw_params_t *a, const gw_params_t *b)
     S_SAME (entity_id_base);
     S_SAME (absolute_time);
     S_SAME (route_action_id);
+    S_SAME (dis_pcapng);
     S_SAME (position_threshold_m);
     S_SAME (orientation_threshold_deg);
     S_SAME (heartbeat_s);
@@ -133,6 +134,7 @@ static void test_defaults (void **state)
     assert_int_equal (p.entity_id_base, 0);
     assert_true (p.absolute_time);
     assert_int_equal (p.route_action_id, 40);
+    assert_false (p.dis_pcapng);
     assert_true (p.position_threshold_m == 1);
     assert_true (p.orientation_threshold_deg == 3);
     assert_true (p.heartbeat_s == 5);
@@ -265,6 +267,7 @@ static void test_shipped_file (void **state)
         {"dis", "entity_id_base"},
         {"dis", "timestamp"},
         {"dis", "route_action_id"},
+        {"dis", "pcapng"},
         {"dead_reckoning", "position_threshold_m"},
         {"dead_reckoning", "orientation_threshold_deg"},
         {"dead_reckoning", "heartbeat_s"},
@@ -304,6 +307,7 @@ static void test_shipped_file (void **state)
     snprintf (p.interface, sizeof p.interface, "eth9");
     p.ttl = 9, p.loopback = false, p.version = 5, p.site = 2;
     p.application = 3, p.entity_id_base = 10, p.absolute_time = false, p.route_action_id = 1;
+    p.dis_pcapng = true;
     p.position_threshold_m = 2, p.orientation_threshold_deg = 4, p.heartbeat_s = 6;
     p.timeout_s = 20, p.first_entity_id = 70000, p.max_entities = 5, p.publish_rate_hz = 2;
     p.task_timeout_s = 3;
@@ -347,6 +351,7 @@ static void test_values (void **state)
             "entity_id_base = 1000\n"
             "timestamp = relative\n"
             "route_action_id = 4294967295\n"
+            "pcapng = yes\n"
             "[dead_reckoning]\n"
             "position_threshold_m = 0.5\n"
             "orientation_threshold_deg = 2.5\n"
@@ -367,7 +372,7 @@ static void test_values (void **state)
     want.peers[0] = (gw_peer_t){0xc0a8010au, 3001}; // no port: the file's port
     want.peers[1] = (gw_peer_t){0x0a000002u, 3100};
     want.version = 6, want.site = 17, want.application = 23, want.entity_id_base = 1000;
-    want.absolute_time = false, want.route_action_id = 4294967295L;
+    want.absolute_time = false, want.route_action_id = 4294967295L, want.dis_pcapng = true;
     want.position_threshold_m = 0.5, want.orientation_threshold_deg = 2.5;
     want.heartbeat_s = 10, want.timeout_s = 24;
     want.first_entity_id = 200000, want.max_entities = 50, want.publish_rate_hz = 5;
