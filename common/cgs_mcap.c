@@ -31,6 +31,7 @@
 #define S_OP_SUM_OFF   0x0E
 #define S_OP_DATA_END  0x0F
 #define S_MAX_IDS      65535
+#define S_MAX_CHUNK    ((uint64_t)1 << 28) // a chunk the reader takes (the writer's are 1 MiB)
 
 /* ---- a growable byte buffer ---------------------------------------------------------------- */
 
@@ -160,7 +161,7 @@ static int s_write (cgs_mcap_writer_t *self, const uint8_t *p, size_t n, bool da
     if (self->error[0])
         return -EIO;
     if (data)
-        self->data_crc = crc32 (self->data_crc, p, (uInt)n);
+        self->data_crc = crc32_z (self->data_crc, p, n);
     size_t done = 0;
     while (done < n) {
         ssize_t w = write (self->fd, p + done, n - done);
@@ -339,7 +340,7 @@ int cgs_mcap_writer_flush (cgs_mcap_writer_t *self)
     s_buf_t *ch = &self->chunk;
     if (ch->len == 0 || self->chunk_messages == 0)
         return 0;
-    uLong crc = crc32 (crc32 (0L, Z_NULL, 0), ch->p, (uInt)ch->len);
+    uLong crc = crc32_z (crc32_z (0L, Z_NULL, 0), ch->p, ch->len);
     const uint8_t *records = ch->p;
     size_t rlen = ch->len;
     const char *compression = "";
@@ -449,11 +450,8 @@ static int s_finish (cgs_mcap_writer_t *self)
         return rc;
     s_buf_t end = {0};
     size_t at = s_begin (&end, S_OP_DATA_END);
-    s_u32 (&end, 0); // patched below, once the CRC covers everything before it
+    s_u32 (&end, (uint32_t)self->data_crc); // everything before DataEnd
     s_end (&end, at);
-    uint32_t dcrc = (uint32_t)self->data_crc;
-    for (int i = 0; i < 4; i++)
-        end.p[9 + i] = (uint8_t)(dcrc >> (8 * i));
     rc = end.oom ? -ENOMEM : s_write (self, end.p, end.len, false);
     free (end.p);
     if (rc < 0)
@@ -498,7 +496,7 @@ static int s_finish (cgs_mcap_writer_t *self)
     s_u64 (&sum, 20);
     s_u64 (&sum, summary_start);
     s_u64 (&sum, offs.len ? offsets_start : 0);
-    uint32_t scrc = sum.oom ? 0 : (uint32_t)crc32 (crc32 (0L, Z_NULL, 0), sum.p, (uInt)sum.len);
+    uint32_t scrc = sum.oom ? 0 : (uint32_t)crc32_z (crc32_z (0L, Z_NULL, 0), sum.p, sum.len);
     s_u32 (&sum, scrc);
     s_put (&sum, S_MAGIC, S_MAGIC_LEN);
     rc = sum.oom ? s_fail (self, "out of memory for the summary", ENOMEM)
@@ -544,7 +542,8 @@ struct cgs_mcap_reader {
     uint8_t *chunk;   // the open chunk's records (decompressed), or NULL
     size_t chunk_len, chunk_pos;
     bool complete;
-    bool summary; // past DataEnd: the summary repeats the data section's schemas and channels
+    bool summary;    // past DataEnd: the summary repeats the data section's schemas and channels
+    size_t chunk_at; // the open chunk's file offset
     char name[1024], encoding[256];
 };
 
@@ -572,6 +571,16 @@ cgs_mcap_reader_t *cgs_mcap_reader_open (const char *path, char *err, size_t err
     }
     self->pos = S_MAGIC_LEN;
     return self;
+}
+
+/* Does the file end with a footer and the magic (it was closed)? */
+static bool s_has_footer (const cgs_mcap_reader_t *self)
+{
+    size_t n = self->size;
+    return n >= 2 * S_MAGIC_LEN + 29 &&
+           memcmp (self->file + n - S_MAGIC_LEN, S_MAGIC, S_MAGIC_LEN) == 0 &&
+           self->file[n - S_MAGIC_LEN - 29] == S_OP_FOOTER &&
+           s_get (self->file + n - S_MAGIC_LEN - 28, 8) == 20;
 }
 
 static int s_bad (char *err, size_t errlen, size_t at, const char *fmt, ...)
@@ -669,31 +678,52 @@ static int s_open_chunk (cgs_mcap_reader_t *self, const uint8_t *p, size_t n, si
         return s_bad (err, errlen, at, "a chunk record overruns itself");
     size_t clen = (size_t)s_get (p, 8);
     p += 8;
-    if (usize > (uint64_t)1 << 34)
-        return s_bad (err, errlen, at, "a chunk of %llu bytes", (unsigned long long)usize);
     free (self->chunk);
-    self->chunk = malloc (usize ? (size_t)usize : 1);
-    self->chunk_len = (size_t)usize, self->chunk_pos = 0;
-    if (!self->chunk)
+    self->chunk = NULL;
+    self->chunk_at = at;
+    // The size it claims, checked before any memory is given to it.
+    if (usize > S_MAX_CHUNK)
+        return s_bad (err, errlen, at, "a chunk of %llu bytes (at most %llu)",
+                      (unsigned long long)usize, (unsigned long long)S_MAX_CHUNK);
+    if (comp[0] == '\0' && clen != usize)
+        return s_bad (err, errlen, at, "an uncompressed chunk of %zu bytes says %llu", clen,
+                      (unsigned long long)usize);
+    if (comp[0] != '\0' && strcmp (comp, "zstd") != 0)
+        return s_bad (err, errlen, at, "a chunk compressed with '%s' (only zstd or none)", comp);
+    if (comp[0] != '\0' && ZSTD_getFrameContentSize (p, clen) != usize)
+        return s_bad (err, errlen, at, "a zstd chunk whose frame does not say its %llu bytes",
+                      (unsigned long long)usize);
+    uint8_t *buf = malloc (usize ? (size_t)usize : 1);
+    if (!buf)
         return s_bad (err, errlen, at, "no memory for a chunk of %llu bytes",
                       (unsigned long long)usize);
     if (comp[0] == '\0') {
-        if (clen != usize)
-            return s_bad (err, errlen, at, "an uncompressed chunk of %zu bytes says %llu", clen,
-                          (unsigned long long)usize);
-        memcpy (self->chunk, p, clen);
-    } else if (strcmp (comp, "zstd") == 0) {
-        size_t got = ZSTD_decompress (self->chunk, self->chunk_len, p, clen);
-        if (ZSTD_isError (got) || got != self->chunk_len)
-            return s_bad (err, errlen, at, "a zstd chunk does not decompress to its %zu bytes",
-                          self->chunk_len);
+        memcpy (buf, p, clen);
     } else {
-        return s_bad (err, errlen, at, "a chunk compressed with '%s' (only zstd or none)", comp);
+        size_t got = ZSTD_decompress (buf, (size_t)usize, p, clen);
+        if (ZSTD_isError (got) || got != usize) {
+            free (buf);
+            return s_bad (err, errlen, at, "a zstd chunk does not decompress to its %llu bytes",
+                          (unsigned long long)usize);
+        }
     }
-    if (crc != 0 &&
-        (uint32_t)crc32 (crc32 (0L, Z_NULL, 0), self->chunk, (uInt)self->chunk_len) != crc)
+    if (crc != 0 && (uint32_t)crc32_z (crc32_z (0L, Z_NULL, 0), buf, (size_t)usize) != crc) {
+        free (buf);
         return s_bad (err, errlen, at, "a chunk's CRC does not match its records");
+    }
+    self->chunk = buf;
+    self->chunk_len = (size_t)usize, self->chunk_pos = 0;
     return 0;
+}
+
+/* An error inside the open chunk: it is dropped (its records are not to be
+ * trusted), and the error names the chunk's file offset. */
+static int s_bad_in_chunk (cgs_mcap_reader_t *self, char *err, size_t errlen, const char *what)
+{
+    size_t at = self->chunk_at, pos = self->chunk_pos;
+    free (self->chunk);
+    self->chunk = NULL;
+    return s_bad (err, errlen, at, "%s (byte %zu of the chunk's records)", what, pos);
 }
 
 int cgs_mcap_reader_next (cgs_mcap_reader_t *self, cgs_mcap_record_t *ret, char *err, size_t errlen)
@@ -704,11 +734,13 @@ int cgs_mcap_reader_next (cgs_mcap_reader_t *self, cgs_mcap_record_t *ret, char 
                 size_t at = self->chunk_pos;
                 if (self->chunk_len - at < 9 ||
                     self->chunk_len - at - 9 < s_get (self->chunk + at + 1, 8))
-                    return s_bad (err, errlen, at, "a record overruns its chunk");
+                    return s_bad_in_chunk (self, err, errlen, "a record overruns its chunk");
                 size_t n = (size_t)s_get (self->chunk + at + 1, 8);
+                int rc = s_parse (self, self->chunk[at], self->chunk + at + 9, n, ret,
+                                  self->chunk_at, err, errlen);
+                if (rc < 0)
+                    return s_bad_in_chunk (self, err, errlen, "a record is damaged");
                 self->chunk_pos = at + 9 + n;
-                int rc =
-                    s_parse (self, self->chunk[at], self->chunk + at + 9, n, ret, at, err, errlen);
                 if (rc != 0)
                     return rc;
                 continue;
@@ -717,8 +749,13 @@ int cgs_mcap_reader_next (cgs_mcap_reader_t *self, cgs_mcap_record_t *ret, char 
             self->chunk = NULL;
         }
         size_t at = self->pos;
-        if (self->size - at < 9 || self->size - at - 9 < s_get (self->file + at + 1, 8))
-            return 0; // the end, or a record cut short: a recorder killed
+        if (self->size - at < 9 || self->size - at - 9 < s_get (self->file + at + 1, 8)) {
+            // The end, or a record cut short: a recorder killed. A file that
+            // ends with its footer and magic was not cut: it is damaged.
+            if (at < self->size && s_has_footer (self))
+                return s_bad (err, errlen, at, "a record overruns the file, which has its footer");
+            return 0;
+        }
         uint8_t op = self->file[at];
         size_t n = (size_t)s_get (self->file + at + 1, 8);
         const uint8_t *p = self->file + at + 9;

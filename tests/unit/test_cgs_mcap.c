@@ -8,7 +8,9 @@
  *     checked byte by byte against the specification;
  *   - a file cut anywhere (a recorder killed) reads its whole chunks and
  *     stops without an error, not complete;
- *   - a flipped byte in a chunk is refused with the offset;
+ *   - a flipped byte in a chunk is refused with the offset; a length that
+ *     overruns a file with its footer is damage, not a cut; a chunk that
+ *     claims 2^40 bytes is refused before memory is given to it;
  *   - ids, a bad channel, a file that cannot be created.
  * tests/integration/record.sh reads recordings with @mcap/core. */
 #include "cgs_mcap.h"
@@ -247,6 +249,29 @@ static void test_cut_short (void **state)
     snprintf (want, sizeof want, "damaged MCAP at byte %zu:", chunk_at);
     assert_non_null (strstr (err, want));
     cgs_mcap_reader_destroy (&r);
+    f[chunk_at + 9 + 60] ^= 0x5a; // mended
+    // A length that overruns a file which has its footer: damage, not a cut.
+    // A chunk claiming 2^40 bytes is refused before any memory is given.
+    for (int k = 0; k < 2; k++) {
+        uint8_t *g = malloc (len);
+        assert_non_null (g);
+        memcpy (g, f, len);
+        size_t field = k == 0 ? chunk_at + 1 : chunk_at + 9 + 16;
+        for (int b = 0; b < 8; b++)
+            g[field + b] = (uint8_t)((k == 0 ? (uint64_t)len : (uint64_t)1 << 40) >> (8 * b));
+        o = fopen (cut, "wb");
+        assert_int_equal (fwrite (g, 1, len, o), len);
+        fclose (o);
+        free (g);
+        r = cgs_mcap_reader_open (cut, err, sizeof err);
+        assert_non_null (r);
+        while ((rc = cgs_mcap_reader_next (r, &rec, err, sizeof err)) == 1)
+            ;
+        assert_int_equal (rc, -EINVAL);
+        assert_non_null (strstr (err, k == 0 ? "overruns the file, which has its footer"
+                                             : "a chunk of 1099511627776 bytes (at most"));
+        cgs_mcap_reader_destroy (&r);
+    }
     free (f);
     unlink (cut);
     unlink (path);
