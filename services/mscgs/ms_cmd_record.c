@@ -152,6 +152,7 @@ int ms_record_main (int argc, char **argv)
     cgs_exercise_t *ex = ms_tool_load_exercise (exercise);
     if (!ex)
         return 1;
+    cgs_lifecycle_init (); // a SIGTERM from now on closes the file with its index
     char err[512] = "";
     cgs_mcap_options_t mo = {.library = "mscgs record", .compress = !no_compress};
     static s_rec_t r;
@@ -205,7 +206,6 @@ int ms_record_main (int argc, char **argv)
     size_t npub = ms_tool_connect_publishers (sub, ex, "health"); // every service publishes health
     fprintf (stderr, "mscgs record: %zu topics from %zu services of %s into %s%s\n", ntopics, npub,
              cgs_exercise_name (ex), out, no_compress ? " (uncompressed)" : "");
-    cgs_lifecycle_init ();
     double start = cgs_loop_now (), next_flush = start + S_FLUSH_S,
            next_progress = start + S_PROGRESS_S;
     double end = duration_s > 0 ? start + duration_s : INFINITY;
@@ -226,6 +226,9 @@ int ms_record_main (int argc, char **argv)
             next_progress = now + S_PROGRESS_S;
         }
     }
+    // What is still queued: the services' last words.
+    for (int k = 0; k < 100 && !r.failed && cgs_sub_dispatch (sub, 1000) > 0; k++)
+        ;
     uint64_t messages = cgs_mcap_writer_messages (r.w);
     uint64_t gaps = cgs_sub_gaps (sub), malformed = cgs_sub_malformed (sub);
     cgs_sub_destroy (&sub);
