@@ -1343,19 +1343,37 @@ static int s_translators (s_app_t *app, char *err, size_t errlen)
         // A restarted gateway appends a section (a partial block cut off first).
         if (!(app->pcap = cgs_pcapng_open (app->pcap_path, "mscgs gateway", true, err, errlen)))
             return -EIO;
-        // The source address each destination sees: the route's, and our port.
+        // The source each destination sees: our port, and the address the
+        // socket is bound to; unbound, the multicast interface's, else the
+        // route's to that destination (unicast).
         struct sockaddr_in local = {0};
         socklen_t ll = sizeof local;
-        getsockname (app->fd, (struct sockaddr *)&local, &ll);
+        if (getsockname (app->fd, (struct sockaddr *)&local, &ll) < 0)
+            local.sin_family = AF_INET;
         for (size_t d = 0; d < app->ndest; d++) {
             app->pcap_src[d] = local;
+            uint32_t bound = ntohl (local.sin_addr.s_addr);
+            if (p->mode == GW_MODE_MULTICAST && app->ifc.addr) {
+                app->pcap_src[d].sin_addr.s_addr = htonl (app->ifc.addr);
+                continue;
+            }
+            if (bound != INADDR_ANY && !(bound >= 0xe0000000u && bound <= 0xefffffffu))
+                continue; // bound to an address of ours: it is the source
             int t = socket (AF_INET, SOCK_DGRAM | SOCK_CLOEXEC, 0);
             struct sockaddr_in via = {0};
             socklen_t vl = sizeof via;
+            int on = 1;
+            if (t >= 0 && p->mode == GW_MODE_BROADCAST)
+                setsockopt (t, SOL_SOCKET, SO_BROADCAST, &on, sizeof on);
+            if (t >= 0 && *p->interface && p->mode != GW_MODE_MULTICAST)
+                setsockopt (t, SOL_SOCKET, SO_BINDTODEVICE, app->ifc.name,
+                            (socklen_t)strlen (app->ifc.name));
             if (t >= 0 &&
                 connect (t, (const struct sockaddr *)&app->dest[d], sizeof app->dest[d]) == 0 &&
                 getsockname (t, (struct sockaddr *)&via, &vl) == 0)
                 app->pcap_src[d].sin_addr = via.sin_addr;
+            else if (app->ifc.addr)
+                app->pcap_src[d].sin_addr.s_addr = htonl (app->ifc.addr);
             if (t >= 0)
                 close (t);
         }

@@ -309,6 +309,9 @@ sections=$(capinfos -T -m "$GWCAP" 2>/dev/null | tail -1)
 diag "capinfos: $sections"
 check "capinfos reads it whole" capinfos "$GWCAP"
 is "$(grep -o 'mscgs gateway' <<<"$sections" | wc -l)" 6 "a section for each of the six gateway runs (appended)"
+srcs_gw=$(tshark -r "$GWCAP" -T fields -e ip.src -e udp.srcport -e udp.dstport 2>/dev/null | sort -u | tr '\n\t' '; ')
+srcs_peer=$(tshark -r "$PCAP" -T fields -e ip.src -e udp.srcport -e udp.dstport 2>/dev/null | sort -u | tr '\n\t' '; ')
+is "$srcs_gw" "$srcs_peer" "its addresses and ports are those the peer saw the datagrams come from and to"
 half=$((caps / 2))
 editcap -r "$GWCAP" "$TMP/first.pcapng" "1-$half" >/dev/null 2>&1
 editcap "$GWCAP" "$TMP/second.pcapng" "1-$half" >/dev/null 2>&1
