@@ -116,7 +116,12 @@ int im_sar_aim (const im_sar_t *sar, cgs_enu_t radar, cgs_enu_t radar_vel,
         // return's place), drifting; the track's velocity across the line of
         // sight carries the place on.
         double s_vr = hypot (gm->sigma_mps, IM_SAR_AIM_VR_DRIFT * fabs (age));
-        double var_vx = trk->has_cov ? s_quad (trk->cov, 2, -ln, le) : 0;
+        // The track's velocity across the measured line of sight is left
+        // as it was: its error moves the place on, and leaks into the radial
+        // velocity as far as the line of sight has turned since.
+        double var_vx = trk->has_cov ? s_quad (trk->cov, 2, -gn, ge) : 0;
+        double leak = fabs (-gn * le + ge * ln); // sin of the turn
+        s_vr = sqrt (s_vr * s_vr + leak * leak * var_vx);
         var_cross = per_mps * per_mps * s_vr * s_vr + age * age * var_vx;
         var_range = age * age * s_vr * s_vr + c.range_res_m * c.range_res_m;
     } else if (trk->has_cov) {
