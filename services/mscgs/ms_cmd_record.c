@@ -48,15 +48,20 @@ static uint64_t s_now_ns (void)
     return (uint64_t)ts.tv_sec * 1000000000u + (uint64_t)ts.tv_nsec;
 }
 
+/* A topic's handler argument: the recording and the topic's index. */
+typedef struct {
+    s_rec_t *r;
+    size_t i;
+} s_topic_arg_t;
+
 static void s_on_message (void *arg, const char *topic, const ProtobufCMessage *msg,
                           const Cgs__Header *hdr)
 {
-    s_rec_t *r = arg;
-    const cgs_topic_t *t = cgs_topics_find (topic);
-    size_t i = 0;
-    while (i < cgs_topics_count () && cgs_topics_at (i) != t)
-        i++;
-    if (!t || i >= 64 || !r->channel[i] || r->failed)
+    (void)topic;
+    const s_topic_arg_t *a = arg;
+    s_rec_t *r = a->r;
+    size_t i = a->i;
+    if (!r->channel[i] || r->failed)
         return;
     size_t n = protobuf_c_message_get_packed_size (msg);
     if (n > r->cap) {
@@ -174,6 +179,7 @@ int ms_record_main (int argc, char **argv)
     const uint8_t *fds = cgs_schemas_fds (&fds_len);
     const ProtobufCMessageDescriptor *types[64];
     int schema_of[64];
+    static s_topic_arg_t targs[64];
     size_t ntypes = 0, ntopics = 0;
     for (size_t i = 0; i < cgs_topics_count () && i < 64; i++) {
         const cgs_topic_t *t = cgs_topics_at (i);
@@ -200,7 +206,8 @@ int ms_record_main (int argc, char **argv)
             return 1;
         }
         r.channel[i] = (uint16_t)ch;
-        cgs_sub_on (sub, t->name, s_on_message, &r);
+        targs[i] = (s_topic_arg_t){&r, i};
+        cgs_sub_on (sub, t->name, s_on_message, &targs[i]);
         ntopics++;
     }
     size_t npub = ms_tool_connect_publishers (sub, ex, "health"); // every service publishes health

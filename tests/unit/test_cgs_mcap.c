@@ -26,7 +26,7 @@
 #include <unistd.h>
 #include <zlib.h>
 
-static char s_dir[] = "/tmp/cgs-mcap-XXXXXX";
+static char s_dir[512]; // under $TMPDIR
 
 static uint64_t s_le (const uint8_t *p, int n)
 {
@@ -297,6 +297,8 @@ static void test_refusals (void **state)
 static int s_setup (void **state)
 {
     (void)state;
+    const char *t = getenv ("TMPDIR");
+    snprintf (s_dir, sizeof s_dir, "%s/cgs-mcap-XXXXXX", t && *t ? t : "/tmp");
     return mkdtemp (s_dir) ? 0 : -1;
 }
 

@@ -19,7 +19,7 @@
 #include <string.h>
 #include <unistd.h>
 
-static char s_dir[] = "/tmp/cgs-pcapng-XXXXXX";
+static char s_dir[512]; // under $TMPDIR
 
 #define S_N 50
 
@@ -198,6 +198,8 @@ static void test_append (void **state)
 static int s_setup (void **state)
 {
     (void)state;
+    const char *t = getenv ("TMPDIR");
+    snprintf (s_dir, sizeof s_dir, "%s/cgs-pcapng-XXXXXX", t && *t ? t : "/tmp");
     return mkdtemp (s_dir) ? 0 : -1;
 }
 
