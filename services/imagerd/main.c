@@ -38,11 +38,9 @@
 #define S_STALE_S 10.0 // an entity not heard of for this long (simulation time) is forgotten
 #define S_MAX_FPS                                                                                  \
     30.0 // frames due faster than this on average (wall clock) are skipped and counted
-#define S_GATE_M       150.0 // the designated track's vehicle is the ground entity this near it
-#define S_PNG_QUEUE    8     // frames waiting for the PNG writer before one is dropped
-#define S_MOVING_MPS   0.5   // a vehicle this fast has its engine running
-#define S_SAR_SIGMAS   2.5   // a widened SAR chip holds the target's return within this many σ
-#define S_SAR_MARGIN_M 10.0  // and the vehicle's own size
+#define S_GATE_M     150.0 // the designated track's vehicle is the ground entity this near it
+#define S_PNG_QUEUE  8     // frames waiting for the PNG writer before one is dropped
+#define S_MOVING_MPS 0.5   // a vehicle this fast has its engine running
 
 typedef struct {
     cgs_service_t *svc;
