@@ -354,35 +354,22 @@ static s_pub_topic_t *s_pub_topic (cgs_pub_t *self, const char *topic)
     return t;
 }
 
-int cgs_pub_send (cgs_pub_t *self, const char *topic, ProtobufCMessage *msg, double sim_time_s)
+/* Encode msg under header h (sealed when the publisher seals) and send it
+ * on topic t. */
+static int s_pub_emit (cgs_pub_t *self, s_pub_topic_t *t, const char *topic, ProtobufCMessage *msg,
+                       const Cgs__Header *h)
 {
-    Cgs__Header **slot = cgs_msg_header_slot (msg);
-    if (!slot)
-        return -EINVAL;
-    s_pub_topic_t *t = s_pub_topic (self, topic);
-    if (!t)
-        return strlen (topic) >= CGS_TOPIC_MAX || !*topic ? -EINVAL : -ENOMEM;
-    if (t->desc && msg->descriptor != t->desc)
-        return -EINVAL; // a catalogue topic carries only its own type
-
-    Cgs__Header h = CGS__HEADER__INIT;
-    h.source = self->source;
-    h.exercise_id = self->exercise_id;
-    h.epoch = self->epoch;
-    h.seq = ++t->seq; // a dropped message keeps its number: subscribers see the gap
-    h.sim_time_s = sim_time_s;
-    h.wall_time_s = cgs_bus_wall_time ();
     size_t len = 0;
-    int rc = cgs_msg_encode_stamped_grow (msg, &h, &self->buf, &self->bufcap, &len);
+    int rc = cgs_msg_encode_stamped_grow (msg, h, &self->buf, &self->bufcap, &len);
     if (rc < 0)
         return rc;
     const uint8_t *out = self->buf;
     if (self->seal) {
-        cgs_seal_header_t sh = {.exercise_id = h.exercise_id,
-                                .epoch = h.epoch,
-                                .seq = h.seq,
-                                .wall_time_s = h.wall_time_s};
-        snprintf (sh.source, sizeof sh.source, "%s", self->source);
+        cgs_seal_header_t sh = {.exercise_id = h->exercise_id,
+                                .epoch = h->epoch,
+                                .seq = h->seq,
+                                .wall_time_s = h->wall_time_s};
+        snprintf (sh.source, sizeof sh.source, "%s", h->source ? h->source : "");
         size_t sealed = 0;
         if ((rc = s_grow (&self->sbuf, &self->sbufcap, cgs_seal_size (len, sh.source))) < 0 ||
             (rc = cgs_seal (self->seal, topic, &sh, self->buf, len, self->sbuf, self->sbufcap,
@@ -408,6 +395,53 @@ int cgs_pub_send (cgs_pub_t *self, const char *topic, ProtobufCMessage *msg, dou
     t->stats.messages++;
     self->sent++;
     return 0;
+}
+
+/* The topic's entry for a message of msg's type; NULL and *rc when refused. */
+static s_pub_topic_t *s_pub_topic_for (cgs_pub_t *self, const char *topic,
+                                       const ProtobufCMessage *msg, int *rc)
+{
+    s_pub_topic_t *t = s_pub_topic (self, topic);
+    if (!t)
+        *rc = strlen (topic) >= CGS_TOPIC_MAX || !*topic ? -EINVAL : -ENOMEM;
+    else if (t->desc && msg->descriptor != t->desc)
+        *rc = -EINVAL; // a catalogue topic carries only its own type
+    return t && *rc == 0 ? t : NULL;
+}
+
+int cgs_pub_send (cgs_pub_t *self, const char *topic, ProtobufCMessage *msg, double sim_time_s)
+{
+    if (!cgs_msg_header_slot (msg))
+        return -EINVAL;
+    int rc = 0;
+    s_pub_topic_t *t = s_pub_topic_for (self, topic, msg, &rc);
+    if (!t)
+        return rc;
+    Cgs__Header h = CGS__HEADER__INIT;
+    h.source = self->source;
+    h.exercise_id = self->exercise_id;
+    h.epoch = self->epoch;
+    h.seq = ++t->seq; // a dropped message keeps its number: subscribers see the gap
+    h.sim_time_s = sim_time_s;
+    h.wall_time_s = cgs_bus_wall_time ();
+    return s_pub_emit (self, t, topic, msg, &h);
+}
+
+int cgs_pub_forward (cgs_pub_t *self, const char *topic, ProtobufCMessage *msg, uint64_t epoch_xor)
+{
+    Cgs__Header **slot = cgs_msg_header_slot (msg);
+    if (!slot || !*slot)
+        return -EINVAL;
+    int rc = 0;
+    s_pub_topic_t *t = s_pub_topic_for (self, topic, msg, &rc);
+    if (!t)
+        return rc;
+    Cgs__Header h = **slot;
+    h.exercise_id = self->exercise_id;
+    h.epoch ^= epoch_xor;
+    if (h.seq > t->seq)
+        t->seq = h.seq;
+    return s_pub_emit (self, t, topic, msg, &h);
 }
 
 /* ---- subscriber ----------------------------------------------------------------- */

@@ -58,6 +58,14 @@ int cgs_pub_bind (cgs_pub_t *self, const char *endpoint);
  * in blocking mode (counted; the sequence number is used, so subscribers see
  * the gap); -EINVAL if the type has no header or the topic is bad. */
 int cgs_pub_send (cgs_pub_t *self, const char *topic, ProtobufCMessage *msg, double sim_time_s);
+/* Send msg as another publisher sent it (a replay): its own header is kept
+ * (source, epoch, sequence number, simulation and wall time) but for the
+ * exercise id, which becomes this publisher's, and the epoch, XORed with
+ * epoch_xor (0 keeps it: a replay that goes back in time changes it, or the
+ * subscribers would drop what they take for repeats). Sealed like
+ * cgs_pub_send. 0, or the errors of cgs_pub_send; -EINVAL when msg has no
+ * header. */
+int cgs_pub_forward (cgs_pub_t *self, const char *topic, ProtobufCMessage *msg, uint64_t epoch_xor);
 /* Seal every payload from now on under key (cgs_seal: XChaCha20-Poly1305,
  * the header as associated data); NULL: send in the clear. 0 or -ENOMEM. */
 int cgs_pub_set_seal (cgs_pub_t *self, const cgs_seal_key_t *key);

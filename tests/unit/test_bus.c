@@ -228,6 +228,9 @@ typedef struct {
     char source[64];
     char topic[32];
     uint64_t tick_sum;
+    uint64_t last_epoch;
+    uint32_t last_exercise;
+    double last_wall;
 } s_rx_t;
 
 static void s_on_clock (void *arg, const char *topic, const ProtobufCMessage *msg,
@@ -238,6 +241,9 @@ static void s_on_clock (void *arg, const char *topic, const ProtobufCMessage *ms
     rx->n++;
     rx->last_seq = h->seq;
     rx->last_sim = h->sim_time_s;
+    rx->last_epoch = h->epoch;
+    rx->last_exercise = h->exercise_id;
+    rx->last_wall = h->wall_time_s;
     rx->tick_sum += c->tick;
     snprintf (rx->source, sizeof rx->source, "%s", h->source);
     snprintf (rx->topic, sizeof rx->topic, "%s", topic);
@@ -306,6 +312,70 @@ static void test_pubsub_stamps_and_routes_exactly (void **state)
     cgs_sub_destroy (&sub);
     cgs_pub_destroy (&pub);
     assert_null (pub);
+    cgs_pub_destroy (&pub);
+    zmq_ctx_term (ctx);
+}
+
+/* cgs_pub_forward: a recorded message goes out with its own header (source,
+ * epoch, sequence number, simulation and wall time) in the forwarding
+ * publisher's exercise; an epoch XORed is a new epoch to subscribers, so
+ * what came before is not taken for repeats. */
+static void test_forward_keeps_the_recorded_header (void **state)
+{
+    (void)state;
+    void *ctx = zmq_ctx_new ();
+    cgs_pub_t *pub = cgs_pub_new (ctx, "replay", 9);
+    assert_int_equal (cgs_pub_bind (pub, "inproc://tfwd"), 0);
+    cgs_sub_t *sub = cgs_sub_new (ctx);
+    cgs_sub_set_exercise (sub, 9);
+    assert_int_equal (cgs_sub_connect (sub, "inproc://tfwd"), 0);
+    s_rx_t rx = {0};
+    assert_int_equal (cgs_sub_on (sub, "clock", s_on_clock, &rx), 0);
+    s_handshake (pub, sub, &rx);
+    rx = (s_rx_t){0};
+    Cgs__Header h = CGS__HEADER__INIT;
+    h.source = "uavsim";
+    h.exercise_id = 3;
+    h.epoch = 77;
+    h.sim_time_s = 1.5;
+    h.wall_time_s = 1234.5;
+    Cgs__Clock c = CGS__CLOCK__INIT;
+    c.header = &h;
+    for (uint64_t seq = 5; seq <= 7; seq++) {
+        h.seq = seq;
+        c.tick = seq;
+        assert_int_equal (cgs_pub_forward (pub, "clock", &c.base, 0), 0);
+    }
+    s_drain (sub, 3, &rx);
+    assert_int_equal (rx.n, 3);
+    assert_int_equal (rx.tick_sum, 5 + 6 + 7);
+    assert_string_equal (rx.source, "uavsim");
+    assert_int_equal (rx.last_seq, 7);
+    assert_int_equal (rx.last_epoch, 77);
+    assert_int_equal (rx.last_exercise, 9); // the forwarding publisher's exercise
+    assert_true (rx.last_sim == 1.5 && rx.last_wall == 1234.5);
+    assert_int_equal (h.exercise_id, 3); // the caller's header is left as it was
+    assert_int_equal (cgs_sub_gaps (sub), 0);
+    // The same numbers again, in a new epoch: delivered.
+    h.seq = 5;
+    assert_int_equal (cgs_pub_forward (pub, "clock", &c.base, (uint64_t)1 << 32), 0);
+    s_drain (sub, 4, &rx);
+    assert_int_equal (rx.n, 4);
+    assert_int_equal (rx.last_epoch, 77 | (uint64_t)1 << 32);
+    // In the old epoch, once left: a repeat, dropped.
+    h.seq = 8;
+    assert_int_equal (cgs_pub_forward (pub, "clock", &c.base, 0), 0);
+    for (int i = 0; i < 20; i++)
+        cgs_sub_poll (sub, 5);
+    assert_int_equal (rx.n, 4);
+    assert_int_equal (cgs_sub_topic_stats (sub, 0)->stale, 1);
+    // Nothing to keep without a header; a catalogue topic takes its own type only.
+    c.header = NULL;
+    assert_int_equal (cgs_pub_forward (pub, "clock", &c.base, 0), -EINVAL);
+    Cgs__Uav uav = CGS__UAV__INIT;
+    uav.header = &h;
+    assert_int_equal (cgs_pub_forward (pub, "clock", &uav.base, 0), -EINVAL);
+    cgs_sub_destroy (&sub);
     cgs_pub_destroy (&pub);
     zmq_ctx_term (ctx);
 }
@@ -665,6 +735,7 @@ int main (void)
         cmocka_unit_test (test_header_slot),
         cmocka_unit_test (test_stamped_header_matches_protobuf_c),
         cmocka_unit_test (test_pubsub_stamps_and_routes_exactly),
+        cmocka_unit_test (test_forward_keeps_the_recorded_header),
         cmocka_unit_test (test_malformed_payloads_are_counted_and_dropped),
         cmocka_unit_test (test_gaps_and_restarts_are_counted),
         cmocka_unit_test (test_slow_subscriber_counts_its_losses),
