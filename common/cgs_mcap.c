@@ -10,6 +10,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/mman.h>
 #include <sys/stat.h>
 #include <unistd.h>
 #include <zlib.h>
@@ -537,9 +538,9 @@ int cgs_mcap_writer_close (cgs_mcap_writer_t **self_p, char *err, size_t errlen)
 /* ---- reader ------------------------------------------------------------------------------ */
 
 struct cgs_mcap_reader {
-    uint8_t *file;
-    size_t size, pos; // in the file
-    uint8_t *chunk;   // the open chunk's records (decompressed), or NULL
+    const uint8_t *file; // mapped (NULL for an empty file)
+    size_t size, pos;    // in the file
+    uint8_t *chunk;      // the open chunk's records (decompressed), or NULL
     size_t chunk_len, chunk_pos;
     bool complete;
     bool summary;    // past DataEnd: the summary repeats the data section's schemas and channels
@@ -549,21 +550,33 @@ struct cgs_mcap_reader {
 
 cgs_mcap_reader_t *cgs_mcap_reader_open (const char *path, char *err, size_t errlen)
 {
-    FILE *f = fopen (path, "rb");
-    if (!f) {
+    int fd = open (path, O_RDONLY | O_CLOEXEC);
+    if (fd < 0) {
         cgs_errf (err, errlen, "%s: cannot open: %s", path, strerror (errno));
         return NULL;
     }
     cgs_mcap_reader_t *self = calloc (1, sizeof *self);
     struct stat st;
-    if (!self || fstat (fileno (f), &st) < 0 || !(self->file = malloc ((size_t)st.st_size + 1))) {
-        cgs_errf (err, errlen, "%s: cannot read it into memory", path);
-        fclose (f);
+    if (!self || fstat (fd, &st) < 0) {
+        cgs_errf (err, errlen, "%s: cannot read it: %s", path, strerror (errno));
+        close (fd);
         free (self);
         return NULL;
     }
-    self->size = fread (self->file, 1, (size_t)st.st_size, f);
-    fclose (f);
+    // Mapped, not read: a recording of hours is read a chunk at a time.
+    self->size = (size_t)st.st_size;
+    if (self->size >= S_MAGIC_LEN) {
+        void *m = mmap (NULL, self->size, PROT_READ, MAP_PRIVATE, fd, 0);
+        if (m == MAP_FAILED) {
+            cgs_errf (err, errlen, "%s: cannot map it: %s", path, strerror (errno));
+            close (fd);
+            free (self);
+            return NULL;
+        }
+        madvise (m, self->size, MADV_SEQUENTIAL);
+        self->file = m;
+    }
+    close (fd);
     if (self->size < S_MAGIC_LEN || memcmp (self->file, S_MAGIC, S_MAGIC_LEN) != 0) {
         cgs_errf (err, errlen, "%s: not an MCAP file (no magic at its start)", path);
         cgs_mcap_reader_destroy (&self);
@@ -571,6 +584,16 @@ cgs_mcap_reader_t *cgs_mcap_reader_open (const char *path, char *err, size_t err
     }
     self->pos = S_MAGIC_LEN;
     return self;
+}
+
+void cgs_mcap_reader_rewind (cgs_mcap_reader_t *self)
+{
+    self->pos = S_MAGIC_LEN;
+    free (self->chunk);
+    self->chunk = NULL;
+    self->chunk_len = self->chunk_pos = 0;
+    self->complete = false;
+    self->summary = false;
 }
 
 /* Does the file end with a footer and the magic (it was closed)? */
@@ -799,7 +822,8 @@ void cgs_mcap_reader_destroy (cgs_mcap_reader_t **self_p)
 {
     if (!self_p || !*self_p)
         return;
-    free ((*self_p)->file);
+    if ((*self_p)->file)
+        munmap ((void *)(*self_p)->file, (*self_p)->size);
     free ((*self_p)->chunk);
     free (*self_p);
     *self_p = NULL;

@@ -90,7 +90,7 @@ typedef struct {
 
 typedef struct cgs_mcap_reader cgs_mcap_reader_t;
 
-/* Open path (read whole into memory). NULL with the reason in err. */
+/* Open path (mapped, read a chunk at a time). NULL with the reason in err. */
 cgs_mcap_reader_t *cgs_mcap_reader_open (const char *path, char *err, size_t errlen);
 /* The next schema, channel or message: 1, 0 at the end, or -EINVAL with
  * the reason (file offset) in err for a damaged file (a bad CRC, a record
@@ -101,6 +101,8 @@ int cgs_mcap_reader_next (cgs_mcap_reader_t *self, cgs_mcap_record_t *ret, char 
  * was cut short: its whole chunks were read), and the bytes left unread. */
 bool cgs_mcap_reader_complete (const cgs_mcap_reader_t *self);
 size_t cgs_mcap_reader_unread (const cgs_mcap_reader_t *self);
+/* Read again from the first record (a replay that seeks back). */
+void cgs_mcap_reader_rewind (cgs_mcap_reader_t *self);
 void cgs_mcap_reader_destroy (cgs_mcap_reader_t **self_p);
 
 #endif

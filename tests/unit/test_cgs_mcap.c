@@ -277,6 +277,40 @@ static void test_cut_short (void **state)
     unlink (path);
 }
 
+/* Rewound part way through a chunk, the reader reads every record again,
+ * in the same order (a replay that seeks back). */
+static void test_rewind (void **state)
+{
+    (void)state;
+    for (int z = 0; z < 2; z++) {
+        char path[128], err[256] = "";
+        snprintf (path, sizeof path, "%s/a%d.mcap", s_dir, z);
+        cgs_mcap_reader_t *r = cgs_mcap_reader_open (path, err, sizeof err);
+        assert_non_null (r);
+        cgs_mcap_record_t rec;
+        uint32_t first[2][40];
+        for (int pass = 0; pass < 2; pass++) {
+            int got = 0, rc;
+            while (got < 40 && (rc = cgs_mcap_reader_next (r, &rec, err, sizeof err)) == 1)
+                if (rec.kind == CGS_MCAP_MESSAGE)
+                    first[pass][got++] = rec.sequence;
+            assert_int_equal (got, 40);
+            cgs_mcap_reader_rewind (r);
+        }
+        assert_memory_equal (first[0], first[1], sizeof first[0]);
+        int messages = 0, schemas = 0, rc;
+        while ((rc = cgs_mcap_reader_next (r, &rec, err, sizeof err)) == 1) {
+            messages += rec.kind == CGS_MCAP_MESSAGE;
+            schemas += rec.kind == CGS_MCAP_SCHEMA;
+        }
+        assert_int_equal (rc, 0);
+        assert_int_equal (messages, S_N);
+        assert_int_equal (schemas, 1); // the summary's copies are not read again
+        assert_true (cgs_mcap_reader_complete (r));
+        cgs_mcap_reader_destroy (&r);
+    }
+}
+
 static void test_refusals (void **state)
 {
     (void)state;
@@ -288,6 +322,10 @@ static void test_refusals (void **state)
     snprintf (path, sizeof path, "%s/not.mcap", s_dir);
     FILE *f = fopen (path, "w");
     fputs ("not an mcap file\n", f);
+    fclose (f);
+    assert_null (cgs_mcap_reader_open (path, err, sizeof err));
+    assert_non_null (strstr (err, "not an MCAP file"));
+    f = fopen (path, "w"); // empty: nothing to map
     fclose (f);
     assert_null (cgs_mcap_reader_open (path, err, sizeof err));
     assert_non_null (strstr (err, "not an MCAP file"));
@@ -322,6 +360,7 @@ int main (void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test (test_round_trip),
         cmocka_unit_test (test_cut_short),
+        cmocka_unit_test (test_rewind),
         cmocka_unit_test (test_refusals),
     };
     return cmocka_run_group_tests (tests, s_setup, s_teardown);
