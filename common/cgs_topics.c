@@ -3,6 +3,7 @@
 
 #include "health.pb-c.h"
 #include "intercept.pb-c.h"
+#include "replay.pb-c.h"
 #include "sensors.pb-c.h"
 #include "tracking.pb-c.h"
 #include "world.pb-c.h"
@@ -26,6 +27,8 @@ static const cgs_topic_t s_topics[] = {
     {"video", &cgs__video_frame__descriptor, "imagerd",
      "one frame of the imaging sensor's video: MPEG-TS with H.264 and KLV"},
     {"health", &cgs__health__descriptor, "*", "a service's health, 1 Hz"},
+    {"replay", &cgs__replay_state__descriptor, "replay",
+     "a replay's position, speed and marks (mscgs replay)"},
 };
 
 size_t cgs_topics_count (void)

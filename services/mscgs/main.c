@@ -20,6 +20,7 @@
 #include "ms_cmd_operator.h"
 #include "ms_cmd_sensor.h"
 #include "ms_cmd_record.h"
+#include "ms_cmd_replay.h"
 #include "ms_cmd_status.h"
 #include "ms_montecarlo.h"
 #include "ms_opts.h"
@@ -37,32 +38,36 @@ static void s_usage (FILE *f)
                 "commands:\n"
                 "  run      start every built service of the exercise on this machine\n");
     ms_opts_list (ms_run_options (), 11, f);
-    fprintf (f, "  record   record every topic into an MCAP file: record [--out FILE] [--topics T,..]\n"
-                "  echo     print the messages of a topic: echo TOPIC [--json] [--count N]\n"
-                "           [--timeout S]\n"
-                "  status   a table of every service's health [--wait S]\n"
-                "  ping     ask a service's command endpoint for a reply: ping INSTANCE\n"
-                "  topics   list the bus topics\n"
-                "  keygen   make a CURVE key pair: keygen NAME [--dir DIR]; or the bus's\n"
-                "           group key: keygen --group [NAME] [--dir DIR]\n"
-                "  loiter, goto, route, altitude, speed task a UAV (uavsim); --help for each\n"
-                "  pause, resume, time-scale X          the simulation clock (uavsim)\n"
-                "  designate TRACK_ID | designate --at POS, cancel, footprint-scale 1|5|10,\n"
-                "  intercept-mode head-on|mti-hits      the intercept (guidanced); --help\n"
-                "  snapshot [N]  write the imaging sensor's next N frames (default 1) as PNG\n"
-                "           files in imagerd's output folder [--to INSTANCE] [--uav ID]\n"
-                "  camera [--depression DEG] [--fov DEG] [--stabilized on|off]\n"
-                "           [--stare off|target|POS]   point the imaging sensor (uavsim)\n"
-                "  sensor visible|infrared|sar   the imaging sensor's mode (imagerd)\n"
-                "  fault INSTANCE crash | hang [S] | slow MS [S]   the debug-only fault\n"
-                "           channel of a test build (FAULT=1); --help\n"
-                "  montecarlo  whole scenes in lockstep, many runs, with the imaged rate and\n"
-                "           tracking metrics: [--scenario F] [--runs N] [--seed S] [--jobs J];\n"
-                "           --help\n"
-                "Commands to a service try for --wait S seconds (default 3) before they\n"
-                "report no reply; a retry is never applied twice.\n\n"
-                "The exercise file is --exercise F, else $MSCGS_EXERCISE, else\n"
-                "/etc/mscgs/exercise.ini, else the installed or source tree's default exercise.\n");
+    fprintf (
+        f, "  record   record every topic into an MCAP file: record [--out FILE] [--topics T,..]\n"
+           "  replay   play a recording back on a bus of its own: replay FILE [--speed X]\n"
+           "           [--from S] [--station PORT]; pause, resume, time-scale, seek S\n"
+           "  echo     print the messages of a topic: echo TOPIC [--json] [--count N]\n"
+           "           [--timeout S]\n"
+           "  status   a table of every service's health [--wait S]\n"
+           "  ping     ask a service's command endpoint for a reply: ping INSTANCE\n"
+           "  topics   list the bus topics\n"
+           "  keygen   make a CURVE key pair: keygen NAME [--dir DIR]; or the bus's\n"
+           "           group key: keygen --group [NAME] [--dir DIR]\n"
+           "  loiter, goto, route, altitude, speed task a UAV (uavsim); --help for each\n"
+           "  pause, resume, time-scale X          the simulation clock (uavsim),\n"
+           "  seek S                               or a replay's\n"
+           "  designate TRACK_ID | designate --at POS, cancel, footprint-scale 1|5|10,\n"
+           "  intercept-mode head-on|mti-hits      the intercept (guidanced); --help\n"
+           "  snapshot [N]  write the imaging sensor's next N frames (default 1) as PNG\n"
+           "           files in imagerd's output folder [--to INSTANCE] [--uav ID]\n"
+           "  camera [--depression DEG] [--fov DEG] [--stabilized on|off]\n"
+           "           [--stare off|target|POS]   point the imaging sensor (uavsim)\n"
+           "  sensor visible|infrared|sar   the imaging sensor's mode (imagerd)\n"
+           "  fault INSTANCE crash | hang [S] | slow MS [S]   the debug-only fault\n"
+           "           channel of a test build (FAULT=1); --help\n"
+           "  montecarlo  whole scenes in lockstep, many runs, with the imaged rate and\n"
+           "           tracking metrics: [--scenario F] [--runs N] [--seed S] [--jobs J];\n"
+           "           --help\n"
+           "Commands to a service try for --wait S seconds (default 3) before they\n"
+           "report no reply; a retry is never applied twice.\n\n"
+           "The exercise file is --exercise F, else $MSCGS_EXERCISE, else\n"
+           "/etc/mscgs/exercise.ini, else the installed or source tree's default exercise.\n");
 }
 
 /* Every command, and the function that takes its command line (from its
@@ -74,6 +79,8 @@ static const struct {
     {"run", ms_run_main},
     {"echo", ms_echo_main},
     {"record", ms_record_main},
+    {"replay", ms_replay_main},
+    {"seek", ms_task_main},
     {"status", ms_status_main},
     {"ping", ms_ping_main},
     {"topics", ms_topics_main},

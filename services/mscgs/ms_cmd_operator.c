@@ -34,6 +34,7 @@ typedef struct {
     Cgs__Pause pause;
     Cgs__Resume resume;
     Cgs__SetTimeScale time_scale;
+    Cgs__Seek seek;
     Cgs__Designate designate;
     Cgs__Cancel cancel;
     Cgs__SetFootprintScale footprint;
@@ -66,6 +67,7 @@ static int s_operate (const s_opts_t *o, const char *program, s_build_fn_t *buil
         .pause = CGS__PAUSE__INIT,
         .resume = CGS__RESUME__INIT,
         .time_scale = CGS__SET_TIME_SCALE__INIT,
+        .seek = CGS__SEEK__INIT,
         .designate = CGS__DESIGNATE__INIT,
         .cancel = CGS__CANCEL__INIT,
         .footprint = CGS__SET_FOOTPRINT_SCALE__INIT,
@@ -90,7 +92,8 @@ static const char s_task_usage[] =
     "                   [--anticlockwise] POS [POS ...]   (then loiter above the last)\n"
     "       mscgs altitude M          (above ground)\n"
     "       mscgs speed MPS           (airspeed)\n"
-    "       mscgs pause | resume | time-scale X\n";
+    "       mscgs pause | resume | time-scale X\n"
+    "       mscgs seek S              (a replay: go to S seconds into the recording)\n";
 
 /* The route through the operands. */
 static int s_build_route (const s_opts_t *o, const cgs_exercise_t *ex, int nargs, char **args,
@@ -132,7 +135,11 @@ static int s_build_number (const s_opts_t *o, int nargs, char **args, s_parts_t 
     double v = 0;
     if (ms_opts_number (o->tool, args[0], &v) < 0)
         return 2;
-    if (o->tool[0] == 'a') {
+    if (strcmp (o->tool, "seek") == 0) {
+        p->seek.t_s = v;
+        p->cmd.body_case = CGS__COMMAND__BODY_SEEK;
+        p->cmd.seek = &p->seek;
+    } else if (o->tool[0] == 'a') {
         p->altitude.uav_id = o->uav;
         p->altitude.altitude_agl_m = v;
         p->cmd.body_case = CGS__COMMAND__BODY_SET_ALTITUDE;
@@ -183,7 +190,7 @@ static int s_build_task (const s_opts_t *o, const cgs_exercise_t *ex, int nargs,
     } else if (strcmp (o->tool, "route") == 0) {
         return s_build_route (o, ex, nargs, args, p);
     } else if (strcmp (o->tool, "altitude") == 0 || strcmp (o->tool, "speed") == 0 ||
-               strcmp (o->tool, "time-scale") == 0) {
+               strcmp (o->tool, "time-scale") == 0 || strcmp (o->tool, "seek") == 0) {
         return s_build_number (o, nargs, args, p);
     } else if (strcmp (o->tool, "pause") == 0) {
         p->cmd.body_case = CGS__COMMAND__BODY_PAUSE;

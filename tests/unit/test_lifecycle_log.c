@@ -103,7 +103,7 @@ static void test_log_lines_have_priority_prefixes (void **state)
 static void test_topics_catalogue (void **state)
 {
     (void)state;
-    assert_int_equal (cgs_topics_count (), 13);
+    assert_int_equal (cgs_topics_count (), 14);
     const cgs_topic_t *t = cgs_topics_find ("entity");
     assert_non_null (t);
     assert_true (cgs_topics_published_by (t, "uavsim"));
@@ -112,7 +112,7 @@ static void test_topics_catalogue (void **state)
     assert_false (cgs_topics_published_by (t, "mtid"));
     assert_true (cgs_topics_published_by (cgs_topics_find ("health"), "anything"));
     assert_null (cgs_topics_find ("mti.sca"));
-    assert_null (cgs_topics_at (13));
+    assert_null (cgs_topics_at (14));
     assert_true (cgs_topics_published_by (cgs_topics_find ("video"), "imagerd"));
     assert_false (cgs_topics_published_by (cgs_topics_find ("video"), "stationd"));
     // Every name is unique.
