@@ -39,6 +39,8 @@ typedef struct {
     st_state_t *state;
     st_web_t *web;
     const cgs_instance_t *guidanced, *uavsim; // command endpoints ("" none)
+    const cgs_instance_t *replay; // a replay exercise's `replay` (mscgs replay); NULL: live
+    st_state_params_t state_params;
     uint64_t seq;
     uint64_t image_frame;     // of the path handed to the web server
     uint64_t video_other_uav; // video frames of a UAV whose picture is not shown
@@ -92,6 +94,28 @@ static void s_on_clock (void *arg, const char *topic, const ProtobufCMessage *ms
     const Cgs__Clock *c = (const Cgs__Clock *)msg;
     st_state_set_clock (app->state, c->sim_time_s, hdr ? hdr->epoch : 0);
     st_state_set_time_scale (app->state, c->time_scale, c->paused);
+}
+
+/* A replay's position. A seek starts the picture over: what was drawn
+ * before is of another time. */
+static void s_on_replay (void *arg, const char *topic, const ProtobufCMessage *msg,
+                         const Cgs__Header *hdr)
+{
+    (void)topic, (void)hdr;
+    s_app_t *app = arg;
+    const Cgs__ReplayState *m = (const Cgs__ReplayState *)msg;
+    bool fresh = false;
+    if (st_state_take_replay (app->state, m, &fresh) == 0 && fresh) {
+        st_state_t *s = st_state_new (&app->state_params);
+        if (!s)
+            return;
+        st_state_destroy (&app->state);
+        app->state = s;
+        st_state_take_replay (app->state, m, NULL);
+        st_web_video_restart (app->web);
+        cgs_log (LOG_INFO, "replay: at %.1f s (generation %u): the picture starts over", m->t_s,
+                 m->generation);
+    }
 }
 
 static void s_on_entity (void *arg, const char *topic, const ProtobufCMessage *msg,
@@ -405,6 +429,19 @@ static void s_on_request (void *arg, st_web_conn_t *conn, const char *text, size
         json_object_put (req);
         return;
     }
+    // A replay's page drives its timeline; an operator's command reaches nothing.
+    if (app->replay && !st_request_is_replay (op)) {
+        s_count (&app->commands_refused);
+        s_refuse (conn, n, op, "this is a replay: an operator's command reaches nothing");
+        json_object_put (req);
+        return;
+    }
+    if (!app->replay && st_request_is_replay (op)) {
+        s_count (&app->bad_requests);
+        s_refuse (conn, n, op, "this is a live exercise, not a replay: it has no timeline");
+        json_object_put (req);
+        return;
+    }
     s_page_t *page = st_web_conn_user (conn);
     if (!page) {
         if (!(page = calloc (1, sizeof *page))) {
@@ -431,7 +468,10 @@ static void s_on_request (void *arg, st_web_conn_t *conn, const char *text, size
             s_command (app, conn, page, n, op, to, &c.cmd);
         }
     } else {
-        s_command (app, conn, page, n, op, c.to == ST_TO_UAVSIM ? app->uavsim : app->guidanced,
+        s_command (app, conn, page, n, op,
+                   c.to == ST_TO_REPLAY   ? app->replay
+                   : c.to == ST_TO_UAVSIM ? app->uavsim
+                                          : app->guidanced,
                    &c.cmd);
     }
     json_object_put (req);
@@ -506,6 +546,7 @@ static char *s_hello (s_app_t *app, bool operator)
     json_object_object_add (o, "version", json_object_new_int (1));
     json_object_object_add (o, "operator", json_object_new_boolean (operator));
     json_object_object_add (o, "token_required", json_object_new_boolean (app->p.token[0] != 0));
+    json_object_object_add (o, "replay", json_object_new_boolean (app->replay != NULL));
     json_object_object_add (
         o, "exercise",
         json_object_new_string (cgs_exercise_name (cgs_service_exercise (app->svc))));
@@ -568,8 +609,10 @@ static int s_setup (s_app_t *app, char *err, size_t errlen)
     }
     app->guidanced = s_commanded (cgs_service_exercise (app->svc), "guidanced");
     app->uavsim = s_commanded (cgs_service_exercise (app->svc), "uavsim");
+    app->replay = s_commanded (cgs_service_exercise (app->svc), "replay");
     st_state_params_t sp = {app->p.history_scans, app->p.bcis_timeout_s, app->p.track_stale_s,
                             app->p.truth_stale_s};
+    app->state_params = sp;
     if (!(app->state = st_state_new (&sp))) {
         snprintf (err, errlen, "out of memory");
         return -ENOMEM;
@@ -667,6 +710,9 @@ int main (int argc, char **argv)
     for (size_t i = 0; i < sizeof subs / sizeof subs[0]; i++)
         if (cgs_service_subscribe (app.svc, subs[i].topic, subs[i].fn, &app) < 0)
             goto done;
+    // A replay's exercise (mscgs replay) has its `replay` to hear; a live one none.
+    if (app.replay && cgs_service_subscribe (app.svc, "replay", s_on_replay, &app) < 0)
+        goto done;
     exit_code = cgs_service_run (app.svc);
     st_web_stats_t ws;
     st_web_stats (app.web, &ws, NULL, 0);

@@ -7,9 +7,10 @@
 #include <stdio.h>
 #include <string.h>
 
-static const char *const s_commands[] = {"designate", "cancel",          "altitude",
-                                         "speed",     "footprint_scale", "intercept_mode",
-                                         "camera",    "sensor_mode",     NULL};
+static const char *const s_commands[] = {
+    "designate",      "cancel",      "altitude",    "speed",        "footprint_scale",
+    "intercept_mode", "camera",      "sensor_mode", "replay_pause", "replay_resume",
+    "replay_speed",   "replay_seek", NULL};
 
 bool st_request_is_command (const char *op)
 {
@@ -17,6 +18,11 @@ bool st_request_is_command (const char *op)
         if (strcmp (op, s_commands[i]) == 0)
             return true;
     return false;
+}
+
+bool st_request_is_replay (const char *op)
+{
+    return op && strncmp (op, "replay_", 7) == 0 && st_request_is_command (op);
 }
 
 /* A finite number; false when v is not a number or not finite. */
@@ -192,7 +198,11 @@ int st_request_command (json_object *req, const char *op, st_command_t *ret, cha
                         .method = CGS__SET_INTERCEPT_MODE__INIT,
                         .camera = CGS__SET_CAMERA__INIT,
                         .stare_point = CGS__ENU__INIT,
-                        .sensor_mode = CGS__SET_SENSOR_MODE__INIT};
+                        .sensor_mode = CGS__SET_SENSOR_MODE__INIT,
+                        .pause = CGS__PAUSE__INIT,
+                        .resume = CGS__RESUME__INIT,
+                        .time_scale = CGS__SET_TIME_SCALE__INIT,
+                        .seek = CGS__SEEK__INIT};
     double uav = 0, value = 0;
     // Given, but not a UAV id: refused, never taken as "the only UAV".
     if (json_object_object_get_ex (req, "uav_id", NULL) &&
@@ -252,6 +262,29 @@ int st_request_command (json_object *req, const char *op, st_command_t *ret, cha
     if (strcmp (op, "sensor_mode") == 0) {
         c->to = ST_TO_IMAGERD;
         return s_sensor_mode (req, c, why, whylen);
+    }
+    if (st_request_is_replay (op)) {
+        c->to = ST_TO_REPLAY;
+        if (strcmp (op, "replay_pause") == 0) {
+            c->cmd.body_case = CGS__COMMAND__BODY_PAUSE;
+            c->cmd.pause = &c->pause;
+        } else if (strcmp (op, "replay_resume") == 0) {
+            c->cmd.body_case = CGS__COMMAND__BODY_RESUME;
+            c->cmd.resume = &c->resume;
+        } else if (strcmp (op, "replay_speed") == 0) {
+            if (!st_request_number (req, "value", &value) || !(value > 0 && value <= 1000))
+                return s_refuse (why, whylen, "replay_speed needs a value in (0, 1000]");
+            c->time_scale.time_scale = value;
+            c->cmd.body_case = CGS__COMMAND__BODY_SET_TIME_SCALE;
+            c->cmd.set_time_scale = &c->time_scale;
+        } else {
+            if (!st_request_number (req, "t", &value) || value < 0)
+                return s_refuse (why, whylen, "replay_seek needs a time t >= 0 (seconds)");
+            c->seek.t_s = value;
+            c->cmd.body_case = CGS__COMMAND__BODY_SEEK;
+            c->cmd.seek = &c->seek;
+        }
+        return 0;
     }
     snprintf (why, whylen, "unknown op \"%.40s\"", op);
     return -EINVAL;

@@ -23,6 +23,7 @@ typedef enum {
     ST_TO_GUIDANCED = 0,
     ST_TO_UAVSIM = 1,
     ST_TO_IMAGERD = 2, // the one that serves the command's UAV (st_request_imagerd)
+    ST_TO_REPLAY = 3,  // a replay's timeline (mscgs replay)
 } st_to_t;
 
 /* The camera command's `set` bits (SetCamera in command.proto). */
@@ -54,6 +55,10 @@ typedef struct {
     Cgs__SetCamera camera;
     Cgs__Enu stare_point;
     Cgs__SetSensorMode sensor_mode;
+    Cgs__Pause pause;
+    Cgs__Resume resume;
+    Cgs__SetTimeScale time_scale;
+    Cgs__Seek seek;
 } st_command_t;
 
 /* The finite number field key of o: true with it, false when absent or
@@ -61,8 +66,12 @@ typedef struct {
 bool st_request_number (json_object *o, const char *key, double *ret);
 
 /* Whether op names a command a page may send (designate, cancel, altitude,
- * speed, footprint_scale, intercept_mode, camera, sensor_mode). */
+ * speed, footprint_scale, intercept_mode, camera, sensor_mode; and a
+ * replay's replay_pause, replay_resume, replay_speed {value},
+ * replay_seek {t}). */
 bool st_request_is_command (const char *op);
+/* Whether op is one of a replay's timeline commands (replay_...). */
+bool st_request_is_replay (const char *op);
 
 /* The command that req (a JSON object whose "op" is op, a command) asks
  * for: 0 with *ret filled; -EINVAL with the reason in why and nothing to

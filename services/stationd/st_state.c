@@ -5,8 +5,10 @@
 #include "st_state_impl.h"
 
 #include "cgs_entities.h"
+#include "cgs_json.h"
 
 #include <errno.h>
+#include <json-c/json.h>
 #include <math.h>
 #include <stdbool.h>
 #include <stdio.h>
@@ -48,6 +50,7 @@ void st_state_destroy (st_state_t **self_p)
     free (self->bcis);
     free (self->tracks);
     cgs_entities_destroy (&self->truth);
+    json_object_put (self->replay);
     free (self);
     *self_p = NULL;
 }
@@ -104,6 +107,49 @@ void st_state_set_clock (st_state_t *self, double t_s, uint64_t epoch)
         self->sensor_modes[i].heard_s = fmin (self->sensor_modes[i].heard_s, t_s);
     }
     self->video_heard_s = fmin (self->video_heard_s, t_s);
+}
+
+int st_state_take_replay (st_state_t *self, const Cgs__ReplayState *m, bool *ret_new)
+{
+    if (ret_new)
+        *ret_new = false;
+    if (!isfinite (m->t_s) || !isfinite (m->span_s) || m->span_s < 0 || !isfinite (m->speed) ||
+        !isfinite (m->sim_time_s))
+        return -EINVAL;
+    json_object *o = json_object_new_object ();
+    json_object *marks = json_object_new_array ();
+    if (!o || !marks) {
+        json_object_put (o);
+        json_object_put (marks);
+        return -ENOMEM;
+    }
+    cgs_json_add (o, "file", json_object_new_string (m->file ? m->file : ""));
+    cgs_json_add (o, "t_s", cgs_json_fixed (m->t_s, 2));
+    cgs_json_add (o, "span_s", cgs_json_fixed (m->span_s, 2));
+    cgs_json_add (o, "speed", cgs_json_fixed (m->speed, 3));
+    cgs_json_add (o, "paused", json_object_new_boolean (m->paused));
+    cgs_json_add (o, "ended", json_object_new_boolean (m->ended));
+    cgs_json_add (o, "generation", json_object_new_int64 (m->generation));
+    cgs_json_add (o, "sim_time_s", cgs_json_fixed (m->sim_time_s, 2));
+    cgs_json_add (o, "recorded_exercise_id", json_object_new_int64 (m->recorded_exercise_id));
+    for (size_t i = 0; i < m->n_marks; i++) {
+        const Cgs__ReplayMark *k = m->marks[i];
+        if (!isfinite (k->t_s))
+            continue;
+        json_object *j = json_object_new_object ();
+        cgs_json_add (j, "t_s", cgs_json_fixed (k->t_s, 2));
+        cgs_json_add (j, "kind", json_object_new_string (k->kind ? k->kind : ""));
+        cgs_json_add (j, "text", json_object_new_string (k->text ? k->text : ""));
+        json_object_array_add (marks, j);
+    }
+    cgs_json_add (o, "marks", marks);
+    bool fresh = self->replay && m->generation != self->replay_generation;
+    json_object_put (self->replay);
+    self->replay = o;
+    self->replay_generation = m->generation;
+    if (ret_new)
+        *ret_new = fresh;
+    return 0;
 }
 
 void st_state_set_time_scale (st_state_t *self, double time_scale, bool paused)

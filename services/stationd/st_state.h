@@ -13,6 +13,7 @@
 #define ST_STATE_H
 
 #include "intercept.pb-c.h"
+#include "replay.pb-c.h"
 #include "sensors.pb-c.h"
 #include "tracking.pb-c.h"
 #include "world.pb-c.h"
@@ -58,6 +59,11 @@ int st_state_take_entities (st_state_t *self, const Cgs__EntityBatch *m, const C
  * 188-byte packets, or a packet without its 0x47 sync byte. */
 int st_state_take_video (st_state_t *self, const Cgs__VideoFrame *m, const Cgs__Header *hdr,
                          bool *ret_relay, bool *ret_restart);
+/* A replay's position (`replay`), shown on the page's timeline. -EINVAL
+ * (nothing kept) when a number is not finite or the span is negative.
+ * *ret_new (may be NULL): the replay sought since the last one (its
+ * generation changed): the picture before is stale. */
+int st_state_take_replay (st_state_t *self, const Cgs__ReplayState *m, bool *ret_new);
 /* The simulation time now, from `clock` (its publisher's epoch). Once a
  * clock is heard, only the clock moves time (before, the messages' own times
  * do); it never goes back, unless a new epoch of the clock starts earlier (a

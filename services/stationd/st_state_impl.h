@@ -141,19 +141,21 @@ struct st_state {
     int image_mode;
     bool image_target_in_view;
     char image_path[ST_PATH_MAX];
-    bool has_image_fp;       // the image UAV's newest footprint, from its `image` messages
-    double image_fp[8];      // its corners, east/north metres, as the message gives them
-    uint64_t image_fp_frame; // the frame it is of
-    bool has_video;          // video of the picture's UAV is relayed (not stale)
-    bool video_ever;         // some video was relayed since start
-    uint32_t video_uav;      // the UAV whose video is relayed
-    uint64_t video_epoch;    // its publisher's epoch (0 unknown)
-    uint64_t video_frames;   // frames of it relayed
-    double video_heard_s;    // simulation time of its newest frame
-    double video_t_s;        // its frame's own simulation time (NAN: none yet)
-    double video_period_s;   // simulation seconds between its frames, smoothed (0 unknown)
-    double time_scale;       // the clock's: simulation seconds per wall second (0 unknown)
-    bool paused;             // the clock's
+    bool has_image_fp;          // the image UAV's newest footprint, from its `image` messages
+    double image_fp[8];         // its corners, east/north metres, as the message gives them
+    uint64_t image_fp_frame;    // the frame it is of
+    bool has_video;             // video of the picture's UAV is relayed (not stale)
+    bool video_ever;            // some video was relayed since start
+    uint32_t video_uav;         // the UAV whose video is relayed
+    uint64_t video_epoch;       // its publisher's epoch (0 unknown)
+    uint64_t video_frames;      // frames of it relayed
+    double video_heard_s;       // simulation time of its newest frame
+    double video_t_s;           // its frame's own simulation time (NAN: none yet)
+    double video_period_s;      // simulation seconds between its frames, smoothed (0 unknown)
+    double time_scale;          // the clock's: simulation seconds per wall second (0 unknown)
+    bool paused;                // the clock's
+    struct json_object *replay; // a replay's position and marks, as the page gets it (NULL: live)
+    uint32_t replay_generation;
 };
 
 /* The track of that id, or NULL. */

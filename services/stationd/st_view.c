@@ -410,6 +410,7 @@ char *st_state_json (st_state_t *self, uint64_t seq, size_t *ret_len)
     cgs_json_add (o, "time_scale",
                   self->time_scale > 0 ? cgs_json_fixed (self->time_scale, 3) : NULL);
     cgs_json_add (o, "paused", json_object_new_boolean (self->paused));
+    cgs_json_add (o, "replay", self->replay ? json_object_get (self->replay) : NULL);
     size_t len = 0;
     const char *text = json_object_to_json_string_length (o, JSON_C_TO_STRING_PLAIN, &len);
     char *out = text ? malloc (len + 1) : NULL;

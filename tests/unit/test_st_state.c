@@ -899,6 +899,86 @@ static void test_request_ops (void **state)
     s_refused ("{\"op\":\"intercept_mode\",\"value\":\"sideways\"}", "intercept_mode needs");
 }
 
+/* A replay's timeline: its four commands, to the replay; bad values refused. */
+static void test_request_replay (void **state)
+{
+    (void)state;
+    st_command_t c;
+    char why[512];
+    assert_true (st_request_is_replay ("replay_seek"));
+    assert_false (st_request_is_replay ("designate"));
+    assert_false (st_request_is_replay ("replay_rewind")); // not one of them
+    assert_false (st_request_is_command ("replay_rewind"));
+    assert_int_equal (s_request ("{\"op\":\"replay_pause\"}", &c, why, sizeof why), 0);
+    assert_int_equal (c.to, ST_TO_REPLAY);
+    assert_int_equal (c.cmd.body_case, CGS__COMMAND__BODY_PAUSE);
+    assert_int_equal (s_request ("{\"op\":\"replay_resume\"}", &c, why, sizeof why), 0);
+    assert_int_equal (c.cmd.body_case, CGS__COMMAND__BODY_RESUME);
+    assert_int_equal (s_request ("{\"op\":\"replay_speed\",\"value\":2.5}", &c, why, sizeof why),
+                      0);
+    assert_int_equal (c.cmd.body_case, CGS__COMMAND__BODY_SET_TIME_SCALE);
+    assert_true (c.cmd.set_time_scale->time_scale == 2.5);
+    assert_int_equal (s_request ("{\"op\":\"replay_seek\",\"t\":12.5}", &c, why, sizeof why), 0);
+    assert_int_equal (c.to, ST_TO_REPLAY);
+    assert_int_equal (c.cmd.body_case, CGS__COMMAND__BODY_SEEK);
+    assert_true (c.cmd.seek->t_s == 12.5);
+    s_refused ("{\"op\":\"replay_speed\",\"value\":0}", "replay_speed needs a value in (0, 1000]");
+    s_refused ("{\"op\":\"replay_speed\",\"value\":2000}", "replay_speed needs");
+    s_refused ("{\"op\":\"replay_seek\",\"t\":-1}", "replay_seek needs a time t >= 0");
+    s_refused ("{\"op\":\"replay_seek\",\"t\":\"end\"}", "replay_seek needs");
+}
+
+/* A replay's position goes to the page as it came; a seek (a new
+ * generation) says the picture before is stale; bad numbers are refused. */
+static void test_replay_state (void **state)
+{
+    (void)state;
+    st_state_t *st = st_state_new (&s_params);
+    Cgs__ReplayState m = CGS__REPLAY_STATE__INIT;
+    Cgs__ReplayMark k = CGS__REPLAY_MARK__INIT, *pk = &k;
+    k.t_s = 12.25;
+    k.kind = "designate";
+    k.text = "designate track 49";
+    m.file = "run.mcap";
+    m.t_s = 3.5;
+    m.span_s = 60;
+    m.speed = 2;
+    m.paused = true;
+    m.generation = 0;
+    m.n_marks = 1;
+    m.marks = &pk;
+    bool fresh = true;
+    assert_int_equal (st_state_take_replay (st, &m, &fresh), 0);
+    assert_false (fresh); // the first heard is not a seek
+    size_t len;
+    char *json = st_state_json (st, 1, &len);
+    assert_non_null (strstr (json,
+                             "\"replay\":{\"file\":\"run.mcap\",\"t_s\":3.50,\"span_s\":60.00,"
+                             "\"speed\":2.000,\"paused\":true,\"ended\":false,\"generation\":0"));
+    assert_non_null (strstr (json, "\"marks\":[{\"t_s\":12.25,\"kind\":\"designate\",\"text\":"
+                                   "\"designate track 49\"}]"));
+    free (json);
+    m.t_s = 4;
+    assert_int_equal (st_state_take_replay (st, &m, &fresh), 0);
+    assert_false (fresh); // the same generation
+    m.generation = 1;
+    assert_int_equal (st_state_take_replay (st, &m, &fresh), 0);
+    assert_true (fresh);
+    m.t_s = NAN;
+    assert_int_equal (st_state_take_replay (st, &m, &fresh), -EINVAL);
+    assert_false (fresh);
+    m.t_s = 1;
+    m.span_s = -1;
+    assert_int_equal (st_state_take_replay (st, &m, NULL), -EINVAL);
+    st_state_destroy (&st);
+    // A live exercise: "replay": null.
+    st = st_state_new (&s_params);
+    json = st_state_json (st, 1, &len);
+    assert_non_null (strstr (json, "\"replay\":null"));
+    free (json);
+    st_state_destroy (&st);
+}
+
 static void test_request_camera (void **state)
 {
     (void)state;
@@ -1116,6 +1196,8 @@ int main (void)
         cmocka_unit_test (test_video),
         cmocka_unit_test (test_camera_and_sensor_mode),
         cmocka_unit_test (test_request_ops),
+        cmocka_unit_test (test_request_replay),
+        cmocka_unit_test (test_replay_state),
         cmocka_unit_test (test_request_camera),
         cmocka_unit_test (test_request_sensor_mode),
         cmocka_unit_test (test_request_imagerd),

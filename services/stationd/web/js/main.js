@@ -17,6 +17,7 @@
  *   video.js     the live video (mpegts.js) and the sensor's footprints
  *   klv.js       the video's MISB ST 0601 KLV packets read
  *   geo.js       latitude and longitude to the local east/north frame
+ *   timeline.js  a replay's timeline: play, pause, speed, seek, marks
  *
  * OpenLayers (global `ol`, full build), milsymbol (global `ms`) and
  * mpegts.js (global `mpegts`) are classic scripts loaded before it. ES
@@ -31,6 +32,7 @@ import { applyRelief, centreOnce, map } from './layers.js';
 import { connect } from './net.js';
 import { setConnection, setOperator, showReply, showResult, ui, updateImage, updatePanels } from './panels.js';
 import { num } from './util.js';
+import { bindTimeline, updateTimeline } from './timeline.js';
 import { setOrigin, updateVideo } from './video.js';
 
 const APPLY_KEEP = 1000;             // apply times kept for the benchmark
@@ -61,6 +63,7 @@ function applyState(st) {
   updatePanels(st);
   updateImage(st.image);
   updateVideo(st);
+  updateTimeline(st.replay);
 }
 
 // A state, drawn before the handler returns; t0: when its message came.
@@ -82,10 +85,11 @@ function onHello(h) {
   cgs.hello = h;
   applyRelief(h.relief);
   setOrigin(h.origin);
-  setOperator(h.operator === true);
+  setOperator(h.operator === true, h.replay === true);
 }
 
 bindInput();
+bindTimeline();
 preloadSymbols();
 setOperator(false);
 ui.access.hidden = true;   // until the hello says otherwise

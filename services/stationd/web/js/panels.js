@@ -160,10 +160,15 @@ export function setConnection(text, kind) {
 // ---------------------------------------------------------------------------
 // Panels
 
-export function setOperator(isOperator) {
+// replay: the page shows a replay (`mscgs replay`): the operator's controls
+// are off (they would reach nothing), only the timeline commands.
+export function setOperator(isOperator, replay) {
   operator = isOperator;
-  OPERATOR_CONTROLS.forEach((el) => { el.disabled = !isOperator; });
-  if (isOperator) {
+  OPERATOR_CONTROLS.forEach((el) => { el.disabled = !isOperator || replay === true; });
+  if (replay === true) {
+    ui.access.hidden = false;
+    ui.access.textContent = 'replay: the timeline drives it; operator commands reach nothing';
+  } else if (isOperator) {
     ui.access.hidden = true;
     ui.access.textContent = '';
   } else {
