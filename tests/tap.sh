@@ -1,6 +1,6 @@
 # shellcheck shell=bash disable=SC2034  # T_N and T_FAILED are read by the scripts
 # tests/tap.sh — TAP output for the shell tests (integration, fault, systemd);
-# sourced, never run. Gives diag, check, is, bail, skip_all and finish.
+# sourced, never run. Gives diag, check, is, bail, skip_all, relay and finish.
 
 T_N=0
 T_FAILED=0
@@ -44,6 +44,19 @@ skip_all () {
     echo "ok 1 # SKIP $*"
     echo "1..1"
     exit 0
+}
+
+# relay FILE: the "ok - NAME", "not ok - NAME" and "# ..." lines a
+# script wrote (the browser tests' node scripts) as checks, numbered here.
+relay () {
+    local line
+    while IFS= read -r line; do
+        case "$line" in
+        "ok - "*) check "${line#ok - }" true ;;
+        "not ok - "*) check "${line#not ok - }" false ;;
+        "# "*) echo "$line" ;;
+        esac
+    done <"$1"
 }
 
 # finish: the plan (at the end, as TAP allows) and the exit code.

@@ -170,13 +170,7 @@ start N browser node "$BROWSER_DIR/stationd.js" \
     --exercise "$EX" --mscgs "$MSCGS"
 wait_exit "$N" 240 || stop "$N"
 browser_rc=$EXIT_CODE
-while IFS= read -r line; do
-    case "$line" in
-    "ok - "*) check "${line#ok - }" true ;;
-    "not ok - "*) check "${line#not ok - }" false ;;
-    "# "*) echo "$line" ;;
-    esac
-done <"$TMP/browser.log"
+relay "$TMP/browser.log"
 is "$browser_rc" 0 "the browser script ran to its end"
 n_png=$(find "$ART" -name '[0-9][0-9]-*.png' | wc -l)
 diag "screenshots in $ART: $n_png"

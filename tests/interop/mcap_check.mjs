@@ -9,9 +9,9 @@
 // Usage: node mcap_check.mjs FILE [--stream] [--dump TOPIC]
 //   --stream       read record by record (a file without its footer)
 //   --dump TOPIC   also print each message of TOPIC as JSON, one a line, first
-import { open, readFile } from "node:fs/promises";
-import { McapIndexedReader, McapStreamReader } from "@mcap/core";
-import { decompress as zstdDecompress } from "fzstd";
+import { readFile } from "node:fs/promises";
+import { McapStreamReader } from "@mcap/core";
+import { decompressHandlers, openIndexed } from "./mcap_open.mjs";
 import protobuf from "protobufjs";
 import descriptor from "protobufjs/ext/descriptor/index.js";
 
@@ -20,7 +20,6 @@ const path = args[0];
 const stream = args.includes("--stream");
 const dumpAt = args.indexOf("--dump");
 const dump = dumpAt >= 0 ? args[dumpAt + 1] : null;
-const decompressHandlers = { zstd: (buf, size) => zstdDecompress(buf, new Uint8Array(Number(size))) };
 
 const schemas = new Map(), channels = new Map(), types = new Map();
 const out = { mode: stream ? "stream" : "indexed", complete: false, schemas: [], channels: [],
@@ -58,18 +57,8 @@ function onMessage(m) {
 
 try {
     if (!stream) {
-        const fh = await open(path, "r");
+        const { reader: r, close } = await openIndexed(path);
         try {
-            const readable = {
-                size: async () => BigInt((await fh.stat()).size),
-                read: async (offset, size) => {
-                    const buf = new Uint8Array(Number(size));
-                    const { bytesRead } = await fh.read(buf, 0, Number(size), Number(offset));
-                    if (bytesRead !== Number(size)) throw new Error("short read");
-                    return buf;
-                },
-            };
-            const r = await McapIndexedReader.Initialize({ readable, decompressHandlers });
             for (const s of r.schemasById.values()) schemas.set(s.id, s);
             for (const c of r.channelsById.values()) channels.set(c.id, c);
             out.statistics = r.statistics ? { messages: Number(r.statistics.messageCount),
@@ -77,7 +66,7 @@ try {
             for await (const m of r.readMessages({ validateCrcs: true })) onMessage(m);
             out.complete = true;
         } finally {
-            await fh.close();
+            await close();
         }
     } else {
         const r = new McapStreamReader({ decompressHandlers, validateCrcs: true });
