@@ -39,7 +39,7 @@ FAULT   ?= $(if $(filter 1,$(SAN)),1,0)
 
 CC      ?= cc
 CXX     ?= c++
-PKGS     = libzmq libsodium libprotobuf-c geographiclib gdal inih libsystemd zlib libzstd fftw3 gsl libpng json-c libxml-2.0 libavcodec libavformat libavutil libswscale
+PKGS     = libzmq libsodium libprotobuf-c geographiclib gdal inih libsystemd zlib libzstd fftw3 gsl libpng json-c libxml-2.0 libavcodec libavformat libavutil libswscale librsvg-2.0
 # GDAL's include flags go only to the files that use GDAL (GDAL_SRCS, below);
 # every program links it.
 PKG_CFLAGS := $(shell pkg-config --cflags $(filter-out gdal,$(PKGS)) 2>/dev/null)
