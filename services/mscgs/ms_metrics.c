@@ -38,6 +38,8 @@ struct ms_metrics {
     ms_siap_t *siap;
     ms_gospa_mean_t gospa;
     uint64_t failures;
+    ms_metrics_scan_fn *scan_fn;
+    void *scan_arg;
     // Scratch.
     ms_siap_truth_t *st;
     ms_point_t *x, *y;
@@ -248,8 +250,29 @@ static void s_scan (ms_metrics_t *self, s_radar_t *r, double t_s)
     ms_gospa_t g;
     if (ms_gospa (self->x, nx, self->y, r->ntracks, MS_METRICS_C_M, MS_METRICS_P, &g, NULL) < 0 ||
         ms_gospa_mean_add (&self->gospa, &g) < 0 ||
-        ms_siap_add (self->siap, t_s, self->st, nx, r->tracks, r->ntracks) < 0)
+        ms_siap_add (self->siap, t_s, self->st, nx, r->tracks, r->ntracks) < 0) {
         self->failures++;
+        return;
+    }
+    if (!self->scan_fn)
+        return;
+    ms_metrics_scan_t sc = {
+        .uav_id = r->uav_id, .t_s = t_s, .gospa = g, .truths = nx, .tracks = r->ntracks};
+    for (size_t i = 0; i < nx; i++) {
+        bool tracked = false;
+        for (size_t k = 0; k < r->ntracks && !tracked; k++)
+            tracked = r->tracks[k].truth_id == self->st[i].id;
+        sc.tracked_truths += tracked;
+    }
+    for (size_t k = 0; k < r->ntracks; k++)
+        sc.unassociated += r->tracks[k].truth_id == 0;
+    self->scan_fn (self->scan_arg, &sc);
+}
+
+void ms_metrics_on_scan (ms_metrics_t *self, ms_metrics_scan_fn *fn, void *arg)
+{
+    self->scan_fn = fn;
+    self->scan_arg = arg;
 }
 
 void ms_metrics_on_track (void *arg, const char *topic, const ProtobufCMessage *msg,

@@ -48,6 +48,19 @@ void ms_metrics_on_mti_truth (void *arg, const char *topic, const ProtobufCMessa
                               const Cgs__Header *hdr);
 void ms_metrics_on_track (void *arg, const char *topic, const ProtobufCMessage *msg,
                           const Cgs__Header *hdr);
+/* One radar scan's figures, as they are computed. */
+typedef struct {
+    uint32_t uav_id;       // the radar's UAV
+    double t_s;            // simulation time of the scan's end
+    ms_gospa_t gospa;      // GOSPA of the scan
+    size_t truths;         // the scan's truths
+    size_t tracks;         // its confirmed and coasting tracks
+    size_t tracked_truths; // truths with a track associated
+    size_t unassociated;   // tracks associated with no truth of the scan
+} ms_metrics_scan_t;
+typedef void (ms_metrics_scan_fn) (void *arg, const ms_metrics_scan_t *scan);
+/* Call fn after every scan (NULL: none). */
+void ms_metrics_on_scan (ms_metrics_t *self, ms_metrics_scan_fn *fn, void *arg);
 /* The accumulated figures (a run ends: ms_siap_end_run is the caller's). */
 ms_siap_t *ms_metrics_siap (ms_metrics_t *self);
 const ms_gospa_mean_t *ms_metrics_gospa (const ms_metrics_t *self);

@@ -158,11 +158,23 @@ static ms_metrics_t *s_metrics (ms_icpt_t **ret_ic, Cgs__Force force, bool trans
     return m;
 }
 
+/* What the scan hook was told. */
+static ms_metrics_scan_t s_scan_seen;
+static int s_scans_seen;
+static void s_on_scan (void *arg, const ms_metrics_scan_t *sc)
+{
+    (void)arg;
+    s_scan_seen = *sc;
+    s_scans_seen++;
+}
+
 static void test_one_scan (void **state)
 {
     (void)state;
     ms_icpt_t *ic;
     ms_metrics_t *m = s_metrics (&ic, CGS__FORCE__FORCE_FRIENDLY, true);
+    s_scans_seen = 0;
+    ms_metrics_on_scan (m, s_on_scan, NULL);
     // Batch 1 of 2: nothing yet.
     const int first[] = {0, 2};
     s_tracks (ic, m, 0, 2, first, 2, 5);
@@ -175,6 +187,15 @@ static void test_one_scan (void **state)
     assert_true (fabs (g->localisation - 900) < 1e-9);
     assert_true (g->missed == 0);
     assert_true (fabs (g->false_ - 125000) < 1e-9);
+    // The hook heard the scan once, with the same figures.
+    assert_int_equal (s_scans_seen, 1);
+    assert_int_equal (s_scan_seen.uav_id, 1);
+    assert_true (s_scan_seen.t_s == 10.0);
+    assert_true (fabs (s_scan_seen.gospa.distance - sqrt (125900.0)) < 1e-9);
+    assert_int_equal (s_scan_seen.truths, 1);
+    assert_int_equal (s_scan_seen.tracks, 2);
+    assert_int_equal (s_scan_seen.tracked_truths, 1);
+    assert_int_equal (s_scan_seen.unassociated, 1);
     ms_siap_result_t r;
     ms_siap_result (ms_metrics_siap (m), &r);
     assert_int_equal (r.truth_scans, 1);
