@@ -21,6 +21,7 @@
 #include "ms_cmd_sensor.h"
 #include "ms_cmd_record.h"
 #include "ms_cmd_replay.h"
+#include "ms_cmd_report.h"
 #include "ms_cmd_status.h"
 #include "ms_montecarlo.h"
 #include "ms_opts.h"
@@ -80,6 +81,7 @@ static const struct {
     {"echo", ms_echo_main},
     {"record", ms_record_main},
     {"replay", ms_replay_main},
+    {"report", ms_report_main},
     {"seek", ms_task_main},
     {"status", ms_status_main},
     {"ping", ms_ping_main},
