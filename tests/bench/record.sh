@@ -21,14 +21,7 @@ export CGS_NO_PEER=1
 B=$CGS_BUILD/bin
 for p in uavsim mtid bcisd trackerd guidanced mscgs; do [ -x "$B/$p" ] || bail "no $B/$p"; done
 EX=$TMP/exercise.ini
-{
-    exercise_header 19 record-bench "scenario=$CGS_ROOT/deploy/scenarios/bench-1000.ini"
-    exercise_service uavsim command
-    exercise_service mtid.uav1 uav=uav1
-    exercise_service bcisd.uav1 uav=uav1
-    exercise_service trackerd "params=$CGS_ROOT/deploy/params/tracker.ini"
-    exercise_service guidanced command "params=$CGS_ROOT/deploy/params/guidance.ini"
-} >"$EX"
+exercise_scene 19 record-bench "$CGS_ROOT/deploy/scenarios/bench-1000.ini" >"$EX"
 declare -A res
 for r in $(seq 1 "$RUNS"); do
     for cfg in zstd plain; do

@@ -34,14 +34,7 @@ ART=$CGS_BUILD/test-artifacts/browser-replay
 mkdir -p "$ART" && rm -f "$ART"/[0-9][0-9]-*.png
 
 EX=$TMP/exercise.ini
-{
-    exercise_header 19 replay-test "scenario=$CGS_ROOT/deploy/scenarios/default.ini"
-    exercise_service uavsim command
-    exercise_service mtid.uav1 uav=uav1
-    exercise_service bcisd.uav1 uav=uav1
-    exercise_service trackerd "params=$CGS_ROOT/deploy/params/tracker.ini"
-    exercise_service guidanced command "params=$CGS_ROOT/deploy/params/guidance.ini"
-} >"$EX"
+exercise_scene 19 replay-test "$CGS_ROOT/deploy/scenarios/default.ini" >"$EX"
 MCAP=$TMP/run.mcap
 
 # ---- the recording -------------------------------------------------------------------------

@@ -272,6 +272,18 @@ exercise_service () {
     done
 }
 
+# exercise_scene ID NAME SCENARIO: an exercise file of the scenario with
+# the services of one UAV's chain (uavsim, mtid.uav1, bcisd.uav1, trackerd,
+# guidanced: the deployed parameters), on stdout.
+exercise_scene () {
+    exercise_header "$1" "$2" "scenario=$3"
+    exercise_service uavsim command
+    exercise_service mtid.uav1 uav=uav1
+    exercise_service bcisd.uav1 uav=uav1
+    exercise_service trackerd "params=$CGS_ROOT/deploy/params/tracker.ini"
+    exercise_service guidanced command "params=$CGS_ROOT/deploy/params/guidance.ini"
+}
+
 # ---- the scenario file ---------------------------------------------------------------------
 # A test writes it as
 #   {

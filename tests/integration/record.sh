@@ -23,14 +23,7 @@ INTEROP=$CGS_ROOT/tests/interop
 [ -d "$INTEROP/node_modules/@mcap/core" ] || bail "no @mcap/core (npm ci in tests/interop)"
 
 EX=$TMP/exercise.ini
-{
-    exercise_header 17 record-test "scenario=$CGS_ROOT/deploy/scenarios/default.ini"
-    exercise_service uavsim command
-    exercise_service mtid.uav1 uav=uav1
-    exercise_service bcisd.uav1 uav=uav1
-    exercise_service trackerd "params=$CGS_ROOT/deploy/params/tracker.ini"
-    exercise_service guidanced command "params=$CGS_ROOT/deploy/params/guidance.ini"
-} >"$EX"
+exercise_scene 17 record-test "$CGS_ROOT/deploy/scenarios/default.ini" >"$EX"
 M () { "$MSCGS" "$@" --exercise "$EX"; }
 MCAP=$TMP/run.mcap
 
