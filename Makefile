@@ -10,6 +10,7 @@
 #   make bench-translators  the gateway's CPU at 1,000 vehicles, DIS alone and with
 #                   STANAG 4607 and Cursor on Target on
 #   make bench-record  mscgs record at 1,000 vehicles, 10x: messages/s, CPU, MB per hour
+#   make bench-replay REC=FILE  mscgs replay of a recording at 50x: wall time, messages/s
 #   make bench-video  imagerd's live video: frame rate, CPU, entity update to the wire,
 #                   glass to glass on the map
 #   make montecarlo whole scenes in lockstep: every scenario family, the table
@@ -149,7 +150,7 @@ JOBS    ?= $(shell nproc 2>/dev/null || echo 2)
 # Keep objects that pattern chains would otherwise delete as intermediates.
 .SECONDARY:
 
-.PHONY: all run test test-systemd test-build check-layers bench bench-multicast bench-translators bench-video bench-record montecarlo validate-lockstep validate-sar soak fault-build fuzz fuzz-build install install-built clean format deps help
+.PHONY: all run test test-systemd test-build check-layers bench bench-multicast bench-translators bench-video bench-record bench-replay montecarlo validate-lockstep validate-sar soak fault-build fuzz fuzz-build install install-built clean format deps help
 .DEFAULT_GOAL := all
 
 all: $(BINS) $(WEB_FILES)
@@ -210,6 +211,12 @@ bench-video: deps
 bench-record: deps
 	@$(MAKE) --no-print-directory -j$(JOBS) O=build/release SAN=0 all
 	@tests/bench/record.sh build/release
+
+# A recording replayed at SPEED (default 50) into a bus a listener records.
+bench-replay: deps
+	@test -n "$(REC)" || { echo "make bench-replay REC=FILE [EX=EXERCISE] [SPEED=50]: a recording (mscgs run --record --duration 3600 makes a one-hour one)"; exit 2; }
+	@$(MAKE) --no-print-directory -j$(JOBS) O=build/release SAN=0 all
+	@tests/bench/replay.sh build/release $(REC) $(or $(EX),deploy/exercises/default.ini) $(or $(SPEED),50)
 
 bench-multicast: deps
 	@$(MAKE) --no-print-directory -j$(JOBS) O=build/release SAN=0 all build/release/bench/bench_mcast

@@ -50,6 +50,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/prctl.h>
+#include <sys/resource.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -98,6 +99,8 @@ typedef struct {
     uint32_t generation;
     double preroll_s;
     double sim_time_s; // of the last message sent
+    double play_wall;  // when it started playing (after --delay, and a --paused start's resume)
+    double play_cpu;   // the CPU time used by then, s
 
     // the record read ahead: due when its time comes
     bool have;
@@ -112,6 +115,16 @@ typedef struct {
 } s_replay_t;
 
 static s_replay_t *s_r; // for the commands' handler (one replay per process)
+
+/* CPU time this process has used, user and system, seconds. */
+static double s_cpu_s (void)
+{
+    struct rusage ru;
+    if (getrusage (RUSAGE_SELF, &ru) < 0)
+        return NAN;
+    return (double)ru.ru_utime.tv_sec + (double)ru.ru_utime.tv_usec / 1e6 +
+           (double)ru.ru_stime.tv_sec + (double)ru.ru_stime.tv_usec / 1e6;
+}
 
 /* ---- the recording ----------------------------------------------------------------- */
 
@@ -417,6 +430,8 @@ static void s_on_command (void *arg, const Cgs__Command *cmd, Cgs__Reply *reply)
         snprintf (r->reply, sizeof r->reply, "paused at %.1f s", r->pos_s);
         break;
     case CGS__COMMAND__BODY_RESUME:
+        if (r->hold)
+            r->play_wall = cgs_loop_now (), r->play_cpu = s_cpu_s ();
         r->paused = r->hold = false;
         s_anchor (r);
         snprintf (r->reply, sizeof r->reply, "playing from %.1f s at %gx", r->pos_s, r->speed);
@@ -714,6 +729,8 @@ int ms_replay_main (int argc, char **argv)
     }
     s_goto (&r, from); // a start is not a seek: the recorded epochs as they were
     s_anchor (&r);
+    r.play_wall = cgs_loop_now ();
+    r.play_cpu = s_cpu_s ();
 
     zmq_pollitem_t items[S_SERVERS];
     for (size_t i = 0; i < r.nsrv; i++)
@@ -733,8 +750,11 @@ int ms_replay_main (int argc, char **argv)
             r.ended = true;
             r.pos_s = s_span (&r);
             s_publish_state (&r);
-            printf ("mscgs replay: the end (%.1f s), %llu messages sent\n", r.pos_s,
-                    (unsigned long long)r.sent);
+            double wall = cgs_loop_now () - r.play_wall, cpu = s_cpu_s () - r.play_cpu;
+            printf ("mscgs replay: the end (%.1f s), %llu messages sent in %.3f s of wall time "
+                    "(%.0f messages/s, cpu %.0f %% of one core)\n",
+                    r.pos_s, (unsigned long long)r.sent, wall, wall > 0 ? (double)r.sent / wall : 0,
+                    wall > 0 ? 100 * cpu / wall : 0);
             fflush (stdout);
             if (r.once)
                 break;
