@@ -100,10 +100,11 @@ typedef struct {
     int fd;
     struct sockaddr_in dest[GW_PEERS_MAX];
     size_t ndest;
-    /* [dis] pcapng: every datagram sent, as captured. */
+    /* [dis] pcapng: every datagram sent and received, as captured. */
     cgs_pcapng_t *pcap;
     char pcap_path[PATH_MAX];
     struct sockaddr_in pcap_src[GW_PEERS_MAX]; // the source each destination sees
+    struct sockaddr_in pcap_local;             // our address and port, for what comes in
     double pcap_flushed;                       // wall time of the last flush
     cgs_iface_t ifc; // the interface the parameters name (zeroed: none named)
     gw_out_t *out;
@@ -227,6 +228,30 @@ static void s_capture (s_app_t *app, const struct mmsghdr *mm, size_t n)
     }
     if (*cgs_pcapng_error (app->pcap) && app->send_errors == 0) {
         cgs_health_set_error (cgs_service_health (app->svc), cgs_pcapng_error (app->pcap));
+    }
+}
+
+/* The datagrams just received, into the pcapng file: from their sender to
+ * the address each came to (IP_PKTINFO: a multicast group's, or ours), at
+ * our port; a datagram cut short is written as far as it was read. */
+static void s_capture_in (s_app_t *app, const struct mmsghdr *mm, const struct sockaddr_in *from,
+                          int n)
+{
+    struct timespec ts;
+    clock_gettime (CLOCK_REALTIME, &ts);
+    uint64_t now_ns = (uint64_t)ts.tv_sec * 1000000000u + (uint64_t)ts.tv_nsec;
+    for (int i = 0; i < n; i++) {
+        struct sockaddr_in to = app->pcap_local;
+        struct msghdr *h = (struct msghdr *)&mm[i].msg_hdr;
+        for (struct cmsghdr *c = CMSG_FIRSTHDR (h); c; c = CMSG_NXTHDR (h, c))
+            if (c->cmsg_level == IPPROTO_IP && c->cmsg_type == IP_PKTINFO) {
+                struct in_pktinfo pi;
+                memcpy (&pi, CMSG_DATA (c), sizeof pi);
+                to.sin_addr = pi.ipi_addr;
+            }
+        size_t len = mm[i].msg_len < S_DGRAM_MAX ? mm[i].msg_len : S_DGRAM_MAX;
+        if (cgs_pcapng_udp (app->pcap, now_ns, &from[i], &to, app->rbuf[i], len) == -EIO)
+            break;
     }
 }
 
@@ -1094,6 +1119,7 @@ static void s_on_udp (void *arg)
     struct mmsghdr mm[S_RECV_BATCH];
     struct iovec iov[S_RECV_BATCH];
     struct sockaddr_in from[S_RECV_BATCH];
+    _Alignas(struct cmsghdr) uint8_t cmsg[S_RECV_BATCH][CMSG_SPACE (sizeof (struct in_pktinfo))];
     for (int round = 0; round < S_RECV_ROUNDS; round++) {
         for (int i = 0; i < S_RECV_BATCH; i++) {
             iov[i] = (struct iovec){app->rbuf[i], S_DGRAM_MAX};
@@ -1102,11 +1128,17 @@ static void s_on_udp (void *arg)
             mm[i].msg_hdr.msg_namelen = sizeof from[i];
             mm[i].msg_hdr.msg_iov = &iov[i];
             mm[i].msg_hdr.msg_iovlen = 1;
+            if (app->pcap) { // the address each came to (IP_PKTINFO)
+                mm[i].msg_hdr.msg_control = cmsg[i];
+                mm[i].msg_hdr.msg_controllen = sizeof cmsg[i];
+            }
         }
         int n = recvmmsg (app->fd, mm, S_RECV_BATCH, MSG_DONTWAIT, NULL);
         if (n <= 0)
             return;
         double now = cgs_loop_now ();
+        if (app->pcap)
+            s_capture_in (app, mm, from, n);
         for (int i = 0; i < n; i++) {
             app->datagrams_in++;
             s_walk_t w = {app, &from[i], now};
@@ -1350,6 +1382,13 @@ static int s_translators (s_app_t *app, char *err, size_t errlen)
         socklen_t ll = sizeof local;
         if (getsockname (app->fd, (struct sockaddr *)&local, &ll) < 0)
             local.sin_family = AF_INET;
+        app->pcap_local = local;
+        int on = 1;
+        if (setsockopt (app->fd, IPPROTO_IP, IP_PKTINFO, &on, sizeof on) < 0)
+            cgs_log (LOG_WARNING,
+                     "DIS capture: no IP_PKTINFO (%s): what comes in is written as "
+                     "sent to the socket's own address",
+                     strerror (errno));
         for (size_t d = 0; d < app->ndest; d++) {
             app->pcap_src[d] = local;
             uint32_t bound = ntohl (local.sin_addr.s_addr);

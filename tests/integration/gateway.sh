@@ -12,9 +12,10 @@
 # with an Action Response (a retransmission is answered, not done twice; one
 # to an entity that is not a UAV is rejected with the reason); garbage, bad
 # lengths and other exercises are rejected or ignored, counted, and the
-# gateway keeps running. The gateway's own capture of what it sent
-# ([dis] pcapng), over five runs appended to one file, holds every datagram
-# the peer received: tshark reads it, editcap cuts it and mergecap joins it.
+# gateway keeps running. The gateway's own capture of what it sent and
+# received ([dis] pcapng), over five runs appended to one file, holds every
+# datagram the peer received and every one the gateway was sent: tshark
+# reads it, editcap cuts it and mergecap joins it.
 # TAP on stdout.
 # shellcheck source=tests/integration/lib.sh
 . "$(dirname "$0")/lib.sh"
@@ -303,24 +304,33 @@ check "and only those" bash -c \
 # to one file; every datagram the peer received is in it.
 GWCAP=$(sed -n 's/.*DIS capture: \(.*\) (pcapng)$/\1/p' "$TMP/gateway-7.log" | head -1)
 check "the gateway says where it captures DIS ($GWCAP)" test -s "${GWCAP:-/nonexistent}"
-caps=$(tshark -r "$GWCAP" -d "udp.port==$PEERPORT,dis" -Y dis -T fields -e dis.pdu_type 2>"$TMP/gwcap.err" | wc -l)
-is "$caps" "$datagrams" "tshark reads as many DIS PDUs from it as the peer received ($datagrams)"
+caps=$(tshark -r "$GWCAP" -d "udp.port==$PEERPORT,dis" -Y "dis && udp.srcport==$GWPORT" -T fields \
+    -e dis.pdu_type 2>"$TMP/gwcap.err" | wc -l)
+is "$caps" "$datagrams" "tshark reads as many DIS PDUs sent from it as the peer received ($datagrams)"
+# What came in: the eleven datagrams open-dis and the raw sends sent the
+# gateway, garbage too, from their senders to the gateway's port.
+tshark -r "$GWCAP" -Y "udp.dstport==$GWPORT" -T fields -e ip.dst -e udp.payload \
+    >"$TMP/gwcap-in.txt" 2>>"$TMP/gwcap.err"
+is "$(wc -l <"$TMP/gwcap-in.txt")" 11 "and every datagram the gateway received (11)"
+check "garbage too, as it came (07:00:01:02:03)" grep -qP '\t0700010203$' "$TMP/gwcap-in.txt"
+check "to the gateway's address" bash -c "! cut -f1 '$TMP/gwcap-in.txt' | grep -vqx '127.0.0.1'"
 sections=$(capinfos -T -m "$GWCAP" 2>/dev/null | tail -1)
 diag "capinfos: $sections"
 check "capinfos reads it whole" capinfos "$GWCAP"
 is "$(grep -o 'mscgs gateway' <<<"$sections" | wc -l)" 6 "a section for each of the six gateway runs (appended)"
-srcs_gw=$(tshark -r "$GWCAP" -T fields -e ip.src -e udp.srcport -e udp.dstport 2>/dev/null | sort -u | tr '\n\t' '; ')
+srcs_gw=$(tshark -r "$GWCAP" -Y "udp.srcport==$GWPORT" -T fields -e ip.src -e udp.srcport -e udp.dstport 2>/dev/null | sort -u | tr '\n\t' '; ')
 srcs_peer=$(tshark -r "$PCAP" -T fields -e ip.src -e udp.srcport -e udp.dstport 2>/dev/null | sort -u | tr '\n\t' '; ')
 is "$srcs_gw" "$srcs_peer" "its addresses and ports are those the peer saw the datagrams come from and to"
-half=$((caps / 2))
+total=$(tshark -r "$GWCAP" 2>/dev/null | wc -l)
+half=$((total / 2))
 editcap -r "$GWCAP" "$TMP/first.pcapng" "1-$half" >/dev/null 2>&1
 editcap "$GWCAP" "$TMP/second.pcapng" "1-$half" >/dev/null 2>&1
 mergecap -w "$TMP/joined.pcapng" "$TMP/first.pcapng" "$TMP/second.pcapng" 2>/dev/null
 n1=$(tshark -r "$TMP/first.pcapng" 2>/dev/null | wc -l)
 n2=$(tshark -r "$TMP/second.pcapng" 2>/dev/null | wc -l)
-nj=$(tshark -r "$TMP/joined.pcapng" -d "udp.port==$PEERPORT,dis" -Y dis 2>/dev/null | wc -l)
-check "editcap cuts it in two ($n1 + $n2) and mergecap joins them again ($nj)" \
-    bash -c "[ $n1 -eq $half ] && [ $((n1 + n2)) -eq $caps ] && [ $nj -eq $caps ]"
+nj=$(tshark -r "$TMP/joined.pcapng" -d "udp.port==$PEERPORT,dis" -Y "dis && udp.srcport==$GWPORT" 2>/dev/null | wc -l)
+check "editcap cuts it in two ($n1 + $n2 of $total) and mergecap joins them again ($nj)" \
+    bash -c "[ $n1 -eq $half ] && [ $((n1 + n2)) -eq $total ] && [ $nj -eq $caps ]"
 
 stop "$G"
 stop "$T"
