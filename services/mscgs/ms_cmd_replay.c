@@ -49,7 +49,9 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 #include <sys/prctl.h>
+#include <sys/random.h>
 #include <sys/resource.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
@@ -97,6 +99,8 @@ typedef struct {
     bool paused, ended, once;
     bool hold; // started paused: nothing is sent, not even what is due at the start
     uint32_t generation;
+    uint64_t salt;          // this replay's, for the epochs after a seek
+    uint64_t video_skipped; // video frames not sent: older than 0.5 s when due (a burst, a lag)
     double preroll_s;
     double sim_time_s; // of the last message sent
     double play_wall;  // when it started playing (after --delay, and a --paused start's resume)
@@ -115,6 +119,21 @@ typedef struct {
 } s_replay_t;
 
 static s_replay_t *s_r; // for the commands' handler (one replay per process)
+
+/* What the forwarded epochs are XORed with: nothing in generation 0 (the
+ * recorded epochs, exactly), else a value of this replay's salt and the
+ * generation (splitmix64), so that no generation's epoch is one a
+ * subscriber saw before, even when the recording is itself of a replay. */
+static uint64_t s_epoch_xor (const s_replay_t *r)
+{
+    if (!r->generation)
+        return 0;
+    uint64_t z = r->salt + 0x9e3779b97f4a7c15ull * r->generation;
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+    z ^= z >> 31;
+    return z ? z : 1;
+}
 
 /* CPU time this process has used, user and system, seconds. */
 static double s_cpu_s (void)
@@ -301,8 +320,10 @@ static void s_send_next (s_replay_t *r, bool skip_video)
         r->unknown_channel++;
         return;
     }
-    if (skip_video && strcmp (t->name, "video") == 0)
+    if (skip_video && strcmp (t->name, "video") == 0) {
+        r->video_skipped++;
         return;
+    }
     ProtobufCMessage *m = protobuf_c_message_unpack (t->message, NULL, r->next_len, r->next_data);
     const Cgs__Header *h = m ? cgs_msg_header (m) : NULL;
     if (!h) {
@@ -317,7 +338,7 @@ static void s_send_next (s_replay_t *r, bool skip_video)
             snprintf (r->why_source, sizeof r->why_source, "%s", h->source ? h->source : "");
     } else {
         r->sim_time_s = h->sim_time_s;
-        int rc = cgs_pub_forward (pub, t->name, m, (uint64_t)r->generation << 32);
+        int rc = cgs_pub_forward (pub, t->name, m, s_epoch_xor (r));
         if (rc == 0)
             r->sent++;
         else
@@ -715,6 +736,8 @@ int ms_replay_main (int argc, char **argv)
     }
     fflush (stdout);
 
+    if (getrandom (&r.salt, sizeof r.salt, 0) != (ssize_t)sizeof r.salt)
+        r.salt = (uint64_t)time (NULL) * 0x9e3779b97f4a7c15ull ^ (uint64_t)getpid ();
     r.speed = speed;
     r.paused = r.hold = paused;
     r.preroll_s = preroll;
@@ -727,7 +750,8 @@ int ms_replay_main (int argc, char **argv)
             cgs_cmd_server_dispatch (r.srv[i].server, 16);
         usleep (20000);
     }
-    s_goto (&r, from); // a start is not a seek: the recorded epochs as they were
+    if (r.generation == 0) // a seek while waiting stands
+        s_goto (&r, from); // a start is not a seek: the recorded epochs as they were
     s_anchor (&r);
     r.play_wall = cgs_loop_now ();
     r.play_cpu = s_cpu_s ();
@@ -784,6 +808,10 @@ int ms_replay_main (int argc, char **argv)
     if (r.unknown_source)
         printf (", %llu not (their sources run for real in the replay, e.g. %s)",
                 (unsigned long long)r.unknown_source, r.why_source);
+    if (r.video_skipped)
+        printf (", %llu video frames skipped (over 0.5 s late when due: a seek's burst, or "
+                "a replay that fell behind)",
+                (unsigned long long)r.video_skipped);
     if (r.unknown_channel || r.malformed || r.dropped)
         printf (", %llu on channels not of the catalogue, %llu malformed, %llu dropped",
                 (unsigned long long)r.unknown_channel, (unsigned long long)r.malformed,

@@ -146,6 +146,7 @@ typedef struct {
     char topic[32], source[64];
     uint64_t epoch, seq;
     uint64_t messages, gaps, restarts;
+    uint64_t restarts_seen; // restarts when seq was last set
 } s_stream_t;
 
 /* An intercept state held from t0 until t1. */
@@ -172,6 +173,7 @@ typedef struct {
     uint64_t vr_seen[S_VR_BINS], vr_detected[S_VR_BINS]; // mti.truth in beam and visible
     double max_range_m;
     ms_marks_t marks;
+    uint32_t intercept_uav; // whose phases and distances are drawn (UINT32_MAX: id 0)
     s_phase_t *phases;
     size_t nphases, capphases;
     s_xy_t track_error, footprint_distance, inside;
@@ -187,7 +189,7 @@ typedef struct {
 
 static double s_rec_s (const s_report_t *r, uint64_t log_ns)
 {
-    return (double)(log_ns - r->t0_ns) / 1e9;
+    return ((double)log_ns - (double)r->t0_ns) / 1e9; // a clock stepped back: negative
 }
 
 /* ---- the messages ---------------------------------------------------------------------- */
@@ -227,7 +229,7 @@ static void s_entities (s_report_t *r, const Cgs__EntityBatch *b, double t)
         v->n = e->position->north_m;
         v->ve = e->velocity && isfinite (e->velocity->east_mps) ? e->velocity->east_mps : 0;
         v->vn = e->velocity && isfinite (e->velocity->north_mps) ? e->velocity->north_mps : 0;
-        if (t - v->last_kept_s >= S_TRUTH_DT_S || !e->active) {
+        if (t - v->last_kept_s >= S_TRUTH_DT_S) {
             s_xy_add (&v->path, v->e, v->n);
             v->last_kept_s = t;
         }
@@ -264,8 +266,8 @@ static void s_mti (s_report_t *r, const Cgs__Mti *m)
         if (h->position)
             s_xy_add (&r->hits, h->position->east_m / 1000, h->position->north_m / 1000);
         if (isfinite (h->range_m) && h->range_m >= 0) {
-            int k = (int)(h->range_m / S_RANGE_BIN_M);
-            r->range_hist[k < S_RANGE_BINS ? k : S_RANGE_BINS - 1]++;
+            double b = floor (h->range_m / S_RANGE_BIN_M);
+            r->range_hist[b >= S_RANGE_BINS ? S_RANGE_BINS - 1 : (int)b]++;
             r->max_range_m = fmax (r->max_range_m, h->range_m);
         }
         int b = s_vr_bin (h->radial_velocity_mps);
@@ -305,6 +307,11 @@ static void s_tracks (s_report_t *r, const Cgs__TrackBatch *b)
 static void s_intercept (s_report_t *r, const Cgs__Intercept *m, double t)
 {
     ms_marks_add (&r->marks, m, t);
+    // The phases and the target's distances are of the first UAV heard of.
+    if (!r->intercept_uav)
+        r->intercept_uav = m->uav_id ? m->uav_id : UINT32_MAX;
+    if ((m->uav_id ? m->uav_id : UINT32_MAX) != r->intercept_uav)
+        return;
     int state = (int)m->state;
     if (r->nphases && r->phases[r->nphases - 1].state == state) {
         r->phases[r->nphases - 1].t1 = t;
@@ -398,8 +405,9 @@ static void s_sequence (s_report_t *r, const char *topic, const Cgs__Header *h, 
     } else if (h->seq > s->seq + 1) {
         missed = h->seq - s->seq - 1;
     }
-    if (h->seq > s->seq || missed || s->epoch == h->epoch)
+    if (h->seq > s->seq || s->restarts_seen != s->restarts) // a repeat leaves it
         s->seq = h->seq;
+    s->restarts_seen = s->restarts;
     if (missed) {
         s->gaps += missed;
         r->gaps_total += missed;
@@ -1085,8 +1093,11 @@ static int s_write (s_report_t *r, const char *dir, json_object *summary)
                        "</body>\n</html>\n");
     char path[PATH_MAX];
     snprintf (path, sizeof path, "%s/report.html", dir);
-    FILE *f = fopen (path, "w");
-    if (!f || h.oom || fwrite (h.s, 1, h.len, f) != h.len || fclose (f) != 0) {
+    FILE *f = h.oom ? NULL : fopen (path, "w");
+    bool written = f && fwrite (h.s, 1, h.len, f) == h.len;
+    if (f && fclose (f) != 0)
+        written = false;
+    if (!written) {
         fprintf (stderr, "mscgs report: cannot write %s: %s\n", path,
                  h.oom ? "out of memory" : strerror (errno));
         ms_str_free (&h);
@@ -1163,9 +1174,12 @@ int ms_report_main (int argc, char **argv)
     char path[PATH_MAX];
     snprintf (path, sizeof path, "%s/report.json", out);
     FILE *f = fopen (path, "w");
-    if (!f ||
-        cgs_json_print (f, summary, JSON_C_TO_STRING_PRETTY | JSON_C_TO_STRING_SPACED, "\n") < 0 ||
-        fclose (f) != 0) {
+    bool written =
+        f &&
+        cgs_json_print (f, summary, JSON_C_TO_STRING_PRETTY | JSON_C_TO_STRING_SPACED, "\n") >= 0;
+    if (f && fclose (f) != 0)
+        written = false;
+    if (!written) {
         fprintf (stderr, "mscgs report: cannot write %s: %s\n", path, strerror (errno));
         goto done;
     }

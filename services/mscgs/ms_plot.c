@@ -50,9 +50,35 @@ void ms_str_printf (ms_str_t *self, const char *fmt, ...)
     self->len += (size_t)n;
 }
 
+/* The length of the valid UTF-8 sequence at p (1..4), or 0. */
+static int s_utf8_len (const unsigned char *p)
+{
+    int n = p[0] < 0x80             ? 1
+            : (p[0] & 0xe0) == 0xc0 ? 2
+            : (p[0] & 0xf0) == 0xe0 ? 3
+            : (p[0] & 0xf8) == 0xf0 ? 4
+                                    : 0;
+    if (n == 2 && p[0] < 0xc2)
+        return 0; // overlong
+    for (int i = 1; i < n; i++)
+        if ((p[i] & 0xc0) != 0x80)
+            return 0;
+    return n;
+}
+
 void ms_str_escaped (ms_str_t *self, const char *text)
 {
     for (const char *c = text ? text : ""; *c; c++) {
+        int n = s_utf8_len ((const unsigned char *)c);
+        if (n == 0) { // not UTF-8 (or a character cut short): not in an XML page
+            ms_str_printf (self, "?");
+            continue;
+        }
+        if (n > 1) {
+            ms_str_printf (self, "%.*s", n, c);
+            c += n - 1;
+            continue;
+        }
         switch (*c) {
         case '&':
             ms_str_printf (self, "&amp;");
@@ -109,12 +135,23 @@ static void s_tick_label (char *buf, size_t n, double v, double step)
     snprintf (buf, n, "%.*f", decimals, v);
 }
 
+/* A range too short to draw (or not finite) becomes one unit about its middle. */
+static void s_fix_range (double *lo, double *hi)
+{
+    if (!isfinite (*lo) || !isfinite (*hi)) {
+        *lo = 0, *hi = 1;
+        return;
+    }
+    if (*hi - *lo > 1e-9 * fmax (1, fmax (fabs (*lo), fabs (*hi))))
+        return;
+    double mid = (*lo + *hi) / 2;
+    *lo = mid - 0.5, *hi = mid + 0.5;
+}
+
 void ms_plot_begin (ms_str_t *s, ms_plot_t *p)
 {
-    if (!(p->x1 > p->x0) || !isfinite (p->x0) || !isfinite (p->x1))
-        p->x0 = 0, p->x1 = 1;
-    if (!(p->y1 > p->y0) || !isfinite (p->y0) || !isfinite (p->y1))
-        p->y0 = 0, p->y1 = 1;
+    s_fix_range (&p->x0, &p->x1);
+    s_fix_range (&p->y0, &p->y1);
     p->px0 = S_MARGIN_L;
     p->px1 = p->width - S_MARGIN_R;
     p->py1 = S_MARGIN_T;

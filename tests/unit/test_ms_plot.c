@@ -149,12 +149,43 @@ static void test_equal_aspect (void **state)
     ms_str_free (&s);
 }
 
+/* A range of no length, or of a few ulps, is drawn as one unit about it
+ * (the ticks never loop on a step that does not move); text that is not
+ * UTF-8 is replaced, text that is stays. */
+static void test_degenerate (void **state)
+{
+    (void)state;
+    ms_str_t s = {0};
+    double t = 1795869511.8246522;
+    ms_plot_t p = {.id = "d",
+                   .title = "caf\xc3\xa9 \xff\xe2\x82",
+                   .xlabel = "x (s)",
+                   .ylabel = "y (m)",
+                   .x0 = t,
+                   .x1 = nextafter (t, INFINITY),
+                   .y0 = 5,
+                   .y1 = 5,
+                   .width = 300,
+                   .height = 200};
+    ms_plot_begin (&s, &p);
+    assert_true (fabs (p.x1 - p.x0 - 1) < 1e-6 && p.y0 == 4.5 && p.y1 == 5.5);
+    ms_plot_end (&s, &p);
+    assert_false (s.oom);
+    assert_true (s.len < 10000);
+    assert_non_null (strstr (s.s, "caf\xc3\xa9 ??"));
+    xmlDocPtr doc = xmlReadMemory (s.s, (int)s.len, "d.svg", NULL, XML_PARSE_NONET);
+    assert_non_null (doc);
+    xmlFreeDoc (doc);
+    ms_str_free (&s);
+}
+
 int main (void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test (test_steps),
         cmocka_unit_test (test_chart),
         cmocka_unit_test (test_equal_aspect),
+        cmocka_unit_test (test_degenerate),
     };
     return cmocka_run_group_tests (tests, NULL, NULL);
 }
