@@ -656,9 +656,9 @@ static void s_fig_timeline (s_out_t *o, s_report_t *r)
                    .x0 = r->sim_first,
                    .x1 = r->sim_last,
                    .y0 = 0,
-                   .y1 = 3,
+                   .y1 = 4,
                    .width = S_W,
-                   .height = 240,
+                   .height = 300,
                    .no_yticks = true};
     ms_plot_begin (&svg, &p);
     for (size_t i = 0; i < r->nphases; i++) {
@@ -682,6 +682,22 @@ static void s_fig_timeline (s_out_t *o, s_report_t *r)
         ms_plot_vmark (&svg, &p, m->t_s, c, m->text);
     }
     ms_plot_text (&svg, &p, r->sim_first, 1.35, "start", "phases (bands); marks (lines)");
+    // A legend of the phases there were, in the order they came.
+    const char *names[9], *colors[9];
+    size_t nl = 0;
+    for (size_t i = 0; i < r->nphases; i++) {
+        const char *name =
+            cgs_msg_enum_short (&cgs__intercept_state__descriptor, r->phases[i].state, "?");
+        bool seen = false;
+        for (size_t k = 0; k < nl && !seen; k++)
+            seen = strcmp (names[k], name) == 0;
+        if (!seen && nl < 9) {
+            names[nl] = name;
+            colors[nl++] = s_state_color (r->phases[i].state);
+        }
+    }
+    if (nl)
+        ms_plot_legend (&svg, &p, names, colors, nl);
     char cap[300];
     snprintf (cap, sizeof cap,
               "The intercept's state against simulation time (a band per phase, its name when "

@@ -318,7 +318,7 @@ void ms_plot_legend (ms_str_t *s, const ms_plot_t *p, const char *const *names,
     ms_str_printf (s, "</g>\n<g class=\"legend\">\n"); // out of the clip
     double w = 0;
     for (size_t i = 0; i < n; i++)
-        w = fmax (w, 7.0 * (double)strlen (names[i]));
+        w = fmax (w, 7.5 * (double)strlen (names[i]));
     double x = p->px1 - w - 30, y = p->py1 + 8;
     ms_str_printf (s,
                    "<rect x=\"%.1f\" y=\"%.1f\" width=\"%.1f\" height=\"%.1f\" fill=\"#ffffff\" "
