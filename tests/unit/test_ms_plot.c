@@ -104,7 +104,10 @@ static void test_chart (void **state)
     xmlFreeDoc (doc);
 
     // Rendered: a PNG of the chart's size.
-    char path[] = "/tmp/test-ms-plot-XXXXXX.png", err[256];
+    // Under $TMPDIR, as the other tests make their files.
+    const char *tmp = getenv ("TMPDIR");
+    char path[512], err[256];
+    snprintf (path, sizeof path, "%s/test-ms-plot-XXXXXX.png", tmp && *tmp ? tmp : "/tmp");
     int fd = mkstemps (path, 4);
     assert_true (fd >= 0);
     close (fd);
